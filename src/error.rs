@@ -1,0 +1,115 @@
+//! Errors: every failure names what failed and where.
+//!
+//! [`ModelError`] is raised at the file boundary (parse + validation) and names the field;
+//! [`SolveError`] is raised by methods and says which cable, section, iteration count and
+//! residual were involved. Nothing in ccrkit panics on user input.
+
+use thiserror::Error;
+
+/// A robot, actuation or scene description that cannot be used.
+#[derive(Debug, Clone, Error, PartialEq)]
+pub enum ModelError {
+    /// The file could not be read.
+    #[error("cannot read `{path}`: {reason}")]
+    Io {
+        /// Path of the file.
+        path: String,
+        /// What the operating system said.
+        reason: String,
+    },
+    /// The TOML text does not parse or has unknown / missing / mistyped fields.
+    #[error("cannot parse `{path}`: {reason}")]
+    Parse {
+        /// Path of the file (or `<string>`).
+        path: String,
+        /// The parser's message; it names the offending field.
+        reason: String,
+    },
+    /// A field parses but its value is not acceptable.
+    #[error("invalid field `{field}`: {reason}")]
+    Invalid {
+        /// Dotted path of the field, e.g. `cables[1].radius`.
+        field: String,
+        /// Why it is rejected.
+        reason: String,
+    },
+}
+
+impl ModelError {
+    /// Shorthand for [`ModelError::Invalid`].
+    pub fn invalid(field: impl Into<String>, reason: impl Into<String>) -> Self {
+        ModelError::Invalid {
+            field: field.into(),
+            reason: reason.into(),
+        }
+    }
+
+    /// The field this error names (`None` for I/O errors).
+    pub fn field(&self) -> Option<&str> {
+        match self {
+            ModelError::Invalid { field, .. } => Some(field),
+            _ => None,
+        }
+    }
+}
+
+/// Why a method could not produce a shape.
+#[derive(Debug, Clone, Error, PartialEq)]
+pub enum SolveError {
+    /// The input is not valid for this method (field and reason).
+    #[error("invalid input `{field}`: {reason}")]
+    InvalidInput {
+        /// The offending field or option.
+        field: String,
+        /// Why.
+        reason: String,
+    },
+    /// The requested actuation cannot be reached by any shape of this robot.
+    #[error("infeasible actuation: cable `{cable}` in section {section}: {reason}")]
+    Infeasible {
+        /// Cable name.
+        cable: String,
+        /// Section index (1-based: section i lies between disks i-1 and i).
+        section: usize,
+        /// What is out of reach.
+        reason: String,
+    },
+    /// An iterative solver stopped without meeting its tolerance.
+    #[error(
+        "{method} did not converge{}: {iterations} iterations, residual {residual:.3e}{}",
+        section.map(|s| format!(" in section {s}")).unwrap_or_default(),
+        if detail.is_empty() { String::new() } else { format!(" ({detail})") }
+    )]
+    NotConverged {
+        /// Method name.
+        method: String,
+        /// Section, where the method works section by section.
+        section: Option<usize>,
+        /// Iterations spent.
+        iterations: usize,
+        /// Final residual (method-specific norm, stated in the method docs).
+        residual: f64,
+        /// Extra context.
+        detail: String,
+    },
+    /// The method cannot represent this robot or actuation.
+    #[error("{method} cannot solve this: {reason}")]
+    Unsupported {
+        /// Method name.
+        method: String,
+        /// Why.
+        reason: String,
+    },
+}
+
+impl SolveError {
+    /// A short machine-readable kind, used in study CSVs.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            SolveError::InvalidInput { .. } => "invalid_input",
+            SolveError::Infeasible { .. } => "infeasible",
+            SolveError::NotConverged { .. } => "not_converged",
+            SolveError::Unsupported { .. } => "unsupported",
+        }
+    }
+}

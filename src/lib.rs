@@ -1,0 +1,27 @@
+//! # ccrkit
+//!
+//! Shapes of cable-driven continuum robots (CCR) with many, generally routed cables.
+//!
+//! The flow: a model file ([`model::Model`]) gives a [`robot::Robot`] and an
+//! [`actuation::Actuation`]; a [`method::Method`] turns them into a [`shape::Shape`], which is
+//! written as JSON or drawn ([`plot`]). See `README.md` for the methods and their accuracy.
+
+#![warn(missing_docs)]
+
+pub mod actuation;
+pub mod error;
+pub mod method;
+pub mod model;
+pub mod numeric;
+pub mod plot;
+pub mod robot;
+pub mod scene;
+pub mod shape;
+
+pub use actuation::{Actuation, CableDrive, Shortening};
+pub use error::{ModelError, SolveError};
+pub use method::{method_by_name, Method};
+pub use model::Model;
+pub use robot::{Backbone, Cable, Robot};
+pub use scene::Scene;
+pub use shape::Shape;

@@ -1,0 +1,857 @@
+//! The paper's geometric section solver (Mahapatra & Ghosal), generalized to N cables.
+//!
+//! # The literal method (`geometric`)
+//!
+//! The robot is solved one section at a time, base to tip (paper §2, steps 1–4, read as in
+//! `paper/INTERPRETATION.md`). Section `i` lies between disks `i−1` and `i`. Everything is
+//! written in the frame of the **solved** disk `i−1` (origin at its backbone point, z along its
+//! normal, x at hole angle 0). In that frame the unknown is the rigid pose of disk `i`:
+//! backbone point `p` and rotation `Q`, so hole `c` of disk `i` sits at `p + Q h_c(i)` with
+//! `h_c(k) = r_c(k) (cos φ_c(k), sin φ_c(k), 0)`. A rigid disk keeps `|x_c − x_0| = r` and the
+//! angle θ between holes (the last three constraints of eq. 2) by construction, and the paper's
+//! frame `T` (steps 1–3, with `sign(θ)`) is the same rigid frame, so crossed-over cables need no
+//! special case.
+//!
+//! The "undeformed" disk `i` (step 4) is disk `i` in its undeformed pose relative to disk
+//! `i−1`: `p = l0 ẑ`, `Q = I`. Eq. 1, one coupler angle per displacement-driven cable plus the
+//! tangent angle, is then
+//!
+//! ```text
+//! F(p, Q) = Σ_c ang(h_c(i), Q h_c(i)) + ang(ẑ, p),    ang(a, b) = atan2(|a × b|, a · b)
+//! ```
+//!
+//! subject to (eq. 2) `|p| = l0` and, for each cable, `|p + Q h_c(i) − h_c(i−1)| ≤ l_c^i` where
+//! `l_c^i = (1 − Δ_c) |H_c(i) − H_c(i−1)|` is a uniform fraction of the cable's **undeformed
+//! straight chord** between its two holes (INTERPRETATION item 1). The paper writes the cable
+//! constraint as an equality; cables pull but cannot push, so ccrkit treats it as `≤`: a cable
+//! whose chord comes out shorter than its length is reported slack.
+//!
+//! ## The kink
+//!
+//! Each angle is a cone at 0 (like a norm), and at the optimum one or more angles are exactly
+//! zero. A smooth NLP solver stalls there. This solver enumerates **faces**: for each set `Z`
+//! of terms that may vanish, it minimizes the other terms with the zero terms as equalities
+//! `w_t = 0` (`w_t`: the two components of the solved direction orthogonal to the undeformed one,
+//! so `|w_t| = sin ang_t`), by Newton–KKT with exact second derivatives ([`crate::numeric::ad`])
+//! from several starts. A candidate is **certified** when it is feasible, stationary, has a
+//! positive semi-definite reduced Hessian, every zero term's multiplier lies inside that term's
+//! subgradient ball (`|μ_t| ≤ weight_t`), every other term is non-zero, and every taut cable's
+//! multiplier is ≥ 0 (it pulls). The lowest certified candidate is returned, and the report
+//! says which terms are zero in each section.
+//!
+//! ## Degenerate hole patterns
+//!
+//! When all driven holes of a disk are collinear with its centre (one cable, two cables with
+//! coinciding holes as in case III at disks 7–9, or two opposite holes), the rotation of the disk
+//! about that line changes neither the objective nor a constraint. It is fixed as INTERPRETATION
+//! item 7 says: the disk normal is the incoming backbone chord made orthogonal to the hole
+//! direction. Cables sharing a hole on both disks of a section share one segment constraint with
+//! the tighter length; the other is slack there. Sections past every driven cable's end carry no
+//! load and continue straight.
+//!
+//! # The squared variant (`geometric-squared`)
+//!
+//! Same sections and constraints, objective `Σ ang²` — a discrete bending energy, smooth, so one
+//! face suffices. Not the paper's method; offered as a named option.
+
+use crate::actuation::Actuation;
+use crate::error::SolveError;
+use crate::method::Method;
+use crate::numeric::ad::{Real, D2, V3};
+use crate::numeric::kkt::{kkt_step, multipliers};
+use crate::numeric::rotation::{exp_so3, orthonormalize};
+use crate::robot::Robot;
+use crate::scene::Scene;
+use crate::shape::{CablePath, DiskFrame, SectionReport, Shape, SolveReport};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use std::time::Instant;
+
+/// Which objective the sections minimize.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Objective {
+    /// The paper's: sum of the coupler angles and the tangent angle (eq. 1).
+    Literal,
+    /// Sum of squared angles (a discrete bending energy).
+    Squared,
+}
+
+/// Settings of the geometric section solver.
+#[derive(Debug, Clone)]
+pub struct Geometric {
+    /// Objective.
+    pub objective: Objective,
+    /// Newton iterations per candidate.
+    pub max_iterations: usize,
+    /// Constraint residual a candidate must reach [m].
+    pub tolerance: f64,
+    /// An angle at or below this is "zero" (on a kink) [rad].
+    pub zero_angle: f64,
+}
+
+impl Geometric {
+    /// The paper's literal method.
+    pub fn literal() -> Self {
+        Geometric {
+            objective: Objective::Literal,
+            max_iterations: 60,
+            tolerance: 1e-12,
+            zero_angle: 1e-7,
+        }
+    }
+    /// The squared-angle variant.
+    pub fn squared() -> Self {
+        Geometric {
+            objective: Objective::Squared,
+            ..Self::literal()
+        }
+    }
+}
+
+impl Method for Geometric {
+    fn name(&self) -> &str {
+        match self.objective {
+            Objective::Literal => "geometric",
+            Objective::Squared => "geometric-squared",
+        }
+    }
+
+    fn solve(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        scene: &Scene,
+        _warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError> {
+        if !scene.is_empty() {
+            return Err(SolveError::Unsupported {
+                method: self.name().into(),
+                reason: "obstacles are not handled by this method yet".into(),
+            });
+        }
+        let start = Instant::now();
+        let n = robot.sections();
+        let mut notes = vec![
+            "cable segment length after actuation = (1 - shortening) x undeformed straight chord between holes".to_string(),
+        ];
+        // Displacement fraction per cable (None: not displacement-driven → free here).
+        let mut frac = Vec::with_capacity(robot.cables.len());
+        for (c, cable) in robot.cables.iter().enumerate() {
+            let f = act.shortening_fraction(robot, c);
+            if f.is_none() && act.tension(c).is_some() {
+                notes.push(format!(
+                    "cable `{}` has a tension but no displacement: free in the geometric method",
+                    cable.name
+                ));
+            }
+            if let Some(f) = f {
+                if !f.is_finite() || f >= 1.0 {
+                    return Err(SolveError::InvalidInput {
+                        field: format!("cables[{c}].shorten"),
+                        reason: format!("shortening fraction {f} is not below 1"),
+                    });
+                }
+            }
+            frac.push(f);
+        }
+
+        let mut rot = Matrix3::identity();
+        let mut pos = Vector3::zeros();
+        let mut disks = vec![DiskFrame {
+            s: 0.0,
+            position: pos,
+            rotation: rot,
+        }];
+        let mut sections = Vec::with_capacity(n);
+        let mut slack_sections: Vec<Vec<usize>> = vec![vec![]; robot.cables.len()];
+        let mut prev_rel: Option<Pose> = None;
+        let (mut total_it, mut worst) = (0usize, 0.0f64);
+        for i in 1..=n {
+            let data = SectionData::new(robot, &frac, i)?;
+            let sol = self.solve_section(&data, i, prev_rel.as_ref())?;
+            total_it += sol.report.iterations;
+            worst = worst.max(sol.report.residual);
+            for &c in &sol.slack {
+                slack_sections[c].push(i);
+            }
+            pos += rot * sol.pose.p;
+            rot = orthonormalize(&(rot * sol.pose.q));
+            disks.push(DiskFrame {
+                s: robot.disk_s[i],
+                position: pos,
+                rotation: rot,
+            });
+            prev_rel = Some(sol.pose);
+            sections.push(sol.report);
+        }
+        let cables = cable_paths(robot, &disks, &slack_sections);
+        let backbone = disks.iter().map(|d| d.position).collect();
+        Ok(Shape {
+            method: self.name().into(),
+            disks,
+            backbone,
+            cables,
+            contacts: vec![],
+            report: SolveReport {
+                converged: true,
+                iterations: total_it,
+                residual: worst,
+                solve_time_s: start.elapsed().as_secs_f64(),
+                sections,
+                base_wrench: None,
+                notes,
+            },
+        })
+    }
+}
+
+/// Hole positions of every cable at the solved disks (base frame).
+pub fn cable_paths(
+    robot: &Robot,
+    disks: &[DiskFrame],
+    slack_sections: &[Vec<usize>],
+) -> Vec<CablePath> {
+    robot
+        .cables
+        .iter()
+        .enumerate()
+        .map(|(c, cable)| CablePath {
+            name: cable.name.clone(),
+            points: (0..=cable.ends_at)
+                .map(|k| disks[k].position + disks[k].rotation * cable.hole(k))
+                .collect(),
+            slack: !slack_sections[c].is_empty(),
+            slack_sections: slack_sections[c].clone(),
+            tension: None,
+        })
+        .collect()
+}
+
+/// Relative pose of disk i in the frame of disk i−1.
+#[derive(Debug, Clone, Copy)]
+struct Pose {
+    p: Vector3<f64>,
+    q: Matrix3<f64>,
+}
+
+impl Pose {
+    fn straight(l0: f64) -> Self {
+        Pose {
+            p: Vector3::new(0.0, 0.0, l0),
+            q: Matrix3::identity(),
+        }
+    }
+    /// Right-perturbation retraction: p + dp, Q exp(dω).
+    fn retract(&self, dx: &DVector<f64>, alpha: f64) -> Self {
+        Pose {
+            p: self.p + alpha * Vector3::new(dx[0], dx[1], dx[2]),
+            q: orthonormalize(&(self.q * exp_so3(&(alpha * Vector3::new(dx[3], dx[4], dx[5]))))),
+        }
+    }
+}
+
+/// One objective term: an angle between an undeformed direction and its solved image.
+#[derive(Debug, Clone)]
+struct Term {
+    /// Unit undeformed direction (ẑ for the tangent, ĥ for a coupler) in disk i−1's frame.
+    dir: Vector3<f64>,
+    /// Orthonormal basis of the plane normal to `dir` (for the zero-face equations).
+    e1: Vector3<f64>,
+    e2: Vector3<f64>,
+    /// How many cables share this coupler (1 for the tangent).
+    weight: f64,
+    /// `tangent` or the cable names joined with `+`.
+    label: String,
+    tangent: bool,
+}
+
+impl Term {
+    fn new(dir: Vector3<f64>, weight: f64, label: String, tangent: bool) -> Self {
+        let d = dir.normalize();
+        let helper = if d.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let e1 = (helper - d * d.dot(&helper)).normalize();
+        let e2 = d.cross(&e1);
+        Term {
+            dir: d,
+            e1,
+            e2,
+            weight,
+            label,
+            tangent,
+        }
+    }
+}
+
+/// A cable segment constraint `|p + Q h − h_prev| ≤ length`.
+#[derive(Debug, Clone)]
+struct CableCon {
+    cables: Vec<usize>,
+    h_prev: Vector3<f64>,
+    h: Vector3<f64>,
+    length: f64,
+}
+
+/// Everything one section problem needs, in disk i−1's frame.
+struct SectionData {
+    l0: f64,
+    terms: Vec<Term>,
+    cons: Vec<CableCon>,
+    /// Cables that reach the section but whose shared segment is tighter for another cable.
+    always_slack: Vec<usize>,
+    /// Names, for errors.
+    names: Vec<String>,
+    /// Unit hole direction when all driven holes of disk i are collinear with its centre.
+    gauge: Option<Vector3<f64>>,
+}
+
+const SAME_POINT: f64 = 1e-12;
+
+impl SectionData {
+    fn new(robot: &Robot, frac: &[Option<f64>], i: usize) -> Result<Self, SolveError> {
+        let l0 = robot.section_length(i);
+        let mut terms = vec![Term::new(Vector3::z(), 1.0, "tangent".into(), true)];
+        let mut cons: Vec<CableCon> = vec![];
+        let mut always_slack = vec![];
+        let mut coupler_members: Vec<(Vector3<f64>, Vec<usize>)> = vec![];
+        for (c, cable) in robot.cables.iter().enumerate() {
+            let Some(f) = frac[c] else { continue };
+            if !cable.reaches_section(i) {
+                continue;
+            }
+            let (hp, h) = (cable.hole(i - 1), cable.hole(i));
+            let length = (1.0 - f) * robot.undeformed_chord(c, i);
+            // Shortest chord any pose allows: l0 − |h| − |h_prev|.
+            let reach = l0 - h.norm() - hp.norm();
+            if length < reach {
+                return Err(SolveError::Infeasible {
+                    cable: cable.name.clone(),
+                    section: i,
+                    reason: format!(
+                        "segment length {length:.6} m is shorter than any pose allows ({reach:.6} m): shortening {:.2} % is out of reach",
+                        f * 100.0
+                    ),
+                });
+            }
+            match coupler_members
+                .iter_mut()
+                .find(|(hh, _)| (hh - h).norm() < SAME_POINT)
+            {
+                Some((_, m)) => m.push(c),
+                None => coupler_members.push((h, vec![c])),
+            }
+            match cons
+                .iter_mut()
+                .find(|k| (k.h - h).norm() < SAME_POINT && (k.h_prev - hp).norm() < SAME_POINT)
+            {
+                Some(k) => {
+                    if length < k.length {
+                        always_slack.extend(k.cables.iter().copied());
+                        k.cables = vec![c];
+                        k.length = length;
+                    } else {
+                        always_slack.push(c);
+                    }
+                }
+                None => cons.push(CableCon {
+                    cables: vec![c],
+                    h_prev: hp,
+                    h,
+                    length,
+                }),
+            }
+        }
+        for (h, members) in &coupler_members {
+            let label = members
+                .iter()
+                .map(|&c| robot.cables[c].name.as_str())
+                .collect::<Vec<_>>()
+                .join("+");
+            terms.push(Term::new(*h, members.len() as f64, label, false));
+        }
+        // Rank of the driven hole directions: a gauge is needed when they span one line.
+        let gauge = match coupler_members.first() {
+            None => None,
+            Some((h0, _)) => {
+                let u = h0.normalize();
+                if coupler_members
+                    .iter()
+                    .all(|(h, _)| h.normalize().cross(&u).norm() < 1e-9)
+                {
+                    Some(u)
+                } else {
+                    None
+                }
+            }
+        };
+        Ok(SectionData {
+            l0,
+            terms,
+            cons,
+            always_slack,
+            names: robot.cables.iter().map(|c| c.name.clone()).collect(),
+            gauge,
+        })
+    }
+
+    /// Objective and constraints at pose ⊕ δ (δ = (dp, dω)), generic over the scalar.
+    ///
+    /// `Q exp(δω) h` is evaluated with exp truncated after the quadratic term, which is exact
+    /// to second order at δ = 0 — the only point where derivatives are taken.
+    fn eval<T: Real>(
+        &self,
+        pose: &Pose,
+        d: &[T; 6],
+        face: u32,
+        active: &[usize],
+        squared: bool,
+    ) -> (T, Vec<T>) {
+        let p = V3([
+            T::cst(pose.p.x) + d[0],
+            T::cst(pose.p.y) + d[1],
+            T::cst(pose.p.z) + d[2],
+        ]);
+        let w = V3([d[3], d[4], d[5]]);
+        let q = &pose.q;
+        let rot = |h: &Vector3<f64>| -> V3<T> {
+            let hv = V3::<T>::cst(h);
+            let wh = w.cross(&hv);
+            let m = hv.add(&wh).add(&w.cross(&wh).scale(T::cst(0.5)));
+            let row = |r: usize| m.0[0] * q[(r, 0)] + m.0[1] * q[(r, 1)] + m.0[2] * q[(r, 2)];
+            V3([row(0), row(1), row(2)])
+        };
+        let mut obj = T::cst(0.0);
+        let mut cons = Vec::with_capacity(1 + active.len() + 2 * self.terms.len() + 1);
+        cons.push(p.norm() + (-self.l0));
+        for &j in active {
+            let k = &self.cons[j];
+            let chord = p.add(&rot(&k.h)).sub(&V3::cst(&k.h_prev));
+            cons.push(chord.norm() + (-k.length));
+        }
+        for (t, term) in self.terms.iter().enumerate() {
+            let v = if term.tangent { p } else { rot(&term.dir) };
+            if face & (1 << t) != 0 {
+                let inv = T::cst(1.0) / v.norm();
+                cons.push(v.dot(&V3::cst(&term.e1)) * inv);
+                cons.push(v.dot(&V3::cst(&term.e2)) * inv);
+            } else {
+                let u = V3::<T>::cst(&term.dir);
+                let a = if squared {
+                    squared_angle(&u, &v)
+                } else {
+                    u.angle(&v)
+                };
+                obj = obj + a * term.weight;
+            }
+        }
+        if let Some(u) = &self.gauge {
+            // Disk normal in the plane of the hole direction and the incoming chord.
+            let n = rot(&Vector3::z());
+            cons.push(n.dot(&rot(u).cross(&p)) * T::cst(1.0 / (self.l0 * u.norm())));
+        }
+        (obj, cons)
+    }
+
+    fn term_angles(&self, pose: &Pose) -> Vec<f64> {
+        self.terms
+            .iter()
+            .map(|t| {
+                let v = if t.tangent { pose.p } else { pose.q * t.dir };
+                let c = t.dir.cross(&v).norm();
+                c.atan2(t.dir.dot(&v))
+            })
+            .collect()
+    }
+
+    fn chord(&self, pose: &Pose, j: usize) -> f64 {
+        let k = &self.cons[j];
+        (pose.p + pose.q * k.h - k.h_prev).norm()
+    }
+}
+
+/// ang² evaluated smoothly through ang = 0 (ang² ≈ |u×v|²/(u·v)² there, exact to O(ang⁴)).
+fn squared_angle<T: Real>(u: &V3<T>, v: &V3<T>) -> T {
+    let cr = u.cross(v);
+    let s2 = cr.dot(&cr);
+    let c = u.dot(v);
+    if s2.val() < 1e-16 * c.val() * c.val() {
+        s2 / (c * c)
+    } else {
+        let a = s2.sqrt().atan2(c);
+        a * a
+    }
+}
+
+/// The accepted solution of one section.
+struct SectionSolution {
+    pose: Pose,
+    slack: Vec<usize>,
+    report: SectionReport,
+}
+
+/// A converged, certified candidate.
+#[derive(Clone)]
+struct Candidate {
+    pose: Pose,
+    objective: f64,
+    residual: f64,
+    /// Multipliers of the active cable constraints (≥ 0 when the cable pulls).
+    cable_lambda: Vec<f64>,
+    face: u32,
+}
+
+/// Why a Newton run on one face was not accepted.
+struct Rejected {
+    iterations: usize,
+    residual: f64,
+}
+
+impl Geometric {
+    fn solve_section(
+        &self,
+        data: &SectionData,
+        i: usize,
+        prev: Option<&Pose>,
+    ) -> Result<SectionSolution, SolveError> {
+        let l0 = data.l0;
+        if data.cons.is_empty() {
+            // No driven cable here: an unloaded section continues straight.
+            return Ok(SectionSolution {
+                pose: Pose::straight(l0),
+                slack: data.always_slack.clone(),
+                report: SectionReport {
+                    section: i,
+                    iterations: 0,
+                    residual: 0.0,
+                    objective: 0.0,
+                    zero_terms: data.terms.iter().map(|t| t.label.clone()).collect(),
+                    slack: data
+                        .always_slack
+                        .iter()
+                        .map(|&c| data.names[c].clone())
+                        .collect(),
+                    candidates: 1,
+                },
+            });
+        }
+        let squared = self.objective == Objective::Squared;
+        let straight = Pose::straight(l0);
+        let mut iterations = 0usize;
+        let mut worst_rejected = Rejected {
+            iterations: 0,
+            residual: f64::INFINITY,
+        };
+        // Active set: start with every cable whose undeformed chord exceeds its length.
+        let mut active: Vec<usize> = (0..data.cons.len())
+            .filter(|&j| data.chord(&straight, j) > data.cons[j].length)
+            .collect();
+        let dof_budget = 6usize.saturating_sub(usize::from(data.gauge.is_some()));
+        while 1 + active.len() > dof_budget {
+            // More taut cables than a rigid disk has freedoms: keep the most shortened.
+            let (pos, _) = active
+                .iter()
+                .enumerate()
+                .map(|(k, &j)| (k, data.chord(&straight, j) - data.cons[j].length))
+                .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+            active.remove(pos);
+        }
+        // Starts: the smooth squared-angle solution (angles away from their kinks), the
+        // previous section's relative pose, and the straight pose nudged off its kinks.
+        let mut starts = vec![];
+        if !squared {
+            if let Some(c) = self.smooth_start(data, &active, &mut iterations) {
+                starts.push(c);
+            }
+            if let Some(p) = prev {
+                starts.push(nudge(p, l0));
+            }
+            starts.push(nudge(&straight, l0));
+        } else {
+            starts.push(straight);
+            if let Some(p) = prev {
+                starts.push(*p);
+            }
+        }
+        let n_terms = data.terms.len();
+        for _round in 0..(2 * data.cons.len() + 2) {
+            let fixed = 1 + active.len() + usize::from(data.gauge.is_some());
+            let faces: Vec<u32> = if squared {
+                vec![0]
+            } else {
+                (0u32..(1 << n_terms))
+                    .filter(|f| fixed + 2 * f.count_ones() as usize <= 6)
+                    .collect()
+            };
+            let mut best: Option<Candidate> = None;
+            let mut count = 0;
+            for &face in &faces {
+                for s in &starts {
+                    match self.newton(data, s, face, &active, squared) {
+                        Ok((cand, it)) => {
+                            iterations += it;
+                            count += 1;
+                            if best
+                                .as_ref()
+                                .is_none_or(|b| cand.objective < b.objective - 1e-12)
+                            {
+                                best = Some(cand);
+                            }
+                        }
+                        Err(r) => {
+                            iterations += r.iterations;
+                            if r.residual < worst_rejected.residual
+                                || worst_rejected.residual.is_infinite()
+                            {
+                                worst_rejected = r;
+                            }
+                        }
+                    }
+                }
+            }
+            let Some(best) = best else { break };
+            // Pull-only check: drop a cable that would push, add one whose chord is too long.
+            let tol_l = 1e-9;
+            let neg = best
+                .cable_lambda
+                .iter()
+                .enumerate()
+                .filter(|(_, &l)| l < -1e-9)
+                .fold(None, |a: Option<(usize, f64)>, (k, &l)| match a {
+                    Some((_, la)) if la <= l => a,
+                    _ => Some((k, l)),
+                });
+            if let Some((k, _)) = neg {
+                active.remove(k);
+                starts.insert(0, best.pose);
+                continue;
+            }
+            let over = (0..data.cons.len())
+                .filter(|j| !active.contains(j))
+                .map(|j| (j, data.chord(&best.pose, j) - data.cons[j].length))
+                .filter(|&(_, e)| e > tol_l)
+                .fold(None, |a: Option<(usize, f64)>, b| match a {
+                    Some(x) if x.1 >= b.1 => a,
+                    _ => Some(b),
+                });
+            if let Some((j, _)) = over {
+                if 1 + active.len() + usize::from(data.gauge.is_some()) < 6 {
+                    active.push(j);
+                    active.sort_unstable();
+                    starts.insert(0, best.pose);
+                    continue;
+                }
+                return Err(SolveError::Infeasible {
+                    cable: data.names[data.cons[j].cables[0]].clone(),
+                    section: i,
+                    reason: "more cables must be taut than a rigid disk has degrees of freedom"
+                        .into(),
+                });
+            }
+            // Accepted.
+            let angles = data.term_angles(&best.pose);
+            let zero_terms = data
+                .terms
+                .iter()
+                .enumerate()
+                .filter(|(t, _)| best.face & (1 << t) != 0 || angles[*t] <= self.zero_angle)
+                .map(|(_, t)| t.label.clone())
+                .collect();
+            let mut slack: Vec<usize> = data.always_slack.clone();
+            for j in 0..data.cons.len() {
+                if !active.contains(&j) {
+                    slack.extend(data.cons[j].cables.iter().copied());
+                }
+            }
+            slack.sort_unstable();
+            return Ok(SectionSolution {
+                pose: best.pose,
+                report: SectionReport {
+                    section: i,
+                    iterations,
+                    residual: best.residual,
+                    objective: best.objective,
+                    zero_terms,
+                    slack: slack.iter().map(|&c| data.names[c].clone()).collect(),
+                    candidates: count,
+                },
+                slack,
+            });
+        }
+        Err(SolveError::NotConverged {
+            method: self.name().into(),
+            section: Some(i),
+            iterations: iterations.max(worst_rejected.iterations),
+            residual: worst_rejected.residual,
+            detail: "no face of the section problem gave a certified minimum".into(),
+        })
+    }
+
+    /// Solve the smooth squared-angle problem from the straight pose, as a start for the
+    /// literal faces (its angles are generically non-zero).
+    fn smooth_start(&self, data: &SectionData, active: &[usize], it: &mut usize) -> Option<Pose> {
+        let r = self.newton(data, &Pose::straight(data.l0), 0, active, true);
+        match r {
+            Ok((c, k)) => {
+                *it += k;
+                Some(c.pose)
+            }
+            Err(e) => {
+                *it += e.iterations;
+                None
+            }
+        }
+    }
+
+    /// Newton–KKT on one face from one start; returns a certified candidate or why not.
+    fn newton(
+        &self,
+        data: &SectionData,
+        start: &Pose,
+        face: u32,
+        active: &[usize],
+        squared: bool,
+    ) -> Result<(Candidate, usize), Rejected> {
+        let mut pose = *start;
+        let zero6 = [0.0f64; 6];
+        let eval_f64 = |pose: &Pose| data.eval::<f64>(pose, &zero6, face, active, squared);
+        let vars: [D2<6>; 6] = std::array::from_fn(|k| D2::var(0.0, k));
+        let mut lambda: Option<DVector<f64>> = None;
+        let mut last_res = f64::INFINITY;
+        for it in 1..=self.max_iterations {
+            let (f, c) = data.eval::<D2<6>>(&pose, &vars, face, active, squared);
+            let k = c.len();
+            if !f.v.is_finite() || c.iter().any(|x| !x.v.is_finite()) {
+                return Err(Rejected {
+                    iterations: it,
+                    residual: last_res,
+                });
+            }
+            let g = DVector::from_row_slice(&f.g);
+            let a = DMatrix::from_fn(k, 6, |r, col| c[r].g[col]);
+            let cv = DVector::from_fn(k, |r, _| c[r].v);
+            let lam = lambda.clone().unwrap_or_else(|| multipliers(&g, &a));
+            let mut h = DMatrix::from_fn(6, 6, |r, col| f.h[r][col]);
+            for (j, cj) in c.iter().enumerate() {
+                h += DMatrix::from_fn(6, 6, |r, col| cj.h[r][col]) * lam[j];
+            }
+            if h.iter().any(|x| !x.is_finite()) {
+                return Err(Rejected {
+                    iterations: it,
+                    residual: last_res,
+                });
+            }
+            let step = kkt_step(&h, &g, &a, &cv, 1e-10);
+            let res = cv.amax();
+            last_res = res;
+            let stat = (&g + a.transpose() * &step.lambda).amax();
+            if res <= self.tolerance && step.dx.amax() <= 1e-11 {
+                return self.certify(
+                    data,
+                    pose,
+                    face,
+                    active,
+                    squared,
+                    &step.lambda,
+                    stat,
+                    step.min_reduced_eigenvalue,
+                    res,
+                    it,
+                );
+            }
+            // Line search on the ℓ1 merit F + ρ Σ|c|.
+            let rho = 2.0 * step.lambda.amax().max(lam.amax()) + 1.0;
+            let merit = |f: f64, c: &[f64]| f + rho * c.iter().map(|x| x.abs()).sum::<f64>();
+            let m0 = merit(f.v, &cv.as_slice()[..]);
+            let mut alpha = 1.0;
+            let mut accepted = false;
+            for _ in 0..30 {
+                let trial = pose.retract(&step.dx, alpha);
+                let (ft, ct) = eval_f64(&trial);
+                let mt = merit(ft, &ct);
+                if mt.is_finite() && (mt < m0 || step.dx.amax() * alpha < 1e-8) {
+                    pose = trial;
+                    accepted = true;
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            if !accepted {
+                return Err(Rejected {
+                    iterations: it,
+                    residual: res,
+                });
+            }
+            lambda = Some(step.lambda);
+        }
+        Err(Rejected {
+            iterations: self.max_iterations,
+            residual: last_res,
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn certify(
+        &self,
+        data: &SectionData,
+        pose: Pose,
+        face: u32,
+        active: &[usize],
+        squared: bool,
+        lambda: &DVector<f64>,
+        stationarity: f64,
+        min_eig: f64,
+        residual: f64,
+        it: usize,
+    ) -> Result<(Candidate, usize), Rejected> {
+        let reject = Err(Rejected {
+            iterations: it,
+            residual,
+        });
+        if stationarity > 1e-7 || min_eig < -1e-8 {
+            return reject;
+        }
+        let angles = data.term_angles(&pose);
+        let mut row = 1 + active.len();
+        let mut objective = 0.0;
+        for (t, term) in data.terms.iter().enumerate() {
+            if face & (1 << t) != 0 {
+                let mu = (lambda[row].powi(2) + lambda[row + 1].powi(2)).sqrt();
+                if mu > term.weight * (1.0 + 1e-9) {
+                    return reject;
+                }
+                row += 2;
+            } else {
+                if !squared && angles[t] <= self.zero_angle {
+                    return reject;
+                }
+                objective += term.weight
+                    * if squared {
+                        angles[t] * angles[t]
+                    } else {
+                        angles[t]
+                    };
+            }
+        }
+        let cable_lambda = (0..active.len()).map(|k| lambda[1 + k]).collect();
+        Ok((
+            Candidate {
+                pose,
+                objective,
+                residual,
+                cable_lambda,
+                face,
+            },
+            it,
+        ))
+    }
+}
+
+/// A start moved slightly off every kink (deterministic).
+fn nudge(p: &Pose, l0: f64) -> Pose {
+    Pose {
+        p: p.p + l0 * Vector3::new(1.3e-3, -0.7e-3, 0.0),
+        q: orthonormalize(&(p.q * exp_so3(&Vector3::new(0.9e-3, 1.1e-3, -0.8e-3)))),
+    }
+}

@@ -1,0 +1,46 @@
+//! Shape methods, all behind one trait.
+//!
+//! | name | file | input | what it is |
+//! |---|---|---|---|
+//! | `geometric` | [`geometric`] | displacement | the paper's section solver, literal (sum of angles) |
+//! | `geometric-squared` | [`geometric`] | displacement | same sections, squared angles (a discrete bending energy) |
+
+pub mod geometric;
+
+use crate::actuation::Actuation;
+use crate::error::SolveError;
+use crate::robot::Robot;
+use crate::scene::Scene;
+use crate::shape::Shape;
+
+/// A way to compute a robot's shape.
+pub trait Method: Send + Sync {
+    /// The name used on the command line and in outputs.
+    fn name(&self) -> &str;
+    /// Solve for the shape. `warm` is a previous shape of the same robot to start from.
+    fn solve(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError>;
+}
+
+/// Names accepted by [`method_by_name`].
+pub const METHOD_NAMES: &[&str] = &["geometric", "geometric-squared"];
+
+/// Build a method with default settings from its command-line name.
+pub fn method_by_name(name: &str) -> Result<Box<dyn Method>, SolveError> {
+    match name {
+        "geometric" => Ok(Box::new(geometric::Geometric::literal())),
+        "geometric-squared" => Ok(Box::new(geometric::Geometric::squared())),
+        other => Err(SolveError::InvalidInput {
+            field: "method".into(),
+            reason: format!(
+                "unknown method `{other}`; known: {}",
+                METHOD_NAMES.join(", ")
+            ),
+        }),
+    }
+}

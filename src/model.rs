@@ -1,0 +1,449 @@
+//! Model files (TOML): robot + actuation (+ scene), parsed and validated at the boundary.
+//!
+//! ```toml
+//! name = "paper-case-1"
+//! [robot]
+//! sections = 9                  # n; disks are numbered 0..=n
+//! section_length = 0.020        # l0 [m] (or section_lengths = [...])
+//! disk_radius = 0.012           # [m]
+//! disk_thickness = 0.002        # [m]
+//! backbone = { youngs_modulus = 1.1e9, poisson_ratio = 0.3, diameter = 0.003 }
+//! [[cables]]
+//! name = "A"
+//! radius = 0.008                # hole radius [m]: one number, or one per disk it passes
+//! angles = { straight = 0.0 }   # or { helix = { start, per_disk } } or [a0, ..., a_end]
+//! ends_at = 9                   # disk where the cable is tied (default: last)
+//! shorten_percent = 4.0         # or shorten = 0.0072 [m]
+//! tension = 4.16925             # [N]
+//! ```
+//!
+//! Every rule is checked with an error naming the field ([`ModelError::Invalid`]); unknown
+//! fields are rejected by the parser ([`ModelError::Parse`], whose message names them).
+
+use crate::actuation::{Actuation, CableDrive, Shortening};
+use crate::error::ModelError;
+use crate::robot::{Backbone, Cable, Loads, Robot};
+use nalgebra::Vector3;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// Largest number of sections accepted (guards against absurd allocations).
+pub const MAX_SECTIONS: usize = 10_000;
+
+/// A parsed, validated model file.
+#[derive(Debug, Clone)]
+pub struct Model {
+    /// The robot.
+    pub robot: Robot,
+    /// Cable inputs from the file.
+    pub actuation: Actuation,
+    /// Where the file was read from (for resolving relative paths).
+    pub source: Option<PathBuf>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileModel {
+    name: String,
+    #[serde(default)]
+    description: Option<String>,
+    robot: FileRobot,
+    #[serde(default)]
+    cables: Vec<FileCable>,
+    #[serde(default)]
+    loads: Option<FileLoads>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileRobot {
+    sections: i64,
+    section_length: Option<f64>,
+    section_lengths: Option<Vec<f64>>,
+    disk_radius: f64,
+    disk_thickness: f64,
+    backbone: FileBackbone,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileBackbone {
+    youngs_modulus: f64,
+    poisson_ratio: f64,
+    diameter: f64,
+    #[serde(default)]
+    density: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileLoads {
+    #[serde(default)]
+    gravity: Option<[f64; 3]>,
+    #[serde(default)]
+    disk_mass: Option<f64>,
+    #[serde(default)]
+    tip_force: Option<[f64; 3]>,
+    #[serde(default)]
+    tip_moment: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum FileRadius {
+    One(f64),
+    PerDisk(Vec<f64>),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+enum FileAngleRule {
+    Straight(f64),
+    Helix { start: f64, per_disk: f64 },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum FileAngles {
+    PerDisk(Vec<f64>),
+    Rule(FileAngleRule),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileCable {
+    name: String,
+    radius: FileRadius,
+    angles: FileAngles,
+    ends_at: Option<i64>,
+    shorten: Option<f64>,
+    shorten_percent: Option<f64>,
+    tension: Option<f64>,
+}
+
+fn finite(field: &str, v: f64) -> Result<f64, ModelError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(ModelError::invalid(
+            field,
+            format!("must be a finite number, got {v}"),
+        ))
+    }
+}
+
+fn positive(field: &str, v: f64) -> Result<f64, ModelError> {
+    finite(field, v)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(ModelError::invalid(field, format!("must be > 0, got {v}")))
+    }
+}
+
+fn non_negative(field: &str, v: f64) -> Result<f64, ModelError> {
+    finite(field, v)?;
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(ModelError::invalid(field, format!("must be >= 0, got {v}")))
+    }
+}
+
+fn vec3(field: &str, v: Option<[f64; 3]>) -> Result<Vector3<f64>, ModelError> {
+    let v = v.unwrap_or([0.0; 3]);
+    for (k, x) in v.iter().enumerate() {
+        finite(&format!("{field}[{k}]"), *x)?;
+    }
+    Ok(Vector3::new(v[0], v[1], v[2]))
+}
+
+impl Model {
+    /// Read and validate a model file.
+    pub fn from_file(path: impl AsRef<Path>) -> Result<Model, ModelError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        let mut m = Self::from_toml_named(&text, &path.display().to_string())?;
+        m.source = Some(path.to_path_buf());
+        Ok(m)
+    }
+
+    /// Parse and validate model text.
+    pub fn from_toml_str(text: &str) -> Result<Model, ModelError> {
+        Self::from_toml_named(text, "<string>")
+    }
+
+    fn from_toml_named(text: &str, path: &str) -> Result<Model, ModelError> {
+        let file: FileModel = toml::from_str(text).map_err(|e| ModelError::Parse {
+            path: path.to_string(),
+            reason: e.to_string().trim().replace('\n', " "),
+        })?;
+        file.validate()
+    }
+}
+
+impl FileModel {
+    fn validate(self) -> Result<Model, ModelError> {
+        if self.name.trim().is_empty() {
+            return Err(ModelError::invalid("name", "must not be empty"));
+        }
+        let _ = &self.description;
+        let r = &self.robot;
+        if r.sections < 1 || r.sections as usize > MAX_SECTIONS {
+            return Err(ModelError::invalid(
+                "robot.sections",
+                format!("must be between 1 and {MAX_SECTIONS}, got {}", r.sections),
+            ));
+        }
+        let n = r.sections as usize;
+        let lengths: Vec<f64> = match (&r.section_length, &r.section_lengths) {
+            (Some(_), Some(_)) => {
+                return Err(ModelError::invalid(
+                    "robot.section_lengths",
+                    "give either section_length or section_lengths, not both",
+                ))
+            }
+            (None, None) => {
+                return Err(ModelError::invalid(
+                    "robot.section_length",
+                    "missing: give section_length or section_lengths",
+                ))
+            }
+            (Some(l), None) => vec![positive("robot.section_length", *l)?; n],
+            (None, Some(ls)) => {
+                if ls.len() != n {
+                    return Err(ModelError::invalid(
+                        "robot.section_lengths",
+                        format!("needs one length per section ({n}), got {}", ls.len()),
+                    ));
+                }
+                for (k, l) in ls.iter().enumerate() {
+                    positive(&format!("robot.section_lengths[{k}]"), *l)?;
+                }
+                ls.clone()
+            }
+        };
+        let mut disk_s = Vec::with_capacity(n + 1);
+        disk_s.push(0.0);
+        for l in &lengths {
+            let last = disk_s[disk_s.len() - 1];
+            disk_s.push(last + l);
+        }
+        let disk_radius = positive("robot.disk_radius", r.disk_radius)?;
+        let disk_thickness = positive("robot.disk_thickness", r.disk_thickness)?;
+        let min_l = lengths.iter().cloned().fold(f64::INFINITY, f64::min);
+        if disk_thickness >= min_l {
+            return Err(ModelError::invalid(
+                "robot.disk_thickness",
+                format!("{disk_thickness} m is not smaller than the shortest section ({min_l} m)"),
+            ));
+        }
+        let b = &r.backbone;
+        let youngs_modulus = positive("robot.backbone.youngs_modulus", b.youngs_modulus)?;
+        let poisson_ratio = finite("robot.backbone.poisson_ratio", b.poisson_ratio)?;
+        if !(poisson_ratio > -1.0 && poisson_ratio <= 0.5) {
+            return Err(ModelError::invalid(
+                "robot.backbone.poisson_ratio",
+                format!("must lie in (-1, 0.5], got {poisson_ratio}"),
+            ));
+        }
+        let diameter = positive("robot.backbone.diameter", b.diameter)?;
+        if diameter >= 2.0 * disk_radius {
+            return Err(ModelError::invalid(
+                "robot.backbone.diameter",
+                format!("{diameter} m does not fit inside the disk (radius {disk_radius} m)"),
+            ));
+        }
+        let density = match b.density {
+            Some(d) => non_negative("robot.backbone.density", d)?,
+            None => 0.0,
+        };
+        let backbone = Backbone {
+            youngs_modulus,
+            poisson_ratio,
+            diameter,
+            density,
+        };
+
+        let loads = match &self.loads {
+            None => Loads::default(),
+            Some(l) => Loads {
+                gravity: vec3("loads.gravity", l.gravity)?,
+                disk_mass: match l.disk_mass {
+                    Some(m) => non_negative("loads.disk_mass", m)?,
+                    None => 0.0,
+                },
+                tip_force: vec3("loads.tip_force", l.tip_force)?,
+                tip_moment: vec3("loads.tip_moment", l.tip_moment)?,
+            },
+        };
+
+        let mut cables = Vec::with_capacity(self.cables.len());
+        let mut drives = Vec::with_capacity(self.cables.len());
+        for (ci, fc) in self.cables.iter().enumerate() {
+            let f = |name: &str| format!("cables[{ci}].{name}");
+            if fc.name.trim().is_empty() {
+                return Err(ModelError::invalid(f("name"), "must not be empty"));
+            }
+            if cables.iter().any(|c: &Cable| c.name == fc.name) {
+                return Err(ModelError::invalid(
+                    f("name"),
+                    format!("two cables are named `{}`", fc.name),
+                ));
+            }
+            let ends_at = match fc.ends_at {
+                None => n,
+                Some(e) if e >= 1 && e as usize <= n => e as usize,
+                Some(e) => {
+                    return Err(ModelError::invalid(
+                        f("ends_at"),
+                        format!("must be a disk between 1 and {n}, got {e}"),
+                    ))
+                }
+            };
+            let count = ends_at + 1;
+            let radius = match &fc.radius {
+                FileRadius::One(r) => vec![*r; count],
+                FileRadius::PerDisk(v) => {
+                    if v.len() != count {
+                        return Err(ModelError::invalid(
+                            f("radius"),
+                            format!(
+                                "needs one radius per disk the cable passes (0..={ends_at}: {count}), got {}",
+                                v.len()
+                            ),
+                        ));
+                    }
+                    v.clone()
+                }
+            };
+            for (k, rr) in radius.iter().enumerate() {
+                let field = if matches!(fc.radius, FileRadius::One(_)) {
+                    f("radius")
+                } else {
+                    format!("cables[{ci}].radius[{k}]")
+                };
+                positive(&field, *rr)?;
+                if *rr >= disk_radius {
+                    return Err(ModelError::invalid(
+                        field,
+                        format!("hole radius {rr} m lies beyond the disk (radius {disk_radius} m)"),
+                    ));
+                }
+                if *rr <= backbone.radius() {
+                    return Err(ModelError::invalid(
+                        field,
+                        format!(
+                            "hole radius {rr} m lies inside the backbone (radius {} m)",
+                            backbone.radius()
+                        ),
+                    ));
+                }
+            }
+            let angle: Vec<f64> = match &fc.angles {
+                FileAngles::Rule(FileAngleRule::Straight(a)) => {
+                    vec![finite(&f("angles.straight"), *a)?; count]
+                }
+                FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => {
+                    finite(&f("angles.helix.start"), *start)?;
+                    finite(&f("angles.helix.per_disk"), *per_disk)?;
+                    (0..count).map(|k| start + per_disk * k as f64).collect()
+                }
+                FileAngles::PerDisk(v) => {
+                    if v.len() != count {
+                        return Err(ModelError::invalid(
+                            f("angles"),
+                            format!(
+                                "needs one angle per disk the cable passes (0..={ends_at}: {count}), got {}",
+                                v.len()
+                            ),
+                        ));
+                    }
+                    for (k, a) in v.iter().enumerate() {
+                        finite(&format!("cables[{ci}].angles[{k}]"), *a)?;
+                    }
+                    v.clone()
+                }
+            };
+            let cable = Cable {
+                name: fc.name.clone(),
+                ends_at,
+                radius,
+                angle,
+            };
+            // Undeformed chord length, to check an absolute shortening against.
+            let chord_len: f64 = (1..=ends_at)
+                .map(|i| {
+                    (cable.hole(i) - cable.hole(i - 1)
+                        + Vector3::new(0.0, 0.0, disk_s[i] - disk_s[i - 1]))
+                    .norm()
+                })
+                .sum();
+            let shorten = match (fc.shorten, fc.shorten_percent) {
+                (Some(_), Some(_)) => {
+                    return Err(ModelError::invalid(
+                        f("shorten_percent"),
+                        "give either shorten or shorten_percent, not both",
+                    ))
+                }
+                (Some(d), None) => {
+                    finite(&f("shorten"), d)?;
+                    if d >= chord_len {
+                        return Err(ModelError::invalid(
+                            f("shorten"),
+                            format!(
+                                "{d} m is not less than the cable's undeformed length {chord_len:.6} m"
+                            ),
+                        ));
+                    }
+                    Some(Shortening::Length(d))
+                }
+                (None, Some(p)) => {
+                    finite(&f("shorten_percent"), p)?;
+                    if p >= 100.0 {
+                        return Err(ModelError::invalid(
+                            f("shorten_percent"),
+                            format!("{p} % would shorten the cable to nothing (must be < 100)"),
+                        ));
+                    }
+                    if p <= -100.0 {
+                        return Err(ModelError::invalid(
+                            f("shorten_percent"),
+                            format!("{p} % is not a plausible payout (must be > -100)"),
+                        ));
+                    }
+                    Some(Shortening::Fraction(p / 100.0))
+                }
+                (None, None) => None,
+            };
+            let tension = match fc.tension {
+                Some(t) => Some(non_negative(&f("tension"), t).map_err(|_| {
+                    ModelError::invalid(
+                        f("tension"),
+                        format!("cables pull, they do not push: must be >= 0 and finite, got {t}"),
+                    )
+                })?),
+                None => None,
+            };
+            cables.push(cable);
+            drives.push(CableDrive { shorten, tension });
+        }
+
+        Ok(Model {
+            robot: Robot {
+                name: self.name,
+                disk_s,
+                disk_radius,
+                disk_thickness,
+                backbone,
+                cables,
+                loads,
+            },
+            actuation: Actuation { cables: drives },
+            source: None,
+        })
+    }
+}

@@ -1,0 +1,293 @@
+//! Second-order forward-mode automatic differentiation on fixed-size numbers.
+//!
+//! [`D2<N>`] carries a value, its gradient and its Hessian with respect to `N` variables, so a
+//! function written once over [`Real`] yields exact first and second derivatives (the section
+//! problems of the geometric method have N = 6). Unary functions use the chain rule
+//! `∇f(u) = f′ ∇u`, `∇²f(u) = f′ ∇²u + f″ ∇u ∇uᵀ`; products use the Leibniz rule.
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Scalar arithmetic shared by `f64` and [`D2`].
+pub trait Real:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Add<f64, Output = Self>
+    + Mul<f64, Output = Self>
+{
+    /// A constant.
+    fn cst(v: f64) -> Self;
+    /// The plain value.
+    fn val(&self) -> f64;
+    /// Square root.
+    fn sqrt(self) -> Self;
+    /// Four-quadrant arctangent of `self / x`.
+    fn atan2(self, x: Self) -> Self;
+}
+
+impl Real for f64 {
+    fn cst(v: f64) -> Self {
+        v
+    }
+    fn val(&self) -> f64 {
+        *self
+    }
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    fn atan2(self, x: Self) -> Self {
+        f64::atan2(self, x)
+    }
+}
+
+/// A number with its gradient and Hessian with respect to `N` variables.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct D2<const N: usize> {
+    /// Value.
+    pub v: f64,
+    /// Gradient.
+    pub g: [f64; N],
+    /// Hessian (symmetric, stored in full).
+    pub h: [[f64; N]; N],
+}
+
+impl<const N: usize> D2<N> {
+    /// The variable number `i` with value `v`.
+    pub fn var(v: f64, i: usize) -> Self {
+        let mut g = [0.0; N];
+        g[i] = 1.0;
+        D2 {
+            v,
+            g,
+            h: [[0.0; N]; N],
+        }
+    }
+
+    /// Apply a unary function with value `f`, derivative `df`, second derivative `d2f`.
+    fn chain(self, f: f64, df: f64, d2f: f64) -> Self {
+        let mut out = D2 {
+            v: f,
+            g: [0.0; N],
+            h: [[0.0; N]; N],
+        };
+        for i in 0..N {
+            out.g[i] = df * self.g[i];
+            for j in 0..N {
+                out.h[i][j] = df * self.h[i][j] + d2f * self.g[i] * self.g[j];
+            }
+        }
+        out
+    }
+}
+
+impl<const N: usize> Add for D2<N> {
+    type Output = Self;
+    fn add(mut self, o: Self) -> Self {
+        self.v += o.v;
+        for i in 0..N {
+            self.g[i] += o.g[i];
+            for j in 0..N {
+                self.h[i][j] += o.h[i][j];
+            }
+        }
+        self
+    }
+}
+
+impl<const N: usize> Sub for D2<N> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        self + (-o)
+    }
+}
+
+impl<const N: usize> Neg for D2<N> {
+    type Output = Self;
+    fn neg(mut self) -> Self {
+        self.v = -self.v;
+        for i in 0..N {
+            self.g[i] = -self.g[i];
+            for j in 0..N {
+                self.h[i][j] = -self.h[i][j];
+            }
+        }
+        self
+    }
+}
+
+impl<const N: usize> Mul for D2<N> {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        let mut out = D2 {
+            v: self.v * o.v,
+            g: [0.0; N],
+            h: [[0.0; N]; N],
+        };
+        for i in 0..N {
+            out.g[i] = self.v * o.g[i] + o.v * self.g[i];
+            for j in 0..N {
+                out.h[i][j] = self.v * o.h[i][j]
+                    + o.v * self.h[i][j]
+                    + self.g[i] * o.g[j]
+                    + o.g[i] * self.g[j];
+            }
+        }
+        out
+    }
+}
+
+impl<const N: usize> Div for D2<N> {
+    type Output = Self;
+    fn div(self, o: Self) -> Self {
+        let inv = 1.0 / o.v;
+        self * o.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
+    }
+}
+
+impl<const N: usize> Add<f64> for D2<N> {
+    type Output = Self;
+    fn add(mut self, o: f64) -> Self {
+        self.v += o;
+        self
+    }
+}
+
+impl<const N: usize> Mul<f64> for D2<N> {
+    type Output = Self;
+    fn mul(mut self, o: f64) -> Self {
+        self.v *= o;
+        for i in 0..N {
+            self.g[i] *= o;
+            for j in 0..N {
+                self.h[i][j] *= o;
+            }
+        }
+        self
+    }
+}
+
+impl<const N: usize> Real for D2<N> {
+    fn cst(v: f64) -> Self {
+        D2 {
+            v,
+            g: [0.0; N],
+            h: [[0.0; N]; N],
+        }
+    }
+    fn val(&self) -> f64 {
+        self.v
+    }
+    fn sqrt(self) -> Self {
+        let s = self.v.sqrt();
+        self.chain(s, 0.5 / s, -0.25 / (s * self.v))
+    }
+    /// atan2(y, x) with ∂/∂y = x/ρ², ∂/∂x = −y/ρ², ∂²/∂y² = −2xy/ρ⁴, ∂²/∂x² = 2xy/ρ⁴,
+    /// ∂²/∂x∂y = (y² − x²)/ρ⁴, ρ² = x² + y².
+    fn atan2(self, x: Self) -> Self {
+        let y = self;
+        let r2 = x.v * x.v + y.v * y.v;
+        let r4 = r2 * r2;
+        let (fy, fx) = (x.v / r2, -y.v / r2);
+        let (fyy, fxx, fxy) = (
+            -2.0 * x.v * y.v / r4,
+            2.0 * x.v * y.v / r4,
+            (y.v * y.v - x.v * x.v) / r4,
+        );
+        let mut out = D2 {
+            v: y.v.atan2(x.v),
+            g: [0.0; N],
+            h: [[0.0; N]; N],
+        };
+        for i in 0..N {
+            out.g[i] = fy * y.g[i] + fx * x.g[i];
+            for j in 0..N {
+                out.h[i][j] = fy * y.h[i][j]
+                    + fx * x.h[i][j]
+                    + fyy * y.g[i] * y.g[j]
+                    + fxx * x.g[i] * x.g[j]
+                    + fxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+            }
+        }
+        out
+    }
+}
+
+/// A 3-vector over any [`Real`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct V3<T>(pub [T; 3]);
+
+impl<T: Real> V3<T> {
+    /// From plain numbers.
+    pub fn cst(v: &nalgebra::Vector3<f64>) -> Self {
+        V3([T::cst(v.x), T::cst(v.y), T::cst(v.z)])
+    }
+    /// Dot product.
+    pub fn dot(&self, o: &Self) -> T {
+        self.0[0] * o.0[0] + self.0[1] * o.0[1] + self.0[2] * o.0[2]
+    }
+    /// Cross product.
+    pub fn cross(&self, o: &Self) -> Self {
+        let (a, b) = (&self.0, &o.0);
+        V3([
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ])
+    }
+    /// Euclidean norm.
+    pub fn norm(&self) -> T {
+        self.dot(self).sqrt()
+    }
+    /// Sum.
+    pub fn add(&self, o: &Self) -> Self {
+        V3([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
+    }
+    /// Difference.
+    pub fn sub(&self, o: &Self) -> Self {
+        V3([self.0[0] - o.0[0], self.0[1] - o.0[1], self.0[2] - o.0[2]])
+    }
+    /// Scaled by a scalar.
+    pub fn scale(&self, s: T) -> Self {
+        V3([self.0[0] * s, self.0[1] * s, self.0[2] * s])
+    }
+    /// Angle between two vectors, `atan2(|a × b|, a · b)` (well-conditioned near 0 and π,
+    /// unlike `acos`).
+    pub fn angle(&self, o: &Self) -> T {
+        self.cross(o).norm().atan2(self.dot(o))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Checks D2 derivatives of a composite function against central finite differences.
+    #[test]
+    fn hessian_matches_finite_differences() {
+        fn f<T: Real>(x: [T; 2]) -> T {
+            let a = V3([x[0], x[1], T::cst(0.3)]);
+            let b = V3([T::cst(0.2), x[0] * x[1], T::cst(1.0)]);
+            a.angle(&b) + (x[0] * x[0] + T::cst(1.0)).sqrt() / (x[1] + 2.0)
+        }
+        let x0 = [0.4, -0.7];
+        let d = f([D2::<2>::var(x0[0], 0), D2::<2>::var(x0[1], 1)]);
+        let h = 1e-5;
+        for i in 0..2 {
+            let mut xp = x0;
+            let mut xm = x0;
+            xp[i] += h;
+            xm[i] -= h;
+            let fd = (f(xp) - f(xm)) / (2.0 * h);
+            assert!((fd - d.g[i]).abs() < 1e-8, "gradient {i}");
+            let dp = f([D2::<2>::var(xp[0], 0), D2::<2>::var(xp[1], 1)]);
+            let dm = f([D2::<2>::var(xm[0], 0), D2::<2>::var(xm[1], 1)]);
+            for j in 0..2 {
+                let fd2 = (dp.g[j] - dm.g[j]) / (2.0 * h);
+                assert!((fd2 - d.h[i][j]).abs() < 1e-6, "hessian {i}{j}");
+            }
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! One Newton step on the KKT system of a small equality-constrained problem.
+//!
+//! For `min f(x)` s.t. `c(x) = 0` with Lagrangian Hessian `H`, gradient `g` and constraint
+//! Jacobian `A` (k × n), the step solves, by the null-space method,
+//!
+//! ```text
+//! A Y d_y = −c                     (range step, least squares: tolerates redundant rows)
+//! (Zᵀ H Z) d_z = −Zᵀ (g + H Y d_y) (reduced Newton step)
+//! dx = Y d_y + Z d_z,   Aᵀ λ ≈ −(g + H dx)   (least-squares multipliers)
+//! ```
+//!
+//! with `[Y Z]` an orthonormal basis split into the row space and null space of `A` (from the
+//! eigenvectors of `AᵀA` with row-normalized `A`). Negative or tiny eigenvalues of the reduced
+//! Hessian are replaced by their magnitude (at least `reg`), so every step descends on the
+//! constraint manifold; the smallest eigenvalue is returned so callers can certify a minimum
+//! (second-order condition) rather than a saddle.
+
+use nalgebra::{DMatrix, DVector, SymmetricEigen};
+
+/// Result of [`kkt_step`].
+#[derive(Debug, Clone)]
+pub struct KktStep {
+    /// Primal step.
+    pub dx: DVector<f64>,
+    /// Multipliers for the new point (sign convention: ∇f + Aᵀλ = 0).
+    pub lambda: DVector<f64>,
+    /// Smallest eigenvalue of the reduced Hessian Zᵀ H Z (+∞ when the null space is empty).
+    pub min_reduced_eigenvalue: f64,
+    /// Rank of the constraint Jacobian.
+    pub rank: usize,
+}
+
+/// Relative threshold below which a singular value of the (row-normalized) Jacobian is zero.
+pub const RANK_TOL: f64 = 1e-10;
+
+/// Least-squares multipliers λ minimizing |g + Aᵀλ| (the first-order estimate).
+pub fn multipliers(g: &DVector<f64>, a: &DMatrix<f64>) -> DVector<f64> {
+    if a.nrows() == 0 {
+        return DVector::zeros(0);
+    }
+    let at = a.transpose();
+    let svd = at.svd(true, true);
+    svd.solve(&(-g), 1e-12)
+        .unwrap_or_else(|_| DVector::zeros(a.nrows()))
+}
+
+/// One regularized Newton–KKT step (see module docs).
+pub fn kkt_step(
+    h: &DMatrix<f64>,
+    g: &DVector<f64>,
+    a: &DMatrix<f64>,
+    c: &DVector<f64>,
+    reg: f64,
+) -> KktStep {
+    let n = g.len();
+    let k = a.nrows();
+    // Row-normalize A so that constraints of different units weigh alike in the rank test.
+    let mut an = a.clone();
+    let mut cn = c.clone();
+    for i in 0..k {
+        let s = an.row(i).norm();
+        if s > 0.0 {
+            an.row_mut(i).scale_mut(1.0 / s);
+            cn[i] /= s;
+        }
+    }
+    let (y, z, y_eigs) = if k == 0 {
+        (DMatrix::zeros(n, 0), DMatrix::identity(n, n), vec![])
+    } else {
+        let eig = SymmetricEigen::new(an.transpose() * &an);
+        let mut yc = vec![];
+        let mut zc = vec![];
+        let mut ye = vec![];
+        for j in 0..n {
+            if eig.eigenvalues[j] > RANK_TOL {
+                yc.push(eig.eigenvectors.column(j).into_owned());
+                ye.push(eig.eigenvalues[j]);
+            } else {
+                zc.push(eig.eigenvectors.column(j).into_owned());
+            }
+        }
+        let y = if yc.is_empty() {
+            DMatrix::zeros(n, 0)
+        } else {
+            DMatrix::from_columns(&yc)
+        };
+        let z = if zc.is_empty() {
+            DMatrix::zeros(n, 0)
+        } else {
+            DMatrix::from_columns(&zc)
+        };
+        (y, z, ye)
+    };
+    let rank = y.ncols();
+    // Range step: (AY)ᵀ(AY) = diag(eigenvalues), so d_y = −Yᵀ Aᵀ c / eig.
+    let mut dy = DVector::zeros(rank);
+    if rank > 0 {
+        let atc = an.transpose() * &cn;
+        for j in 0..rank {
+            dy[j] = -y.column(j).dot(&atc) / y_eigs[j];
+        }
+    }
+    let x_range = &y * &dy;
+    let mut min_eig = f64::INFINITY;
+    let mut dx = x_range.clone();
+    if z.ncols() > 0 {
+        let hr = z.transpose() * h * &z;
+        let rhs = -(z.transpose() * (g + h * &x_range));
+        let e = SymmetricEigen::new(hr);
+        let mut dz = DVector::zeros(z.ncols());
+        for j in 0..z.ncols() {
+            let lam = e.eigenvalues[j];
+            min_eig = min_eig.min(lam);
+            let lam_reg = lam.abs().max(reg);
+            let v = e.eigenvectors.column(j);
+            dz += v * (v.dot(&rhs) / lam_reg);
+        }
+        dx += &z * dz;
+    }
+    let lambda = multipliers(&(g + h * &dx), a);
+    KktStep {
+        dx,
+        lambda,
+        min_reduced_eigenvalue: min_eig,
+        rank,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// min x² + y² s.t. x + y = 1 → x = y = 1/2, λ = −1 (one step, exact).
+    #[test]
+    fn quadratic_with_linear_constraint_in_one_step() {
+        let h = DMatrix::from_row_slice(2, 2, &[2.0, 0.0, 0.0, 2.0]);
+        let x = DVector::from_vec(vec![0.0, 0.0]);
+        let g = &h * &x;
+        let a = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+        let c = DVector::from_vec(vec![-1.0]);
+        let s = kkt_step(&h, &g, &a, &c, 1e-12);
+        assert!((s.dx[0] - 0.5).abs() < 1e-14 && (s.dx[1] - 0.5).abs() < 1e-14);
+        assert!((s.lambda[0] + 1.0).abs() < 1e-12);
+        assert!((s.min_reduced_eigenvalue - 2.0).abs() < 1e-12);
+    }
+
+    /// A repeated constraint row does not break the step (redundant cable constraints).
+    #[test]
+    fn redundant_rows_are_tolerated() {
+        let h = DMatrix::identity(2, 2);
+        let g = DVector::zeros(2);
+        let a = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 2.0, 0.0]);
+        let c = DVector::from_vec(vec![-1.0, -2.0]);
+        let s = kkt_step(&h, &g, &a, &c, 1e-12);
+        assert_eq!(s.rank, 1);
+        assert!((s.dx[0] - 1.0).abs() < 1e-12 && s.dx[1].abs() < 1e-12);
+    }
+}

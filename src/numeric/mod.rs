@@ -1,0 +1,5 @@
+//! Small numerical kernels shared by the methods; nothing robot-specific.
+
+pub mod ad;
+pub mod kkt;
+pub mod rotation;

@@ -1,0 +1,164 @@
+//! The robot: disks along a backbone, cables through holes in the disks.
+//!
+//! Pure data plus derived quantities. Files are parsed and validated in [`crate::model`];
+//! once a [`Robot`] exists its fields are valid (positive lengths, holes inside the disks,
+//! one hole per cable per disk it passes).
+//!
+//! Conventions: SI units; disk 0 is the base at the origin, z along the undeformed backbone;
+//! a hole of cable `c` at disk `k` sits at `radius[k]·(cos angle[k], sin angle[k], 0)` in the
+//! disk's own frame (angles counter-clockwise positive, unwrapped as the file gives them).
+
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+
+/// Elastic backbone (a rod of circular cross-section).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Backbone {
+    /// Young's modulus E [Pa].
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν [-].
+    pub poisson_ratio: f64,
+    /// Rod diameter d [m].
+    pub diameter: f64,
+    /// Density [kg/m³] (0 when the file gives none: weightless backbone).
+    pub density: f64,
+}
+
+impl Backbone {
+    /// Shear modulus G = E / (2(1 + ν)) [Pa].
+    pub fn shear_modulus(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+    }
+    /// Cross-section area A = π d² / 4 [m²].
+    pub fn area(&self) -> f64 {
+        PI * self.diameter * self.diameter / 4.0
+    }
+    /// Second moment of area I = π d⁴ / 64 [m⁴].
+    pub fn second_moment(&self) -> f64 {
+        PI * self.diameter.powi(4) / 64.0
+    }
+    /// Bending stiffness EI [N m²].
+    pub fn ei(&self) -> f64 {
+        self.youngs_modulus * self.second_moment()
+    }
+    /// Torsional stiffness GJ with J = 2I (circular section) [N m²].
+    pub fn gj(&self) -> f64 {
+        self.shear_modulus() * 2.0 * self.second_moment()
+    }
+    /// Axial stiffness EA [N].
+    pub fn ea(&self) -> f64 {
+        self.youngs_modulus * self.area()
+    }
+    /// Shear stiffness GA [N] (no shear correction factor, as in Rucker & Webster 2011).
+    pub fn ga(&self) -> f64 {
+        self.shear_modulus() * self.area()
+    }
+    /// Backbone radius [m].
+    pub fn radius(&self) -> f64 {
+        self.diameter / 2.0
+    }
+}
+
+/// One cable (tendon): its hole at every disk it passes, and where it is tied.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cable {
+    /// Unique name (e.g. `A`).
+    pub name: String,
+    /// Disk where the cable is tied (1..=n). It passes disks `0..=ends_at`.
+    pub ends_at: usize,
+    /// Hole radius at disks `0..=ends_at` [m].
+    pub radius: Vec<f64>,
+    /// Hole angle at disks `0..=ends_at` [rad], unwrapped as given.
+    pub angle: Vec<f64>,
+}
+
+impl Cable {
+    /// Hole position at disk `k` in that disk's own frame (z = 0).
+    pub fn hole(&self, k: usize) -> Vector3<f64> {
+        let (r, a) = (self.radius[k], self.angle[k]);
+        Vector3::new(r * a.cos(), r * a.sin(), 0.0)
+    }
+
+    /// Whether the cable passes section `i` (between disks `i-1` and `i`).
+    pub fn reaches_section(&self, i: usize) -> bool {
+        i >= 1 && i <= self.ends_at
+    }
+}
+
+/// Loads other than cables, for force-based methods.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loads {
+    /// Gravity vector in the base frame [m/s²] (zero: no gravity).
+    pub gravity: Vector3<f64>,
+    /// Mass of each disk except the base [kg].
+    pub disk_mass: f64,
+    /// External force at the tip, base frame [N].
+    pub tip_force: Vector3<f64>,
+    /// External moment at the tip, base frame [N m].
+    pub tip_moment: Vector3<f64>,
+}
+
+impl Default for Loads {
+    fn default() -> Self {
+        Loads {
+            gravity: Vector3::zeros(),
+            disk_mass: 0.0,
+            tip_force: Vector3::zeros(),
+            tip_moment: Vector3::zeros(),
+        }
+    }
+}
+
+/// A validated robot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Robot {
+    /// Model name.
+    pub name: String,
+    /// Arc length of each disk along the undeformed backbone, `disk_s[0] = 0`, `n + 1` values.
+    pub disk_s: Vec<f64>,
+    /// Disk radius [m].
+    pub disk_radius: f64,
+    /// Disk thickness [m].
+    pub disk_thickness: f64,
+    /// Backbone rod.
+    pub backbone: Backbone,
+    /// Cables, in file order.
+    pub cables: Vec<Cable>,
+    /// External loads (gravity, tip wrench) for force-based methods.
+    pub loads: Loads,
+}
+
+impl Robot {
+    /// Number of sections n (disks are numbered `0..=n`).
+    pub fn sections(&self) -> usize {
+        self.disk_s.len() - 1
+    }
+    /// Backbone length L [m].
+    pub fn length(&self) -> f64 {
+        self.disk_s[self.disk_s.len() - 1]
+    }
+    /// Length of section `i` (1-based) [m].
+    pub fn section_length(&self, i: usize) -> f64 {
+        self.disk_s[i] - self.disk_s[i - 1]
+    }
+    /// Undeformed position of cable `c`'s hole at disk `k` in the base frame.
+    pub fn undeformed_hole(&self, c: usize, k: usize) -> Vector3<f64> {
+        self.cables[c].hole(k) + Vector3::new(0.0, 0.0, self.disk_s[k])
+    }
+    /// Undeformed straight chord of cable `c` in section `i` (between its holes at disks
+    /// `i-1` and `i`) [m]. For a hole that turns by π/6 per disk this is longer than l0.
+    pub fn undeformed_chord(&self, c: usize, i: usize) -> f64 {
+        (self.undeformed_hole(c, i) - self.undeformed_hole(c, i - 1)).norm()
+    }
+    /// Undeformed length of cable `c` from the base to the disk where it ends, measured as
+    /// straight chords between consecutive holes [m].
+    pub fn undeformed_chord_length(&self, c: usize) -> f64 {
+        (1..=self.cables[c].ends_at)
+            .map(|i| self.undeformed_chord(c, i))
+            .sum()
+    }
+    /// Index of the cable with this name.
+    pub fn cable_index(&self, name: &str) -> Option<usize> {
+        self.cables.iter().position(|c| c.name == name)
+    }
+}

@@ -1,0 +1,228 @@
+//! A solved robot: disk frames, cable paths, contacts and the solver's report.
+//!
+//! Every method returns a [`Shape`]; every export reads one. Positions in metres, base frame.
+
+use nalgebra::{Matrix3, Vector3};
+use serde::Serialize;
+
+/// Pose of one disk.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiskFrame {
+    /// Arc length of the disk along the undeformed backbone [m].
+    pub s: f64,
+    /// Backbone point at the disk [m].
+    pub position: Vector3<f64>,
+    /// Disk orientation: columns are the disk's x, y, z axes in the base frame; z is the disk
+    /// normal, x points at angle 0 of the hole pattern.
+    pub rotation: Matrix3<f64>,
+}
+
+/// Path of one cable through the disks it passes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CablePath {
+    /// Cable name.
+    pub name: String,
+    /// Hole positions at disks `0..=ends_at` [m].
+    pub points: Vec<Vector3<f64>>,
+    /// True when the cable is slack somewhere (its path is shorter than its length).
+    pub slack: bool,
+    /// Sections (1-based) where the cable is slack.
+    pub slack_sections: Vec<usize>,
+    /// Tension [N], where the method computes one.
+    pub tension: Option<f64>,
+}
+
+/// A contact between the robot and an obstacle (filled by obstacle-aware methods).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Contact {
+    /// Obstacle name.
+    pub obstacle: String,
+    /// Robot feature: `backbone`, `disk` or `cable`.
+    pub feature: String,
+    /// Disk (for disk features) or section (backbone / cable chords) index.
+    pub index: usize,
+    /// Closest point on the robot [m].
+    pub point_robot: [f64; 3],
+    /// Closest point on the obstacle [m].
+    pub point_obstacle: [f64; 3],
+    /// Contact normal, from obstacle to robot.
+    pub normal: [f64; 3],
+    /// Signed distance [m].
+    pub distance: f64,
+    /// Constraint multiplier (contact reaction).
+    pub multiplier: f64,
+}
+
+/// What happened in one section of a section-by-section method.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SectionReport {
+    /// Section index (1-based).
+    pub section: usize,
+    /// Iterations spent (summed over every candidate examined).
+    pub iterations: usize,
+    /// Largest constraint residual of the accepted solution [m].
+    pub residual: f64,
+    /// Objective value of the accepted solution.
+    pub objective: f64,
+    /// Objective terms that are exactly zero at the accepted solution (`tangent`, or a cable name).
+    pub zero_terms: Vec<String>,
+    /// Cables slack in this section.
+    pub slack: Vec<String>,
+    /// How many candidates (faces × starts) were certified.
+    pub candidates: usize,
+}
+
+/// How a solve went.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct SolveReport {
+    /// True when every tolerance was met.
+    pub converged: bool,
+    /// Total iterations.
+    pub iterations: usize,
+    /// Largest residual (constraint residual [m] for geometric methods, shooting residual for rods).
+    pub residual: f64,
+    /// Wall time of the solve [s] (median over `--repeat` where the CLI sets it).
+    pub solve_time_s: f64,
+    /// Per-section details (section methods).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<SectionReport>,
+    /// Internal force and moment at the base, base frame [N, N m] (rod methods).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub base_wrench: Option<[f64; 6]>,
+    /// Notes: choices made, inputs ignored.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+}
+
+/// A solved shape.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shape {
+    /// Method that produced it.
+    pub method: String,
+    /// Disk frames `0..=n`.
+    pub disks: Vec<DiskFrame>,
+    /// Dense backbone samples (at least the disk positions) [m].
+    pub backbone: Vec<Vector3<f64>>,
+    /// Cable paths, in robot order.
+    pub cables: Vec<CablePath>,
+    /// Contacts with obstacles.
+    pub contacts: Vec<Contact>,
+    /// Solver report.
+    pub report: SolveReport,
+}
+
+impl Shape {
+    /// Tip (last disk) position.
+    pub fn tip(&self) -> Vector3<f64> {
+        self.disks[self.disks.len() - 1].position
+    }
+
+    /// Root-mean-square distance between corresponding disk positions of two shapes [m].
+    /// Both must have the same number of disks (else `None`).
+    pub fn rms_distance(&self, other: &Shape) -> Option<f64> {
+        if self.disks.len() != other.disks.len() || self.disks.is_empty() {
+            return None;
+        }
+        let sum: f64 = self
+            .disks
+            .iter()
+            .zip(&other.disks)
+            .map(|(a, b)| (a.position - b.position).norm_squared())
+            .sum();
+        Some((sum / self.disks.len() as f64).sqrt())
+    }
+
+    /// Distance between the tips of two shapes [m].
+    pub fn tip_distance(&self, other: &Shape) -> f64 {
+        (self.tip() - other.tip()).norm()
+    }
+
+    /// Serializable form (see [`ShapeJson`]).
+    pub fn to_json(&self) -> ShapeJson {
+        ShapeJson {
+            method: self.method.clone(),
+            disks: self
+                .disks
+                .iter()
+                .map(|d| DiskJson {
+                    s: d.s,
+                    position: arr(&d.position),
+                    rotation: [
+                        [d.rotation[(0, 0)], d.rotation[(0, 1)], d.rotation[(0, 2)]],
+                        [d.rotation[(1, 0)], d.rotation[(1, 1)], d.rotation[(1, 2)]],
+                        [d.rotation[(2, 0)], d.rotation[(2, 1)], d.rotation[(2, 2)]],
+                    ],
+                })
+                .collect(),
+            backbone: self.backbone.iter().map(arr).collect(),
+            cables: self
+                .cables
+                .iter()
+                .map(|c| CableJson {
+                    name: c.name.clone(),
+                    points: c.points.iter().map(arr).collect(),
+                    slack: c.slack,
+                    slack_sections: c.slack_sections.clone(),
+                    tension: c.tension,
+                })
+                .collect(),
+            contacts: self.contacts.clone(),
+            report: self.report.clone(),
+        }
+    }
+
+    /// JSON text (pretty-printed).
+    pub fn to_json_string(&self) -> String {
+        // Serializing plain structs of numbers and strings cannot fail.
+        serde_json::to_string_pretty(&self.to_json())
+            .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    }
+}
+
+fn arr(v: &Vector3<f64>) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// JSON form of a disk frame: rotation is row-major 3×3.
+#[derive(Debug, Clone, Serialize)]
+pub struct DiskJson {
+    /// Arc length [m].
+    pub s: f64,
+    /// Position [m].
+    pub position: [f64; 3],
+    /// Rotation, row-major.
+    pub rotation: [[f64; 3]; 3],
+}
+
+/// JSON form of a cable path.
+#[derive(Debug, Clone, Serialize)]
+pub struct CableJson {
+    /// Cable name.
+    pub name: String,
+    /// Hole positions per disk it passes [m].
+    pub points: Vec<[f64; 3]>,
+    /// Slack anywhere.
+    pub slack: bool,
+    /// Sections where slack.
+    pub slack_sections: Vec<usize>,
+    /// Tension [N] where computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tension: Option<f64>,
+}
+
+/// JSON form of a [`Shape`].
+#[derive(Debug, Clone, Serialize)]
+pub struct ShapeJson {
+    /// Method name.
+    pub method: String,
+    /// Disk frames.
+    pub disks: Vec<DiskJson>,
+    /// Dense backbone samples.
+    pub backbone: Vec<[f64; 3]>,
+    /// Cable paths.
+    pub cables: Vec<CableJson>,
+    /// Contacts.
+    pub contacts: Vec<Contact>,
+    /// Solver report.
+    pub report: SolveReport,
+}
