@@ -93,7 +93,7 @@ impl Geometric {
     pub fn literal() -> Self {
         Geometric {
             objective: Objective::Literal,
-            max_iterations: 60,
+            max_iterations: 40,
             tolerance: 1e-12,
             zero_angle: 1e-7,
         }
@@ -244,7 +244,7 @@ impl Pose {
     fn retract(&self, dx: &DVector<f64>, alpha: f64) -> Self {
         Pose {
             p: self.p + alpha * Vector3::new(dx[0], dx[1], dx[2]),
-            q: orthonormalize(&(self.q * exp_so3(&(alpha * Vector3::new(dx[3], dx[4], dx[5]))))),
+            q: gram_schmidt(&(self.q * exp_so3(&(alpha * Vector3::new(dx[3], dx[4], dx[5]))))),
         }
     }
 }
@@ -335,9 +335,10 @@ impl SectionData {
                     ),
                 });
             }
+            // ang(h, Qh) = ang(−h, −Qh): holes on one line through the centre give one term.
             match coupler_members
                 .iter_mut()
-                .find(|(hh, _)| (hh - h).norm() < SAME_POINT)
+                .find(|(hh, _)| hh.normalize().cross(&h.normalize()).norm() < 1e-9)
             {
                 Some((_, m)) => m.push(c),
                 None => coupler_members.push((h, vec![c])),
@@ -417,7 +418,8 @@ impl SectionData {
         let q = &pose.q;
         let rot = |h: &Vector3<f64>| -> V3<T> {
             let hv = V3::<T>::cst(h);
-            let wh = w.cross(&hv);
+            // ω × h with h constant: only scalar products.
+            let wh = w.cross_c(h);
             let m = hv.add(&wh).add(&w.cross(&wh).scale(T::cst(0.5)));
             let row = |r: usize| m.0[0] * q[(r, 0)] + m.0[1] * q[(r, 1)] + m.0[2] * q[(r, 2)];
             V3([row(0), row(1), row(2)])
@@ -427,15 +429,15 @@ impl SectionData {
         cons.push(p.norm() + (-self.l0));
         for &j in active {
             let k = &self.cons[j];
-            let chord = p.add(&rot(&k.h)).sub(&V3::cst(&k.h_prev));
+            let chord = p.add(&rot(&k.h)).add(&V3::cst(&(-k.h_prev)));
             cons.push(chord.norm() + (-k.length));
         }
         for (t, term) in self.terms.iter().enumerate() {
             let v = if term.tangent { p } else { rot(&term.dir) };
             if face & (1 << t) != 0 {
                 let inv = T::cst(1.0) / v.norm();
-                cons.push(v.dot(&V3::cst(&term.e1)) * inv);
-                cons.push(v.dot(&V3::cst(&term.e2)) * inv);
+                cons.push(v.dot_c(&term.e1) * inv);
+                cons.push(v.dot_c(&term.e2) * inv);
             } else {
                 let u = V3::<T>::cst(&term.dir);
                 let a = if squared {
@@ -502,6 +504,13 @@ struct Candidate {
     face: u32,
 }
 
+/// What the pull-only check says of a candidate.
+enum TautMove {
+    Accept,
+    Drop(usize),
+    Add(usize),
+}
+
 /// Why a Newton run on one face was not accepted.
 struct Rejected {
     iterations: usize,
@@ -539,153 +548,212 @@ impl Geometric {
         let squared = self.objective == Objective::Squared;
         let straight = Pose::straight(l0);
         let mut iterations = 0usize;
-        let mut worst_rejected = Rejected {
-            iterations: 0,
-            residual: f64::INFINITY,
-        };
-        // Active set: start with every cable whose undeformed chord exceeds its length.
-        let mut active: Vec<usize> = (0..data.cons.len())
+        let mut closest = f64::INFINITY;
+        let gauge = usize::from(data.gauge.is_some());
+        let max_taut = 5 - gauge;
+        let starts = self.starts(data, prev, &mut iterations);
+        let mut count = 0usize;
+        // Cables pull, they do not push: the taut set T must give a certified pose whose taut
+        // multipliers are ≥ 0 and where no other cable's chord exceeds its length.
+        // Fast path: primal active set from the cables the straight pose violates.
+        let mut taut: Vec<usize> = (0..data.cons.len())
             .filter(|&j| data.chord(&straight, j) > data.cons[j].length)
             .collect();
-        let dof_budget = 6usize.saturating_sub(usize::from(data.gauge.is_some()));
-        while 1 + active.len() > dof_budget {
-            // More taut cables than a rigid disk has freedoms: keep the most shortened.
-            let (pos, _) = active
-                .iter()
-                .enumerate()
-                .map(|(k, &j)| (k, data.chord(&straight, j) - data.cons[j].length))
-                .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-            active.remove(pos);
+        let mut seen: Vec<Vec<usize>> = vec![];
+        let mut accepted: Option<(Candidate, Vec<usize>)> = None;
+        while taut.len() <= max_taut && !seen.contains(&taut) {
+            seen.push(taut.clone());
+            let Some(best) = self.best_on_taut_set(data, &taut, &starts, squared, &mut iterations, &mut count, &mut closest) else {
+                break;
+            };
+            match self.taut_set_move(data, &taut, &best) {
+                TautMove::Accept => {
+                    accepted = Some((best, taut.clone()));
+                    break;
+                }
+                TautMove::Drop(k) => {
+                    taut.remove(k);
+                }
+                TautMove::Add(j) => {
+                    taut.push(j);
+                    taut.sort_unstable();
+                }
+            }
         }
-        // Starts: the smooth squared-angle solution (angles away from their kinks), the
-        // previous section's relative pose, and the straight pose nudged off its kinks.
+        // Complete search: every taut set (small: cables reaching one section), lowest valid.
+        if accepted.is_none() {
+            let m = data.cons.len();
+            for mask in 0u32..(1 << m) {
+                let set: Vec<usize> = (0..m).filter(|j| mask & (1 << j) != 0).collect();
+                if set.len() > max_taut || seen.contains(&set) {
+                    continue;
+                }
+                let Some(best) = self.best_on_taut_set(data, &set, &starts, squared, &mut iterations, &mut count, &mut closest) else {
+                    continue;
+                };
+                if matches!(self.taut_set_move(data, &set, &best), TautMove::Accept)
+                    && accepted.as_ref().is_none_or(|(a, _)| best.objective < a.objective)
+                {
+                    accepted = Some((best, set));
+                }
+            }
+        }
+        let Some((best, taut)) = accepted else {
+            // Newton runs that stall at a positive residual mean the taut set cannot be met.
+            if closest > 1e-8 && !data.cons.is_empty() {
+                let worst = (0..data.cons.len())
+                    .max_by(|&a, &b| {
+                        let va = data.chord(&straight, a) - data.cons[a].length;
+                        let vb = data.chord(&straight, b) - data.cons[b].length;
+                        va.total_cmp(&vb)
+                    })
+                    .unwrap_or(0);
+                return Err(SolveError::Infeasible {
+                    cable: data.names[data.cons[worst].cables[0]].clone(),
+                    section: i,
+                    reason: format!(
+                        "no set of taut cables meets every cable length while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible); closest residual {closest:.3e} m"
+                    ),
+                });
+            }
+            return Err(SolveError::NotConverged {
+                method: self.name().into(),
+                section: Some(i),
+                iterations,
+                residual: closest,
+                detail: "no face of the section problem gave a certified minimum".into(),
+            });
+        };
+        let angles = data.term_angles(&best.pose);
+        let zero_terms = data
+            .terms
+            .iter()
+            .enumerate()
+            .filter(|(t, _)| best.face & (1 << t) != 0 || angles[*t] <= self.zero_angle)
+            .map(|(_, t)| t.label.clone())
+            .collect();
+        let mut slack: Vec<usize> = data.always_slack.clone();
+        for j in 0..data.cons.len() {
+            if !taut.contains(&j) {
+                slack.extend(data.cons[j].cables.iter().copied());
+            }
+        }
+        slack.sort_unstable();
+        Ok(SectionSolution {
+            pose: best.pose,
+            report: SectionReport {
+                section: i,
+                iterations,
+                residual: best.residual,
+                objective: best.objective,
+                zero_terms,
+                slack: slack.iter().map(|&c| data.names[c].clone()).collect(),
+                candidates: count,
+            },
+            slack,
+        })
+    }
+
+    /// Starting poses: the smooth squared-angle solution (angles off their kinks), the previous
+    /// section's relative pose, and the straight pose, both nudged off the kinks.
+    fn starts(&self, data: &SectionData, prev: Option<&Pose>, it: &mut usize) -> Vec<Pose> {
+        let straight = Pose::straight(data.l0);
         let mut starts = vec![];
-        if !squared {
-            if let Some(c) = self.smooth_start(data, &active, &mut iterations) {
-                starts.push(c);
-            }
-            if let Some(p) = prev {
-                starts.push(nudge(p, l0));
-            }
-            starts.push(nudge(&straight, l0));
-        } else {
+        if self.objective == Objective::Squared {
             starts.push(straight);
             if let Some(p) = prev {
                 starts.push(*p);
             }
+            return starts;
         }
+        let all: Vec<usize> = (0..data.cons.len())
+            .filter(|&j| data.chord(&straight, j) > data.cons[j].length)
+            .take(5 - usize::from(data.gauge.is_some()))
+            .collect();
+        if let Some(c) = self.smooth_start(data, &all, it) {
+            starts.push(c);
+        }
+        if let Some(p) = prev {
+            starts.push(nudge(p, data.l0));
+        }
+        starts.push(nudge(&straight, data.l0));
+        starts
+    }
+
+    /// Lowest certified candidate over every face with this taut set (the straight pose, the
+    /// exact minimum F = 0, when no cable is taut).
+    #[allow(clippy::too_many_arguments)]
+    fn best_on_taut_set(
+        &self,
+        data: &SectionData,
+        taut: &[usize],
+        starts: &[Pose],
+        squared: bool,
+        iterations: &mut usize,
+        count: &mut usize,
+        closest: &mut f64,
+    ) -> Option<Candidate> {
         let n_terms = data.terms.len();
-        for _round in 0..(2 * data.cons.len() + 2) {
-            let fixed = 1 + active.len() + usize::from(data.gauge.is_some());
-            let faces: Vec<u32> = if squared {
-                vec![0]
-            } else {
-                (0u32..(1 << n_terms))
-                    .filter(|f| fixed + 2 * f.count_ones() as usize <= 6)
-                    .collect()
-            };
-            let mut best: Option<Candidate> = None;
-            let mut count = 0;
-            for &face in &faces {
-                for s in &starts {
-                    match self.newton(data, s, face, &active, squared) {
-                        Ok((cand, it)) => {
-                            iterations += it;
-                            count += 1;
-                            if best
-                                .as_ref()
-                                .is_none_or(|b| cand.objective < b.objective - 1e-12)
-                            {
-                                best = Some(cand);
-                            }
+        if taut.is_empty() {
+            *count += 1;
+            return Some(Candidate {
+                pose: Pose::straight(data.l0),
+                objective: 0.0,
+                residual: 0.0,
+                cable_lambda: vec![],
+                face: (1 << n_terms) - 1,
+            });
+        }
+        let fixed = 1 + taut.len() + usize::from(data.gauge.is_some());
+        let faces: Vec<u32> = if squared {
+            vec![0]
+        } else {
+            (0u32..(1 << n_terms))
+                .filter(|f| fixed + 2 * f.count_ones() as usize <= 6)
+                .collect()
+        };
+        let mut best: Option<Candidate> = None;
+        for &face in &faces {
+            for s in starts {
+                match self.newton(data, s, face, taut, squared) {
+                    Ok((cand, it)) => {
+                        *iterations += it;
+                        *count += 1;
+                        if best.as_ref().is_none_or(|b| cand.objective < b.objective - 1e-12) {
+                            best = Some(cand);
                         }
-                        Err(r) => {
-                            iterations += r.iterations;
-                            if r.residual < worst_rejected.residual
-                                || worst_rejected.residual.is_infinite()
-                            {
-                                worst_rejected = r;
-                            }
-                        }
+                    }
+                    Err(r) => {
+                        *iterations += r.iterations;
+                        *closest = closest.min(r.residual);
                     }
                 }
             }
-            let Some(best) = best else { break };
-            // Pull-only check: drop a cable that would push, add one whose chord is too long.
-            let tol_l = 1e-9;
-            let neg = best
-                .cable_lambda
-                .iter()
-                .enumerate()
-                .filter(|(_, &l)| l < -1e-9)
-                .fold(None, |a: Option<(usize, f64)>, (k, &l)| match a {
-                    Some((_, la)) if la <= l => a,
-                    _ => Some((k, l)),
-                });
-            if let Some((k, _)) = neg {
-                active.remove(k);
-                starts.insert(0, best.pose);
-                continue;
-            }
-            let over = (0..data.cons.len())
-                .filter(|j| !active.contains(j))
-                .map(|j| (j, data.chord(&best.pose, j) - data.cons[j].length))
-                .filter(|&(_, e)| e > tol_l)
-                .fold(None, |a: Option<(usize, f64)>, b| match a {
-                    Some(x) if x.1 >= b.1 => a,
-                    _ => Some(b),
-                });
-            if let Some((j, _)) = over {
-                if 1 + active.len() + usize::from(data.gauge.is_some()) < 6 {
-                    active.push(j);
-                    active.sort_unstable();
-                    starts.insert(0, best.pose);
-                    continue;
-                }
-                return Err(SolveError::Infeasible {
-                    cable: data.names[data.cons[j].cables[0]].clone(),
-                    section: i,
-                    reason: "more cables must be taut than a rigid disk has degrees of freedom"
-                        .into(),
-                });
-            }
-            // Accepted.
-            let angles = data.term_angles(&best.pose);
-            let zero_terms = data
-                .terms
-                .iter()
-                .enumerate()
-                .filter(|(t, _)| best.face & (1 << t) != 0 || angles[*t] <= self.zero_angle)
-                .map(|(_, t)| t.label.clone())
-                .collect();
-            let mut slack: Vec<usize> = data.always_slack.clone();
-            for j in 0..data.cons.len() {
-                if !active.contains(&j) {
-                    slack.extend(data.cons[j].cables.iter().copied());
-                }
-            }
-            slack.sort_unstable();
-            return Ok(SectionSolution {
-                pose: best.pose,
-                report: SectionReport {
-                    section: i,
-                    iterations,
-                    residual: best.residual,
-                    objective: best.objective,
-                    zero_terms,
-                    slack: slack.iter().map(|&c| data.names[c].clone()).collect(),
-                    candidates: count,
-                },
-                slack,
-            });
         }
-        Err(SolveError::NotConverged {
-            method: self.name().into(),
-            section: Some(i),
-            iterations: iterations.max(worst_rejected.iterations),
-            residual: worst_rejected.residual,
-            detail: "no face of the section problem gave a certified minimum".into(),
-        })
+        best
+    }
+
+    /// Pull-only check of a candidate: drop the taut cable that would push most, or add the
+    /// slack cable whose chord exceeds its length most, or accept.
+    fn taut_set_move(&self, data: &SectionData, taut: &[usize], best: &Candidate) -> TautMove {
+        let neg = best
+            .cable_lambda
+            .iter()
+            .enumerate()
+            .filter(|(_, &l)| l < -1e-9)
+            .min_by(|a, b| a.1.total_cmp(b.1));
+        if let Some((k, _)) = neg {
+            return TautMove::Drop(k);
+        }
+        let over = (0..data.cons.len())
+            .filter(|j| !taut.contains(j))
+            .map(|j| (j, data.chord(&best.pose, j) - data.cons[j].length))
+            .filter(|&(_, e)| e > 1e-10)
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        match over {
+            Some((j, _)) => TautMove::Add(j),
+            None => TautMove::Accept,
+        }
     }
 
     /// Solve the smooth squared-angle problem from the straight pose, as a start for the
@@ -719,6 +787,7 @@ impl Geometric {
         let vars: [D2<6>; 6] = std::array::from_fn(|k| D2::var(0.0, k));
         let mut lambda: Option<DVector<f64>> = None;
         let mut last_res = f64::INFINITY;
+        let mut short_steps = 0;
         for it in 1..=self.max_iterations {
             let (f, c) = data.eval::<D2<6>>(&pose, &vars, face, active, squared);
             let k = c.len();
@@ -741,6 +810,21 @@ impl Geometric {
                     iterations: it,
                     residual: last_res,
                 });
+            }
+            if !squared && it > 1 {
+                let angles = data.term_angles(&pose);
+                let into_kink = data
+                    .terms
+                    .iter()
+                    .enumerate()
+                    .any(|(t, _)| face & (1 << t) == 0 && angles[t] < 10.0 * self.zero_angle);
+                if into_kink {
+                    // This candidate belongs to a face where that term is zero.
+                    return Err(Rejected {
+                        iterations: it,
+                        residual: cv.amax(),
+                    });
+                }
             }
             let step = kkt_step(&h, &g, &a, &cv, 1e-10);
             let res = cv.amax();
@@ -766,7 +850,7 @@ impl Geometric {
             let m0 = merit(f.v, &cv.as_slice()[..]);
             let mut alpha = 1.0;
             let mut accepted = false;
-            for _ in 0..30 {
+            for _ in 0..20 {
                 let trial = pose.retract(&step.dx, alpha);
                 let (ft, ct) = eval_f64(&trial);
                 let mt = merit(ft, &ct);
@@ -777,7 +861,12 @@ impl Geometric {
                 }
                 alpha *= 0.5;
             }
-            if !accepted {
+            if alpha < 1e-3 {
+                short_steps += 1;
+            } else {
+                short_steps = 0;
+            }
+            if !accepted || short_steps >= 3 {
                 return Err(Rejected {
                     iterations: it,
                     residual: res,
@@ -846,6 +935,15 @@ impl Geometric {
             it,
         ))
     }
+}
+
+/// Re-orthonormalize a rotation that has drifted by rounding (Gram–Schmidt on the columns;
+/// cheap, and exact to first order for the ~1e-16 drift of a product of rotations).
+fn gram_schmidt(q: &Matrix3<f64>) -> Matrix3<f64> {
+    let x = q.column(0).normalize();
+    let y = (q.column(1) - x * x.dot(&q.column(1))).normalize();
+    let z = x.cross(&y);
+    Matrix3::from_columns(&[x, y, z])
 }
 
 /// A start moved slightly off every kink (deterministic).

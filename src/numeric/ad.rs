@@ -237,6 +237,19 @@ impl<T: Real> V3<T> {
             a[0] * b[1] - a[1] * b[0],
         ])
     }
+    /// Cross product with a constant vector (scalar products only: cheap for [`D2`]).
+    pub fn cross_c(&self, b: &nalgebra::Vector3<f64>) -> Self {
+        let a = &self.0;
+        V3([
+            a[1] * b.z - a[2] * b.y,
+            a[2] * b.x - a[0] * b.z,
+            a[0] * b.y - a[1] * b.x,
+        ])
+    }
+    /// Dot product with a constant vector.
+    pub fn dot_c(&self, b: &nalgebra::Vector3<f64>) -> T {
+        self.0[0] * b.x + self.0[1] * b.y + self.0[2] * b.z
+    }
     /// Euclidean norm.
     pub fn norm(&self) -> T {
         self.dot(self).sqrt()

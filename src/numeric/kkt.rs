@@ -38,6 +38,13 @@ pub fn multipliers(g: &DVector<f64>, a: &DMatrix<f64>) -> DVector<f64> {
     if a.nrows() == 0 {
         return DVector::zeros(0);
     }
+    // Normal equations (A Aᵀ) λ = −A g when A has full row rank; SVD otherwise.
+    if let Some(ch) = (a * a.transpose()).cholesky() {
+        let l = ch.solve(&(-(a * g)));
+        if l.iter().all(|x| x.is_finite()) {
+            return l;
+        }
+    }
     let at = a.transpose();
     let svd = at.svd(true, true);
     svd.solve(&(-g), 1e-12)
