@@ -847,7 +847,7 @@ impl Geometric {
             // Line search on the ℓ1 merit F + ρ Σ|c|.
             let rho = 2.0 * step.lambda.amax().max(lam.amax()) + 1.0;
             let merit = |f: f64, c: &[f64]| f + rho * c.iter().map(|x| x.abs()).sum::<f64>();
-            let m0 = merit(f.v, &cv.as_slice()[..]);
+            let m0 = merit(f.v, cv.as_slice());
             let mut alpha = 1.0;
             let mut accepted = false;
             for _ in 0..20 {
