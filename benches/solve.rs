@@ -14,8 +14,13 @@ fn paper_cases(c: &mut Criterion) {
             let model = Model::from_file(format!("models/paper/case{case}.toml")).expect("model");
             c.bench_function(&format!("{method}/case{case}"), |b| {
                 b.iter(|| {
-                    m.solve(black_box(&model.robot), black_box(&model.actuation), &scene, None)
-                        .expect("solve")
+                    m.solve(
+                        black_box(&model.robot),
+                        black_box(&model.actuation),
+                        &scene,
+                        None,
+                    )
+                    .expect("solve")
                 })
             });
         }

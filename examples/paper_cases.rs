@@ -20,7 +20,9 @@ fn main() -> Result<()> {
         let shape = method.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
         solved.push((case, model, shape));
     }
-    println!("| case | method | tip x [mm] | tip y [mm] | tip z [mm] | zero terms (sections 1..n) |");
+    println!(
+        "| case | method | tip x [mm] | tip y [mm] | tip z [mm] | zero terms (sections 1..n) |"
+    );
     println!("|---|---|---|---|---|---|");
     for (case, _, s) in &solved {
         let t = s.tip() * 1000.0;
@@ -28,7 +30,13 @@ fn main() -> Result<()> {
             .report
             .sections
             .iter()
-            .map(|r| if r.zero_terms.is_empty() { "-".into() } else { r.zero_terms.join("+") })
+            .map(|r| {
+                if r.zero_terms.is_empty() {
+                    "-".into()
+                } else {
+                    r.zero_terms.join("+")
+                }
+            })
             .collect();
         println!(
             "| {case} | {} | {:.3} | {:.3} | {:.3} | {} |",

@@ -20,7 +20,10 @@ tension = 1.0
 
 /// Replace `from` by `to` in the good file and expect an error naming `field`.
 fn rejects(from: &str, to: &str, field: &str) {
-    assert!(GOOD.contains(from), "test setup: `{from}` not in the good file");
+    assert!(
+        GOOD.contains(from),
+        "test setup: `{from}` not in the good file"
+    );
     let text = GOOD.replacen(from, to, 1);
     match Model::from_toml_str(&text) {
         Ok(_) => panic!("accepted a file with {to}"),
@@ -52,7 +55,11 @@ fn missing_file_names_the_path() {
 
 #[test]
 fn unknown_field() {
-    rejects("disk_thickness = 0.002", "disk_thickness = 0.002\ncolour = 3", "colour");
+    rejects(
+        "disk_thickness = 0.002",
+        "disk_thickness = 0.002\ncolour = 3",
+        "colour",
+    );
 }
 
 #[test]
@@ -67,17 +74,29 @@ fn zero_sections() {
 
 #[test]
 fn negative_section_length() {
-    rejects("section_length = 0.02", "section_length = -0.02", "robot.section_length");
+    rejects(
+        "section_length = 0.02",
+        "section_length = -0.02",
+        "robot.section_length",
+    );
 }
 
 #[test]
 fn zero_section_length() {
-    rejects("section_length = 0.02", "section_length = 0.0", "robot.section_length");
+    rejects(
+        "section_length = 0.02",
+        "section_length = 0.0",
+        "robot.section_length",
+    );
 }
 
 #[test]
 fn section_lengths_of_wrong_count() {
-    rejects("section_length = 0.02", "section_lengths = [0.02, 0.02]", "robot.section_lengths");
+    rejects(
+        "section_length = 0.02",
+        "section_lengths = [0.02, 0.02]",
+        "robot.section_lengths",
+    );
 }
 
 #[test]
@@ -91,32 +110,56 @@ fn both_section_length_forms() {
 
 #[test]
 fn nan_disk_radius() {
-    rejects("disk_radius = 0.012", "disk_radius = nan", "robot.disk_radius");
+    rejects(
+        "disk_radius = 0.012",
+        "disk_radius = nan",
+        "robot.disk_radius",
+    );
 }
 
 #[test]
 fn infinite_youngs_modulus() {
-    rejects("youngs_modulus = 1.1e9", "youngs_modulus = inf", "robot.backbone.youngs_modulus");
+    rejects(
+        "youngs_modulus = 1.1e9",
+        "youngs_modulus = inf",
+        "robot.backbone.youngs_modulus",
+    );
 }
 
 #[test]
 fn negative_disk_thickness() {
-    rejects("disk_thickness = 0.002", "disk_thickness = -0.002", "robot.disk_thickness");
+    rejects(
+        "disk_thickness = 0.002",
+        "disk_thickness = -0.002",
+        "robot.disk_thickness",
+    );
 }
 
 #[test]
 fn disk_thicker_than_a_section() {
-    rejects("disk_thickness = 0.002", "disk_thickness = 0.05", "robot.disk_thickness");
+    rejects(
+        "disk_thickness = 0.002",
+        "disk_thickness = 0.05",
+        "robot.disk_thickness",
+    );
 }
 
 #[test]
 fn poisson_ratio_out_of_range() {
-    rejects("poisson_ratio = 0.3", "poisson_ratio = 0.7", "robot.backbone.poisson_ratio");
+    rejects(
+        "poisson_ratio = 0.3",
+        "poisson_ratio = 0.7",
+        "robot.backbone.poisson_ratio",
+    );
 }
 
 #[test]
 fn backbone_wider_than_the_disk() {
-    rejects("diameter = 0.003", "diameter = 0.03", "robot.backbone.diameter");
+    rejects(
+        "diameter = 0.003",
+        "diameter = 0.03",
+        "robot.backbone.diameter",
+    );
 }
 
 #[test]
@@ -131,42 +174,74 @@ fn hole_inside_the_backbone() {
 
 #[test]
 fn radius_list_of_wrong_length() {
-    rejects("radius = 0.008", "radius = [0.008, 0.008]", "cables[0].radius");
+    rejects(
+        "radius = 0.008",
+        "radius = [0.008, 0.008]",
+        "cables[0].radius",
+    );
 }
 
 #[test]
 fn angle_list_of_wrong_length() {
-    rejects("angles = { straight = 0.0 }", "angles = [0.0, 0.1, 0.2]", "cables[0].angles");
+    rejects(
+        "angles = { straight = 0.0 }",
+        "angles = [0.0, 0.1, 0.2]",
+        "cables[0].angles",
+    );
 }
 
 #[test]
 fn nan_angle() {
-    rejects("angles = { straight = 0.0 }", "angles = [0.0, 0.1, nan, 0.3, 0.4]", "cables[0].angles[2]");
+    rejects(
+        "angles = { straight = 0.0 }",
+        "angles = [0.0, 0.1, nan, 0.3, 0.4]",
+        "cables[0].angles[2]",
+    );
 }
 
 #[test]
 fn ends_at_out_of_range() {
-    rejects("tension = 1.0", "tension = 1.0\nends_at = 5", "cables[0].ends_at");
+    rejects(
+        "tension = 1.0",
+        "tension = 1.0\nends_at = 5",
+        "cables[0].ends_at",
+    );
 }
 
 #[test]
 fn ends_at_zero() {
-    rejects("tension = 1.0", "tension = 1.0\nends_at = 0", "cables[0].ends_at");
+    rejects(
+        "tension = 1.0",
+        "tension = 1.0\nends_at = 0",
+        "cables[0].ends_at",
+    );
 }
 
 #[test]
 fn shortening_of_a_hundred_percent() {
-    rejects("shorten_percent = 2.0", "shorten_percent = 100.0", "cables[0].shorten_percent");
+    rejects(
+        "shorten_percent = 2.0",
+        "shorten_percent = 100.0",
+        "cables[0].shorten_percent",
+    );
 }
 
 #[test]
 fn shortening_longer_than_the_cable() {
-    rejects("shorten_percent = 2.0", "shorten = 0.5", "cables[0].shorten");
+    rejects(
+        "shorten_percent = 2.0",
+        "shorten = 0.5",
+        "cables[0].shorten",
+    );
 }
 
 #[test]
 fn both_shortening_forms() {
-    rejects("shorten_percent = 2.0", "shorten_percent = 2.0\nshorten = 0.001", "cables[0].shorten_percent");
+    rejects(
+        "shorten_percent = 2.0",
+        "shorten_percent = 2.0\nshorten = 0.001",
+        "cables[0].shorten_percent",
+    );
 }
 
 #[test]

@@ -35,22 +35,36 @@ fn assert_constraints(model: &Model, shape: &Shape) {
     let robot = &model.robot;
     for i in 1..=robot.sections() {
         let seg = (shape.disks[i].position - shape.disks[i - 1].position).norm();
-        assert!((seg - robot.section_length(i)).abs() < CONSTRAINT_TOL, "l0 in section {i}");
+        assert!(
+            (seg - robot.section_length(i)).abs() < CONSTRAINT_TOL,
+            "l0 in section {i}"
+        );
     }
     for (c, cable) in robot.cables.iter().enumerate() {
         let path = &shape.cables[c];
         for k in 0..=cable.ends_at {
             let r = (path.points[k] - shape.disks[k].position).norm();
-            assert!((r - cable.radius[k]).abs() < CONSTRAINT_TOL, "hole radius {c} {k}");
+            assert!(
+                (r - cable.radius[k]).abs() < CONSTRAINT_TOL,
+                "hole radius {c} {k}"
+            );
         }
-        let Some(f) = model.actuation.shortening_fraction(robot, c) else { continue };
+        let Some(f) = model.actuation.shortening_fraction(robot, c) else {
+            continue;
+        };
         for i in 1..=cable.ends_at {
             let chord = (path.points[i] - path.points[i - 1]).norm();
             let target = (1.0 - f) * robot.undeformed_chord(c, i);
             if path.slack_sections.contains(&i) {
-                assert!(chord <= target + CONSTRAINT_TOL, "slack cable {c} too long in {i}");
+                assert!(
+                    chord <= target + CONSTRAINT_TOL,
+                    "slack cable {c} too long in {i}"
+                );
             } else {
-                assert!((chord - target).abs() < CONSTRAINT_TOL, "cable {c} section {i}: {chord} vs {target}");
+                assert!(
+                    (chord - target).abs() < CONSTRAINT_TOL,
+                    "cable {c} section {i}: {chord} vs {target}"
+                );
             }
         }
     }
@@ -71,12 +85,18 @@ shorten_percent = 3.0"#,
     // Same relative pose in every section.
     let rel = |i: usize| {
         let (a, b) = (&s.disks[i - 1], &s.disks[i]);
-        (a.rotation.transpose() * (b.position - a.position), a.rotation.transpose() * b.rotation)
+        (
+            a.rotation.transpose() * (b.position - a.position),
+            a.rotation.transpose() * b.rotation,
+        )
     };
     let (p1, q1) = rel(1);
     for i in 2..=9 {
         let (p, q) = rel(i);
-        assert!((p - p1).norm() < 1e-10 && (q - q1).norm() < 1e-10, "section {i} differs");
+        assert!(
+            (p - p1).norm() < 1e-10 && (q - q1).norm() < 1e-10,
+            "section {i} differs"
+        );
     }
     // In the x–z plane (the plane of the cable), bending towards the cable.
     for d in &s.disks {
@@ -84,11 +104,16 @@ shorten_percent = 3.0"#,
     }
     assert!(s.tip().x > 0.0);
     // On a circle: all disks equidistant from the centre through three of them.
-    let (a, b, c) = (s.disks[0].position, s.disks[4].position, s.disks[9].position);
+    let (a, b, c) = (
+        s.disks[0].position,
+        s.disks[4].position,
+        s.disks[9].position,
+    );
     let (ab, ac) = (b - a, c - a);
     let n = ab.cross(&ac);
     let center = a
-        + (n.cross(&ab) * ac.norm_squared() + ac.cross(&n) * ab.norm_squared()) / (2.0 * n.norm_squared());
+        + (n.cross(&ab) * ac.norm_squared() + ac.cross(&n) * ab.norm_squared())
+            / (2.0 * n.norm_squared());
     let radius = (a - center).norm();
     for d in &s.disks {
         assert!(((d.position - center).norm() - radius).abs() < 1e-10);
@@ -150,7 +175,10 @@ fn zero_terms_are_reported_and_every_section_certified() {
     let s = solve(&m);
     assert_eq!(s.report.sections.len(), 9);
     for sec in &s.report.sections {
-        assert!(!sec.zero_terms.is_empty(), "the literal optimum sits on a kink");
+        assert!(
+            !sec.zero_terms.is_empty(),
+            "the literal optimum sits on a kink"
+        );
         assert!(sec.candidates >= 1);
     }
 }
@@ -162,7 +190,11 @@ fn three_four_and_six_cables_and_an_inner_end() {
         for k in 0..count {
             let ang = k as f64 * std::f64::consts::TAU / count as f64;
             let ends = if k == 1 { "ends_at = 5\n" } else { "" };
-            let sh = if shortened.contains(&k) { "shorten_percent = 2.0\n" } else { "" };
+            let sh = if shortened.contains(&k) {
+                "shorten_percent = 2.0\n"
+            } else {
+                ""
+            };
             cables += &format!(
                 "[[cables]]\nname = \"c{k}\"\nradius = 0.008\nangles = {{ helix = {{ start = {ang}, per_disk = 0.1 }} }}\n{ends}{sh}\n"
             );
@@ -170,7 +202,11 @@ fn three_four_and_six_cables_and_an_inner_end() {
         let m = Model::from_toml_str(&robot_toml(&cables)).unwrap();
         let s = solve(&m);
         assert_constraints(&m, &s);
-        assert_eq!(s.cables[1].points.len(), 6, "cable ending at disk 5 passes disks 0..=5");
+        assert_eq!(
+            s.cables[1].points.len(),
+            6,
+            "cable ending at disk 5 passes disks 0..=5"
+        );
     }
 }
 

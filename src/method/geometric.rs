@@ -58,12 +58,12 @@ use crate::actuation::Actuation;
 use crate::error::SolveError;
 use crate::method::Method;
 use crate::numeric::ad::{Real, D2, V3};
-use crate::numeric::kkt::{kkt_step, multipliers};
+use crate::numeric::kkt::{kkt_step, kkt_step6, multipliers};
 use crate::numeric::rotation::{exp_so3, orthonormalize};
 use crate::robot::Robot;
 use crate::scene::Scene;
 use crate::shape::{CablePath, DiskFrame, SectionReport, Shape, SolveReport};
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 use std::time::Instant;
 
 /// Which objective the sections minimize.
@@ -241,7 +241,7 @@ impl Pose {
         }
     }
     /// Right-perturbation retraction: p + dp, Q exp(dω).
-    fn retract(&self, dx: &DVector<f64>, alpha: f64) -> Self {
+    fn retract(&self, dx: &Vector6<f64>, alpha: f64) -> Self {
         Pose {
             p: self.p + alpha * Vector3::new(dx[0], dx[1], dx[2]),
             q: gram_schmidt(&(self.q * exp_so3(&(alpha * Vector3::new(dx[3], dx[4], dx[5]))))),
@@ -504,6 +504,13 @@ struct Candidate {
     face: u32,
 }
 
+/// A Newton–KKT step.
+struct Step {
+    dx: Vector6<f64>,
+    lambda: Vec<f64>,
+    min_reduced_eigenvalue: f64,
+}
+
 /// What the pull-only check says of a candidate.
 enum TautMove {
     Accept,
@@ -563,7 +570,15 @@ impl Geometric {
         let mut accepted: Option<(Candidate, Vec<usize>)> = None;
         while taut.len() <= max_taut && !seen.contains(&taut) {
             seen.push(taut.clone());
-            let Some(best) = self.best_on_taut_set(data, &taut, &starts, squared, &mut iterations, &mut count, &mut closest) else {
+            let Some(best) = self.best_on_taut_set(
+                data,
+                &taut,
+                &starts,
+                squared,
+                &mut iterations,
+                &mut count,
+                &mut closest,
+            ) else {
                 break;
             };
             match self.taut_set_move(data, &taut, &best) {
@@ -588,11 +603,21 @@ impl Geometric {
                 if set.len() > max_taut || seen.contains(&set) {
                     continue;
                 }
-                let Some(best) = self.best_on_taut_set(data, &set, &starts, squared, &mut iterations, &mut count, &mut closest) else {
+                let Some(best) = self.best_on_taut_set(
+                    data,
+                    &set,
+                    &starts,
+                    squared,
+                    &mut iterations,
+                    &mut count,
+                    &mut closest,
+                ) else {
                     continue;
                 };
                 if matches!(self.taut_set_move(data, &set, &best), TautMove::Accept)
-                    && accepted.as_ref().is_none_or(|(a, _)| best.objective < a.objective)
+                    && accepted
+                        .as_ref()
+                        .is_none_or(|(a, _)| best.objective < a.objective)
                 {
                     accepted = Some((best, set));
                 }
@@ -719,7 +744,10 @@ impl Geometric {
                     Ok((cand, it)) => {
                         *iterations += it;
                         *count += 1;
-                        if best.as_ref().is_none_or(|b| cand.objective < b.objective - 1e-12) {
+                        if best
+                            .as_ref()
+                            .is_none_or(|b| cand.objective < b.objective - 1e-12)
+                        {
                             best = Some(cand);
                         }
                     }
@@ -785,9 +813,10 @@ impl Geometric {
         let zero6 = [0.0f64; 6];
         let eval_f64 = |pose: &Pose| data.eval::<f64>(pose, &zero6, face, active, squared);
         let vars: [D2<6>; 6] = std::array::from_fn(|k| D2::var(0.0, k));
-        let mut lambda: Option<DVector<f64>> = None;
+        let mut lambda: Option<Vec<f64>> = None;
         let mut last_res = f64::INFINITY;
         let mut short_steps = 0;
+        let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
         for it in 1..=self.max_iterations {
             let (f, c) = data.eval::<D2<6>>(&pose, &vars, face, active, squared);
             let k = c.len();
@@ -797,13 +826,22 @@ impl Geometric {
                     residual: last_res,
                 });
             }
-            let g = DVector::from_row_slice(&f.g);
-            let a = DMatrix::from_fn(k, 6, |r, col| c[r].g[col]);
-            let cv = DVector::from_fn(k, |r, _| c[r].v);
-            let lam = lambda.clone().unwrap_or_else(|| multipliers(&g, &a));
-            let mut h = DMatrix::from_fn(6, 6, |r, col| f.h[r][col]);
+            let g = Vector6::from_row_slice(&f.g);
+            rows.clear();
+            rows.extend(c.iter().map(|cj| Vector6::from_row_slice(&cj.g)));
+            let cv: Vec<f64> = c.iter().map(|cj| cj.v).collect();
+            let lam = match &lambda {
+                Some(l) => l.clone(),
+                None => {
+                    let a = DMatrix::from_fn(k, 6, |r, col| rows[r][col]);
+                    multipliers(&DVector::from_row_slice(g.as_slice()), &a)
+                        .as_slice()
+                        .to_vec()
+                }
+            };
+            let mut h = Matrix6::from_fn(|r, col| f.h[r][col]);
             for (j, cj) in c.iter().enumerate() {
-                h += DMatrix::from_fn(6, 6, |r, col| cj.h[r][col]) * lam[j];
+                h += Matrix6::from_fn(|r, col| cj.h[r][col]) * lam[j];
             }
             if h.iter().any(|x| !x.is_finite()) {
                 return Err(Rejected {
@@ -822,14 +860,18 @@ impl Geometric {
                     // This candidate belongs to a face where that term is zero.
                     return Err(Rejected {
                         iterations: it,
-                        residual: cv.amax(),
+                        residual: cv.iter().fold(0.0f64, |m, x| m.max(x.abs())),
                     });
                 }
             }
-            let step = kkt_step(&h, &g, &a, &cv, 1e-10);
-            let res = cv.amax();
+            let step = self.step(&h, &g, &rows, &cv);
+            let res = cv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             last_res = res;
-            let stat = (&g + a.transpose() * &step.lambda).amax();
+            let mut kkt_res = g;
+            for (r, l) in rows.iter().zip(&step.lambda) {
+                kkt_res += r * *l;
+            }
+            let stat = kkt_res.amax();
             if res <= self.tolerance && step.dx.amax() <= 1e-11 {
                 return self.certify(
                     data,
@@ -845,9 +887,10 @@ impl Geometric {
                 );
             }
             // Line search on the ℓ1 merit F + ρ Σ|c|.
-            let rho = 2.0 * step.lambda.amax().max(lam.amax()) + 1.0;
+            let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let rho = 2.0 * amax(&step.lambda).max(amax(&lam)) + 1.0;
             let merit = |f: f64, c: &[f64]| f + rho * c.iter().map(|x| x.abs()).sum::<f64>();
-            let m0 = merit(f.v, cv.as_slice());
+            let m0 = merit(f.v, &cv);
             let mut alpha = 1.0;
             let mut accepted = false;
             for _ in 0..20 {
@@ -880,6 +923,27 @@ impl Geometric {
         })
     }
 
+    /// One Newton–KKT step: the allocation-free 6×6 kernel, or the general one when the
+    /// constraint rows are redundant (its multiplier system is singular).
+    fn step(&self, h: &Matrix6<f64>, g: &Vector6<f64>, rows: &[Vector6<f64>], c: &[f64]) -> Step {
+        if let Some(s) = kkt_step6(h, g, rows, c, 1e-10) {
+            return Step {
+                dx: s.dx,
+                lambda: s.lambda[..rows.len()].to_vec(),
+                min_reduced_eigenvalue: s.min_reduced_eigenvalue,
+            };
+        }
+        let hd = DMatrix::from_fn(6, 6, |r, col| h[(r, col)]);
+        let gd = DVector::from_row_slice(g.as_slice());
+        let ad = DMatrix::from_fn(rows.len(), 6, |r, col| rows[r][col]);
+        let s = kkt_step(&hd, &gd, &ad, &DVector::from_row_slice(c), 1e-10);
+        Step {
+            dx: Vector6::from_row_slice(s.dx.as_slice()),
+            lambda: s.lambda.as_slice().to_vec(),
+            min_reduced_eigenvalue: s.min_reduced_eigenvalue,
+        }
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn certify(
         &self,
@@ -888,7 +952,7 @@ impl Geometric {
         face: u32,
         active: &[usize],
         squared: bool,
-        lambda: &DVector<f64>,
+        lambda: &[f64],
         stationarity: f64,
         min_eig: f64,
         residual: f64,

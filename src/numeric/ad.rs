@@ -75,8 +75,10 @@ impl<const N: usize> D2<N> {
         };
         for i in 0..N {
             out.g[i] = df * self.g[i];
-            for j in 0..N {
-                out.h[i][j] = df * self.h[i][j] + d2f * self.g[i] * self.g[j];
+            for j in i..N {
+                let v = df * self.h[i][j] + d2f * self.g[i] * self.g[j];
+                out.h[i][j] = v;
+                out.h[j][i] = v;
             }
         }
         out
@@ -85,6 +87,7 @@ impl<const N: usize> D2<N> {
 
 impl<const N: usize> Add for D2<N> {
     type Output = Self;
+    #[inline]
     fn add(mut self, o: Self) -> Self {
         self.v += o.v;
         for i in 0..N {
@@ -120,6 +123,7 @@ impl<const N: usize> Neg for D2<N> {
 
 impl<const N: usize> Mul for D2<N> {
     type Output = Self;
+    #[inline]
     fn mul(self, o: Self) -> Self {
         let mut out = D2 {
             v: self.v * o.v,
@@ -128,11 +132,13 @@ impl<const N: usize> Mul for D2<N> {
         };
         for i in 0..N {
             out.g[i] = self.v * o.g[i] + o.v * self.g[i];
-            for j in 0..N {
-                out.h[i][j] = self.v * o.h[i][j]
+            for j in i..N {
+                let v = self.v * o.h[i][j]
                     + o.v * self.h[i][j]
                     + self.g[i] * o.g[j]
                     + o.g[i] * self.g[j];
+                out.h[i][j] = v;
+                out.h[j][i] = v;
             }
         }
         out
@@ -203,12 +209,14 @@ impl<const N: usize> Real for D2<N> {
         };
         for i in 0..N {
             out.g[i] = fy * y.g[i] + fx * x.g[i];
-            for j in 0..N {
-                out.h[i][j] = fy * y.h[i][j]
+            for j in i..N {
+                let v = fy * y.h[i][j]
                     + fx * x.h[i][j]
                     + fyy * y.g[i] * y.g[j]
                     + fxx * x.g[i] * x.g[j]
                     + fxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+                out.h[i][j] = v;
+                out.h[j][i] = v;
             }
         }
         out

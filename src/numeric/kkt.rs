@@ -163,3 +163,158 @@ mod tests {
         assert!((s.dx[0] - 1.0).abs() < 1e-12 && s.dx[1].abs() < 1e-12);
     }
 }
+
+/// Fixed-size form of [`kkt_step`] for 6 unknowns and at most 6 constraint rows, without
+/// heap allocation (the geometric section problems). Same method and conventions; rows whose
+/// Jacobian is rank-deficient are handled by the same eigenvalue split of `AᵀA`.
+pub struct KktStep6 {
+    /// Primal step.
+    pub dx: nalgebra::Vector6<f64>,
+    /// Multipliers (first `k` entries used).
+    pub lambda: [f64; 6],
+    /// Smallest eigenvalue of the reduced Hessian (+∞ when the null space is empty).
+    pub min_reduced_eigenvalue: f64,
+    /// Rank of the constraint Jacobian.
+    pub rank: usize,
+}
+
+/// See [`KktStep6`]. `rows[i]` is the gradient of constraint `i`, `c[i]` its value.
+pub fn kkt_step6(
+    h: &nalgebra::Matrix6<f64>,
+    g: &nalgebra::Vector6<f64>,
+    rows: &[nalgebra::Vector6<f64>],
+    c: &[f64],
+    reg: f64,
+) -> Option<KktStep6> {
+    use nalgebra::{Matrix6, Vector6};
+    let k = rows.len();
+    if k > 6 {
+        return None;
+    }
+    let mut m = Matrix6::zeros();
+    let mut atc = Vector6::zeros();
+    for i in 0..k {
+        let s = rows[i].norm();
+        if s > 0.0 {
+            let r = rows[i] / s;
+            m += r * r.transpose();
+            atc += r * (c[i] / s);
+        }
+    }
+    let eig = nalgebra::SymmetricEigen::new(m);
+    let mut x_range = Vector6::zeros();
+    let mut z = [Vector6::zeros(); 6];
+    let (mut rank, mut nz) = (0, 0);
+    for j in 0..6 {
+        let v = eig.eigenvectors.column(j).into_owned();
+        if eig.eigenvalues[j] > RANK_TOL {
+            x_range -= v * (v.dot(&atc) / eig.eigenvalues[j]);
+            rank += 1;
+        } else {
+            z[nz] = v;
+            nz += 1;
+        }
+    }
+    let mut dx = x_range;
+    let mut min_eig = f64::INFINITY;
+    if nz > 0 {
+        // Reduced Hessian in the leading nz×nz block; the rest padded with 2‖block‖_F + 1,
+        // strictly above every real eigenvalue (so the two never mix) yet of the same scale
+        // (so the eigen solver keeps its relative accuracy on the real block).
+        let mut hr = Matrix6::zeros();
+        let mut rhs = Vector6::zeros();
+        let hz: [Vector6<f64>; 6] =
+            std::array::from_fn(|a| if a < nz { h * z[a] } else { Vector6::zeros() });
+        let grad = g + h * x_range;
+        for a in 0..6 {
+            if a < nz {
+                rhs[a] = -z[a].dot(&grad);
+                for b in 0..nz {
+                    hr[(a, b)] = z[a].dot(&hz[b]);
+                }
+            }
+        }
+        let fro = hr.norm();
+        let pad = 2.0 * fro + 1.0;
+        for a in nz..6 {
+            hr[(a, a)] = pad;
+        }
+        let e = nalgebra::SymmetricEigen::new(hr);
+        let mut dz = Vector6::zeros();
+        for j in 0..6 {
+            let lam = e.eigenvalues[j];
+            if lam > fro + 0.5 {
+                continue;
+            }
+            min_eig = min_eig.min(lam);
+            let v = e.eigenvectors.column(j);
+            dz += v * (v.dot(&rhs) / lam.abs().max(reg));
+        }
+        for a in 0..nz {
+            dx += z[a] * dz[a];
+        }
+    }
+    // Multipliers: (A Aᵀ) λ = −A (g + H dx), padded to 6×6 with the identity.
+    let r = g + h * dx;
+    let mut aat = Matrix6::identity();
+    let mut b = Vector6::zeros();
+    for i in 0..k {
+        b[i] = -rows[i].dot(&r);
+        for j in 0..k {
+            aat[(i, j)] = rows[i].dot(&rows[j]);
+        }
+    }
+    let lam = aat.cholesky()?.solve(&b);
+    if lam.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let mut lambda = [0.0; 6];
+    lambda[..k].copy_from_slice(&lam.as_slice()[..k]);
+    Some(KktStep6 {
+        dx,
+        lambda,
+        min_reduced_eigenvalue: min_eig,
+        rank,
+    })
+}
+
+#[cfg(test)]
+mod tests6 {
+    use super::*;
+    use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+
+    /// The fixed-size step agrees with the general one on a random indefinite problem.
+    #[test]
+    fn fixed_size_step_matches_general_step() {
+        let mut seed = 7u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        let mut h = Matrix6::from_fn(|_, _| rnd());
+        h = h + h.transpose();
+        let g = Vector6::from_fn(|_, _| rnd());
+        let rows: Vec<Vector6<f64>> = (0..3).map(|_| Vector6::from_fn(|_, _| rnd())).collect();
+        let c = [0.1, -0.2, 0.05];
+        let s6 = kkt_step6(&h, &g, &rows, &c, 1e-10).unwrap();
+        let hd = DMatrix::from_fn(6, 6, |i, j| h[(i, j)]);
+        let gd = DVector::from_fn(6, |i, _| g[i]);
+        let ad = DMatrix::from_fn(3, 6, |i, j| rows[i][j]);
+        let cd = DVector::from_row_slice(&c);
+        let sd = kkt_step(&hd, &gd, &ad, &cd, 1e-10);
+        for i in 0..6 {
+            assert!(
+                (s6.dx[i] - sd.dx[i]).abs() < 1e-9,
+                "dx {i}: {} vs {}",
+                s6.dx,
+                sd.dx
+            );
+        }
+        for i in 0..3 {
+            assert!((s6.lambda[i] - sd.lambda[i]).abs() < 1e-8, "lambda {i}");
+        }
+        assert!((s6.min_reduced_eigenvalue - sd.min_reduced_eigenvalue).abs() < 1e-9);
+    }
+}
