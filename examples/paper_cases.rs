@@ -53,6 +53,7 @@ fn main() -> Result<()> {
             title: format!("Case {}", ["I", "II", "III"][case - 1]),
             robot: &model.robot,
             shapes: vec![(shape, shape.method.clone())],
+            scene: None,
         })
         .collect();
     for ext in ["svg", "png"] {

@@ -92,6 +92,17 @@ pub enum SolveError {
         /// Extra context.
         detail: String,
     },
+    /// An obstacle makes the requested shape impossible (the base inside it, or no pose of a
+    /// section that meets the cable lengths without penetrating it).
+    #[error("obstructed by `{obstacle}` in section {section}: {reason}")]
+    Obstructed {
+        /// Obstacle name.
+        obstacle: String,
+        /// Section (0: the base disk).
+        section: usize,
+        /// What cannot be done.
+        reason: String,
+    },
     /// The method cannot represent this robot or actuation.
     #[error("{method} cannot solve this: {reason}")]
     Unsupported {
@@ -109,6 +120,7 @@ impl SolveError {
             SolveError::InvalidInput { .. } => "invalid_input",
             SolveError::Infeasible { .. } => "infeasible",
             SolveError::NotConverged { .. } => "not_converged",
+            SolveError::Obstructed { .. } => "obstructed",
             SolveError::Unsupported { .. } => "unsupported",
         }
     }

@@ -23,6 +23,7 @@
 use crate::actuation::{Actuation, CableDrive, Shortening};
 use crate::error::ModelError;
 use crate::robot::{Backbone, Cable, Loads, Robot};
+use crate::scene::{FileObstacle, Scene};
 use nalgebra::Vector3;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -37,6 +38,8 @@ pub struct Model {
     pub robot: Robot,
     /// Cable inputs from the file.
     pub actuation: Actuation,
+    /// Obstacles (from `[[obstacles]]` and a referenced `scene` file).
+    pub scene: Scene,
     /// Where the file was read from (for resolving relative paths).
     pub source: Option<PathBuf>,
 }
@@ -52,6 +55,14 @@ struct FileModel {
     cables: Vec<FileCable>,
     #[serde(default)]
     loads: Option<FileLoads>,
+    /// Distance every robot feature keeps from every obstacle [m].
+    #[serde(default)]
+    clearance: Option<f64>,
+    /// A scene file, relative to this file.
+    #[serde(default)]
+    scene: Option<String>,
+    #[serde(default)]
+    obstacles: Vec<FileObstacle>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -166,27 +177,29 @@ impl Model {
             path: path.display().to_string(),
             reason: e.to_string(),
         })?;
-        let mut m = Self::from_toml_named(&text, &path.display().to_string())?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let mut m = Self::from_toml_named(&text, &path.display().to_string(), dir)?;
         m.source = Some(path.to_path_buf());
         Ok(m)
     }
 
-    /// Parse and validate model text.
+    /// Parse and validate model text (relative mesh and scene paths resolve against the
+    /// current directory).
     pub fn from_toml_str(text: &str) -> Result<Model, ModelError> {
-        Self::from_toml_named(text, "<string>")
+        Self::from_toml_named(text, "<string>", Path::new("."))
     }
 
-    fn from_toml_named(text: &str, path: &str) -> Result<Model, ModelError> {
+    fn from_toml_named(text: &str, path: &str, dir: &Path) -> Result<Model, ModelError> {
         let file: FileModel = toml::from_str(text).map_err(|e| ModelError::Parse {
             path: path.to_string(),
             reason: e.to_string().trim().replace('\n', " "),
         })?;
-        file.validate()
+        file.validate(dir)
     }
 }
 
 impl FileModel {
-    fn validate(self) -> Result<Model, ModelError> {
+    fn validate(self, dir: &Path) -> Result<Model, ModelError> {
         if self.name.trim().is_empty() {
             return Err(ModelError::invalid("name", "must not be empty"));
         }
@@ -432,7 +445,26 @@ impl FileModel {
             drives.push(CableDrive { shorten, tension });
         }
 
+        let mut scene = Scene::from_parts(self.clearance, &self.obstacles, dir, "")?;
+        if let Some(rel) = &self.scene {
+            let other = Scene::from_file(dir.join(rel)).map_err(|e| match e {
+                ModelError::Io { path, reason } => {
+                    ModelError::invalid("scene", format!("cannot read `{path}`: {reason}"))
+                }
+                other => other,
+            })?;
+            scene.merge(other);
+            let mut names: Vec<&str> = scene.obstacles.iter().map(|o| o.name.as_str()).collect();
+            names.sort_unstable();
+            if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+                return Err(ModelError::invalid(
+                    "scene",
+                    format!("two obstacles are named `{}`", w[0]),
+                ));
+            }
+        }
         Ok(Model {
+            scene,
             robot: Robot {
                 name: self.name,
                 disk_s,

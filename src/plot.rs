@@ -4,6 +4,7 @@
 //! in `assets/` (Bitstream Vera licence, `assets/DejaVu-LICENSE.txt`). Lengths are drawn in mm.
 
 use crate::robot::Robot;
+use crate::scene::Scene;
 use crate::shape::Shape;
 use nalgebra::Vector3;
 use plotters::coord::Shift;
@@ -49,6 +50,8 @@ pub struct Row<'a> {
     pub robot: &'a Robot,
     /// Shapes with their labels.
     pub shapes: Vec<(&'a Shape, String)>,
+    /// Obstacles drawn behind the shapes (and contact points in red).
+    pub scene: Option<&'a Scene>,
 }
 
 #[derive(Clone, Copy)]
@@ -78,11 +81,22 @@ impl View {
 
 /// Draw one robot shape in three views.
 pub fn plot_shape(shape: &Shape, robot: &Robot, path: &Path) -> Result<(), PlotError> {
+    plot_scene(shape, robot, &Scene::empty(), path)
+}
+
+/// Draw one robot shape with its obstacles and contacts in three views.
+pub fn plot_scene(
+    shape: &Shape,
+    robot: &Robot,
+    scene: &Scene,
+    path: &Path,
+) -> Result<(), PlotError> {
     plot_rows(
         &[Row {
             title: format!("{} — {}", robot.name, shape.method),
             robot,
             shapes: vec![(shape, shape.method.clone())],
+            scene: Some(scene),
         }],
         path,
     )
@@ -163,6 +177,17 @@ fn draw_view<'a, DB: DrawingBackend + 'a>(
     }
     let span = (x1 - x0).max(y1 - y0).max(1.0) * 1.08;
     let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    // Obstacles near the robot enlarge the view a little, not to their full extent.
+    let wires: Vec<Vec<(f64, f64)>> = row
+        .scene
+        .map(|sc| {
+            sc.obstacles
+                .iter()
+                .flat_map(|o| o.wireframe())
+                .map(|w| w.iter().map(|p| view.project(p)).collect())
+                .collect()
+        })
+        .unwrap_or_default();
     let (xl, yl) = view.labels();
     let caption = if with_title {
         row.title.clone()
@@ -185,6 +210,12 @@ fn draw_view<'a, DB: DrawingBackend + 'a>(
         .label_style(("sans-serif", 12))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
+    for w in wires {
+        chart.draw_series(LineSeries::new(
+            w,
+            RGBColor(120, 120, 120).mix(0.6).stroke_width(1),
+        ))?;
+    }
     for (si, (shape, label)) in row.shapes.iter().enumerate() {
         let color = PALETTE[si % PALETTE.len()];
         let bb: Vec<(f64, f64)> = shape.backbone.iter().map(|p| view.project(p)).collect();
@@ -212,6 +243,11 @@ fn draw_view<'a, DB: DrawingBackend + 'a>(
         }
         for c in &shape.contacts {
             let p = view.project(&Vector3::from(c.point_robot));
+            let q = view.project(&Vector3::from(c.point_obstacle));
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![p, q],
+                RED.stroke_width(2),
+            )))?;
             chart.draw_series(std::iter::once(Circle::new(p, 4, RED.filled())))?;
         }
     }

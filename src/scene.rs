@@ -1,15 +1,102 @@
-//! Obstacles around the robot.
+//! Obstacles around the robot: parry3d shapes with poses, read from model or scene files.
 //!
-//! A [`Scene`] holds the obstacles a method must keep the robot clear of. Methods accept a scene
-//! today; scene files, parry3d shapes and the broad phase arrive with the obstacle work, and a
-//! method that cannot handle a non-empty scene says so with [`crate::SolveError::Unsupported`].
+//! ```toml
+//! clearance = 0.0005            # every robot feature keeps this distance [m] (default 0)
+//! [[obstacles]]
+//! name = "wall"                 # optional (default: obstacle<k>)
+//! shape = "box"                 # sphere | box | capsule | cylinder | mesh
+//! position = [0.09, 0.0, 0.1]
+//! rotation = { rpy = [0.0, 0.0, 0.0] }   # or { quaternion = [w, x, y, z] }; default identity
+//! half_extents = [0.005, 0.05, 0.05]      # box
+//! # radius = 0.01                          # sphere, capsule, cylinder
+//! # half_height = 0.02                     # capsule, cylinder: along their local z axis
+//! # path = "meshes/vessel.obj"; scale = 1.0 (or [sx, sy, sz])   # mesh (STL or OBJ)
+//! ```
+//!
+//! Obstacles live in a robot file (`[[obstacles]]`, `clearance`), in a scene file referenced
+//! by the robot file (`scene = "scenes/wall.toml"`, relative to the robot file) or passed with
+//! `--scene`. Capsules and cylinders are given along their local **z** axis (the robot's
+//! convention) and turned into parry's y-axis shapes here. Distances use parry3d-f64.
 
-/// Obstacles near the robot (none by default).
+use crate::error::ModelError;
+use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use parry3d::math::{Pose, Vector as PVec};
+use parry3d::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape, TriMesh};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// What an obstacle is, with its sizes (kept for drawing and export).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ObstacleKind {
+    /// A ball.
+    Sphere {
+        /// Radius [m].
+        radius: f64,
+    },
+    /// A box.
+    Box {
+        /// Half extents [m].
+        half_extents: Vector3<f64>,
+    },
+    /// A capsule along local z.
+    Capsule {
+        /// Radius [m].
+        radius: f64,
+        /// Half length of the axis segment [m].
+        half_height: f64,
+    },
+    /// A cylinder along local z.
+    Cylinder {
+        /// Radius [m].
+        radius: f64,
+        /// Half height [m].
+        half_height: f64,
+    },
+    /// A triangle mesh (vertices already scaled, in the obstacle frame).
+    Mesh {
+        /// Source file.
+        path: PathBuf,
+        /// Vertices [m].
+        vertices: Vec<Vector3<f64>>,
+        /// Triangles.
+        triangles: Vec<[u32; 3]>,
+    },
+}
+
+/// One obstacle.
+#[derive(Clone)]
+pub struct Obstacle {
+    /// Name (unique in the scene).
+    pub name: String,
+    /// Shape and sizes.
+    pub kind: ObstacleKind,
+    /// Pose in the robot's base frame.
+    pub pose: Isometry3<f64>,
+    /// The parry shape (in its own frame; `parry_pose` places it).
+    pub shape: SharedShape,
+    /// Pose handed to parry (includes the z → y axis turn of capsules and cylinders).
+    pub parry_pose: Pose,
+    /// Axis-aligned bounds in the base frame: (min, max).
+    pub aabb: (Vector3<f64>, Vector3<f64>),
+}
+
+impl std::fmt::Debug for Obstacle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Obstacle")
+            .field("name", &self.name)
+            .field("kind", &self.kind)
+            .field("pose", &self.pose)
+            .finish()
+    }
+}
+
+/// Obstacles near the robot.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
     /// Minimum distance every robot feature keeps from every obstacle [m].
     pub clearance: f64,
-    obstacle_count: usize,
+    /// The obstacles.
+    pub obstacles: Vec<Obstacle>,
 }
 
 impl Scene {
@@ -19,6 +106,400 @@ impl Scene {
     }
     /// True when there are no obstacles.
     pub fn is_empty(&self) -> bool {
-        self.obstacle_count == 0
+        self.obstacles.is_empty()
+    }
+
+    /// Read a scene file (`clearance` and `[[obstacles]]`); mesh paths are relative to it.
+    pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, ModelError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        let file: FileScene = toml::from_str(&text).map_err(|e| ModelError::Parse {
+            path: path.display().to_string(),
+            reason: e.to_string().trim().replace('\n', " "),
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        Scene::from_parts(file.clearance, &file.obstacles, dir, "")
+    }
+
+    /// Build from parsed file parts; `prefix` is prepended to field names in errors.
+    pub(crate) fn from_parts(
+        clearance: Option<f64>,
+        obstacles: &[FileObstacle],
+        dir: &Path,
+        prefix: &str,
+    ) -> Result<Scene, ModelError> {
+        let clearance = match clearance {
+            None => 0.0,
+            Some(c) if c.is_finite() && c >= 0.0 => c,
+            Some(c) => {
+                return Err(ModelError::invalid(
+                    format!("{prefix}clearance"),
+                    format!("must be >= 0 and finite, got {c}"),
+                ))
+            }
+        };
+        let mut out: Vec<Obstacle> = Vec::with_capacity(obstacles.len());
+        for (k, o) in obstacles.iter().enumerate() {
+            let field = format!("{prefix}obstacles[{k}]");
+            let ob = o.build(&field, k, dir)?;
+            if out.iter().any(|x| x.name == ob.name) {
+                return Err(ModelError::invalid(
+                    format!("{field}.name"),
+                    format!("two obstacles are named `{}`", ob.name),
+                ));
+            }
+            out.push(ob);
+        }
+        Ok(Scene {
+            clearance,
+            obstacles: out,
+        })
+    }
+
+    /// Append another scene's obstacles (the larger clearance wins).
+    pub fn merge(&mut self, other: Scene) {
+        self.clearance = self.clearance.max(other.clearance);
+        self.obstacles.extend(other.obstacles);
+    }
+
+    /// Broad phase: indices of the obstacles whose bounds come within `radius` of `center`.
+    pub fn near(&self, center: &Vector3<f64>, radius: f64) -> Vec<usize> {
+        self.obstacles
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| aabb_ball_distance(&o.aabb, center) <= radius)
+            .map(|(k, _)| k)
+            .collect()
+    }
+}
+
+fn aabb_ball_distance(aabb: &(Vector3<f64>, Vector3<f64>), c: &Vector3<f64>) -> f64 {
+    let mut d2 = 0.0;
+    for k in 0..3 {
+        let v = if c[k] < aabb.0[k] {
+            aabb.0[k] - c[k]
+        } else if c[k] > aabb.1[k] {
+            c[k] - aabb.1[k]
+        } else {
+            0.0
+        };
+        d2 += v * v;
+    }
+    d2.sqrt()
+}
+
+/// A scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileScene {
+    clearance: Option<f64>,
+    #[serde(default)]
+    obstacles: Vec<FileObstacle>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+enum FileRotation {
+    Rpy([f64; 3]),
+    Quaternion([f64; 4]),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum FileScale {
+    Uniform(f64),
+    PerAxis([f64; 3]),
+}
+
+/// One `[[obstacles]]` entry as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FileObstacle {
+    name: Option<String>,
+    shape: String,
+    #[serde(default)]
+    position: Option<[f64; 3]>,
+    rotation: Option<FileRotation>,
+    radius: Option<f64>,
+    half_extents: Option<[f64; 3]>,
+    half_height: Option<f64>,
+    path: Option<String>,
+    scale: Option<FileScale>,
+}
+
+fn pos_len(field: String, v: Option<f64>) -> Result<f64, ModelError> {
+    match v {
+        None => Err(ModelError::invalid(field, "missing")),
+        Some(x) if x.is_finite() && x > 0.0 => Ok(x),
+        Some(x) => Err(ModelError::invalid(
+            field,
+            format!("must be > 0 and finite, got {x}"),
+        )),
+    }
+}
+
+impl FileObstacle {
+    fn build(&self, field: &str, k: usize, dir: &Path) -> Result<Obstacle, ModelError> {
+        let f = |n: &str| format!("{field}.{n}");
+        let name = match &self.name {
+            Some(n) if n.trim().is_empty() => {
+                return Err(ModelError::invalid(f("name"), "must not be empty"))
+            }
+            Some(n) => n.clone(),
+            None => format!("obstacle{k}"),
+        };
+        let p = self.position.unwrap_or([0.0; 3]);
+        if p.iter().any(|x| !x.is_finite()) {
+            return Err(ModelError::invalid(f("position"), "must be finite"));
+        }
+        let rot = match &self.rotation {
+            None => UnitQuaternion::identity(),
+            Some(FileRotation::Rpy(r)) => {
+                if r.iter().any(|x| !x.is_finite()) {
+                    return Err(ModelError::invalid(f("rotation.rpy"), "must be finite"));
+                }
+                UnitQuaternion::from_euler_angles(r[0], r[1], r[2])
+            }
+            Some(FileRotation::Quaternion(q)) => {
+                let n = (q.iter().map(|x| x * x).sum::<f64>()).sqrt();
+                if !n.is_finite() || n < 1e-9 {
+                    return Err(ModelError::invalid(
+                        f("rotation.quaternion"),
+                        "must be a finite, non-zero [w, x, y, z]",
+                    ));
+                }
+                UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
+            }
+        };
+        let pose = Isometry3::from_parts(Translation3::new(p[0], p[1], p[2]), rot);
+        let unused = |names: &[&str]| -> Result<(), ModelError> {
+            let given = [
+                ("radius", self.radius.is_some()),
+                ("half_extents", self.half_extents.is_some()),
+                ("half_height", self.half_height.is_some()),
+                ("path", self.path.is_some()),
+                ("scale", self.scale.is_some()),
+            ];
+            for (n, g) in given {
+                if g && !names.contains(&n) {
+                    return Err(ModelError::invalid(
+                        f(n),
+                        format!("not a size of a {}", self.shape),
+                    ));
+                }
+            }
+            Ok(())
+        };
+        // Capsules and cylinders are along parry's local y; ours are along local z.
+        let z_to_y =
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -std::f64::consts::FRAC_PI_2);
+        let (kind, shape, parry_iso) = match self.shape.as_str() {
+            "sphere" => {
+                unused(&["radius"])?;
+                let r = pos_len(f("radius"), self.radius)?;
+                (
+                    ObstacleKind::Sphere { radius: r },
+                    SharedShape::new(Ball::new(r)),
+                    pose,
+                )
+            }
+            "box" => {
+                unused(&["half_extents"])?;
+                let he = self
+                    .half_extents
+                    .ok_or_else(|| ModelError::invalid(f("half_extents"), "missing"))?;
+                for (i, h) in he.iter().enumerate() {
+                    pos_len(format!("{field}.half_extents[{i}]"), Some(*h))?;
+                }
+                (
+                    ObstacleKind::Box {
+                        half_extents: Vector3::new(he[0], he[1], he[2]),
+                    },
+                    SharedShape::new(Cuboid::new(PVec::new(he[0], he[1], he[2]))),
+                    pose,
+                )
+            }
+            "capsule" | "cylinder" => {
+                unused(&["radius", "half_height"])?;
+                let r = pos_len(f("radius"), self.radius)?;
+                let h = pos_len(f("half_height"), self.half_height)?;
+                let iso = pose * z_to_y;
+                if self.shape == "capsule" {
+                    (
+                        ObstacleKind::Capsule {
+                            radius: r,
+                            half_height: h,
+                        },
+                        SharedShape::new(Capsule::new_y(h, r)),
+                        iso,
+                    )
+                } else {
+                    (
+                        ObstacleKind::Cylinder {
+                            radius: r,
+                            half_height: h,
+                        },
+                        SharedShape::new(Cylinder::new(h, r)),
+                        iso,
+                    )
+                }
+            }
+            "mesh" => {
+                unused(&["path", "scale"])?;
+                let rel = self
+                    .path
+                    .as_ref()
+                    .ok_or_else(|| ModelError::invalid(f("path"), "missing"))?;
+                let full = dir.join(rel);
+                let scale = match &self.scale {
+                    None => Vector3::new(1.0, 1.0, 1.0),
+                    Some(FileScale::Uniform(s)) => Vector3::new(*s, *s, *s),
+                    Some(FileScale::PerAxis(s)) => Vector3::new(s[0], s[1], s[2]),
+                };
+                if scale.iter().any(|x| !x.is_finite() || *x <= 0.0) {
+                    return Err(ModelError::invalid(f("scale"), "must be > 0 and finite"));
+                }
+                let (verts, tris) = crate::mesh::load(&full).map_err(|reason| {
+                    ModelError::invalid(
+                        f("path"),
+                        format!("cannot load mesh `{}`: {reason}", full.display()),
+                    )
+                })?;
+                let verts: Vec<Vector3<f64>> =
+                    verts.iter().map(|v| v.component_mul(&scale)).collect();
+                let pv: Vec<PVec> = verts.iter().map(|v| PVec::new(v.x, v.y, v.z)).collect();
+                let tm = TriMesh::new(pv, tris.clone()).map_err(|e| {
+                    ModelError::invalid(
+                        f("path"),
+                        format!("mesh `{}` is not usable: {e:?}", full.display()),
+                    )
+                })?;
+                (
+                    ObstacleKind::Mesh {
+                        path: full,
+                        vertices: verts,
+                        triangles: tris,
+                    },
+                    SharedShape::new(tm),
+                    pose,
+                )
+            }
+            other => {
+                return Err(ModelError::invalid(
+                    f("shape"),
+                    format!("unknown shape `{other}`: use sphere, box, capsule, cylinder or mesh"),
+                ))
+            }
+        };
+        let parry_pose: Pose = parry_iso.into();
+        let a = shape.compute_aabb(&parry_pose);
+        let aabb = (
+            Vector3::new(a.mins.x, a.mins.y, a.mins.z),
+            Vector3::new(a.maxs.x, a.maxs.y, a.maxs.z),
+        );
+        Ok(Obstacle {
+            name,
+            kind,
+            pose,
+            shape,
+            parry_pose,
+            aabb,
+        })
+    }
+}
+
+impl Obstacle {
+    /// Polylines on the obstacle's surface in the base frame, for drawing.
+    pub fn wireframe(&self) -> Vec<Vec<Vector3<f64>>> {
+        let circle = |r: f64, z: f64, axis: usize| -> Vec<Vector3<f64>> {
+            (0..=32)
+                .map(|j| {
+                    let a = j as f64 / 32.0 * std::f64::consts::TAU;
+                    let (c, s) = (r * a.cos(), r * a.sin());
+                    let v = match axis {
+                        0 => Vector3::new(z, c, s),
+                        1 => Vector3::new(c, z, s),
+                        _ => Vector3::new(c, s, z),
+                    };
+                    self.pose * Point3::from(v)
+                })
+                .map(|p| p.coords)
+                .collect()
+        };
+        let line = |a: Vector3<f64>, b: Vector3<f64>| {
+            vec![
+                (self.pose * Point3::from(a)).coords,
+                (self.pose * Point3::from(b)).coords,
+            ]
+        };
+        match &self.kind {
+            ObstacleKind::Sphere { radius } => (0..3).map(|ax| circle(*radius, 0.0, ax)).collect(),
+            ObstacleKind::Box { half_extents: h } => {
+                let mut out = vec![];
+                for (i, j) in [(0usize, 1usize), (0, 2), (1, 2)] {
+                    let k = 3 - i - j;
+                    for si in [-1.0, 1.0] {
+                        for sj in [-1.0, 1.0] {
+                            let mut a = Vector3::zeros();
+                            a[i] = si * h[i];
+                            a[j] = sj * h[j];
+                            let mut b = a;
+                            a[k] = -h[k];
+                            b[k] = h[k];
+                            out.push(line(a, b));
+                        }
+                    }
+                }
+                out
+            }
+            ObstacleKind::Cylinder {
+                radius,
+                half_height,
+            }
+            | ObstacleKind::Capsule {
+                radius,
+                half_height,
+            } => {
+                let mut out = vec![
+                    circle(*radius, -half_height, 2),
+                    circle(*radius, *half_height, 2),
+                ];
+                for j in 0..8 {
+                    let a = j as f64 / 8.0 * std::f64::consts::TAU;
+                    let (c, s) = (radius * a.cos(), radius * a.sin());
+                    out.push(line(
+                        Vector3::new(c, s, -half_height),
+                        Vector3::new(c, s, *half_height),
+                    ));
+                }
+                out
+            }
+            ObstacleKind::Mesh {
+                vertices,
+                triangles,
+                ..
+            } => {
+                // At most ~600 triangle outlines, evenly picked, keep the picture readable.
+                let step = (triangles.len() / 600).max(1);
+                triangles
+                    .iter()
+                    .step_by(step)
+                    .map(|t| {
+                        [t[0], t[1], t[2], t[0]]
+                            .iter()
+                            .map(|&i| (self.pose * Point3::from(vertices[i as usize])).coords)
+                            .collect()
+                    })
+                    .collect()
+            }
+        }
+    }
+
+    /// Rotation of the obstacle as a matrix.
+    pub fn rotation(&self) -> Matrix3<f64> {
+        Rotation3::from(self.pose.rotation).into_inner()
     }
 }

@@ -37,19 +37,24 @@ pub struct CablePath {
 pub struct Contact {
     /// Obstacle name.
     pub obstacle: String,
-    /// Robot feature: `backbone`, `disk` or `cable`.
+    /// Robot feature: `backbone`, `disk` or `cable` (`cable:NAME` names the cable).
     pub feature: String,
-    /// Disk (for disk features) or section (backbone / cable chords) index.
-    pub index: usize,
+    /// Disk index, for disk features.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub disk: Option<usize>,
+    /// Section index (1-based), for backbone and cable-chord features.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub section: Option<usize>,
     /// Closest point on the robot [m].
     pub point_robot: [f64; 3],
     /// Closest point on the obstacle [m].
     pub point_obstacle: [f64; 3],
-    /// Contact normal, from obstacle to robot.
+    /// Contact normal, unit, from the obstacle towards the robot.
     pub normal: [f64; 3],
-    /// Signed distance [m].
+    /// Signed distance between the two (≈ the clearance for an active contact) [m].
     pub distance: f64,
-    /// Constraint multiplier (contact reaction).
+    /// Multiplier of the active distance constraint (≥ 0): a reaction in the units of the
+    /// method's objective per metre (rad/m for the geometric methods, N for energy methods).
     pub multiplier: f64,
 }
 

@@ -36,6 +36,12 @@ enum Command {
         /// Solve N times and report the median time.
         #[arg(long, default_value_t = 1)]
         repeat: usize,
+        /// A scene file with obstacles (added to the model file's own).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Reach the actuation in K equal steps, each warm-started from the last.
+        #[arg(long, default_value_t = 1)]
+        steps: usize,
     },
     /// List the available methods.
     Methods,
@@ -62,11 +68,16 @@ fn run() -> Result<()> {
             json,
             plot: plot_path,
             repeat,
+            scene,
+            steps,
         } => {
             let model = Model::from_file(&file)?;
             let m = method_by_name(&method)?;
-            let scene = Scene::empty();
-            let (shape, median) = solve_timed(&*m, &model, &scene, repeat.max(1))?;
+            let mut sc = model.scene.clone();
+            if let Some(p) = scene {
+                sc.merge(Scene::from_file(&p)?);
+            }
+            let (shape, median) = solve_timed(&*m, &model, &sc, repeat.max(1), steps)?;
             let quiet = json.as_deref() == Some("-");
             if !quiet {
                 print_summary(&model, &shape, median, repeat.max(1));
@@ -81,7 +92,7 @@ fn run() -> Result<()> {
                 }
             }
             if let Some(p) = plot_path {
-                plot::plot_shape(&shape, &model.robot, &p)?;
+                plot::plot_scene(&shape, &model.robot, &sc, &p)?;
                 if !quiet {
                     eprintln!("wrote {}", p.display());
                 }
@@ -97,12 +108,13 @@ fn solve_timed(
     model: &Model,
     scene: &Scene,
     repeat: usize,
+    steps: usize,
 ) -> Result<(Shape, f64)> {
     let mut times = Vec::with_capacity(repeat);
     let mut shape = None;
     for _ in 0..repeat {
         let t = Instant::now();
-        let s = m.solve(&model.robot, &model.actuation, scene, None)?;
+        let s = ccrkit::method::solve_stepped(m, &model.robot, &model.actuation, scene, steps)?;
         times.push(t.elapsed().as_secs_f64());
         shape = Some(s);
     }
@@ -130,6 +142,27 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
             } else {
                 format!(", slack [{}]", s.slack.join(", "))
             }
+        );
+    }
+    for c in &shape.contacts {
+        let p = [
+            c.point_robot[0] * 1e3,
+            c.point_robot[1] * 1e3,
+            c.point_robot[2] * 1e3,
+        ];
+        println!(
+            "contact {} {}{}: at [{:.3}, {:.3}, {:.3}] mm, distance {:.2e} m, multiplier {:.4}",
+            c.obstacle,
+            c.feature,
+            c.disk
+                .map(|d| format!(" disk {d}"))
+                .or(c.section.map(|s| format!(" section {s}")))
+                .unwrap_or_default(),
+            p[0],
+            p[1],
+            p[2],
+            c.distance,
+            c.multiplier
         );
     }
     for c in &shape.cables {

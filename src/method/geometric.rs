@@ -59,11 +59,14 @@ use crate::error::SolveError;
 use crate::method::Method;
 use crate::numeric::ad::{Real, D2, V3};
 use crate::numeric::kkt::{kkt_step, kkt_step6, multipliers};
+use crate::numeric::qp::qp_step6;
 use crate::numeric::rotation::{exp_so3, orthonormalize};
 use crate::robot::Robot;
 use crate::scene::Scene;
-use crate::shape::{CablePath, DiskFrame, SectionReport, Shape, SolveReport};
+use crate::shape::{CablePath, Contact, DiskFrame, SectionReport, Shape, SolveReport};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
+use parry3d::math::{Pose as PPose, Vector as PVec};
+use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
 use std::time::Instant;
 
 /// Which objective the sections minimize.
@@ -120,14 +123,8 @@ impl Method for Geometric {
         robot: &Robot,
         act: &Actuation,
         scene: &Scene,
-        _warm: Option<&Shape>,
+        warm: Option<&Shape>,
     ) -> Result<Shape, SolveError> {
-        if !scene.is_empty() {
-            return Err(SolveError::Unsupported {
-                method: self.name().into(),
-                reason: "obstacles are not handled by this method yet".into(),
-            });
-        }
         let start = Instant::now();
         let n = robot.sections();
         let mut notes = vec![
@@ -165,9 +162,20 @@ impl Method for Geometric {
         let mut slack_sections: Vec<Vec<usize>> = vec![vec![]; robot.cables.len()];
         let mut prev_rel: Option<Pose> = None;
         let (mut total_it, mut worst) = (0usize, 0.0f64);
+        // Broad phase, robot level: only obstacles within reach of the base take part.
+        let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
+        let relevant = scene.near(&Vector3::zeros(), reach);
+        check_base(robot, scene, &relevant)?;
+        let warm_rel = warm
+            .filter(|w| w.disks.len() == n + 1)
+            .map(relative_poses);
+        let mut contacts = vec![];
         for i in 1..=n {
-            let data = SectionData::new(robot, &frac, i)?;
-            let sol = self.solve_section(&data, i, prev_rel.as_ref())?;
+            let mut data = SectionData::new(robot, &frac, i)?;
+            data.world = SectionWorld::new(robot, scene, &relevant, i, &rot, &pos);
+            let warm_i = warm_rel.as_ref().map(|w| w[i - 1]);
+            let sol = self.solve_section(&data, i, prev_rel.as_ref(), warm_i.as_ref())?;
+            contacts.extend(sol.contacts.iter().cloned());
             total_it += sol.report.iterations;
             worst = worst.max(sol.report.residual);
             for &c in &sol.slack {
@@ -190,7 +198,7 @@ impl Method for Geometric {
             disks,
             backbone,
             cables,
-            contacts: vec![],
+            contacts,
             report: SolveReport {
                 converged: true,
                 iterations: total_it,
@@ -296,6 +304,8 @@ struct CableCon {
 
 /// Everything one section problem needs, in disk i−1's frame.
 struct SectionData {
+    /// Section index (1-based).
+    section: usize,
     l0: f64,
     terms: Vec<Term>,
     cons: Vec<CableCon>,
@@ -305,6 +315,8 @@ struct SectionData {
     names: Vec<String>,
     /// Unit hole direction when all driven holes of disk i are collinear with its centre.
     gauge: Option<Vector3<f64>>,
+    /// Obstacles this section can touch (None: none near).
+    world: Option<SectionWorld>,
 }
 
 const SAME_POINT: f64 = 1e-12;
@@ -388,12 +400,14 @@ impl SectionData {
             }
         };
         Ok(SectionData {
+            section: i,
             l0,
             terms,
             cons,
             always_slack,
             names: robot.cables.iter().map(|c| c.name.clone()).collect(),
             gauge,
+            world: None,
         })
     }
 
@@ -491,6 +505,7 @@ struct SectionSolution {
     pose: Pose,
     slack: Vec<usize>,
     report: SectionReport,
+    contacts: Vec<Contact>,
 }
 
 /// A converged, certified candidate.
@@ -502,6 +517,8 @@ struct Candidate {
     /// Multipliers of the active cable constraints (≥ 0 when the cable pulls).
     cable_lambda: Vec<f64>,
     face: u32,
+    /// Active contacts with their multipliers.
+    contacts: Vec<Contact>,
 }
 
 /// A Newton–KKT step.
@@ -530,11 +547,26 @@ impl Geometric {
         data: &SectionData,
         i: usize,
         prev: Option<&Pose>,
+        warm: Option<&Pose>,
     ) -> Result<SectionSolution, SolveError> {
         let l0 = data.l0;
         if data.cons.is_empty() {
             // No driven cable here: an unloaded section continues straight.
+            if let Some(w) = &data.world {
+                if let Some(pair) = w
+                    .pairs(&Pose::straight(l0))
+                    .into_iter()
+                    .find(|p| p.dist < w.clearance - CONTACT_TOL)
+                {
+                    return Err(SolveError::Obstructed {
+                        obstacle: w.name(pair.obstacle),
+                        section: i,
+                        reason: "a section without driven cables continues straight, and straight runs into this obstacle".into(),
+                    });
+                }
+            }
             return Ok(SectionSolution {
+                contacts: vec![],
                 pose: Pose::straight(l0),
                 slack: data.always_slack.clone(),
                 report: SectionReport {
@@ -558,7 +590,10 @@ impl Geometric {
         let mut closest = f64::INFINITY;
         let gauge = usize::from(data.gauge.is_some());
         let max_taut = 5 - gauge;
-        let starts = self.starts(data, prev, &mut iterations);
+        let mut starts = self.starts(data, prev, &mut iterations);
+        if let Some(w) = warm {
+            starts.insert(0, nudge(w, l0));
+        }
         let mut count = 0usize;
         // Cables pull, they do not push: the taut set T must give a certified pose whose taut
         // multipliers are ≥ 0 and where no other cable's chord exceeds its length.
@@ -665,6 +700,7 @@ impl Geometric {
         }
         slack.sort_unstable();
         Ok(SectionSolution {
+            contacts: best.contacts.clone(),
             pose: best.pose,
             report: SectionReport {
                 section: i,
@@ -720,6 +756,15 @@ impl Geometric {
     ) -> Option<Candidate> {
         let n_terms = data.terms.len();
         if taut.is_empty() {
+            let straight = Pose::straight(data.l0);
+            if let Some(w) = &data.world {
+                if w.pairs(&straight)
+                    .iter()
+                    .any(|p| p.dist < w.clearance - CONTACT_TOL)
+                {
+                    return None;
+                }
+            }
             *count += 1;
             return Some(Candidate {
                 pose: Pose::straight(data.l0),
@@ -727,6 +772,7 @@ impl Geometric {
                 residual: 0.0,
                 cable_lambda: vec![],
                 face: (1 << n_terms) - 1,
+                contacts: vec![],
             });
         }
         let fixed = 1 + taut.len() + usize::from(data.gauge.is_some());
@@ -800,7 +846,13 @@ impl Geometric {
         }
     }
 
-    /// Newton–KKT on one face from one start; returns a certified candidate or why not.
+    /// Newton–KKT (SQP when obstacles are near) on one face from one start; returns a
+    /// certified candidate or why not.
+    ///
+    /// Obstacle pairs within the margin enter each step as linearized inequalities
+    /// `d_j + ∇d_j·dx ≥ clearance`; such steps are convex QPs solved by clarabel, steps without
+    /// near pairs are the dense equality-only Newton–KKT step. The line search uses the ℓ1
+    /// merit `F + ρ (Σ|c| + Σ max(0, clearance − d_j))`.
     fn newton(
         &self,
         data: &SectionData,
@@ -811,6 +863,15 @@ impl Geometric {
     ) -> Result<(Candidate, usize), Rejected> {
         let mut pose = *start;
         let zero6 = [0.0f64; 6];
+        let world = data.world.as_ref();
+        let penetration = |pose: &Pose| -> f64 {
+            world.map_or(0.0, |w| {
+                w.pairs(pose)
+                    .iter()
+                    .map(|p| (w.clearance - p.dist).max(0.0))
+                    .sum()
+            })
+        };
         let eval_f64 = |pose: &Pose| data.eval::<f64>(pose, &zero6, face, active, squared);
         let vars: [D2<6>; 6] = std::array::from_fn(|k| D2::var(0.0, k));
         let mut lambda: Option<Vec<f64>> = None;
@@ -864,15 +925,93 @@ impl Geometric {
                     });
                 }
             }
-            let step = self.step(&h, &g, &rows, &cv);
+            let pairs = world.map(|w| w.pairs(&pose)).unwrap_or_default();
+            let clearance = world.map_or(0.0, |w| w.clearance);
+            let (step, mu) = if pairs.is_empty() {
+                (self.step(&h, &g, &rows, &cv), vec![])
+            } else {
+                let in_rows: Vec<Vector6<f64>> = pairs.iter().map(|p| -p.grad).collect();
+                let in_rhs: Vec<f64> = pairs.iter().map(|p| p.dist - clearance).collect();
+                let eq_rhs: Vec<f64> = cv.iter().map(|x| -x).collect();
+                let Some(q) = qp_step6(&h, &g, &rows, &eq_rhs, &in_rows, &in_rhs, 1e-10) else {
+                    return Err(Rejected {
+                        iterations: it,
+                        residual: last_res,
+                    });
+                };
+                let res0 = cv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                let gap0 = pairs
+                    .iter()
+                    .map(|p| clearance - p.dist)
+                    .fold(0.0f64, f64::max);
+                if res0 <= 1e-8 && gap0 <= 1e-8 {
+                    // Polish: the interior-point step is accurate to ~1e-7 only; with the
+                    // active contacts identified, an exact Newton–KKT step on them as
+                    // equalities converges quadratically (multiplier of dist ≥ c is −λ).
+                    let mu_max = q.mu.iter().fold(1.0f64, |m, x| m.max(*x));
+                    let act: Vec<usize> = (0..pairs.len())
+                        .filter(|&j| q.mu[j] > 1e-9 * mu_max)
+                        .collect();
+                    let mut all = rows.clone();
+                    let mut cc = cv.clone();
+                    for &j in &act {
+                        all.push(pairs[j].grad);
+                        cc.push(pairs[j].dist - clearance);
+                    }
+                    let st = self.step(&h, &g, &all, &cc);
+                    let mut mu = vec![0.0; pairs.len()];
+                    for (k, &j) in act.iter().enumerate() {
+                        mu[j] = -st.lambda[rows.len() + k];
+                    }
+                    (
+                        Step {
+                            dx: st.dx,
+                            lambda: st.lambda[..rows.len()].to_vec(),
+                            min_reduced_eigenvalue: st.min_reduced_eigenvalue,
+                        },
+                        mu,
+                    )
+                } else {
+                    (
+                        Step {
+                            dx: q.x,
+                            lambda: q.lambda_eq,
+                            min_reduced_eigenvalue: f64::NAN,
+                        },
+                        q.mu,
+                    )
+                }
+            };
             let res = cv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            last_res = res;
+            let worst_gap = pairs
+                .iter()
+                .map(|p| clearance - p.dist)
+                .fold(0.0f64, f64::max);
+            last_res = res.max(worst_gap);
             let mut kkt_res = g;
             for (r, l) in rows.iter().zip(&step.lambda) {
                 kkt_res += r * *l;
             }
+            for (p, m) in pairs.iter().zip(&mu) {
+                kkt_res -= p.grad * *m;
+            }
             let stat = kkt_res.amax();
-            if res <= self.tolerance && step.dx.amax() <= 1e-11 {
+            if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= 1e-11 {
+                // Active contacts join the equalities for the second-order check.
+                let active_pairs: Vec<usize> = (0..pairs.len())
+                    .filter(|&j| mu.get(j).copied().unwrap_or(0.0) > 1e-10)
+                    .collect();
+                let min_eig = step.min_reduced_eigenvalue;
+                let contacts: Vec<Contact> = active_pairs
+                    .iter()
+                    .map(|&j| pairs[j].to_contact(world, data.section, mu[j]))
+                    .collect();
+                if mu.iter().any(|m| *m < -1e-9) {
+                    return Err(Rejected {
+                        iterations: it,
+                        residual: last_res,
+                    });
+                }
                 return self.certify(
                     data,
                     pose,
@@ -881,22 +1020,25 @@ impl Geometric {
                     squared,
                     &step.lambda,
                     stat,
-                    step.min_reduced_eigenvalue,
+                    min_eig,
                     res,
                     it,
+                    contacts,
                 );
             }
-            // Line search on the ℓ1 merit F + ρ Σ|c|.
+            // Line search on the ℓ1 merit F + ρ (Σ|c| + Σ penetration).
             let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let rho = 2.0 * amax(&step.lambda).max(amax(&lam)) + 1.0;
-            let merit = |f: f64, c: &[f64]| f + rho * c.iter().map(|x| x.abs()).sum::<f64>();
-            let m0 = merit(f.v, &cv);
+            let rho = 2.0 * amax(&step.lambda).max(amax(&lam)).max(amax(&mu)) + 1.0;
+            let merit = |f: f64, c: &[f64], pen: f64| {
+                f + rho * (c.iter().map(|x| x.abs()).sum::<f64>() + pen)
+            };
+            let m0 = merit(f.v, &cv, penetration(&pose));
             let mut alpha = 1.0;
             let mut accepted = false;
             for _ in 0..20 {
                 let trial = pose.retract(&step.dx, alpha);
                 let (ft, ct) = eval_f64(&trial);
-                let mt = merit(ft, &ct);
+                let mt = merit(ft, &ct, penetration(&trial));
                 if mt.is_finite() && (mt < m0 || step.dx.amax() * alpha < 1e-8) {
                     pose = trial;
                     accepted = true;
@@ -912,7 +1054,7 @@ impl Geometric {
             if !accepted || short_steps >= 3 {
                 return Err(Rejected {
                     iterations: it,
-                    residual: res,
+                    residual: last_res,
                 });
             }
             lambda = Some(step.lambda);
@@ -957,12 +1099,13 @@ impl Geometric {
         min_eig: f64,
         residual: f64,
         it: usize,
+        contacts: Vec<Contact>,
     ) -> Result<(Candidate, usize), Rejected> {
         let reject = Err(Rejected {
             iterations: it,
             residual,
         });
-        if stationarity > 1e-7 || min_eig < -1e-8 {
+        if stationarity > 1e-7 || min_eig < -1e-8 || min_eig.is_nan() {
             return reject;
         }
         let angles = data.term_angles(&pose);
@@ -995,6 +1138,7 @@ impl Geometric {
                 residual,
                 cable_lambda,
                 face,
+                contacts,
             },
             it,
         ))
@@ -1016,4 +1160,294 @@ fn nudge(p: &Pose, l0: f64) -> Pose {
         p: p.p + l0 * Vector3::new(1.3e-3, -0.7e-3, 0.0),
         q: orthonormalize(&(p.q * exp_so3(&Vector3::new(0.9e-3, 1.1e-3, -0.8e-3)))),
     }
+}
+
+/// Two candidates closer than this to the clearance count as touching [m].
+const CONTACT_TOL: f64 = 1e-9;
+
+/// A robot feature of one section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Feature {
+    /// The backbone segment of the section, a capsule of the backbone radius.
+    Backbone,
+    /// The disk at the section's end, a thin cylinder.
+    Disk,
+    /// The straight chord of a cable (its index) in the section.
+    Cable(usize),
+}
+
+/// One robot feature near one obstacle, linearized at the current pose.
+struct Pair {
+    obstacle: usize,
+    feature: Feature,
+    /// Signed distance [m].
+    dist: f64,
+    /// ∂dist/∂(dp, dω) in the section's variables.
+    grad: Vector6<f64>,
+    point_robot: Vector3<f64>,
+    point_obstacle: Vector3<f64>,
+    /// Unit normal from the obstacle towards the robot.
+    normal: Vector3<f64>,
+}
+
+impl Pair {
+    fn to_contact(&self, world: Option<&SectionWorld>, section: usize, mu: f64) -> Contact {
+        let arr = |v: &Vector3<f64>| [v.x, v.y, v.z];
+        let (feature, disk, sec) = match self.feature {
+            Feature::Backbone => ("backbone".to_string(), None, Some(section)),
+            Feature::Disk => ("disk".to_string(), Some(section), None),
+            Feature::Cable(c) => (
+                format!(
+                    "cable:{}",
+                    world.map_or(String::new(), |w| w.cable_names[c].clone())
+                ),
+                None,
+                Some(section),
+            ),
+        };
+        Contact {
+            obstacle: world.map_or(String::new(), |w| w.name(self.obstacle)),
+            feature,
+            disk,
+            section: sec,
+            point_robot: arr(&self.point_robot),
+            point_obstacle: arr(&self.point_obstacle),
+            normal: arr(&self.normal),
+            distance: self.dist,
+            multiplier: mu,
+        }
+    }
+}
+
+/// What section `i` sees of the scene: the obstacles the broad phase kept, and the fixed
+/// geometry of disk `i−1` in the base frame.
+struct SectionWorld {
+    names: Vec<String>,
+    shapes: Vec<(parry3d::shape::SharedShape, PPose)>,
+    cable_names: Vec<String>,
+    r_prev: Matrix3<f64>,
+    x_prev: Vector3<f64>,
+    /// (cable, hole at disk i−1 in the base frame, hole at disk i in its disk frame).
+    holes: Vec<(usize, Vector3<f64>, Vector3<f64>)>,
+    backbone_radius: f64,
+    disk_radius: f64,
+    half_thickness: f64,
+    clearance: f64,
+    /// Pairs farther apart than this are left out of the step [m].
+    margin: f64,
+}
+
+/// Rotation taking parry's cylinder axis (local y) to the disk normal (local z).
+fn y_to_z() -> Matrix3<f64> {
+    Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0)
+}
+
+fn ppose(r: &Matrix3<f64>, t: &Vector3<f64>) -> PPose {
+    let iso = nalgebra::Isometry3::from_parts(
+        nalgebra::Translation3::from(*t),
+        nalgebra::UnitQuaternion::from_matrix(r),
+    );
+    iso.into()
+}
+
+fn pvec(v: &Vector3<f64>) -> PVec {
+    PVec::new(v.x, v.y, v.z)
+}
+
+fn nvec(v: PVec) -> Vector3<f64> {
+    Vector3::new(v.x, v.y, v.z)
+}
+
+impl SectionWorld {
+    fn new(
+        robot: &Robot,
+        scene: &Scene,
+        relevant: &[usize],
+        i: usize,
+        r_prev: &Matrix3<f64>,
+        x_prev: &Vector3<f64>,
+    ) -> Option<SectionWorld> {
+        if relevant.is_empty() {
+            return None;
+        }
+        let l = robot.section_length(i);
+        let margin = 0.5 * l + scene.clearance;
+        let reach = l + robot.disk_radius + robot.disk_thickness + scene.clearance + margin;
+        let near: Vec<usize> = scene
+            .near(x_prev, reach)
+            .into_iter()
+            .filter(|k| relevant.contains(k))
+            .collect();
+        if near.is_empty() {
+            return None;
+        }
+        Some(SectionWorld {
+            names: near
+                .iter()
+                .map(|&k| scene.obstacles[k].name.clone())
+                .collect(),
+            shapes: near
+                .iter()
+                .map(|&k| {
+                    (
+                        scene.obstacles[k].shape.clone(),
+                        scene.obstacles[k].parry_pose,
+                    )
+                })
+                .collect(),
+            cable_names: robot.cables.iter().map(|c| c.name.clone()).collect(),
+            r_prev: *r_prev,
+            x_prev: *x_prev,
+            holes: robot
+                .cables
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.reaches_section(i))
+                .map(|(k, c)| (k, x_prev + r_prev * c.hole(i - 1), c.hole(i)))
+                .collect(),
+            backbone_radius: robot.backbone.radius(),
+            disk_radius: robot.disk_radius,
+            half_thickness: robot.disk_thickness / 2.0,
+            clearance: scene.clearance,
+            margin,
+        })
+    }
+
+    fn name(&self, k: usize) -> String {
+        self.names[k].clone()
+    }
+
+    /// Every feature–obstacle pair within the margin at this pose, linearized.
+    ///
+    /// With `n` the unit normal from the robot point `a` towards the obstacle, moving `a` by
+    /// `δa` changes the distance by `−n·δa`. Points carried by the new disk move as
+    /// `δa = R δp − R Q [ℓ]× δω` (ℓ: the point in the disk frame), points on a segment from a
+    /// fixed end to a moving end by the fraction `t` of that.
+    fn pairs(&self, pose: &Pose) -> Vec<Pair> {
+        let r = &self.r_prev;
+        let x0 = self.x_prev + r * pose.p;
+        let ri = r * pose.q;
+        let identity = PPose::IDENTITY;
+        let mut out = vec![];
+        let backbone = Capsule::new(pvec(&self.x_prev), pvec(&x0), self.backbone_radius);
+        let disk = Cylinder::new(self.half_thickness, self.disk_radius);
+        let disk_pose = ppose(&(ri * y_to_z()), &x0);
+        // (cable, hole at disk i−1, hole at disk i, that hole in disk i's frame)
+        type Chord = (usize, Vector3<f64>, Vector3<f64>, Vector3<f64>);
+        let chords: Vec<Chord> = self
+            .holes
+            .iter()
+            .map(|(c, hp, h)| (*c, *hp, x0 + ri * h, *h))
+            .collect();
+        for (k, (shape, opose)) in self.shapes.iter().enumerate() {
+            let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
+                let Ok(Some(ct)) = parry3d::query::contact(gpose, g, opose, &**shape, self.margin)
+                else {
+                    return;
+                };
+                let mut a = nvec(ct.point1);
+                let n = nvec(ct.normal1);
+                if feature == Feature::Disk {
+                    // The iterative query places the witness on the rim to ~1e-6 only; for a
+                    // convex feature it is exactly the support point along the normal.
+                    let u = ri.transpose() * n;
+                    let uxy = (u.x * u.x + u.y * u.y).sqrt();
+                    if uxy > 1e-6 {
+                        let l = Vector3::new(
+                            self.disk_radius * u.x / uxy,
+                            self.disk_radius * u.y / uxy,
+                            self.half_thickness * u.z.signum(),
+                        );
+                        a = x0 + ri * l;
+                    }
+                }
+                let rn = r.transpose() * n;
+                let qrn = pose.q.transpose() * rn;
+                let (gp, gw) = match feature {
+                    Feature::Backbone => {
+                        let d = x0 - self.x_prev;
+                        let t = ((a - self.x_prev).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+                        (-t * rn, Vector3::zeros())
+                    }
+                    Feature::Disk => {
+                        let l = ri.transpose() * (a - x0);
+                        (-rn, qrn.cross(&l))
+                    }
+                    Feature::Cable(j) => {
+                        let (_, hp, hc, h) = chords[j];
+                        let d = hc - hp;
+                        let t = if d.norm_squared() > 0.0 {
+                            ((a - hp).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+                        } else {
+                            1.0
+                        };
+                        (-t * rn, t * qrn.cross(&h))
+                    }
+                };
+                out.push(Pair {
+                    obstacle: k,
+                    feature,
+                    dist: ct.dist,
+                    grad: Vector6::new(gp.x, gp.y, gp.z, gw.x, gw.y, gw.z),
+                    point_robot: a,
+                    point_obstacle: nvec(ct.point2),
+                    normal: -n,
+                });
+            };
+            push(Feature::Backbone, &backbone, &identity);
+            push(Feature::Disk, &disk, &disk_pose);
+            for (j, (_, hp, hc, _)) in chords.iter().enumerate() {
+                if (hc - hp).norm() > 0.0 {
+                    push(
+                        Feature::Cable(j),
+                        &Segment::new(pvec(hp), pvec(hc)),
+                        &identity,
+                    );
+                }
+            }
+        }
+        // Feature::Cable holds the index into `chords`; report the cable's own index.
+        for p in &mut out {
+            if let Feature::Cable(j) = p.feature {
+                p.feature = Feature::Cable(chords[j].0);
+            }
+        }
+        out
+    }
+}
+
+/// The base disk must not lie inside (or within the clearance of) an obstacle.
+fn check_base(robot: &Robot, scene: &Scene, relevant: &[usize]) -> Result<(), SolveError> {
+    let disk = Cylinder::new(robot.disk_thickness / 2.0, robot.disk_radius);
+    let pose = ppose(&y_to_z(), &Vector3::zeros());
+    for &k in relevant {
+        let o = &scene.obstacles[k];
+        if let Ok(Some(ct)) =
+            parry3d::query::contact(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance)
+        {
+            if ct.dist < scene.clearance - CONTACT_TOL {
+                return Err(SolveError::Obstructed {
+                    obstacle: o.name.clone(),
+                    section: 0,
+                    reason: format!(
+                        "the base disk lies inside or within the clearance of this obstacle (distance {:.3e} m)",
+                        ct.dist
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Relative poses (disk i in the frame of disk i−1) of a solved shape, as warm starts.
+fn relative_poses(shape: &Shape) -> Vec<Pose> {
+    shape
+        .disks
+        .windows(2)
+        .map(|w| Pose {
+            p: w[0].rotation.transpose() * (w[1].position - w[0].position),
+            q: w[0].rotation.transpose() * w[1].rotation,
+        })
+        .collect()
 }

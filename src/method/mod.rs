@@ -27,6 +27,46 @@ pub trait Method: Send + Sync {
     ) -> Result<Shape, SolveError>;
 }
 
+/// Solve along a path of actuations: every displacement and tension scaled by `k/steps` for
+/// `k = 1..=steps`, each solve warm-started from the previous shape (the 2-D obstacle work of
+/// Ashwin et al. 2021 steps the cable displacement ~1 mm at a time). `steps = 1` is one solve.
+/// The report of the returned shape sums the iterations of every step.
+pub fn solve_stepped(
+    method: &dyn Method,
+    robot: &Robot,
+    act: &Actuation,
+    scene: &Scene,
+    steps: usize,
+) -> Result<Shape, SolveError> {
+    let steps = steps.max(1);
+    let mut shape: Option<Shape> = None;
+    let mut iterations = 0;
+    for k in 1..=steps {
+        let f = k as f64 / steps as f64;
+        let mut a = act.clone();
+        for d in &mut a.cables {
+            d.shorten = d.shorten.map(|s| match s {
+                crate::actuation::Shortening::Length(x) => {
+                    crate::actuation::Shortening::Length(f * x)
+                }
+                crate::actuation::Shortening::Fraction(x) => {
+                    crate::actuation::Shortening::Fraction(f * x)
+                }
+            });
+            d.tension = d.tension.map(|t| f * t);
+        }
+        let s = method.solve(robot, &a, scene, shape.as_ref())?;
+        iterations += s.report.iterations;
+        shape = Some(s);
+    }
+    let mut s = shape.ok_or_else(|| SolveError::InvalidInput {
+        field: "steps".into(),
+        reason: "no step was solved".into(),
+    })?;
+    s.report.iterations = iterations;
+    Ok(s)
+}
+
 /// Names accepted by [`method_by_name`].
 pub const METHOD_NAMES: &[&str] = &["geometric", "geometric-squared"];
 

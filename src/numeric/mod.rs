@@ -2,4 +2,5 @@
 
 pub mod ad;
 pub mod kkt;
+pub mod qp;
 pub mod rotation;

@@ -1,0 +1,163 @@
+//! Triangle meshes from STL (binary or ASCII) and Wavefront OBJ files.
+//!
+//! Small, dependency-free readers: vertices and triangles only (OBJ polygons are fanned into
+//! triangles; normals, texture coordinates and materials are ignored). Identical STL vertices
+//! are merged so parry's mesh topology sees a connected surface.
+
+use nalgebra::Vector3;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Vertices and triangles (indices into the vertices).
+pub type MeshData = (Vec<Vector3<f64>>, Vec<[u32; 3]>);
+
+/// Vertices and triangles of a mesh file, or why it cannot be read.
+pub fn load(path: &Path) -> Result<MeshData, String> {
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    let (v, t) = match ext.as_deref() {
+        Some("stl") => stl(&bytes)?,
+        Some("obj") => obj(&String::from_utf8_lossy(&bytes))?,
+        _ => return Err("unknown mesh format: use .stl or .obj".into()),
+    };
+    if t.is_empty() {
+        return Err("the mesh has no triangles".into());
+    }
+    if v.iter().any(|p| !p.iter().all(|x| x.is_finite())) {
+        return Err("the mesh has non-finite vertices".into());
+    }
+    Ok((v, t))
+}
+
+fn stl(bytes: &[u8]) -> Result<MeshData, String> {
+    let mut soup: Vec<[Vector3<f64>; 3]> = vec![];
+    let binary_len = bytes
+        .get(80..84)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+    match binary_len {
+        Some(n) if bytes.len() == 84 + 50 * n => {
+            for k in 0..n {
+                let base = 84 + 50 * k + 12;
+                let f = |o: usize| {
+                    let b = &bytes[base + 4 * o..base + 4 * o + 4];
+                    f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64
+                };
+                soup.push([
+                    Vector3::new(f(0), f(1), f(2)),
+                    Vector3::new(f(3), f(4), f(5)),
+                    Vector3::new(f(6), f(7), f(8)),
+                ]);
+            }
+        }
+        _ => {
+            let text = String::from_utf8_lossy(bytes);
+            if !text.trim_start().starts_with("solid") {
+                return Err("neither a binary STL (size does not match its triangle count) nor an ASCII STL".into());
+            }
+            let mut cur: Vec<Vector3<f64>> = vec![];
+            for (ln, line) in text.lines().enumerate() {
+                let mut it = line.split_whitespace();
+                if it.next() == Some("vertex") {
+                    let xs: Result<Vec<f64>, _> = it.map(str::parse::<f64>).collect();
+                    let xs = xs.map_err(|e| format!("line {}: {e}", ln + 1))?;
+                    if xs.len() != 3 {
+                        return Err(format!("line {}: a vertex needs 3 numbers", ln + 1));
+                    }
+                    cur.push(Vector3::new(xs[0], xs[1], xs[2]));
+                    if cur.len() == 3 {
+                        soup.push([cur[0], cur[1], cur[2]]);
+                        cur.clear();
+                    }
+                }
+            }
+        }
+    }
+    // Merge identical vertices.
+    let mut index: HashMap<[u64; 3], u32> = HashMap::new();
+    let mut verts = vec![];
+    let mut tris = vec![];
+    for tri in soup {
+        let mut ids = [0u32; 3];
+        for (k, p) in tri.iter().enumerate() {
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            ids[k] = *index.entry(key).or_insert_with(|| {
+                verts.push(*p);
+                (verts.len() - 1) as u32
+            });
+        }
+        if ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2] {
+            tris.push(ids);
+        }
+    }
+    Ok((verts, tris))
+}
+
+fn obj(text: &str) -> Result<MeshData, String> {
+    let mut verts = vec![];
+    let mut tris = vec![];
+    for (ln, line) in text.lines().enumerate() {
+        let mut it = line.split_whitespace();
+        match it.next() {
+            Some("v") => {
+                let xs: Result<Vec<f64>, _> = it.take(3).map(str::parse::<f64>).collect();
+                let xs = xs.map_err(|e| format!("line {}: {e}", ln + 1))?;
+                if xs.len() != 3 {
+                    return Err(format!("line {}: a vertex needs 3 numbers", ln + 1));
+                }
+                verts.push(Vector3::new(xs[0], xs[1], xs[2]));
+            }
+            Some("f") => {
+                let mut ids = vec![];
+                for tok in it {
+                    let first = tok.split('/').next().unwrap_or("");
+                    let i: i64 = first
+                        .parse()
+                        .map_err(|e| format!("line {}: face index `{tok}`: {e}", ln + 1))?;
+                    let idx = if i < 0 { verts.len() as i64 + i } else { i - 1 };
+                    if idx < 0 || idx as usize >= verts.len() {
+                        return Err(format!("line {}: face index {i} out of range", ln + 1));
+                    }
+                    ids.push(idx as u32);
+                }
+                if ids.len() < 3 {
+                    return Err(format!("line {}: a face needs 3 vertices", ln + 1));
+                }
+                for k in 1..ids.len() - 1 {
+                    tris.push([ids[0], ids[k], ids[k + 1]]);
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok((verts, tris))
+}
+
+/// Write a mesh as Wavefront OBJ text.
+pub fn to_obj(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> String {
+    let mut s = String::new();
+    for v in vertices {
+        s += &format!("v {:.9} {:.9} {:.9}\n", v.x, v.y, v.z);
+    }
+    for t in triangles {
+        s += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn obj_quads_are_fanned_and_ascii_stl_vertices_merged() {
+        let (v, t) = obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+        assert_eq!((v.len(), t.len()), (4, 2));
+        let stl_text = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
+        let (v, t) = stl(stl_text.as_bytes()).unwrap();
+        assert_eq!((v.len(), t.len()), (4, 2));
+        assert!(obj("v 0 0 0\nf 1 2 3\n").is_err());
+    }
+}
