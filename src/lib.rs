@@ -16,6 +16,7 @@ pub mod model;
 pub mod numeric;
 pub mod plot;
 pub mod robot;
+pub mod routing;
 pub mod scene;
 pub mod shape;
 

@@ -166,9 +166,7 @@ impl Method for Geometric {
         let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
         let relevant = scene.near(&Vector3::zeros(), reach);
         check_base(robot, scene, &relevant)?;
-        let warm_rel = warm
-            .filter(|w| w.disks.len() == n + 1)
-            .map(relative_poses);
+        let warm_rel = warm.filter(|w| w.disks.len() == n + 1).map(relative_poses);
         let mut contacts = vec![];
         for i in 1..=n {
             let mut data = SectionData::new(robot, &frac, i)?;
