@@ -228,6 +228,22 @@ fn same_pose(a: &urdf_rs::Pose, b: &urdf_rs::Pose, what: &str) {
 }
 
 #[test]
+fn synthetic_shape_reaches_both_decomposition_singularities() {
+    let (robot, shape) = synthetic();
+    let ex = export(&robot, &shape, UrdfMode::Articulated);
+    let value = |name: &str| {
+        ex.joint_values
+            .iter()
+            .find(|v| v.name == name)
+            .map(|v| v.value)
+            .unwrap_or_else(|| panic!("joint {name}"))
+    };
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    assert!((value("section_5_bend_y") - half_pi).abs() < 1e-12);
+    assert!((value("section_7_tilt_y") - half_pi).abs() < 1e-12);
+}
+
+#[test]
 fn urdf_round_trip_keeps_every_origin() {
     for (name, robot, shape) in all_shapes() {
         for mode in [UrdfMode::Fixed, UrdfMode::Articulated] {
@@ -318,6 +334,72 @@ fn articulated_chain_has_six_limited_joints_per_section_and_geometry() {
     }
 }
 
+/// World end points and radius of every cylinder visual, by visual name, at the stored joint
+/// values.
+fn cylinder_ends(
+    ex: &UrdfExport,
+    state: &str,
+) -> HashMap<String, (Vector3<f64>, Vector3<f64>, f64)> {
+    let parsed = urdf_rs::read_from_string(&ex.urdf).expect("parses");
+    let q = ex
+        .srdf
+        .as_deref()
+        .map(|s| srdf_state(s, state))
+        .unwrap_or_default();
+    let poses = forward_kinematics(&parsed, &q);
+    let mut ends = HashMap::new();
+    for link in &parsed.links {
+        let (p, r) = poses[&link.name];
+        for v in &link.visual {
+            if let urdf_rs::Geometry::Cylinder { radius, length } = v.geometry {
+                let o = &v.origin;
+                let c = p + r * Vector3::new(o.xyz[0], o.xyz[1], o.xyz[2]);
+                let axis = r * rpy_matrix(&o.rpy.0) * Vector3::z() * (length / 2.0);
+                let name = v.name.clone().expect("visuals are named");
+                ends.insert(name, (c - axis, c + axis, radius));
+            }
+        }
+    }
+    ends
+}
+
+/// The backbone cylinders span the solved chords and the cable cylinders join the solved holes.
+#[test]
+fn geometry_spans_backbone_chords_and_cable_holes() {
+    let (robot, shape) = solve_case(CASES[2]);
+    let same_segment = |(a, b): (Vector3<f64>, Vector3<f64>), p: Vector3<f64>, q: Vector3<f64>| {
+        ((a - p).norm() + (b - q).norm()).min((a - q).norm() + (b - p).norm())
+    };
+    for mode in [UrdfMode::Fixed, UrdfMode::Articulated] {
+        let ex = export(&robot, &shape, mode);
+        let ends = cylinder_ends(&ex, &robot.name);
+        let (mut worst, mut cables_drawn) = (0.0f64, 0);
+        for k in 1..=robot.sections() {
+            let (a, b, radius) = ends[&format!("section_{k}_backbone")];
+            assert_eq!(radius, robot.backbone.radius());
+            let d = &shape.disks;
+            worst = worst.max(same_segment((a, b), d[k - 1].position, d[k].position));
+            for cable in &shape.cables {
+                if let Some(&(a, b, _)) = ends.get(&format!("cable_{}_section_{k}", cable.name)) {
+                    worst = worst.max(same_segment((a, b), cable.points[k - 1], cable.points[k]));
+                    cables_drawn += 1;
+                } else {
+                    assert!(
+                        cable.points.len() <= k,
+                        "cable {} section {k} drawn",
+                        cable.name
+                    );
+                }
+            }
+        }
+        assert!(cables_drawn > 0, "no cable chords drawn");
+        println!(
+            "{mode}: largest cylinder end-point error {worst:.2e} m ({cables_drawn} cable chords)"
+        );
+        assert!(worst <= POSITION_TOL, "{mode}: {worst:e}");
+    }
+}
+
 #[test]
 fn bad_inputs_are_named_errors() {
     let (robot, mut shape) = solve_case(CASES[0]);
@@ -354,17 +436,25 @@ fn missing_check_urdf() -> Option<String> {
     }
 }
 
+/// The Python interpreter: `$PYTHON`, else `python3` (as in `.ci/install-urdf-tools.sh`).
+fn python() -> String {
+    std::env::var("PYTHON").unwrap_or_else(|_| "python3".into())
+}
+
 fn missing_yourdfpy() -> Option<String> {
-    match Command::new("python3")
+    match Command::new(python())
         .args(["-c", "import yourdfpy"])
         .output()
     {
         Ok(o) if o.status.success() => None,
-        Ok(o) => Some(format!(
-            "python3 cannot import yourdfpy ({}); `pip install yourdfpy` (.ci/install-urdf-tools.sh)",
+        Ok(o) => {
+            Some(format!(
+            "{} cannot import yourdfpy ({}); `pip install yourdfpy` (.ci/install-urdf-tools.sh)",
+            python(),
             String::from_utf8_lossy(&o.stderr).trim().lines().last().unwrap_or("")
-        )),
-        Err(e) => Some(format!("python3 not runnable ({e})")),
+        ))
+        }
+        Err(e) => Some(format!("{} not runnable ({e})", python())),
     }
 }
 
@@ -446,7 +536,7 @@ fn yourdfpy_forward_kinematics_matches_ours() {
             let expected = dir.join(format!("{stem}.expected.json"));
             std::fs::write(&expected, serde_json::to_string(&ours).expect("json"))
                 .expect("writes expected");
-            let mut cmd = Command::new("python3");
+            let mut cmd = Command::new(python());
             cmd.arg(&script).arg(&path).arg(&expected);
             if ex.srdf.is_some() {
                 cmd.arg("--srdf")
