@@ -555,3 +555,34 @@ fn yourdfpy_forward_kinematics_matches_ours() {
         }
     }
 }
+
+#[test]
+fn cli_exports_urdf_and_names_bad_mode() {
+    let exe = env!("CARGO_BIN_EXE_ccrkit");
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join(CASES[0]);
+    let dir = out_dir().join("cli");
+    let out = dir.join("case1.urdf");
+    let run = |mode: &str| {
+        Command::new(exe)
+            .args(["export", "urdf"])
+            .arg(&model)
+            .args(["--method", "geometric", "--mode", mode, "--cables", "--out"])
+            .arg(&out)
+            .output()
+            .expect("ccrkit runs")
+    };
+    let ok = run("articulated");
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    for ext in ["urdf", "srdf", "joints.json"] {
+        assert!(out.with_extension(ext).is_file(), "{ext} written");
+    }
+    let urdf = urdf_rs::read_file(&out).expect("URDF reads");
+    assert!(urdf.joints.iter().any(|j| j.name == "section_9_twist"));
+    let bad = run("snapshot");
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("invalid option `mode`"));
+}

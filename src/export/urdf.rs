@@ -28,6 +28,13 @@
 //!   The extension is a prismatic joint rather than a fixed offset so that the URDF's *kinematic
 //!   structure* depends only on the robot, and the shape lives entirely in the joint values
 //!   (the geometric method keeps chords at `l0`, so `e ≈ 0`; rod models with extension differ).
+//!   Limits: bends and tilts ±π/2, twist ±π, extension ±l0/2, each widened to contain the
+//!   solved value; `effort` and `velocity` are a nominal 1 (the chain is kinematic).
+//!   The SRDF holds group `backbone` (chain `base_link` → `disk_n`), the `group_state` named
+//!   after the model with the solved values, and `disable_collisions` (reason `Adjacent`) for
+//!   `disk_{i−1}`, `section_i_chord` and `disk_i`, which touch by construction.
+//!   Note: the paper's geometric method keeps each chord on the previous disk's normal (its
+//!   tangent term is zero), so its shapes have `a = b ≈ 0` and live in the tilts and twist.
 //!
 //! **Joint-value extraction** ([`SectionJoints::from_frames`]). With `t = R_{i−1}ᵀ(p_i − p_{i−1})`,
 //! `c = |t|`, `u = t/c`: `Rx(a) Ry(b) ẑ = (sin b, −sin a cos b, cos a cos b)`, so
