@@ -325,6 +325,13 @@ fn articulated_chain_has_six_limited_joints_per_section_and_geometry() {
     }
     let srdf = ex.srdf.as_deref().expect("srdf");
     assert!(srdf.contains("<chain base_link=\"base_link\" tip_link=\"disk_9\"/>"));
+    // Every link the SRDF names exists in the URDF.
+    for tag in srdf.split("<disable_collisions ").skip(1) {
+        for key in ["link1", "link2"] {
+            let link = attr(tag, key).expect("link attribute");
+            assert!(ex.robot.links.iter().any(|l| l.name == link), "{link}");
+        }
+    }
     let json: serde_json::Value =
         serde_json::from_str(ex.json.as_deref().expect("json")).expect("JSON parses");
     let state = srdf_state(srdf, &robot.name);

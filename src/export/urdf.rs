@@ -32,7 +32,8 @@
 //!   solved value; `effort` and `velocity` are a nominal 1 (the chain is kinematic).
 //!   The SRDF holds group `backbone` (chain `base_link` → `disk_n`), the `group_state` named
 //!   after the model with the solved values, and `disable_collisions` (reason `Adjacent`) for
-//!   `disk_{i−1}`, `section_i_chord` and `disk_i`, which touch by construction.
+//!   the pairs among `disk_{i−1}`, `section_i_chord`, `disk_i` and `section_{i+1}_chord`
+//!   that touch by construction.
 //!   Note: the paper's geometric method keeps each chord on the previous disk's normal (its
 //!   tangent term is zero), so its shapes have `a = b ≈ 0` and live in the tilts and twist.
 //!
@@ -710,13 +711,21 @@ fn srdf_text(name: &str, tip: &str, values: &[JointValue], n: usize) -> String {
         ));
     }
     s.push_str("  </group_state>\n");
-    // The backbone of section i touches disk i-1 and disk i by construction.
+    // The backbone of section i touches disk i-1, disk i and the backbone of section i+1 by
+    // construction; cable chords (on disk i) touch disk i-1.
     for i in 1..=n {
-        for (a, b) in [
+        let mut pairs = vec![
             (format!("disk_{}", i - 1), format!("section_{i}_chord")),
             (format!("section_{i}_chord"), format!("disk_{i}")),
             (format!("disk_{}", i - 1), format!("disk_{i}")),
-        ] {
+        ];
+        if i < n {
+            pairs.push((
+                format!("section_{i}_chord"),
+                format!("section_{}_chord", i + 1),
+            ));
+        }
+        for (a, b) in pairs {
             s.push_str(&format!(
                 "  <disable_collisions link1=\"{a}\" link2=\"{b}\" reason=\"Adjacent\"/>\n"
             ));
