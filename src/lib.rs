@@ -10,6 +10,7 @@
 
 pub mod actuation;
 pub mod error;
+pub mod export;
 pub mod mesh;
 pub mod method;
 pub mod model;

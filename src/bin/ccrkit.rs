@@ -57,6 +57,31 @@ enum Command {
     },
     /// List the available methods.
     Methods,
+    /// Solve one model file and export the shape for other tools.
+    #[command(subcommand)]
+    Export(ExportCommand),
+}
+
+#[derive(Subcommand)]
+enum ExportCommand {
+    /// URDF (+ SRDF and joint values as JSON in articulated mode), in metres and radians.
+    Urdf {
+        /// Model file (TOML).
+        file: PathBuf,
+        /// Method: see `ccrkit methods`.
+        #[arg(long, default_value = "geometric")]
+        method: String,
+        /// `fixed`: one link per disk at the solved poses (a snapshot for collision checking);
+        /// `articulated`: six joints per section, the shape as joint values (SRDF + JSON).
+        #[arg(long, default_value = "articulated")]
+        mode: String,
+        /// Also draw the cables as thin cylinders between holes.
+        #[arg(long)]
+        cables: bool,
+        /// Output URDF path; the SRDF and `.joints.json` are written next to it.
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 /// Settings of the rod methods (`cosserat`, `kirchhoff`); ignored by the others.
@@ -131,6 +156,27 @@ fn run() -> Result<()> {
         Command::Methods => {
             for m in METHOD_NAMES {
                 println!("{m}");
+            }
+            Ok(())
+        }
+        Command::Export(ExportCommand::Urdf {
+            file,
+            method,
+            mode,
+            cables,
+            out,
+        }) => {
+            let model = Model::from_file(&file)?;
+            let m = method_by_name(&method)?;
+            let shape = m.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
+            let opts = ccrkit::export::UrdfOptions {
+                mode: mode.parse()?,
+                cables,
+                name: None,
+            };
+            let export = ccrkit::export::export_urdf(&shape, &model.robot, &opts)?;
+            for p in export.write_files(&out)? {
+                eprintln!("wrote {}", p.display());
             }
             Ok(())
         }
