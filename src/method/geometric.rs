@@ -657,8 +657,9 @@ impl Geometric {
             }
         }
         let Some((best, taut)) = accepted else {
-            // Newton runs that stall at a positive residual mean the taut set cannot be met.
-            if closest > 1e-8 && !data.cons.is_empty() {
+            // Certified poses existed, yet in each some cable would push or be overstretched;
+            // or Newton runs stalled at a positive residual: the lengths cannot all be met.
+            if (count > 0 || closest > 1e-8) && !data.cons.is_empty() {
                 let worst = (0..data.cons.len())
                     .max_by(|&a, &b| {
                         let va = data.chord(&straight, a) - data.cons[a].length;
@@ -670,7 +671,7 @@ impl Geometric {
                     cable: data.names[data.cons[worst].cables[0]].clone(),
                     section: i,
                     reason: format!(
-                        "no set of taut cables meets every cable length while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible); closest residual {closest:.3e} m"
+                        "no set of taut cables meets every cable length (each certified pose leaves a cable pushing or overstretched) while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible); {count} poses examined"
                     ),
                 });
             }
