@@ -409,33 +409,18 @@ impl SectionData {
         })
     }
 
-    /// Objective and constraints at pose ⊕ δ (δ = (dp, dω)), generic over the scalar.
-    ///
-    /// `Q exp(δω) h` is evaluated with exp truncated after the quadratic term, which is exact
-    /// to second order at δ = 0 — the only point where derivatives are taken.
-    fn eval<T: Real>(
+    /// Objective and constraints at pose ⊕ δ (δ = (dp, dω)) evaluated at δ = 0, generic over
+    /// the scalar: `f64` for values, [`D2`] for exact first and second derivatives in δ.
+    fn eval<T: SectionScalar>(
         &self,
         pose: &Pose,
-        d: &[T; 6],
         face: u32,
         active: &[usize],
         squared: bool,
     ) -> (T, Vec<T>) {
-        let p = V3([
-            T::cst(pose.p.x) + d[0],
-            T::cst(pose.p.y) + d[1],
-            T::cst(pose.p.z) + d[2],
-        ]);
-        let w = V3([d[3], d[4], d[5]]);
+        let p = T::position(&pose.p);
         let q = &pose.q;
-        let rot = |h: &Vector3<f64>| -> V3<T> {
-            let hv = V3::<T>::cst(h);
-            // ω × h with h constant: only scalar products.
-            let wh = w.cross_c(h);
-            let m = hv.add(&wh).add(&w.cross(&wh).scale(T::cst(0.5)));
-            let row = |r: usize| m.0[0] * q[(r, 0)] + m.0[1] * q[(r, 1)] + m.0[2] * q[(r, 2)];
-            V3([row(0), row(1), row(2)])
-        };
+        let rot = |h: &Vector3<f64>| -> V3<T> { T::rotated(q, h) };
         let mut obj = T::cst(0.0);
         let mut cons = Vec::with_capacity(1 + active.len() + 2 * self.terms.len() + 1);
         cons.push(p.norm() + (-self.l0));
@@ -482,6 +467,54 @@ impl SectionData {
     fn chord(&self, pose: &Pose, j: usize) -> f64 {
         let k = &self.cons[j];
         (pose.p + pose.q * k.h - k.h_prev).norm()
+    }
+}
+
+/// The scalars a section problem is evaluated in, at δ = 0 of the perturbation
+/// `p + δp`, `Q exp([δω]×)`: plain values, or values with derivatives in δ.
+trait SectionScalar: Real {
+    /// `p + δp`.
+    fn position(p: &Vector3<f64>) -> V3<Self>;
+    /// `Q exp([δω]×) h`.
+    fn rotated(q: &Matrix3<f64>, h: &Vector3<f64>) -> V3<Self>;
+}
+
+impl SectionScalar for f64 {
+    fn position(p: &Vector3<f64>) -> V3<f64> {
+        V3([p.x, p.y, p.z])
+    }
+    fn rotated(q: &Matrix3<f64>, h: &Vector3<f64>) -> V3<f64> {
+        let v = q * h;
+        V3([v.x, v.y, v.z])
+    }
+}
+
+impl SectionScalar for D2<6> {
+    fn position(p: &Vector3<f64>) -> V3<Self> {
+        V3([D2::var(p.x, 0), D2::var(p.y, 1), D2::var(p.z, 2)])
+    }
+    /// Closed form at δω = 0, from `exp([w]×) h = h + w × h + ½ w × (w × h) + O(|w|³)`:
+    /// value `Q h`; gradient `∂/∂w = −Q [h]×`; and, since
+    /// `½ w × (w × h) = ½ (w (w·h) − h |w|²)`, the constant Hessian of component r
+    /// `∂²/∂w_i∂w_j = ½ (Q_ri h_j + Q_rj h_i) − (Q h)_r δ_ij`. No dual arithmetic needed.
+    fn rotated(q: &Matrix3<f64>, h: &Vector3<f64>) -> V3<Self> {
+        let qh = q * h;
+        let hx = Matrix3::new(0.0, -h.z, h.y, h.z, 0.0, -h.x, -h.y, h.x, 0.0);
+        let g = -(q * hx);
+        V3(std::array::from_fn(|r| {
+            let mut d = D2::<6>::cst(qh[r]);
+            for j in 0..3 {
+                d.g[3 + j] = g[(r, j)];
+                for i in 0..3 {
+                    let mut v = 0.5 * (q[(r, i)] * h[j] + q[(r, j)] * h[i]);
+                    if i == j {
+                        v -= qh[r];
+                    }
+                    d.h[3 + i][3 + j] = v;
+                }
+            }
+            d
+        }))
     }
 }
 
@@ -861,7 +894,6 @@ impl Geometric {
         squared: bool,
     ) -> Result<(Candidate, usize), Rejected> {
         let mut pose = *start;
-        let zero6 = [0.0f64; 6];
         let world = data.world.as_ref();
         let penetration = |pose: &Pose| -> f64 {
             world.map_or(0.0, |w| {
@@ -871,14 +903,13 @@ impl Geometric {
                     .sum()
             })
         };
-        let eval_f64 = |pose: &Pose| data.eval::<f64>(pose, &zero6, face, active, squared);
-        let vars: [D2<6>; 6] = std::array::from_fn(|k| D2::var(0.0, k));
+        let eval_f64 = |pose: &Pose| data.eval::<f64>(pose, face, active, squared);
         let mut lambda: Option<Vec<f64>> = None;
         let mut last_res = f64::INFINITY;
         let mut short_steps = 0;
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
         for it in 1..=self.max_iterations {
-            let (f, c) = data.eval::<D2<6>>(&pose, &vars, face, active, squared);
+            let (f, c) = data.eval::<D2<6>>(&pose, face, active, squared);
             let k = c.len();
             if !f.v.is_finite() || c.iter().any(|x| !x.v.is_finite()) {
                 return Err(Rejected {
@@ -1449,4 +1480,40 @@ fn relative_poses(shape: &Shape) -> Vec<Pose> {
             q: w[0].rotation.transpose() * w[1].rotation,
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form derivatives of `Q exp([w]×) h` at w = 0 match central finite
+    /// differences of the exact exponential map.
+    #[test]
+    fn rotated_derivatives_match_finite_differences() {
+        let q = exp_so3(&Vector3::new(0.3, -0.5, 0.8));
+        let h = Vector3::new(0.008, -0.003, 0.001);
+        let d = <D2<6> as SectionScalar>::rotated(&q, &h);
+        let f = |w: &Vector3<f64>| q * exp_so3(w) * h;
+        let e = 1e-5;
+        for r in 0..3 {
+            assert!((d.0[r].v - (q * h)[r]).abs() < 1e-15);
+            for i in 0..3 {
+                let mut wp = Vector3::zeros();
+                wp[i] = e;
+                let fd = (f(&wp)[r] - f(&-wp)[r]) / (2.0 * e);
+                assert!((fd - d.0[r].g[3 + i]).abs() < 1e-12, "gradient {r} {i}");
+                for j in 0..3 {
+                    let mut wj = Vector3::zeros();
+                    wj[j] = e;
+                    let fd2 = (f(&(wp + wj))[r] - f(&(wp - wj))[r] - f(&(wj - wp))[r]
+                        + f(&(-wp - wj))[r])
+                        / (4.0 * e * e);
+                    assert!(
+                        (fd2 - d.0[r].h[3 + i][3 + j]).abs() < 1e-7,
+                        "hessian {r} {i} {j}"
+                    );
+                }
+            }
+        }
+    }
 }
