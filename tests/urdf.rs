@@ -96,7 +96,22 @@ fn all_shapes() -> Vec<(String, Robot, Shape)> {
         .collect();
     let (r, s) = synthetic();
     v.push(("synthetic".into(), r, s));
+    let (r, s) = next_to_wall();
+    v.push(("case 1 against a wall".into(), r, s));
     v
+}
+
+/// Case 1 solved next to `models/scenes/wall.toml`: disks 8 and 9 rest on the wall.
+fn next_to_wall() -> (Robot, Shape) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let model = Model::from_file(root.join("models/paper/case1.toml")).expect("case 1");
+    let scene = Scene::from_file(root.join("models/scenes/wall.toml")).expect("wall scene");
+    let method = method_by_name("geometric").expect("geometric method");
+    let shape = method
+        .solve(&model.robot, &model.actuation, &scene, None)
+        .expect("case 1 against the wall");
+    assert!(!shape.contacts.is_empty(), "the wall must be touched");
+    (model.robot, shape)
 }
 
 fn export(robot: &Robot, shape: &Shape, mode: UrdfMode) -> UrdfExport {
