@@ -15,6 +15,7 @@ pub mod model;
 pub mod numeric;
 pub mod plot;
 pub mod robot;
+pub mod routing;
 pub mod scene;
 pub mod shape;
 

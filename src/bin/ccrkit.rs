@@ -1,7 +1,9 @@
 //! `ccrkit`: the command line, a thin shell over the library.
 
 use anyhow::{Context, Result};
-use ccrkit::method::{method_by_name, METHOD_NAMES};
+use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
+use ccrkit::method::{method_by_name, Method, METHOD_NAMES};
+use ccrkit::routing::RoutingFit;
 use ccrkit::{plot, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -36,9 +38,78 @@ enum Command {
         /// Solve N times and report the median time.
         #[arg(long, default_value_t = 1)]
         repeat: usize,
+        #[command(flatten)]
+        rod: RodArgs,
+    },
+    /// Compare the geometric method with the Cosserat rod (force control, as the paper did;
+    /// also displacement control with the geometric method's chord lengths).
+    Compare {
+        /// Model file (TOML).
+        file: PathBuf,
+        #[command(flatten)]
+        rod: RodArgs,
     },
     /// List the available methods.
     Methods,
+}
+
+/// Settings of the rod methods (`cosserat`, `kirchhoff`); ignored by the others.
+#[derive(clap::Args, Clone)]
+struct RodArgs {
+    /// Cable input used when a file gives both: `force` or `displacement`.
+    #[arg(long, default_value = "force")]
+    control: String,
+    /// Cable routing fit: `spline` or `fourier8`.
+    #[arg(long, default_value = "spline")]
+    routing: String,
+    /// Cable length measure under displacement control: `path` or `chord`.
+    #[arg(long, default_value = "path")]
+    length: String,
+    /// RK4 steps per section.
+    #[arg(long, default_value_t = 10)]
+    steps: usize,
+    /// Adaptive RK45 tolerance instead of fixed RK4 steps.
+    #[arg(long)]
+    adaptive: Option<f64>,
+}
+
+impl RodArgs {
+    fn cosserat(&self, kirchhoff: bool) -> Result<Cosserat> {
+        let base = if kirchhoff {
+            Cosserat::kirchhoff()
+        } else {
+            Cosserat::full()
+        };
+        let control = match self.control.as_str() {
+            "force" => Control::Force,
+            "displacement" => Control::Displacement,
+            o => anyhow::bail!("unknown --control `{o}` (force, displacement)"),
+        };
+        let routing = match self.routing.as_str() {
+            "spline" => RoutingFit::Spline,
+            "fourier8" => RoutingFit::Fourier8,
+            o => anyhow::bail!("unknown --routing `{o}` (spline, fourier8)"),
+        };
+        let length = match self.length.as_str() {
+            "path" => LengthMeasure::Path,
+            "chord" => LengthMeasure::Chord,
+            o => anyhow::bail!("unknown --length `{o}` (path, chord)"),
+        };
+        Ok(base
+            .with_control(control)
+            .with_routing(routing)
+            .with_length(length)
+            .with_steps(self.steps)
+            .with_adaptive(self.adaptive))
+    }
+
+    fn method(&self, name: &str) -> Result<Box<dyn ccrkit::Method>> {
+        Ok(match name {
+            "cosserat" => Box::new(self.cosserat(false)?),
+            "kirchhoff" => Box::new(self.cosserat(true)?),
+            other => method_by_name(other)?,
+        })
+    }
 }
 
 fn main() {
@@ -50,6 +121,7 @@ fn main() {
 
 fn run() -> Result<()> {
     match Cli::parse().command {
+        Command::Compare { file, rod } => compare(&file, &rod),
         Command::Methods => {
             for m in METHOD_NAMES {
                 println!("{m}");
@@ -62,9 +134,10 @@ fn run() -> Result<()> {
             json,
             plot: plot_path,
             repeat,
+            rod,
         } => {
             let model = Model::from_file(&file)?;
-            let m = method_by_name(&method)?;
+            let m = rod.method(&method)?;
             let scene = Scene::empty();
             let (shape, median) = solve_timed(&*m, &model, &scene, repeat.max(1))?;
             let quiet = json.as_deref() == Some("-");
@@ -89,6 +162,69 @@ fn run() -> Result<()> {
             Ok(())
         }
     }
+}
+
+fn compare(file: &PathBuf, rod: &RodArgs) -> Result<()> {
+    let model = Model::from_file(file)?;
+    let scene = Scene::empty();
+    let geo = method_by_name("geometric")?.solve(&model.robot, &model.actuation, &scene, None)?;
+    let force = rod.cosserat(false)?.with_control(Control::Force);
+    let t = Instant::now();
+    let cos = force.solve(&model.robot, &model.actuation, &scene, None)?;
+    let tcos = t.elapsed().as_secs_f64();
+    let mm = |v: f64| v * 1000.0;
+    println!("model {}", model.robot.name);
+    let tip = |s: &Shape| {
+        let t = s.tip() * 1000.0;
+        format!("[{:.3}, {:.3}, {:.3}] mm", t.x, t.y, t.z)
+    };
+    println!("geometric          tip {}", tip(&geo));
+    println!(
+        "cosserat (force)   tip {}  ({} iterations, {:.0} µs)",
+        tip(&cos),
+        cos.report.iterations,
+        tcos * 1e6
+    );
+    let rms = geo.rms_distance(&cos).context("disk counts differ")?;
+    println!(
+        "geometric vs cosserat (force):  RMS {:.3} mm, tip distance {:.3} mm",
+        mm(rms),
+        mm(geo.tip_distance(&cos))
+    );
+    let disp = rod
+        .cosserat(false)?
+        .with_control(Control::Displacement)
+        .with_length(LengthMeasure::Chord);
+    match disp.solve(&model.robot, &model.actuation, &scene, Some(&cos)) {
+        Ok(d) => {
+            let tens: Vec<String> = d
+                .cables
+                .iter()
+                .map(|c| {
+                    format!(
+                        "{} {:.4} N{}",
+                        c.name,
+                        c.tension.unwrap_or(0.0),
+                        if c.slack { " (slack)" } else { "" }
+                    )
+                })
+                .collect();
+            println!(
+                "cosserat (displacement, chord lengths as geometric) tip {}, tensions [{}]",
+                tip(&d),
+                tens.join(", ")
+            );
+            if let Some(r) = geo.rms_distance(&d) {
+                println!(
+                    "geometric vs cosserat (displacement): RMS {:.3} mm, tip distance {:.3} mm",
+                    mm(r),
+                    mm(geo.tip_distance(&d))
+                );
+            }
+        }
+        Err(e) => println!("cosserat (displacement): {e}"),
+    }
+    Ok(())
 }
 
 /// Solve `repeat` times; the shape's reported time is the median.

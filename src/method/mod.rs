@@ -4,7 +4,10 @@
 //! |---|---|---|---|
 //! | `geometric` | [`geometric`] | displacement | the paper's section solver, literal (sum of angles) |
 //! | `geometric-squared` | [`geometric`] | displacement | same sections, squared angles (a discrete bending energy) |
+//! | `cosserat` | [`cosserat`] | tension (or displacement) | Rucker–Webster rod with shear and extension, shooting |
+//! | `kirchhoff` | [`cosserat`] | tension (or displacement) | the same rod, inextensible and unshearable |
 
+pub mod cosserat;
 pub mod geometric;
 
 use crate::actuation::Actuation;
@@ -28,13 +31,15 @@ pub trait Method: Send + Sync {
 }
 
 /// Names accepted by [`method_by_name`].
-pub const METHOD_NAMES: &[&str] = &["geometric", "geometric-squared"];
+pub const METHOD_NAMES: &[&str] = &["geometric", "geometric-squared", "cosserat", "kirchhoff"];
 
 /// Build a method with default settings from its command-line name.
 pub fn method_by_name(name: &str) -> Result<Box<dyn Method>, SolveError> {
     match name {
         "geometric" => Ok(Box::new(geometric::Geometric::literal())),
         "geometric-squared" => Ok(Box::new(geometric::Geometric::squared())),
+        "cosserat" => Ok(Box::new(cosserat::Cosserat::full())),
+        "kirchhoff" => Ok(Box::new(cosserat::Cosserat::kirchhoff())),
         other => Err(SolveError::InvalidInput {
             field: "method".into(),
             reason: format!(

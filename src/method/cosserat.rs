@@ -1,0 +1,1159 @@
+//! Static Cosserat rod with general tendon routing (Rucker & Webster, IEEE T-RO 27(6) 2011):
+//! the reference model of ccrkit (`--method cosserat`, and `--method kirchhoff` for the
+//! inextensible, unshearable limit).
+//!
+//! # Equations (Rucker & Webster 2011, §II–III; symbols as in the paper)
+//!
+//! States along the undeformed arc length `s`: position `p`, orientation `R` (columns = body
+//! axes; `R(0) = I`, so the body x axis points at hole angle 0), and the strains `v`, `u`
+//! (body frame). Kinematics (R&W eq. 1): `p' = R v`, `R' = R û`.
+//! Linear constitutive law (R&W eq. 4–5, `v* = e3`, `u* = 0`):
+//! `n = R Kse (v − e3)`, `m = R Kbt u`, `Kse = diag(GA, GA, EA)`, `Kbt = diag(EI, EI, GJ)`.
+//! Rod equilibrium (R&W eq. 2–3): `n' + f + f_t = 0`, `m' + p' × n + l + l_t = 0`, with
+//! `f = ρ A g` (gravity) and `l = 0`.
+//!
+//! Tendon `i` runs at `p_i = p + R r_i(s)` (R&W eq. 6), with `r_i` from [`crate::routing`].
+//! In the body frame `ṗ_i = û r_i + r_i' + v` and, frictionless with constant tension `τ_i`,
+//! it loads the rod per unit length with `f_t = Σ A_i p̈_i`, `l_t = Σ r̂_i A_i p̈_i`
+//! (R&W eq. 9–12), `A_i = −τ_i ṗ̂_i² / |ṗ_i|³`. Writing `p̈_i = û ṗ_i + û r_i' + r_i'' + v' − r̂_i u'`
+//! makes the loads linear in `v'`, `u'`; substituting into the equilibrium gives the paper's
+//! final system (R&W eq. 13–17):
+//!
+//! ```text
+//! [Kse + A   G      ] [v']   [d]      A = Σ A_i,  B = Σ r̂_i A_i,  G = −Σ A_i r̂_i,  H = −Σ r̂_i A_i r̂_i
+//! [B         Kbt + H] [u'] = [c]      a = Σ A_i (û ṗ_i + û r_i' + r_i''),  b = Σ r̂_i a_i
+//! c = −û Kbt u − v̂ Kse (v − e3) − Rᵀ l − b,      d = −û Kse (v − e3) − Rᵀ f − a
+//! ```
+//!
+//! (The equation numbers follow the paper's §III as we read it offline; the symbols are the
+//! paper's.) **Kirchhoff** (`v ≡ e3`): `n` cannot come from `v`, so it is a state instead,
+//! `(Kbt + H) u' = −û Kbt u − e3 × Rᵀn − Rᵀ l − b`, `n' = −f − R (a + G u')`.
+//!
+//! **Tendon terminations and disk loads.** A tendon tied at disk `k` (possibly an inner disk)
+//! pulls the rod there with the point force `F = −τ t` at `p + R r`, `t = R ṗ_i/|ṗ_i|` taken
+//! just before `s_k` (R&W eq. 18–19). Static balance of the infinitesimal slice gives the
+//! jumps `n(s_k⁺) = n(s_k⁻) − F`, `m(s_k⁺) = m(s_k⁻) − (R r) × F`; disk weights (disks 1..=n) and
+//! the tip wrench (`loads.tip_force`, `tip_moment`, at disk n) enter the same way. The
+//! boundary condition is `n(L⁺) = 0`, `m(L⁺) = 0`. Since every disk is an integration step
+//! boundary (sections are integrated one after another, each step starting at its own start
+//! arc length), the jumps are exact.
+//!
+//! # Shooting
+//!
+//! Unknowns: the base wrench `n(0)`, `m(0)/L` and, for displacement-controlled taut cables, the
+//! tension. Residual: `[n(L⁺), m(L⁺)/L]` [N] and, per length-controlled cable,
+//! `k_ℓ (ℓ − ℓ_target)` with `k_ℓ = EI/(r̄² L)` (≈ the tension change that moves the length by
+//! that much), so one tolerance in newtons serves all. Newton with a backtracking line
+//! search; the Jacobian is a forward-difference Jacobian computed once and then kept current
+//! with Broyden rank-one updates (one integration per iteration; a fresh difference Jacobian
+//! only when a line search fails), so a solve costs about `(6 + k) + iterations` integrations.
+//! When a start fails, the loads (tensions, shortenings, gravity, tip wrench) are stepped from
+//! zero (continuation, adaptive step). Warm starts read `report.base_wrench` and the cable
+//! tensions of a previous [`Shape`].
+//!
+//! # Cable length and slack (displacement control)
+//!
+//! A cable's length is either the routed path `∫ |ṗ_i| ds` (integrated with the states,
+//! default) or the straight chords between its holes at the disks (the geometric model's
+//! measure). The target is the undeformed length in the same measure minus the shortening.
+//! Cables pull only: an active set makes a cable whose tension comes out negative slack
+//! (tension 0, length equation dropped), and re-tensions a slack cable whose path comes out
+//! longer than its length. The answer has `τ ≥ 0` and slack cables no longer than their length.
+//!
+//! # Numbers (paper cases, force control, full model, spline routing)
+//!
+//! Measured with `cargo run --release -- compare models/paper/caseN.toml` (see the commit
+//! message / project notes for the values); the routing choice (spline vs. Fourier8) moves
+//! case III's tip by the amount printed by `ccrkit compare --routing fourier8`.
+
+use crate::actuation::Actuation;
+use crate::error::SolveError;
+use crate::method::Method;
+use crate::robot::Robot;
+use crate::routing::{Route, RoutingFit};
+use crate::scene::Scene;
+use crate::shape::{CablePath, DiskFrame, Shape, SolveReport};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, SVector, Vector3, Vector6};
+use std::time::Instant;
+
+/// Largest number of cables the rod integrator handles (fixed-size buffers, no allocation).
+pub const MAX_CABLES: usize = 16;
+
+type State = SVector<f64, 18>;
+type Buf = [f64; MAX_CABLES];
+
+/// Rod constitutive model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RodModel {
+    /// Shear and extension (Kse = diag(GA, GA, EA)).
+    #[default]
+    Full,
+    /// Inextensible and unshearable (v ≡ e3).
+    Kirchhoff,
+}
+
+/// Which input drives a cable that has both a tension and a displacement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Control {
+    /// Tension if given, else displacement, else free.
+    #[default]
+    Force,
+    /// Displacement if given, else tension, else free.
+    Displacement,
+}
+
+/// How a cable's length is measured under displacement control.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LengthMeasure {
+    /// Along the routed path `∫|ṗ_i| ds`.
+    #[default]
+    Path,
+    /// Straight chords between the holes at consecutive disks (the geometric model's).
+    Chord,
+}
+
+/// Settings of the Cosserat rod solver.
+#[derive(Debug, Clone)]
+pub struct Cosserat {
+    /// Full (shear + extension) or Kirchhoff rod.
+    pub model: RodModel,
+    /// Fixed RK4 steps per section (used when `adaptive` is `None`).
+    pub steps_per_section: usize,
+    /// Adaptive Dormand–Prince RK45 with this tolerance (scaled state error) instead of RK4.
+    pub adaptive: Option<f64>,
+    /// Cable routing fit.
+    pub routing: RoutingFit,
+    /// Force or displacement control.
+    pub control: Control,
+    /// Cable length measure for displacement control.
+    pub length: LengthMeasure,
+    /// Newton iterations per solve (per continuation step).
+    pub max_iterations: usize,
+    /// Residual tolerance [N] (moments divided by L, lengths times `EI/(r̄² L)`).
+    pub tolerance: f64,
+}
+
+impl Default for Cosserat {
+    fn default() -> Self {
+        Cosserat {
+            model: RodModel::Full,
+            steps_per_section: 10,
+            adaptive: None,
+            routing: RoutingFit::Spline,
+            control: Control::Force,
+            length: LengthMeasure::Path,
+            max_iterations: 50,
+            tolerance: 1e-9,
+        }
+    }
+}
+
+impl Cosserat {
+    /// The full rod (`cosserat`).
+    pub fn full() -> Self {
+        Self::default()
+    }
+    /// The Kirchhoff rod (`kirchhoff`).
+    pub fn kirchhoff() -> Self {
+        Cosserat {
+            model: RodModel::Kirchhoff,
+            ..Self::default()
+        }
+    }
+    /// Builder: control mode.
+    pub fn with_control(mut self, control: Control) -> Self {
+        self.control = control;
+        self
+    }
+    /// Builder: routing fit.
+    pub fn with_routing(mut self, routing: RoutingFit) -> Self {
+        self.routing = routing;
+        self
+    }
+    /// Builder: length measure.
+    pub fn with_length(mut self, length: LengthMeasure) -> Self {
+        self.length = length;
+        self
+    }
+    /// Builder: fixed RK4 steps per section.
+    pub fn with_steps(mut self, steps: usize) -> Self {
+        self.steps_per_section = steps;
+        self
+    }
+    /// Builder: adaptive RK45 tolerance (`None`: fixed RK4).
+    pub fn with_adaptive(mut self, tol: Option<f64>) -> Self {
+        self.adaptive = tol;
+        self
+    }
+}
+
+#[inline]
+fn hat(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+}
+
+#[inline]
+fn rot_of(y: &State) -> Matrix3<f64> {
+    Matrix3::from_column_slice(&y.as_slice()[3..12])
+}
+
+#[inline]
+fn v3(y: &State, i: usize) -> Vector3<f64> {
+    Vector3::new(y[i], y[i + 1], y[i + 2])
+}
+
+#[inline]
+fn put3(y: &mut State, i: usize, v: &Vector3<f64>) {
+    y[i] = v.x;
+    y[i + 1] = v.y;
+    y[i + 2] = v.z;
+}
+
+/// What drives one cable in a solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Mode {
+    /// Fixed tension [N] (scaled by the load factor).
+    Tension(f64),
+    /// Length control: shortening [m] (scaled by the load factor).
+    Length(f64),
+    /// Free: no tension.
+    Free,
+}
+
+/// Loads of one shooting pass.
+struct LoadCase {
+    tau: Buf,
+    lam: f64,
+}
+
+/// Result of one shooting pass.
+struct Shot {
+    /// `[n(L⁺), m(L⁺)/L]`.
+    resid: Vector6<f64>,
+    /// Cable lengths in the chosen measure.
+    len: Buf,
+}
+
+/// Recorded geometry of the final pass.
+#[derive(Default)]
+struct Trace {
+    disks: Vec<(Vector3<f64>, Matrix3<f64>)>,
+    backbone: Vec<Vector3<f64>>,
+}
+
+/// Everything fixed during one solve.
+struct Problem<'a> {
+    robot: &'a Robot,
+    set: &'a Cosserat,
+    kse: Vector3<f64>,
+    kbt: Vector3<f64>,
+    routes: Vec<Route>,
+    f_dist: Vector3<f64>,
+    disk_weight: Vector3<f64>,
+    tip_f: Vector3<f64>,
+    tip_m: Vector3<f64>,
+    len_l: f64,
+    fscale: f64,
+    modes: Vec<Mode>,
+    /// Undeformed lengths in the chosen measure.
+    len0: Buf,
+    /// Residual scale of each cable's length equation.
+    kl: Buf,
+}
+
+const E3: Vector3<f64> = Vector3::new(0.0, 0.0, 1.0);
+
+impl Problem<'_> {
+    /// `y'` at `s` in section `sec` (1-based); `lr[c]` receives `|ṗ_c|`.
+    #[inline]
+    fn deriv(&self, s: f64, y: &State, sec: usize, ld: &LoadCase, lr: &mut Buf) -> State {
+        let r = rot_of(y);
+        let w = v3(y, 12);
+        let u = v3(y, 15);
+        let v = match self.set.model {
+            RodModel::Full => w,
+            RodModel::Kirchhoff => E3,
+        };
+        let mut am = Matrix3::zeros();
+        let mut bm = Matrix3::zeros();
+        let mut gm = Matrix3::zeros();
+        let mut hm = Matrix3::zeros();
+        let mut a = Vector3::zeros();
+        let mut b = Vector3::zeros();
+        for (c, cable) in self.robot.cables.iter().enumerate() {
+            if cable.ends_at < sec {
+                continue;
+            }
+            let rp = self.routes[c].eval(s, sec - 1);
+            let pd = u.cross(&rp.r) + rp.dr + v;
+            let nrm = pd.norm();
+            lr[c] = nrm;
+            let t = ld.tau[c];
+            if t == 0.0 {
+                continue;
+            }
+            let ph = hat(&pd);
+            let ai = ph * ph * (-t / (nrm * nrm * nrm));
+            let rh = hat(&rp.r);
+            let ai_vec = ai * (u.cross(&pd) + u.cross(&rp.dr) + rp.ddr);
+            let bi = rh * ai;
+            am += ai;
+            gm -= ai * rh;
+            hm -= bi * rh;
+            bm += bi;
+            a += ai_vec;
+            b += rp.r.cross(&ai_vec);
+        }
+        let f = self.f_dist * ld.lam;
+        let fb = r.tr_mul(&f);
+        let mut dy = State::zeros();
+        let mb = self.kbt.component_mul(&u);
+        match self.set.model {
+            RodModel::Full => {
+                let nb = self.kse.component_mul(&(v - E3));
+                let cc = -u.cross(&mb) - v.cross(&nb) - b;
+                let dd = -u.cross(&nb) - fb - a;
+                let mut mat = Matrix6::zeros();
+                mat.fixed_view_mut::<3, 3>(0, 0)
+                    .copy_from(&(Matrix3::from_diagonal(&self.kse) + am));
+                mat.fixed_view_mut::<3, 3>(0, 3).copy_from(&gm);
+                mat.fixed_view_mut::<3, 3>(3, 0).copy_from(&bm);
+                mat.fixed_view_mut::<3, 3>(3, 3)
+                    .copy_from(&(Matrix3::from_diagonal(&self.kbt) + hm));
+                let rhs = Vector6::new(dd.x, dd.y, dd.z, cc.x, cc.y, cc.z);
+                let Some(sol) = mat.lu().solve(&rhs) else {
+                    return State::from_element(f64::NAN);
+                };
+                put3(&mut dy, 0, &(r * v));
+                put3(&mut dy, 12, &Vector3::new(sol[0], sol[1], sol[2]));
+                put3(&mut dy, 15, &Vector3::new(sol[3], sol[4], sol[5]));
+            }
+            RodModel::Kirchhoff => {
+                let nb = r.tr_mul(&w);
+                let cc = -u.cross(&mb) - E3.cross(&nb) - b;
+                let mat = Matrix3::from_diagonal(&self.kbt) + hm;
+                let Some(du) = mat.lu().solve(&cc) else {
+                    return State::from_element(f64::NAN);
+                };
+                put3(&mut dy, 0, &r.column(2).into_owned());
+                put3(&mut dy, 12, &(-f - r * (a + gm * du)));
+                put3(&mut dy, 15, &du);
+            }
+        }
+        let rd = r * hat(&u);
+        dy.as_mut_slice()[3..12].copy_from_slice(rd.as_slice());
+        dy
+    }
+
+    /// One classical RK4 step from `s` of size `h`; path lengths accumulate in `len`.
+    #[inline]
+    fn rk4(&self, s: f64, h: f64, y: &mut State, sec: usize, ld: &LoadCase, len: &mut Buf) {
+        let (mut l1, mut l2, mut l3, mut l4) = (
+            [0.0; MAX_CABLES],
+            [0.0; MAX_CABLES],
+            [0.0; MAX_CABLES],
+            [0.0; MAX_CABLES],
+        );
+        let k1 = self.deriv(s, y, sec, ld, &mut l1);
+        let k2 = self.deriv(s + 0.5 * h, &(*y + k1 * (0.5 * h)), sec, ld, &mut l2);
+        let k3 = self.deriv(s + 0.5 * h, &(*y + k2 * (0.5 * h)), sec, ld, &mut l3);
+        let k4 = self.deriv(s + h, &(*y + k3 * h), sec, ld, &mut l4);
+        *y += (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
+        for c in 0..self.robot.cables.len() {
+            len[c] += (l1[c] + 2.0 * (l2[c] + l3[c]) + l4[c]) * (h / 6.0);
+        }
+    }
+
+    /// Scaled max-norm of a state error (for the adaptive integrator).
+    fn err_norm(&self, e: &State) -> f64 {
+        let l = self.len_l;
+        let wn = match self.set.model {
+            RodModel::Full => 1.0,
+            RodModel::Kirchhoff => 1.0 / self.fscale,
+        };
+        let mut m = 0.0f64;
+        for i in 0..18 {
+            let w = match i {
+                0..=2 => 1.0 / l,
+                3..=11 => 1.0,
+                12..=14 => wn,
+                _ => l,
+            };
+            m = m.max((e[i] * w).abs());
+        }
+        m
+    }
+
+    /// Integrate section `sec` from `s0` to `s1` (either fixed RK4 or adaptive RK45).
+    #[allow(clippy::too_many_arguments)]
+    fn section(
+        &self,
+        sec: usize,
+        y: &mut State,
+        ld: &LoadCase,
+        len: &mut Buf,
+        h_adapt: &mut f64,
+        trace: &mut Option<&mut Trace>,
+    ) -> bool {
+        let (s0, s1) = (self.robot.disk_s[sec - 1], self.robot.disk_s[sec]);
+        match self.set.adaptive {
+            None => {
+                let nsteps = self.set.steps_per_section.max(1);
+                let h = (s1 - s0) / nsteps as f64;
+                for j in 0..nsteps {
+                    // Each step starts at its own arc length (never drop s0).
+                    let s = s0 + j as f64 * h;
+                    self.rk4(s, h, y, sec, ld, len);
+                    if let Some(t) = trace.as_deref_mut() {
+                        t.backbone.push(v3(y, 0));
+                    }
+                }
+                true
+            }
+            Some(tol) => {
+                let mut s = s0;
+                let mut guard = 0usize;
+                while s < s1 - 1e-15 * s1.abs().max(1.0) {
+                    guard += 1;
+                    if guard > 100_000 || !h_adapt.is_finite() {
+                        return false;
+                    }
+                    let h = h_adapt.min(s1 - s);
+                    let (yn, ln, err) = self.dp45(s, h, y, sec, ld, len);
+                    let e = err / tol;
+                    if e <= 1.0 || h < 1e-12 * self.len_l {
+                        *y = yn;
+                        *len = ln;
+                        s = if h == s1 - s { s1 } else { s + h };
+                        if let Some(t) = trace.as_deref_mut() {
+                            t.backbone.push(v3(y, 0));
+                        }
+                    }
+                    let fac = if e == 0.0 {
+                        5.0
+                    } else {
+                        (0.9 * e.powf(-0.2)).clamp(0.2, 5.0)
+                    };
+                    *h_adapt = h * fac;
+                    if !e.is_finite() {
+                        return false;
+                    }
+                }
+                true
+            }
+        }
+    }
+
+    /// One Dormand–Prince 5(4) step: new state, new lengths, scaled error.
+    fn dp45(
+        &self,
+        s: f64,
+        h: f64,
+        y: &State,
+        sec: usize,
+        ld: &LoadCase,
+        len: &Buf,
+    ) -> (State, Buf, f64) {
+        const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+        const A: [[f64; 6]; 7] = [
+            [0.0; 6],
+            [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+            [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+            [
+                19372.0 / 6561.0,
+                -25360.0 / 2187.0,
+                64448.0 / 6561.0,
+                -212.0 / 729.0,
+                0.0,
+                0.0,
+            ],
+            [
+                9017.0 / 3168.0,
+                -355.0 / 33.0,
+                46732.0 / 5247.0,
+                49.0 / 176.0,
+                -5103.0 / 18656.0,
+                0.0,
+            ],
+            [
+                35.0 / 384.0,
+                0.0,
+                500.0 / 1113.0,
+                125.0 / 192.0,
+                -2187.0 / 6784.0,
+                11.0 / 84.0,
+            ],
+        ];
+        const B5: [f64; 7] = [
+            35.0 / 384.0,
+            0.0,
+            500.0 / 1113.0,
+            125.0 / 192.0,
+            -2187.0 / 6784.0,
+            11.0 / 84.0,
+            0.0,
+        ];
+        const B4: [f64; 7] = [
+            5179.0 / 57600.0,
+            0.0,
+            7571.0 / 16695.0,
+            393.0 / 640.0,
+            -92097.0 / 339200.0,
+            187.0 / 2100.0,
+            1.0 / 40.0,
+        ];
+        let mut k = [State::zeros(); 7];
+        let mut lr = [[0.0; MAX_CABLES]; 7];
+        for i in 0..7 {
+            let mut yi = *y;
+            for j in 0..i {
+                if A[i][j] != 0.0 {
+                    yi += k[j] * (h * A[i][j]);
+                }
+            }
+            k[i] = self.deriv(s + C[i] * h, &yi, sec, ld, &mut lr[i]);
+        }
+        let mut yn = *y;
+        let mut e = State::zeros();
+        let mut ln = *len;
+        for i in 0..7 {
+            yn += k[i] * (h * B5[i]);
+            e += k[i] * (h * (B5[i] - B4[i]));
+            for c in 0..self.robot.cables.len() {
+                ln[c] += h * B5[i] * lr[i][c];
+            }
+        }
+        (yn, ln, self.err_norm(&e))
+    }
+
+    /// Rod force and moment (base frame) from the state.
+    #[inline]
+    fn wrench(&self, y: &State) -> (Vector3<f64>, Vector3<f64>) {
+        let r = rot_of(y);
+        let u = v3(y, 15);
+        let n = match self.set.model {
+            RodModel::Full => r * self.kse.component_mul(&(v3(y, 12) - E3)),
+            RodModel::Kirchhoff => v3(y, 12),
+        };
+        (n, r * self.kbt.component_mul(&u))
+    }
+
+    /// Set the strains (and `n` for Kirchhoff) from a rod wrench.
+    #[inline]
+    fn set_wrench(&self, y: &mut State, n: &Vector3<f64>, m: &Vector3<f64>) {
+        let r = rot_of(y);
+        match self.set.model {
+            RodModel::Full => put3(y, 12, &(E3 + r.tr_mul(n).component_div(&self.kse))),
+            RodModel::Kirchhoff => put3(y, 12, n),
+        }
+        put3(y, 15, &r.tr_mul(m).component_div(&self.kbt));
+    }
+
+    /// Integrate base to tip from the base wrench `n0`, `m0`.
+    fn shoot(
+        &self,
+        n0: &Vector3<f64>,
+        m0: &Vector3<f64>,
+        ld: &LoadCase,
+        mut trace: Option<&mut Trace>,
+    ) -> Shot {
+        let robot = self.robot;
+        let mut y = State::zeros();
+        y.as_mut_slice()[3..12].copy_from_slice(Matrix3::<f64>::identity().as_slice());
+        self.set_wrench(&mut y, n0, m0);
+        let mut path = [0.0; MAX_CABLES];
+        let mut chord = [0.0; MAX_CABLES];
+        let mut prev = [Vector3::zeros(); MAX_CABLES];
+        for (c, cable) in robot.cables.iter().enumerate() {
+            prev[c] = cable.hole(0);
+        }
+        if let Some(t) = trace.as_deref_mut() {
+            t.disks.push((Vector3::zeros(), Matrix3::identity()));
+            t.backbone.push(Vector3::zeros());
+        }
+        let mut h_adapt = self.len_l / (robot.sections() as f64 * 4.0);
+        let nsec = robot.sections();
+        let bad = Shot {
+            resid: Vector6::from_element(f64::NAN),
+            len: [f64::NAN; MAX_CABLES],
+        };
+        for k in 1..=nsec {
+            if !self.section(k, &mut y, ld, &mut path, &mut h_adapt, &mut trace) {
+                return bad;
+            }
+            let r = rot_of(&y);
+            let p = v3(&y, 0);
+            if let Some(t) = trace.as_deref_mut() {
+                t.disks.push((p, r));
+            }
+            let (mut n, mut m) = self.wrench(&y);
+            let v = match self.set.model {
+                RodModel::Full => v3(&y, 12),
+                RodModel::Kirchhoff => E3,
+            };
+            let u = v3(&y, 15);
+            for (c, cable) in robot.cables.iter().enumerate() {
+                if cable.ends_at < k {
+                    continue;
+                }
+                let hole = p + r * cable.hole(k);
+                chord[c] += (hole - prev[c]).norm();
+                prev[c] = hole;
+                let t = ld.tau[c];
+                if cable.ends_at == k && t != 0.0 {
+                    let rp = self.routes[c].eval(robot.disk_s[k], k - 1);
+                    let pd = u.cross(&rp.r) + rp.dr + v;
+                    let f = r * pd * (-t / pd.norm());
+                    n -= f;
+                    m -= (r * rp.r).cross(&f);
+                }
+            }
+            n -= self.disk_weight * ld.lam;
+            if k == nsec {
+                n -= self.tip_f * ld.lam;
+                m -= self.tip_m * ld.lam;
+            }
+            self.set_wrench(&mut y, &n, &m);
+            if k == nsec {
+                let mm = m / self.len_l;
+                let resid = Vector6::new(n.x, n.y, n.z, mm.x, mm.y, mm.z);
+                let len = match self.set.length {
+                    LengthMeasure::Path => path,
+                    LengthMeasure::Chord => chord,
+                };
+                return Shot { resid, len };
+            }
+        }
+        bad
+    }
+}
+
+/// One configuration of unknowns: which cables carry unknown tensions.
+struct Setup {
+    /// Cables whose tension is an unknown (length-controlled, taut).
+    unknown: Vec<usize>,
+    /// Length-controlled cables currently slack (tension 0).
+    slack: Vec<bool>,
+}
+
+/// Failure of a Newton run (for continuation / error reporting).
+struct Fail {
+    iterations: usize,
+    residual: f64,
+    detail: String,
+}
+
+impl Problem<'_> {
+    fn tensions(&self, x: &DVector<f64>, setup: &Setup, lam: f64) -> Buf {
+        let mut tau = [0.0; MAX_CABLES];
+        for (c, mode) in self.modes.iter().enumerate() {
+            if let Mode::Tension(t) = mode {
+                tau[c] = t * lam;
+            }
+        }
+        for (j, &c) in setup.unknown.iter().enumerate() {
+            tau[c] = x[6 + j];
+        }
+        tau
+    }
+
+    fn residual(&self, x: &DVector<f64>, setup: &Setup, lam: f64) -> DVector<f64> {
+        let n0 = Vector3::new(x[0], x[1], x[2]);
+        let m0 = Vector3::new(x[3], x[4], x[5]) * self.len_l;
+        let ld = LoadCase {
+            tau: self.tensions(x, setup, lam),
+            lam,
+        };
+        let shot = self.shoot(&n0, &m0, &ld, None);
+        let mut f = DVector::zeros(x.len());
+        for i in 0..6 {
+            f[i] = shot.resid[i];
+        }
+        for (j, &c) in setup.unknown.iter().enumerate() {
+            f[6 + j] = self.kl[c] * (shot.len[c] - self.target(c, lam));
+        }
+        if f.iter().any(|v| !v.is_finite()) {
+            f.fill(f64::NAN);
+        }
+        f
+    }
+
+    fn target(&self, c: usize, lam: f64) -> f64 {
+        match self.modes[c] {
+            Mode::Length(d) => self.len0[c] - lam * d,
+            _ => self.len0[c],
+        }
+    }
+
+    fn fd_jacobian(
+        &self,
+        x: &DVector<f64>,
+        f: &DVector<f64>,
+        setup: &Setup,
+        lam: f64,
+    ) -> DMatrix<f64> {
+        let k = x.len();
+        let mut j = DMatrix::zeros(k, k);
+        let mut xp = x.clone();
+        for col in 0..k {
+            let h = 1e-7 * x[col].abs().max(self.fscale);
+            xp[col] = x[col] + h;
+            let fp = self.residual(&xp, setup, lam);
+            xp[col] = x[col];
+            j.set_column(col, &((fp - f) / h));
+        }
+        j
+    }
+
+    /// Newton with line search and Broyden updates at load factor `lam`.
+    fn newton(
+        &self,
+        x0: &DVector<f64>,
+        setup: &Setup,
+        lam: f64,
+    ) -> Result<(DVector<f64>, usize, f64), Fail> {
+        let tol = self.set.tolerance;
+        let mut x = x0.clone();
+        let mut f = self.residual(&x, setup, lam);
+        let norm_inf = |v: &DVector<f64>| v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        if !f[0].is_finite() {
+            return Err(Fail {
+                iterations: 0,
+                residual: f64::NAN,
+                detail: "integration failed at the start point".into(),
+            });
+        }
+        if norm_inf(&f) <= tol {
+            return Ok((x, 0, norm_inf(&f)));
+        }
+        let mut jac = self.fd_jacobian(&x, &f, setup, lam);
+        let mut fresh = true;
+        for it in 1..=self.set.max_iterations {
+            let Some(dx) = jac.clone().lu().solve(&(-&f)) else {
+                if fresh {
+                    return Err(Fail {
+                        iterations: it,
+                        residual: norm_inf(&f),
+                        detail: "singular Jacobian".into(),
+                    });
+                }
+                jac = self.fd_jacobian(&x, &f, setup, lam);
+                fresh = true;
+                continue;
+            };
+            let f2 = f.norm_squared();
+            let mut alpha = 1.0;
+            let mut accepted = None;
+            for _ in 0..12 {
+                let xn = &x + &dx * alpha;
+                let fnew = self.residual(&xn, setup, lam);
+                if fnew[0].is_finite() && fnew.norm_squared() <= (1.0 - 1e-4 * alpha) * f2 {
+                    accepted = Some((xn, fnew));
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            match accepted {
+                Some((xn, fnew)) => {
+                    let s = &xn - &x;
+                    let y = &fnew - &f;
+                    let ss = s.norm_squared();
+                    if ss > 0.0 {
+                        let corr = (y - &jac * &s) * (s.transpose() / ss);
+                        jac += corr;
+                    }
+                    x = xn;
+                    f = fnew;
+                    fresh = false;
+                    let r = norm_inf(&f);
+                    if r <= tol {
+                        return Ok((x, it, r));
+                    }
+                }
+                None => {
+                    if fresh {
+                        return Err(Fail {
+                            iterations: it,
+                            residual: norm_inf(&f),
+                            detail: "line search failed".into(),
+                        });
+                    }
+                    jac = self.fd_jacobian(&x, &f, setup, lam);
+                    fresh = true;
+                }
+            }
+        }
+        Err(Fail {
+            iterations: self.set.max_iterations,
+            residual: norm_inf(&f),
+            detail: "iteration limit".into(),
+        })
+    }
+
+    /// Newton from `x0`; if that fails, load stepping from zero load.
+    fn solve_with_continuation(
+        &self,
+        x0: &DVector<f64>,
+        setup: &Setup,
+    ) -> Result<(DVector<f64>, usize, f64), Fail> {
+        let mut total = 0;
+        match self.newton(x0, setup, 1.0) {
+            Ok((x, it, r)) => return Ok((x, it, r)),
+            Err(e) => total += e.iterations,
+        }
+        let mut x = DVector::zeros(x0.len());
+        let (mut lam, mut dl) = (0.0f64, 0.25f64);
+        let mut last = Fail {
+            iterations: total,
+            residual: f64::NAN,
+            detail: "continuation".into(),
+        };
+        while lam < 1.0 {
+            let l1 = (lam + dl).min(1.0);
+            match self.newton(&x, setup, l1) {
+                Ok((xn, it, r)) => {
+                    total += it;
+                    x = xn;
+                    lam = l1;
+                    dl = (dl * 1.5).min(0.5);
+                    if lam >= 1.0 {
+                        return Ok((x, total, r));
+                    }
+                }
+                Err(e) => {
+                    total += e.iterations;
+                    dl *= 0.5;
+                    last = Fail {
+                        iterations: total,
+                        residual: e.residual,
+                        detail: format!(
+                            "continuation stalled at load factor {lam:.4} ({})",
+                            e.detail
+                        ),
+                    };
+                    if dl < 1.0 / 512.0 {
+                        return Err(last);
+                    }
+                }
+            }
+        }
+        Err(last)
+    }
+}
+
+impl Method for Cosserat {
+    fn name(&self) -> &str {
+        match self.model {
+            RodModel::Full => "cosserat",
+            RodModel::Kirchhoff => "kirchhoff",
+        }
+    }
+
+    fn solve(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError> {
+        let start = Instant::now();
+        let name = self.name().to_string();
+        if !scene.is_empty() {
+            return Err(SolveError::Unsupported {
+                method: name,
+                reason: "obstacles are not handled by the rod model yet".into(),
+            });
+        }
+        let nc = robot.cables.len();
+        if nc > MAX_CABLES {
+            return Err(SolveError::Unsupported {
+                method: name,
+                reason: format!("at most {MAX_CABLES} cables (got {nc})"),
+            });
+        }
+        if self.steps_per_section == 0 && self.adaptive.is_none() {
+            return Err(SolveError::InvalidInput {
+                field: "steps_per_section".into(),
+                reason: "must be ≥ 1".into(),
+            });
+        }
+        if let Some(t) = self.adaptive {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(SolveError::InvalidInput {
+                    field: "adaptive".into(),
+                    reason: format!("tolerance must be > 0, got {t}"),
+                });
+            }
+        }
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(SolveError::InvalidInput {
+                field: "tolerance".into(),
+                reason: format!("must be > 0, got {}", self.tolerance),
+            });
+        }
+        let bb = &robot.backbone;
+        let len_l = robot.length();
+        let fscale = bb.ei() / (len_l * len_l);
+        let routes = (0..nc)
+            .map(|c| Route::new(robot, c, self.routing))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut modes = Vec::with_capacity(nc);
+        let mut notes = vec![format!(
+            "rod {:?}, routing {:?}, control {:?}, length {:?}, {}",
+            self.model,
+            self.routing,
+            self.control,
+            self.length,
+            match self.adaptive {
+                Some(t) => format!("adaptive RK45 tol {t:e}"),
+                None => format!("RK4 {} steps/section", self.steps_per_section),
+            }
+        )];
+        for (c, cable) in robot.cables.iter().enumerate() {
+            let tension = act.tension(c);
+            let short = act.shortening_length(robot, c);
+            if let Some(t) = tension {
+                if !(t.is_finite() && t >= 0.0) {
+                    return Err(SolveError::InvalidInput {
+                        field: format!("cables[{c}].tension"),
+                        reason: format!("must be finite and ≥ 0, got {t}"),
+                    });
+                }
+            }
+            if let Some(d) = short {
+                if !d.is_finite() {
+                    return Err(SolveError::InvalidInput {
+                        field: format!("cables[{c}].shorten"),
+                        reason: "must be finite".into(),
+                    });
+                }
+            }
+            let mode = match (self.control, tension, short) {
+                (Control::Force, Some(t), _) => Mode::Tension(t),
+                (Control::Force, None, Some(d)) => Mode::Length(d),
+                (Control::Displacement, _, Some(d)) => Mode::Length(d),
+                (Control::Displacement, Some(t), None) => Mode::Tension(t),
+                (_, None, None) => Mode::Free,
+            };
+            if mode == Mode::Free {
+                notes.push(format!(
+                    "cable `{}` is free (no tension, no displacement)",
+                    cable.name
+                ));
+            }
+            modes.push(mode);
+        }
+        let mut kl = [0.0; MAX_CABLES];
+        for (c, cable) in robot.cables.iter().enumerate() {
+            let rbar = cable.radius.iter().sum::<f64>() / cable.radius.len().max(1) as f64;
+            let rbar = if rbar > 0.0 { rbar } else { robot.disk_radius };
+            kl[c] = bb.ei() / (rbar * rbar * len_l);
+        }
+        let area = bb.area();
+        let mut prob = Problem {
+            robot,
+            set: self,
+            kse: Vector3::new(bb.ga(), bb.ga(), bb.ea()),
+            kbt: Vector3::new(bb.ei(), bb.ei(), bb.gj()),
+            routes,
+            f_dist: robot.loads.gravity * (bb.density * area),
+            disk_weight: robot.loads.gravity * robot.loads.disk_mass,
+            tip_f: robot.loads.tip_force,
+            tip_m: robot.loads.tip_moment,
+            len_l,
+            fscale,
+            modes,
+            len0: [0.0; MAX_CABLES],
+            kl,
+        };
+        // Undeformed lengths in the chosen measure: the unloaded, straight rod (exact at
+        // zero load), integrated with the same quadrature as the loaded one.
+        let zero = LoadCase {
+            tau: [0.0; MAX_CABLES],
+            lam: 0.0,
+        };
+        prob.len0 = prob
+            .shoot(&Vector3::zeros(), &Vector3::zeros(), &zero, None)
+            .len;
+
+        let length_cables: Vec<usize> = (0..nc)
+            .filter(|&c| matches!(prob.modes[c], Mode::Length(_)))
+            .collect();
+        // Warm start.
+        let mut slack = vec![false; nc];
+        let mut warm_x: Option<(Vector3<f64>, Vector3<f64>, Vec<f64>)> = None;
+        if let Some(w) = warm {
+            if let Some(bw) = w.report.base_wrench {
+                if bw.iter().all(|v| v.is_finite()) && w.cables.len() == nc {
+                    let tens: Vec<f64> = w
+                        .cables
+                        .iter()
+                        .map(|c| c.tension.filter(|t| t.is_finite()).unwrap_or(0.0))
+                        .collect();
+                    for &c in &length_cables {
+                        slack[c] = w.cables[c].slack && tens[c] == 0.0;
+                    }
+                    warm_x = Some((
+                        Vector3::new(bw[0], bw[1], bw[2]),
+                        Vector3::new(bw[3], bw[4], bw[5]) / len_l,
+                        tens,
+                    ));
+                }
+            }
+        }
+        // Active set over slack cables.
+        let mut total_it = 0usize;
+        let max_rounds = 2 * nc + 3;
+        let mut x_prev: Option<DVector<f64>> = None;
+        let mut prev_setup: Option<Setup> = None;
+        for _round in 0..max_rounds {
+            let unknown: Vec<usize> = length_cables
+                .iter()
+                .copied()
+                .filter(|&c| !slack[c])
+                .collect();
+            let setup = Setup {
+                unknown,
+                slack: slack.clone(),
+            };
+            let mut x0 = DVector::zeros(6 + setup.unknown.len());
+            if let Some(xp) = &x_prev {
+                // Carry the base wrench and the tensions of cables still unknown.
+                for i in 0..6 {
+                    x0[i] = xp[i];
+                }
+                if let Some(ps) = &prev_setup {
+                    for (j, &c) in setup.unknown.iter().enumerate() {
+                        if let Some(pj) = ps.unknown.iter().position(|&q| q == c) {
+                            x0[6 + j] = xp[6 + pj].max(0.0);
+                        }
+                    }
+                }
+            } else if let Some((n0, m0s, tens)) = &warm_x {
+                for i in 0..3 {
+                    x0[i] = n0[i];
+                    x0[3 + i] = m0s[i];
+                }
+                for (j, &c) in setup.unknown.iter().enumerate() {
+                    x0[6 + j] = tens[c];
+                }
+            }
+            let (x, it, res) = prob.solve_with_continuation(&x0, &setup).map_err(|e| {
+                SolveError::NotConverged {
+                    method: name.clone(),
+                    section: None,
+                    iterations: total_it + e.iterations,
+                    residual: e.residual,
+                    detail: e.detail,
+                }
+            })?;
+            total_it += it;
+            // Complementarity: negative tension → slack; slack but stretched → taut.
+            let tau = prob.tensions(&x, &setup, 1.0);
+            let mut changed = false;
+            let neg = setup
+                .unknown
+                .iter()
+                .copied()
+                .filter(|&c| tau[c] < 0.0)
+                .min_by(|&a, &b| tau[a].total_cmp(&tau[b]));
+            if let Some(c) = neg {
+                slack[c] = true;
+                changed = true;
+            } else {
+                let n0 = Vector3::new(x[0], x[1], x[2]);
+                let m0 = Vector3::new(x[3], x[4], x[5]) * len_l;
+                let shot = prob.shoot(&n0, &m0, &LoadCase { tau, lam: 1.0 }, None);
+                for &c in &length_cables {
+                    let tol_len = 10.0 * self.tolerance / prob.kl[c];
+                    if setup.slack[c] && shot.len[c] > prob.target(c, 1.0) + tol_len {
+                        slack[c] = false;
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                return Ok(self.build_shape(&prob, &x, &setup, total_it, res, start, notes));
+            }
+            x_prev = Some(x);
+            prev_setup = Some(setup);
+        }
+        Err(SolveError::NotConverged {
+            method: name,
+            section: None,
+            iterations: total_it,
+            residual: f64::NAN,
+            detail: "slack active set did not settle".into(),
+        })
+    }
+}
+
+impl Cosserat {
+    #[allow(clippy::too_many_arguments)]
+    fn build_shape(
+        &self,
+        prob: &Problem,
+        x: &DVector<f64>,
+        setup: &Setup,
+        iterations: usize,
+        residual: f64,
+        start: Instant,
+        notes: Vec<String>,
+    ) -> Shape {
+        let robot = prob.robot;
+        let n0 = Vector3::new(x[0], x[1], x[2]);
+        let m0 = Vector3::new(x[3], x[4], x[5]) * prob.len_l;
+        let tau = prob.tensions(x, setup, 1.0);
+        let mut trace = Trace::default();
+        prob.shoot(&n0, &m0, &LoadCase { tau, lam: 1.0 }, Some(&mut trace));
+        let disks: Vec<DiskFrame> = trace
+            .disks
+            .iter()
+            .enumerate()
+            .map(|(k, (p, r))| DiskFrame {
+                s: robot.disk_s[k],
+                position: *p,
+                rotation: crate::numeric::rotation::orthonormalize(r),
+            })
+            .collect();
+        let cables = robot
+            .cables
+            .iter()
+            .enumerate()
+            .map(|(c, cable)| {
+                let points = (0..=cable.ends_at)
+                    .map(|k| disks[k].position + disks[k].rotation * cable.hole(k))
+                    .collect();
+                let slack = setup.slack[c] || matches!(prob.modes[c], Mode::Tension(t) if t == 0.0);
+                CablePath {
+                    name: cable.name.clone(),
+                    points,
+                    slack,
+                    slack_sections: if slack {
+                        (1..=cable.ends_at).collect()
+                    } else {
+                        vec![]
+                    },
+                    tension: Some(tau[c]),
+                }
+            })
+            .collect();
+        Shape {
+            method: self.name().into(),
+            disks,
+            backbone: trace.backbone,
+            cables,
+            contacts: vec![],
+            report: SolveReport {
+                converged: true,
+                iterations,
+                residual,
+                solve_time_s: start.elapsed().as_secs_f64(),
+                sections: vec![],
+                base_wrench: Some([n0.x, n0.y, n0.z, m0.x, m0.y, m0.z]),
+                notes,
+            },
+        }
+    }
+}

@@ -1,0 +1,308 @@
+//! The Cosserat rod against independent truths: closed-form arcs and beams, global static
+//! balance, force/displacement inversion, RK4 order, inner-disk terminations, slack cables.
+
+use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
+use ccrkit::{Actuation, Method, Model, Scene, Shape, Shortening, SolveError};
+use nalgebra::Vector3;
+
+/// Relative tolerance for "exact" closed forms (integration + shooting error only).
+const EXACT_REL: f64 = 1e-9;
+/// Relative tolerance of the linear beam formula (small load, geometric nonlinearity ~1e-5).
+const BEAM_REL: f64 = 0.01;
+/// Tight shooting tolerance for the closed-form checks [N].
+const TIGHT: f64 = 1e-12;
+
+const E: f64 = 1.1e9;
+const D: f64 = 0.003;
+const R_HOLE: f64 = 0.008;
+
+fn ei() -> f64 {
+    E * std::f64::consts::PI * D.powi(4) / 64.0
+}
+
+/// One straight cable at angle 0 (plus optional extra TOML), 9 sections of 20 mm.
+fn one_cable(cable_extra: &str, extra: &str) -> Model {
+    let text = format!(
+        r#"
+name = "test"
+[robot]
+sections = 9
+section_length = 0.020
+disk_radius = 0.012
+disk_thickness = 0.002
+backbone = {{ youngs_modulus = {E}, poisson_ratio = 0.3, diameter = {D} }}
+[[cables]]
+name = "A"
+radius = {R_HOLE}
+angles = {{ straight = 0.0 }}
+{cable_extra}
+{extra}
+"#
+    );
+    Model::from_toml_str(&text).expect("test model parses")
+}
+
+fn paper(n: usize) -> Model {
+    Model::from_file(format!(
+        "{}/models/paper/case{n}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("paper model parses")
+}
+
+fn solve(m: &dyn Method, model: &Model) -> Shape {
+    m.solve(&model.robot, &model.actuation, &Scene::empty(), None)
+        .expect("solves")
+}
+
+fn tight(c: Cosserat) -> Cosserat {
+    Cosserat {
+        tolerance: TIGHT,
+        ..c
+    }
+}
+
+#[test]
+fn kirchhoff_straight_tendon_is_a_circular_arc() {
+    let tau = 1.0;
+    let model = one_cable(&format!("tension = {tau}"), "");
+    let shape = solve(&tight(Cosserat::kirchhoff()), &model);
+    let kappa = tau * R_HOLE / ei();
+    let len = model.robot.length();
+    for d in &shape.disks {
+        let s = d.s;
+        let exact = Vector3::new(
+            (1.0 - (kappa * s).cos()) / kappa,
+            0.0,
+            (kappa * s).sin() / kappa,
+        );
+        let err = (d.position - exact).norm();
+        assert!(err <= EXACT_REL * len, "disk at s={s}: error {err:e} m");
+    }
+}
+
+#[test]
+fn full_rod_straight_tendon_is_the_stretched_arc() {
+    // Compression n = -τ t shortens the rod by τ/EA; the curvature per unit reference length
+    // stays τ r / EI (the shear/extension correction is exactly this stretch).
+    let tau = 2.0;
+    let model = one_cable(&format!("tension = {tau}"), "");
+    let shape = solve(&tight(Cosserat::full()), &model);
+    let bb = &model.robot.backbone;
+    let kappa = tau * R_HOLE / bb.ei();
+    let vz = 1.0 - tau / bb.ea();
+    let len = model.robot.length();
+    let kirch = solve(&tight(Cosserat::kirchhoff()), &model);
+    for (d, k) in shape.disks.iter().zip(&kirch.disks) {
+        let s = d.s;
+        let exact = Vector3::new(
+            (1.0 - (kappa * s).cos()) / kappa,
+            0.0,
+            (kappa * s).sin() / kappa,
+        ) * vz;
+        assert!((d.position - exact).norm() <= EXACT_REL * len);
+        // Full and Kirchhoff differ by no more than the extension correction.
+        assert!((d.position - k.position).norm() <= 1.01 * (1.0 - vz) * s + 1e-12);
+    }
+}
+
+#[test]
+fn cantilever_tip_force_matches_beam_theory() {
+    let f = 0.005; // N, small: deflection ≈ 2 mm on 180 mm
+    let model = one_cable(
+        "tension = 0.0",
+        &format!("[loads]\ntip_force = [{f}, 0.0, 0.0]"),
+    );
+    for method in [Cosserat::full(), Cosserat::kirchhoff()] {
+        let shape = solve(&tight(method), &model);
+        let len = model.robot.length();
+        let expected = f * len.powi(3) / (3.0 * ei());
+        let got = shape.tip().x;
+        assert!(
+            ((got - expected) / expected).abs() < BEAM_REL,
+            "tip deflection {got} vs {expected}"
+        );
+    }
+}
+
+#[test]
+fn base_wrench_balances_tendon_and_tip_loads() {
+    // Whole robot + tendon as one body: base reaction + tendon pull at the base = tip load.
+    let tau = 1.5;
+    let (ft, mt) = (
+        Vector3::new(0.01, -0.02, 0.005),
+        Vector3::new(0.0, 0.0005, 0.0002),
+    );
+    let model = one_cable(
+        &format!("tension = {tau}"),
+        &format!(
+            "[loads]\ntip_force = [{}, {}, {}]\ntip_moment = [{}, {}, {}]",
+            ft.x, ft.y, ft.z, mt.x, mt.y, mt.z
+        ),
+    );
+    for method in [Cosserat::full(), Cosserat::kirchhoff()] {
+        let kirchhoff = method.name() == "kirchhoff";
+        let shape = solve(&method, &model);
+        assert!(shape.report.residual <= 1e-8);
+        let bw = shape.report.base_wrench.expect("base wrench");
+        let (n0, m0) = (
+            Vector3::new(bw[0], bw[1], bw[2]),
+            Vector3::new(bw[3], bw[4], bw[5]),
+        );
+        let bb = &model.robot.backbone;
+        let v0 = if kirchhoff {
+            Vector3::z()
+        } else {
+            Vector3::z() + n0.component_div(&Vector3::new(bb.ga(), bb.ga(), bb.ea()))
+        };
+        let u0 = m0.component_div(&Vector3::new(bb.ei(), bb.ei(), bb.gj()));
+        let r0 = Vector3::new(R_HOLE, 0.0, 0.0);
+        let t0 = (v0 + u0.cross(&r0)).normalize();
+        let force = n0 + t0 * tau - ft;
+        let moment = m0 + r0.cross(&(t0 * tau)) - (mt + shape.tip().cross(&ft));
+        assert!(force.norm() <= 1e-8, "force imbalance {force}");
+        assert!(moment.norm() <= 1e-8, "moment imbalance {moment}");
+    }
+}
+
+fn chord_length(path: &[Vector3<f64>]) -> f64 {
+    path.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+}
+
+#[test]
+fn displacement_control_inverts_force_control() {
+    let model = paper(3);
+    let force = tight(Cosserat::full());
+    let shape = solve(&force, &model);
+    // Cable lengths as chords between holes, turned into shortenings.
+    let mut act = Actuation::free(&model.robot);
+    for (c, cable) in shape.cables.iter().enumerate() {
+        let d = model.robot.undeformed_chord_length(c) - chord_length(&cable.points);
+        act.cables[c].shorten = Some(Shortening::Length(d));
+    }
+    let disp = tight(Cosserat::full())
+        .with_control(Control::Displacement)
+        .with_length(LengthMeasure::Chord);
+    let back = disp
+        .solve(&model.robot, &act, &Scene::empty(), None)
+        .expect("displacement solve");
+    for (a, b) in shape.cables.iter().zip(&back.cables) {
+        let (ta, tb) = (a.tension.unwrap_or(-1.0), b.tension.unwrap_or(-1.0));
+        assert!(((ta - tb) / ta).abs() <= 1e-6, "{}: {ta} vs {tb}", a.name);
+    }
+    assert!(shape.tip_distance(&back) < 1e-6);
+}
+
+#[test]
+fn rk4_converges_at_fourth_order() {
+    let model = paper(2);
+    let tip = |steps: usize| solve(&tight(Cosserat::kirchhoff().with_steps(steps)), &model).tip();
+    let reference = tip(64);
+    let e: Vec<f64> = [1, 2, 4]
+        .iter()
+        .map(|&n| (tip(n) - reference).norm())
+        .collect();
+    for w in e.windows(2) {
+        let order = (w[0] / w[1]).log2();
+        assert!(
+            (3.5..=4.5).contains(&order),
+            "observed order {order} ({e:?})"
+        );
+    }
+}
+
+#[test]
+fn cable_tied_at_an_inner_disk() {
+    let tau = 1.0;
+    let model = one_cable(&format!("tension = {tau}\nends_at = 5"), "");
+    let shape = solve(&tight(Cosserat::kirchhoff()), &model);
+    let kappa = tau * R_HOLE / ei();
+    let len = model.robot.length();
+    let d5 = &shape.disks[5];
+    let exact5 = Vector3::new(
+        (1.0 - (kappa * d5.s).cos()) / kappa,
+        0.0,
+        (kappa * d5.s).sin() / kappa,
+    );
+    assert!((d5.position - exact5).norm() <= EXACT_REL * len);
+    // Beyond the tie point the rod carries no load: straight along disk 5's normal.
+    for d in &shape.disks[6..] {
+        let expect = d5.position + d5.rotation.column(2) * (d.s - d5.s);
+        assert!((d.position - expect).norm() <= EXACT_REL * len);
+        assert!((d.rotation - d5.rotation).norm() <= 1e-9);
+    }
+}
+
+#[test]
+fn paid_out_cable_goes_slack() {
+    let text = format!(
+        r#"
+name = "slack"
+[robot]
+sections = 9
+section_length = 0.020
+disk_radius = 0.012
+disk_thickness = 0.002
+backbone = {{ youngs_modulus = {E}, poisson_ratio = 0.3, diameter = {D} }}
+[[cables]]
+name = "A"
+radius = {R_HOLE}
+angles = {{ straight = 0.0 }}
+shorten_percent = 1.0
+[[cables]]
+name = "B"
+radius = {R_HOLE}
+angles = {{ straight = 2.0 }}
+shorten = -0.002
+"#
+    );
+    let model = Model::from_toml_str(&text).expect("parses");
+    for length in [LengthMeasure::Chord, LengthMeasure::Path] {
+        let m = Cosserat::full()
+            .with_control(Control::Displacement)
+            .with_length(length);
+        let shape = solve(&m, &model);
+        let (a, b) = (&shape.cables[0], &shape.cables[1]);
+        assert!(a.tension.unwrap_or(0.0) > 0.0 && !a.slack);
+        assert_eq!(b.tension, Some(0.0));
+        assert!(b.slack);
+        if length == LengthMeasure::Chord {
+            let allowed = model.robot.undeformed_chord_length(1) + 0.002;
+            assert!(chord_length(&b.points) <= allowed);
+        }
+    }
+}
+
+#[test]
+fn warm_start_from_the_solution_needs_no_iteration() {
+    let model = paper(1);
+    let m = Cosserat::full();
+    let cold = solve(&m, &model);
+    let warm = m
+        .solve(&model.robot, &model.actuation, &Scene::empty(), Some(&cold))
+        .expect("warm");
+    assert_eq!(warm.report.iterations, 0);
+    assert!(warm.tip_distance(&cold) < 1e-9);
+}
+
+#[test]
+fn adaptive_and_fixed_steps_agree() {
+    let model = paper(3);
+    let fixed = solve(&Cosserat::full().with_steps(40), &model);
+    let adaptive = solve(&Cosserat::full().with_adaptive(Some(1e-10)), &model);
+    assert!(fixed.tip_distance(&adaptive) < 1e-7);
+}
+
+#[test]
+fn non_convergence_is_an_error_not_a_shape() {
+    let model = paper(1);
+    let m = Cosserat {
+        max_iterations: 1,
+        ..Cosserat::full()
+    };
+    match m.solve(&model.robot, &model.actuation, &Scene::empty(), None) {
+        Err(SolveError::NotConverged { .. }) => {}
+        Err(e) => panic!("unexpected error {e}"),
+        Ok(s) => assert!(s.report.converged && s.report.residual <= m.tolerance),
+    }
+}
