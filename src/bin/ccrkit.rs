@@ -62,8 +62,9 @@ struct RodArgs {
     /// Cable routing fit: `spline` or `fourier8`.
     #[arg(long, default_value = "spline")]
     routing: String,
-    /// Cable length measure under displacement control: `path` or `chord`.
-    #[arg(long, default_value = "path")]
+    /// Cable length measure under displacement control: `path` or `chord` (also read by
+    /// `--method energy`; alias `--cable-length`).
+    #[arg(long, visible_alias = "cable-length", default_value = "path")]
     length: String,
     /// RK4 steps per section.
     #[arg(long, default_value_t = 10)]
@@ -103,10 +104,28 @@ impl RodArgs {
             .with_adaptive(self.adaptive))
     }
 
+    fn energy(&self) -> Result<ccrkit::method::energy::Energy> {
+        use ccrkit::method::energy::{CableLength, Energy};
+        let length = match self.length.as_str() {
+            "path" => CableLength::Path,
+            "chord" => CableLength::Chord,
+            o => anyhow::bail!("unknown --cable-length `{o}` (path, chord)"),
+        };
+        let routing = match self.routing.as_str() {
+            "spline" => RoutingFit::Spline,
+            "fourier8" => RoutingFit::Fourier8,
+            o => anyhow::bail!("unknown --routing `{o}` (spline, fourier8)"),
+        };
+        Ok(Energy::default()
+            .with_cable_length(length)
+            .with_routing(routing))
+    }
+
     fn method(&self, name: &str) -> Result<Box<dyn ccrkit::Method>> {
         Ok(match name {
             "cosserat" => Box::new(self.cosserat(false)?),
             "kirchhoff" => Box::new(self.cosserat(true)?),
+            "energy" => Box::new(self.energy()?),
             other => method_by_name(other)?,
         })
     }

@@ -199,6 +199,7 @@ impl Method for Geometric {
                 sections,
                 base_wrench: None,
                 notes,
+                state: None,
             },
         })
     }

@@ -1,0 +1,33 @@
+//! Time `--method energy` on one model file (cold starts): `cargo run --release --example
+//! energy_timing [MODEL.toml] [SUB_ARCS] [REPEAT]`.
+
+use ccrkit::method::energy::Energy;
+use ccrkit::{Method, Model, Scene};
+use std::time::Instant;
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let file = args
+        .first()
+        .cloned()
+        .unwrap_or("models/paper/case3.toml".into());
+    let sa: usize = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(4);
+    let reps: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(2000);
+    let model = Model::from_file(&file)?;
+    let e = Energy::default().with_sub_arcs(sa);
+    let scene = Scene::empty();
+    let mut times = Vec::with_capacity(reps);
+    let mut it = 0;
+    for _ in 0..reps {
+        let t = Instant::now();
+        let s = e.solve(&model.robot, &model.actuation, &scene, None)?;
+        times.push(t.elapsed().as_secs_f64());
+        it = s.report.iterations;
+    }
+    times.sort_by(f64::total_cmp);
+    println!(
+        "{file}: sub_arcs {sa}, {it} iterations, median {:.1} µs",
+        times[reps / 2] * 1e6
+    );
+    Ok(())
+}
