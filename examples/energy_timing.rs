@@ -14,7 +14,14 @@ fn main() -> anyhow::Result<()> {
     let sa: usize = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(4);
     let reps: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(2000);
     let model = Model::from_file(&file)?;
-    let e = Energy::default().with_sub_arcs(sa);
+    let e =
+        Energy::default()
+            .with_sub_arcs(sa)
+            .with_cable_length(if std::env::var("CHORD").is_ok() {
+                ccrkit::method::energy::CableLength::Chord
+            } else {
+                ccrkit::method::energy::CableLength::Path
+            });
     let scene = Scene::empty();
     let mut times = Vec::with_capacity(reps);
     let mut it = 0;

@@ -43,7 +43,7 @@
 //!   problem is convex (quadratic energy, convex constraints), so its KKT point is the global
 //!   minimum. The integral uses [`GL_NODES`]-point Gauss–Legendre per sub-arc (the spline is a
 //!   cubic inside a section and sub-arcs never straddle a disk); a unit test checks it against a
-//!   64×-refined rule to 1e-12 m.
+//!   64×-refined rule: ≤ 5e-12 m on a strongly bent, twisted state of case III.
 //! * **Chord**: straight chords between the holes at consecutive disks (as physical disks guide
 //!   the cable), `|g_{i,1} ⋯ g_{i,m} h_i − h_{i−1}|`. Separable by section; its value, gradient
 //!   and Hessian come from second-order forward AD ([`D2`]) through the exponentials, for
@@ -72,7 +72,7 @@ use crate::actuation::Actuation;
 use crate::error::SolveError;
 use crate::method::geometric::cable_paths;
 use crate::method::Method;
-use crate::numeric::ad::{Real, D2};
+use crate::numeric::ad::Real;
 use crate::robot::Robot;
 use crate::routing::{Route, RoutingFit};
 use crate::scene::Scene;
@@ -143,31 +143,36 @@ impl Energy {
 }
 
 /// Gauss–Legendre points per sub-arc for path lengths.
-pub const GL_NODES: usize = 6;
+pub const GL_NODES: usize = 5;
 const GL_X: [f64; GL_NODES] = [
-    -0.932_469_514_203_152,
-    -0.661_209_386_466_264_5,
-    -0.238_619_186_083_196_9,
-    0.238_619_186_083_196_9,
-    0.661_209_386_466_264_5,
-    0.932_469_514_203_152,
+    -0.906_179_845_938_664,
+    -0.538_469_310_105_683,
+    0.0,
+    0.538_469_310_105_683,
+    0.906_179_845_938_664,
 ];
 const GL_W: [f64; GL_NODES] = [
-    0.171_324_492_379_170_35,
-    0.360_761_573_048_138_6,
-    0.467_913_934_572_691,
-    0.467_913_934_572_691,
-    0.360_761_573_048_138_6,
-    0.171_324_492_379_170_35,
+    0.236_926_885_056_189_08,
+    0.478_628_670_499_366_47,
+    0.568_888_888_888_888_9,
+    0.478_628_670_499_366_47,
+    0.236_926_885_056_189_08,
 ];
 
-/// Inverse factorials 1/k!, k = 0..40.
-fn inv_fact(k: usize) -> f64 {
-    let mut f = 1.0;
-    for i in 1..=k {
-        f /= i as f64;
+/// Inverse factorials 1/k!, k = 0..=84.
+const INV_FACT: [f64; 85] = {
+    let mut t = [1.0; 85];
+    let mut k = 1;
+    while k < 85 {
+        t[k] = t[k - 1] / k as f64;
+        k += 1;
     }
-    f
+    t
+};
+
+#[inline]
+fn inv_fact(k: usize) -> f64 {
+    INV_FACT[k]
 }
 
 /// `A, B, C` of the SE(3) exponential as power series in `x = θ²` (any [`Real`]):
@@ -176,8 +181,10 @@ fn inv_fact(k: usize) -> f64 {
 fn abc_series<T: Real>(x: T) -> (T, T, T) {
     let xv = x.val().abs();
     let mut n = 2;
-    while n < 40 && xv.powi(n as i32) * inv_fact(2 * n + 1) > 1e-18 {
+    let mut xn = xv * xv;
+    while n < 40 && xn * inv_fact(2 * n + 1) > 1e-18 {
         n += 1;
+        xn *= xv;
     }
     let nx = -x;
     let mut a = T::cst(inv_fact(2 * n + 1));
@@ -247,25 +254,132 @@ fn exp_act<T: Real>(xi: &[T], ell: f64, q: &[T; 3]) -> [T; 3] {
     out
 }
 
-/// Chord of one cable across one section as a function of that section's strains
-/// (`N = 4 · sub_arcs`): value, gradient, Hessian.
-fn chord_d2<const N: usize>(
+/// A number with its gradient with respect to `N` variables (first-order forward AD).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Dual<const N: usize> {
+    v: f64,
+    g: [f64; N],
+}
+
+impl<const N: usize> std::ops::Add for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn add(mut self, o: Self) -> Self {
+        self.v += o.v;
+        for i in 0..N {
+            self.g[i] += o.g[i];
+        }
+        self
+    }
+}
+impl<const N: usize> std::ops::Sub for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn sub(mut self, o: Self) -> Self {
+        self.v -= o.v;
+        for i in 0..N {
+            self.g[i] -= o.g[i];
+        }
+        self
+    }
+}
+impl<const N: usize> std::ops::Neg for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        self * -1.0
+    }
+}
+impl<const N: usize> std::ops::Mul for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn mul(self, o: Self) -> Self {
+        let mut g = [0.0; N];
+        for i in 0..N {
+            g[i] = self.v * o.g[i] + o.v * self.g[i];
+        }
+        Dual { v: self.v * o.v, g }
+    }
+}
+impl<const N: usize> std::ops::Div for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn div(self, o: Self) -> Self {
+        let inv = 1.0 / o.v;
+        let mut g = [0.0; N];
+        for i in 0..N {
+            g[i] = (self.g[i] - self.v * inv * o.g[i]) * inv;
+        }
+        Dual { v: self.v * inv, g }
+    }
+}
+impl<const N: usize> std::ops::Add<f64> for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn add(mut self, o: f64) -> Self {
+        self.v += o;
+        self
+    }
+}
+impl<const N: usize> std::ops::Mul<f64> for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn mul(mut self, o: f64) -> Self {
+        self.v *= o;
+        for i in 0..N {
+            self.g[i] *= o;
+        }
+        self
+    }
+}
+impl<const N: usize> Real for Dual<N> {
+    fn cst(v: f64) -> Self {
+        Dual { v, g: [0.0; N] }
+    }
+    fn val(&self) -> f64 {
+        self.v
+    }
+    fn sqrt(self) -> Self {
+        let s = self.v.sqrt();
+        let f = 0.5 / s;
+        let mut g = [0.0; N];
+        for i in 0..N {
+            g[i] = f * self.g[i];
+        }
+        Dual { v: s, g }
+    }
+    fn atan2(self, x: Self) -> Self {
+        let r2 = x.v * x.v + self.v * self.v;
+        let mut g = [0.0; N];
+        for i in 0..N {
+            g[i] = (x.v * self.g[i] - self.v * x.g[i]) / r2;
+        }
+        Dual {
+            v: self.v.atan2(x.v),
+            g,
+        }
+    }
+}
+
+/// Chord vector `g_{i,1} ⋯ g_{i,m} h_i − h_{i−1}` of one cable across one section, with its
+/// Jacobian with respect to that section's strains (`N = 4 · sub_arcs`).
+fn chord_dual<const N: usize>(
     xi: &[f64],
     ell: f64,
     h_prev: &Vector3<f64>,
     h: &Vector3<f64>,
-) -> D2<N> {
+) -> [Dual<N>; 3] {
     let m = N / 4;
-    let mut vars = [D2::<N>::cst(0.0); N];
+    let mut vars = [Dual::<N>::cst(0.0); N];
     for (i, v) in vars.iter_mut().enumerate() {
-        *v = D2::var(xi[i], i);
+        v.v = xi[i];
+        v.g[i] = 1.0;
     }
-    let mut q = [D2::cst(h.x), D2::cst(h.y), D2::cst(h.z)];
+    let mut q = [Dual::cst(h.x), Dual::cst(h.y), Dual::cst(h.z)];
     for k in (0..m).rev() {
         q = exp_act(&vars[4 * k..4 * k + 4], ell, &q);
     }
-    let d = [q[0] + (-h_prev.x), q[1] + (-h_prev.y), q[2] + (-h_prev.z)];
-    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    [q[0] + (-h_prev.x), q[1] + (-h_prev.y), q[2] + (-h_prev.z)]
 }
 
 /// Chord length in f64 (value only).
@@ -368,14 +482,12 @@ impl Problem<'_> {
         }
     }
 
-    /// Lengths, gradients, and the Lagrangian Hessian blocks with cable weights `wgt`.
+    /// Lengths and gradients of every cable; for chords also the Lagrangian Hessian blocks
+    /// with cable weights `wgt` (they come out of the same pass).
     fn evaluate(&self, xi: &[f64], wgt: &[f64], w: &mut Work) {
         let nb = self.nb;
-        w.hess.fill(0.0);
-        for b in 0..self.nblocks {
-            for i in 0..nb {
-                w.hess[b * nb * nb + i * nb + i] = self.k[b * nb + i];
-            }
+        if self.set.cable_length == CableLength::Chord {
+            self.energy_hessian(w);
         }
         for (c, cable) in self.robot.cables.iter().enumerate() {
             let g = &mut w.grad[c];
@@ -386,32 +498,20 @@ impl Problem<'_> {
                 CableLength::Path => {
                     for j in 0..cable.ends_at * self.m {
                         let x = &xi[4 * j..4 * j + 4];
-                        let hb = &mut w.hess[j * 16..(j + 1) * 16];
+                        let mut gj = [0.0; 4];
                         for nd in &self.nodes[c][j] {
                             let (rx, ry, ds) = (nd[0], nd[1], nd[4]);
                             let wv = path_w(nd, x);
                             let n = wv.norm();
                             total += ds * n;
-                            let e = wv / n;
-                            let bt = [e.z * ry, -e.z * rx, -e.x * ry + e.y * rx, e.z];
-                            for a in 0..4 {
-                                g[4 * j + a] += ds * bt[a];
-                            }
-                            if wc != 0.0 {
-                                let btb = [
-                                    [ry * ry, -rx * ry, 0.0, ry],
-                                    [-rx * ry, rx * rx, 0.0, -rx],
-                                    [0.0, 0.0, rx * rx + ry * ry, 0.0],
-                                    [ry, -rx, 0.0, 1.0],
-                                ];
-                                let f = wc * ds / n;
-                                for a in 0..4 {
-                                    for bb in 0..4 {
-                                        hb[a * 4 + bb] += f * (btb[a][bb] - bt[a] * bt[bb]);
-                                    }
-                                }
-                            }
+                            let f = ds / n;
+                            // ∇|w| = Bᵀ w / |w|.
+                            gj[0] += f * wv.z * ry;
+                            gj[1] -= f * wv.z * rx;
+                            gj[2] += f * (wv.y * rx - wv.x * ry);
+                            gj[3] += f * wv.z;
                         }
+                        g[4 * j..4 * j + 4].copy_from_slice(&gj);
                     }
                 }
                 CableLength::Chord => {
@@ -423,13 +523,32 @@ impl Problem<'_> {
                         let hb = &mut w.hess[(i - 1) * nb * nb..i * nb * nb];
                         macro_rules! acc {
                             ($n:expr) => {{
-                                let d = chord_d2::<$n>(xs, ell, &hp, &h);
-                                total += d.v;
+                                let d = chord_dual::<$n>(xs, ell, &hp, &h);
+                                let len =
+                                    (d[0].v * d[0].v + d[1].v * d[1].v + d[2].v * d[2].v).sqrt();
+                                total += len;
+                                let e = [d[0].v / len, d[1].v / len, d[2].v / len];
                                 for a in 0..$n {
-                                    g[4 * j0 + a] += d.g[a];
-                                    if wc != 0.0 {
+                                    g[4 * j0 + a] +=
+                                        e[0] * d[0].g[a] + e[1] * d[1].g[a] + e[2] * d[2].g[a];
+                                }
+                                if wc != 0.0 {
+                                    // Gauss–Newton part Jᵀ (I − êêᵀ) J / |d|.
+                                    let mut pj = [[0.0; $n]; 3];
+                                    for a in 0..$n {
+                                        let ej =
+                                            e[0] * d[0].g[a] + e[1] * d[1].g[a] + e[2] * d[2].g[a];
+                                        for r in 0..3 {
+                                            pj[r][a] = d[r].g[a] - e[r] * ej;
+                                        }
+                                    }
+                                    let f = wc / len;
+                                    for a in 0..$n {
                                         for bb in 0..$n {
-                                            hb[a * $n + bb] += wc * d.h[a][bb];
+                                            hb[a * $n + bb] += f
+                                                * (pj[0][a] * pj[0][bb]
+                                                    + pj[1][a] * pj[1][bb]
+                                                    + pj[2][a] * pj[2][bb]);
                                         }
                                     }
                                 }
@@ -445,6 +564,70 @@ impl Problem<'_> {
                 }
             }
             w.len[c] = total;
+        }
+    }
+
+    /// Reset the Hessian blocks to the energy's `K`.
+    fn energy_hessian(&self, w: &mut Work) {
+        let nb = self.nb;
+        w.hess.fill(0.0);
+        for b in 0..self.nblocks {
+            for i in 0..nb {
+                w.hess[b * nb * nb + i * nb + i] = self.k[b * nb + i];
+            }
+        }
+    }
+
+    /// Path measure: Hessian blocks `K + Σ wgt_c Σ_nodes Bᵀ (I − ŵŵᵀ) B / |w| ds` (exact).
+    fn path_hessian(&self, xi: &[f64], wgt: &[f64], w: &mut Work) {
+        self.energy_hessian(w);
+        for (c, cable) in self.robot.cables.iter().enumerate() {
+            let wc = wgt[c];
+            if wc == 0.0 {
+                continue;
+            }
+            for j in 0..cable.ends_at * self.m {
+                let x = &xi[4 * j..4 * j + 4];
+                let mut h = [0.0; 10];
+                for nd in &self.nodes[c][j] {
+                    let (rx, ry, ds) = (nd[0], nd[1], nd[4]);
+                    let wv = path_w(nd, x);
+                    let n = wv.norm();
+                    let e = wv / n;
+                    let bt = [e.z * ry, -e.z * rx, e.y * rx - e.x * ry, e.z];
+                    let f = wc * ds / n;
+                    // BᵀB (columns of B: (0,0,ry), (0,0,−rx), (−ry,rx,0), (0,0,1)) − (Bᵀê)(Bᵀê)ᵀ.
+                    h[0] += f * (ry * ry - bt[0] * bt[0]);
+                    h[1] += f * (-rx * ry - bt[0] * bt[1]);
+                    h[2] += f * (-bt[0] * bt[2]);
+                    h[3] += f * (ry - bt[0] * bt[3]);
+                    h[4] += f * (rx * rx - bt[1] * bt[1]);
+                    h[5] += f * (-bt[1] * bt[2]);
+                    h[6] += f * (-rx - bt[1] * bt[3]);
+                    h[7] += f * (rx * rx + ry * ry - bt[2] * bt[2]);
+                    h[8] += f * (-bt[2] * bt[3]);
+                    h[9] += f * (1.0 - bt[3] * bt[3]);
+                }
+                let hb = &mut w.hess[j * 16..(j + 1) * 16];
+                let idx = [
+                    (0, 0),
+                    (0, 1),
+                    (0, 2),
+                    (0, 3),
+                    (1, 1),
+                    (1, 2),
+                    (1, 3),
+                    (2, 2),
+                    (2, 3),
+                    (3, 3),
+                ];
+                for (v, &(a, b)) in h.iter().zip(&idx) {
+                    hb[a * 4 + b] += v;
+                    if a != b {
+                        hb[b * 4 + a] += v;
+                    }
+                }
+            }
         }
     }
 
@@ -841,6 +1024,9 @@ impl Energy {
             if it == self.max_iterations {
                 break;
             }
+            if prob.set.cable_length == CableLength::Path {
+                prob.path_hessian(&xi, &wgt, &mut w);
+            }
             // Factor the Hessian blocks (shifted towards the energy block if not PD).
             w.raw.copy_from_slice(&w.hess);
             for b in 0..prob.nblocks {
@@ -979,7 +1165,9 @@ impl Energy {
                 lam[c] = if active[c] { lam_new[c] } else { 0.0 };
             }
             // Cables stretched past their length join the working set.
-            prob.lengths(&xi, &mut trial_len);
+            if !accepted {
+                prob.lengths(&xi, &mut trial_len);
+            }
             for c in 0..nc {
                 if let Some(t) = target(c) {
                     if !active[c] && trial_len[c] > t + tol {
@@ -1164,6 +1352,10 @@ mod tests {
         total
     }
 
+    /// Quadrature error allowed on a strongly bent and twisted state [m] (issue 4 asks for
+    /// ≤ 1e-9 m; measured 5e-12 m worst, on case III's jumping cable B).
+    const QUAD_TOL: f64 = 1e-10;
+
     #[test]
     fn path_quadrature_is_accurate() {
         for n in 1..=3 {
@@ -1182,14 +1374,15 @@ mod tests {
             let lens = cable_lengths(&m.robot, &set, &xi).expect("lengths");
             for (c, l) in lens.iter().enumerate() {
                 let r = refined_length(&m.robot, &set, c, &xi);
-                assert!((l - r).abs() < 1e-12, "case {n} cable {c}: {l} vs {r}");
+                assert!((l - r).abs() < QUAD_TOL, "case {n} cable {c}: {l} vs {r}");
             }
         }
     }
 
     #[test]
     fn exponential_series_matches_closed_form() {
-        for &t2 in &[1e-8, 1e-3, 0.3, 2.0, 9.0] {
+        // The closed forms cancel badly near 0: compare them only away from 0 …
+        for &t2 in &[0.3, 2.0, 9.0, 30.0] {
             let (a, b, c) = abc_series(t2);
             let th: f64 = f64::sqrt(t2);
             let (s, co) = th.sin_cos();
@@ -1197,29 +1390,81 @@ mod tests {
             assert!((b - (1.0 - co) / t2).abs() < 1e-14);
             assert!((c - (th - s) / (t2 * th)).abs() < 1e-13);
         }
+        // … and with the Taylor polynomials near it.
+        let x = 1e-6;
+        let (a, b, c) = abc_series(x);
+        assert!((a - (1.0 - x / 6.0 + x * x / 120.0)).abs() < 1e-18);
+        assert!((b - (0.5 - x / 24.0 + x * x / 720.0)).abs() < 1e-18);
+        assert!((c - (1.0 / 6.0 - x / 120.0 + x * x / 5040.0)).abs() < 1e-18);
     }
 
     #[test]
-    fn chord_derivatives_match_finite_differences() {
+    fn chord_jacobian_matches_finite_differences() {
         let xi = [3.0, -2.0, 1.5, 1e-3, -4.0, 6.0, 0.5, -2e-3];
         let (hp, h) = (Vector3::new(0.008, 0.0, 0.0), Vector3::new(0.0, 0.008, 0.0));
         let ell = 0.01;
-        let d = chord_d2::<8>(&xi, ell, &hp, &h);
-        assert!((d.v - chord_value(&xi, ell, 2, &hp, &h)).abs() < 1e-15);
-        let e = 1e-5;
+        let d = chord_dual::<8>(&xi, ell, &hp, &h);
+        let len = Vector3::new(d[0].v, d[1].v, d[2].v).norm();
+        assert!((len - chord_value(&xi, ell, 2, &hp, &h)).abs() < 1e-15);
+        let e = 1e-6;
         for i in 0..8 {
             let mut xp = xi;
             let mut xm = xi;
             xp[i] += e;
             xm[i] -= e;
-            let fd =
-                (chord_value(&xp, ell, 2, &hp, &h) - chord_value(&xm, ell, 2, &hp, &h)) / (2.0 * e);
-            assert!((fd - d.g[i]).abs() < 1e-9, "grad {i}: {fd} vs {}", d.g[i]);
-            let gp = chord_d2::<8>(&xp, ell, &hp, &h).g;
-            let gm = chord_d2::<8>(&xm, ell, &hp, &h).g;
-            for k in 0..8 {
-                let fd = (gp[k] - gm[k]) / (2.0 * e);
-                assert!((fd - d.h[i][k]).abs() < 1e-7, "hess {i},{k}");
+            let (dp, dm) = (
+                chord_dual::<8>(&xp, ell, &hp, &h),
+                chord_dual::<8>(&xm, ell, &hp, &h),
+            );
+            for r in 0..3 {
+                let fd = (dp[r].v - dm[r].v) / (2.0 * e);
+                assert!(
+                    (fd - d[r].g[i]).abs() < 1e-10,
+                    "J[{r}][{i}]: {fd} vs {}",
+                    d[r].g[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn path_derivatives_match_finite_differences() {
+        let m = case(3);
+        let set = Energy::default().with_sub_arcs(2);
+        let prob = set.setup(&m.robot, &m.actuation).expect("setup");
+        let nv = prob.nvar();
+        let xi: Vec<f64> = (0..nv).map(|i| 0.5 * ((i as f64) * 0.7).sin()).collect();
+        let nc = m.robot.cables.len();
+        let mk = || Work {
+            len: vec![0.0; nc],
+            grad: vec![vec![0.0; nv]; nc],
+            hess: vec![0.0; prob.nblocks * 16],
+            raw: vec![0.0; prob.nblocks * 16],
+            y: vec![vec![0.0; nv]; nc],
+            z: vec![0.0; nv],
+            gobj: vec![0.0; nv],
+        };
+        let mut w = mk();
+        let wgt = [1.0, 0.0];
+        prob.evaluate(&xi, &wgt, &mut w);
+        prob.path_hessian(&xi, &wgt, &mut w);
+        let e = 1e-6;
+        for i in [0, 1, 2, 3, 17, 18, 19, 20] {
+            let (mut xp, mut xm) = (xi.clone(), xi.clone());
+            xp[i] += e;
+            xm[i] -= e;
+            let (mut wp, mut wm) = (mk(), mk());
+            prob.evaluate(&xp, &wgt, &mut wp);
+            prob.evaluate(&xm, &wgt, &mut wm);
+            let fd = (wp.len[0] - wm.len[0]) / (2.0 * e);
+            assert!((fd - w.grad[0][i]).abs() < 1e-9, "grad {i}");
+            let b = i / 4;
+            for k in 0..4 {
+                let col = 4 * b + k;
+                let fd = (wp.grad[0][col] - wm.grad[0][col]) / (2.0 * e);
+                let k_diag = if i == col { prob.k[i] } else { 0.0 };
+                let h = w.hess[b * 16 + (i % 4) * 4 + k] - k_diag;
+                assert!((fd - h).abs() < 1e-7, "hess {i},{col}: {fd} vs {h}");
             }
         }
     }
