@@ -1,12 +1,14 @@
 //! The paper's three cases (Mahapatra & Ghosal, §3): solve each with the literal geometric
-//! method, print the tip positions, and draw the paper's Fig. 3 layout (one row per case, three
+//! method, print the tip positions, put the whole-robot energy model and the Cosserat rod
+//! (displacement control, path lengths) next to it (RMS table), and draw the paper's Fig. 3 layout (one row per case, three
 //! orthogonal views) to `target/paper_cases.svg` and `.png` (or the folder given as argument).
 //!
 //! `cargo run --release --example paper_cases [OUT_DIR]`
 
 use anyhow::Result;
+use ccrkit::method::cosserat::{Control, Cosserat};
 use ccrkit::plot::{plot_rows, Row};
-use ccrkit::{method_by_name, Model, Scene};
+use ccrkit::{method_by_name, Method, Model, Scene};
 use std::path::PathBuf;
 
 fn main() -> Result<()> {
@@ -47,12 +49,48 @@ fn main() -> Result<()> {
             zeros.join(" ")
         );
     }
+    // The whole-robot energy model and the rod driven by the same (path) cable lengths.
+    let energy = method_by_name("energy")?;
+    let rod = Cosserat::full().with_control(Control::Displacement);
+    let mut others = vec![];
+    println!();
+    println!("| case | literal vs rod [mm] | energy vs rod [mm] | energy tensions / rod [N] |");
+    println!("|---|---|---|---|");
+    for (case, model, geo) in &solved {
+        let en = energy.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
+        let cos = rod.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
+        let tens: Vec<String> = en
+            .cables
+            .iter()
+            .zip(&cos.cables)
+            .map(|(a, b)| {
+                format!(
+                    "{} {:.3}/{:.3}",
+                    a.name,
+                    a.tension.unwrap_or(0.0),
+                    b.tension.unwrap_or(0.0)
+                )
+            })
+            .collect();
+        println!(
+            "| {case} | {:.3} | {:.3} | {} |",
+            geo.rms_distance(&cos).unwrap_or(f64::NAN) * 1e3,
+            en.rms_distance(&cos).unwrap_or(f64::NAN) * 1e3,
+            tens.join(", ")
+        );
+        others.push((en, cos));
+    }
     let rows: Vec<Row> = solved
         .iter()
-        .map(|(case, model, shape)| Row {
+        .zip(&others)
+        .map(|((case, model, shape), (en, cos))| Row {
             title: format!("Case {}", ["I", "II", "III"][case - 1]),
             robot: &model.robot,
-            shapes: vec![(shape, shape.method.clone())],
+            shapes: vec![
+                (shape, shape.method.clone()),
+                (en, "energy".into()),
+                (cos, "cosserat (displacement)".into()),
+            ],
         })
         .collect();
     for ext in ["svg", "png"] {
