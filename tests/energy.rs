@@ -296,6 +296,15 @@ fn assert_agrees(name: &str, m: &Model) {
     for (c, e) in errs.iter().enumerate() {
         assert!(*e <= TENSION_REL, "{name}: cable {c} tension error {e}");
     }
+    // The chord measure, reported only: the rod's "chord" mode loads the rod along the routed
+    // path and measures chords, while the energy model's chord cable runs straight between the
+    // holes and loads only the disks, so tensions differ by construction (see ENERGY_NOTES.md).
+    let (rms, errs) = agreement(m, CableLength::Chord);
+    eprintln!(
+        "{name} (chord): RMS {:.4} mm, tension errors {:?}",
+        rms * 1e3,
+        errs
+    );
 }
 
 #[test]
