@@ -1,0 +1,49 @@
+//! Cosserat rod solve times on the paper cases: cold start, and warm start from a solution of
+//! a slightly different actuation (tensions 2 % lower), at the default settings.
+
+use ccrkit::method::cosserat::Cosserat;
+use ccrkit::{Method, Model, Scene};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+
+fn paper(n: usize) -> Model {
+    Model::from_file(format!(
+        "{}/models/paper/case{n}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("paper model")
+}
+
+fn steps() -> usize {
+    std::env::var("CCRKIT_BENCH_STEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(Cosserat::default().steps_per_section)
+}
+
+fn bench(c: &mut Criterion) {
+    let scene = Scene::empty();
+    let m = Cosserat::full().with_steps(steps());
+    for n in 1..=3 {
+        let model = paper(n);
+        let (robot, act) = (&model.robot, &model.actuation);
+        let mut near = act.clone();
+        for d in &mut near.cables {
+            d.tension = d.tension.map(|t| 0.98 * t);
+        }
+        let warm = m.solve(robot, &near, &scene, None).expect("solves");
+        c.bench_function(&format!("cosserat/case{n}/cold"), |b| {
+            b.iter(|| black_box(m.solve(robot, act, &scene, None).expect("solves")))
+        });
+        c.bench_function(&format!("cosserat/case{n}/warm"), |b| {
+            b.iter(|| black_box(m.solve(robot, act, &scene, Some(&warm)).expect("solves")))
+        });
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(2));
+    targets = bench
+}
+criterion_main!(benches);
