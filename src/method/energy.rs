@@ -846,6 +846,12 @@ impl Method for Energy {
                 reason: format!("must be > 0, got {}", self.tolerance),
             });
         }
+        if !(self.min_stretch.is_finite() && self.min_stretch > 0.0 && self.min_stretch <= 1.0) {
+            return Err(SolveError::InvalidInput {
+                field: "min_stretch".into(),
+                reason: format!("must be in (0, 1], got {}", self.min_stretch),
+            });
+        }
         let prob = self.setup(robot, act)?;
         let mut notes = vec![format!(
             "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
