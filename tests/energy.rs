@@ -584,3 +584,38 @@ fn tension_input_matches_the_rod_under_force_control() {
     let rms = en.rms_distance(&cos).expect("same disks");
     assert!(rms <= RMS_BOUND, "RMS {rms}");
 }
+
+#[test]
+fn equilibrium_holds_by_finite_differences() {
+    // Stationarity of E + Σ λ_c L_c checked with central differences of the public length
+    // function (independent of the solver's analytic derivatives).
+    use ccrkit::method::energy::cable_lengths;
+    let m = paper(3);
+    let e = Energy::default();
+    let shape = solve(&e, &m);
+    let st = state(&shape);
+    let nc = m.robot.cables.len();
+    let nv = st.len() - nc;
+    let (xi, lam) = (&st[..nv], &st[nv..]);
+    let bb = &m.robot.backbone;
+    let ell = m.robot.section_length(1) / e.sub_arcs as f64;
+    let k = [bb.ei(), bb.ei(), bb.gj(), bb.ea()];
+    let h = 1e-6;
+    let mut worst = 0.0f64;
+    let mut scale = 0.0f64;
+    for i in 0..nv {
+        let (mut xp, mut xm) = (xi.to_vec(), xi.to_vec());
+        xp[i] += h;
+        xm[i] -= h;
+        let lp = cable_lengths(&m.robot, &e, &xp).expect("lengths");
+        let lm = cable_lengths(&m.robot, &e, &xm).expect("lengths");
+        let de = ell * k[i % 4] * xi[i];
+        let dl: f64 = (0..nc).map(|c| lam[c] * (lp[c] - lm[c]) / (2.0 * h)).sum();
+        worst = worst.max((de + dl).abs());
+        scale = scale.max(de.abs());
+    }
+    assert!(
+        worst <= 1e-6 * scale,
+        "stationarity {worst:e} vs scale {scale:e}"
+    );
+}

@@ -530,6 +530,10 @@ impl Problem<'_> {
         for (c, cable) in self.robot.cables.iter().enumerate() {
             let g = &mut w.grad[c];
             g.fill(0.0);
+            if self.drives[c] == Drive::Free {
+                w.len[c] = 0.0;
+                continue;
+            }
             let mut total = 0.0;
             let wc = wgt[c];
             match self.set.cable_length {
