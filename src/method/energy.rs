@@ -207,23 +207,35 @@ fn inv_fact(k: usize) -> f64 {
 /// `A = Σ (−x)ᵏ/(2k+1)!`, `B = Σ (−x)ᵏ/(2k+2)!`, `C = Σ (−x)ᵏ/(2k+3)!`, truncated when the
 /// next term is below 1e-18 (valid for any θ; used where derivatives are needed).
 fn abc_series<T: Real>(x: T) -> (T, T, T) {
-    let xv = x.val().abs();
-    let mut n = 2;
-    let mut xn = xv * xv;
+    let x0 = x.val();
+    let xv = x0.abs();
+    let mut n = 4;
+    let mut xn = xv.powi(4);
     while n < 40 && xn * inv_fact(2 * n + 1) > 1e-18 {
         n += 1;
         xn *= xv;
     }
-    let nx = -x;
-    let mut a = T::cst(inv_fact(2 * n + 1));
-    let mut b = T::cst(inv_fact(2 * n + 2));
-    let mut c = T::cst(inv_fact(2 * n + 3));
-    for k in (0..n).rev() {
-        a = nx * a + inv_fact(2 * k + 1);
-        b = nx * b + inv_fact(2 * k + 2);
-        c = nx * c + inv_fact(2 * k + 3);
-    }
-    (a, b, c)
+    // f, f′, f″ at x0 by Horner in f64 (coefficient of xᵏ: (−1)ᵏ/(2k+o)!), then the
+    // second-order expansion in dx = x − x0 (zero in value), which carries exact first and
+    // second derivatives for AD types: one AD product instead of 3n.
+    let series = |o: usize| -> (f64, f64, f64) {
+        let coef = |k: usize| if k % 2 == 0 { 1.0 } else { -1.0 } * inv_fact(2 * k + o);
+        let (mut f, mut d1, mut d2) = (0.0, 0.0, 0.0);
+        for k in (0..=n).rev() {
+            f = f * x0 + coef(k);
+            if k >= 1 {
+                d1 = d1 * x0 + k as f64 * coef(k);
+            }
+            if k >= 2 {
+                d2 = d2 * x0 + (k * (k - 1)) as f64 * coef(k);
+            }
+        }
+        (f, d1, d2)
+    };
+    let dx = x + (-x0);
+    let dx2 = dx * dx;
+    let mk = |(f, d1, d2): (f64, f64, f64)| T::cst(f) + dx * d1 + dx2 * (0.5 * d2);
+    (mk(series(1)), mk(series(2)), mk(series(3)))
 }
 
 /// `A, B, C` in f64: closed form, series near θ = 0.
@@ -1515,6 +1527,41 @@ mod tests {
                     (fd - d[r].g[i]).abs() < 1e-10,
                     "J[{r}][{i}]: {fd} vs {}",
                     d[r].g[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn chord_hessian_matches_finite_differences() {
+        let xi = [3.0, -2.0, 1.5, 1e-3, -4.0, 6.0, 0.5, -2e-3];
+        let (hp, h) = (Vector3::new(0.008, 0.0, 0.0), Vector3::new(0.0, 0.008, 0.0));
+        let ell = 0.01;
+        let d = chord_d2::<8>(&xi, ell, &hp, &h);
+        let grad = |x: &[f64; 8]| -> [f64; 8] {
+            let v = chord_dual::<8>(x, ell, &hp, &h);
+            let n = Vector3::new(v[0].v, v[1].v, v[2].v);
+            let e = n / n.norm();
+            let mut g = [0.0; 8];
+            for a in 0..8 {
+                g[a] = e.x * v[0].g[a] + e.y * v[1].g[a] + e.z * v[2].g[a];
+            }
+            g
+        };
+        let g0 = grad(&xi);
+        let e = 1e-6;
+        for i in 0..8 {
+            assert!((g0[i] - d.g[i]).abs() < 1e-12, "grad {i}");
+            let (mut xp, mut xm) = (xi, xi);
+            xp[i] += e;
+            xm[i] -= e;
+            let (gp, gm) = (grad(&xp), grad(&xm));
+            for k in 0..8 {
+                let fd = (gp[k] - gm[k]) / (2.0 * e);
+                assert!(
+                    (fd - d.h[i][k]).abs() < 1e-7,
+                    "hess {i},{k}: {fd} vs {}",
+                    d.h[i][k]
                 );
             }
         }
