@@ -219,7 +219,7 @@ fn abc_series<T: Real>(x: T) -> (T, T, T) {
     // second-order expansion in dx = x − x0 (zero in value), which carries exact first and
     // second derivatives for AD types: one AD product instead of 3n.
     let series = |o: usize| -> (f64, f64, f64) {
-        let coef = |k: usize| if k % 2 == 0 { 1.0 } else { -1.0 } * inv_fact(2 * k + o);
+        let coef = |k: usize| if k.is_multiple_of(2) { 1.0 } else { -1.0 } * inv_fact(2 * k + o);
         let (mut f, mut d1, mut d2) = (0.0, 0.0, 0.0);
         for k in (0..=n).rev() {
             f = f * x0 + coef(k);
