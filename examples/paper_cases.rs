@@ -1,76 +1,122 @@
-//! The paper's three cases (Mahapatra & Ghosal, §3): solve each with the literal geometric
-//! method and the Cosserat rod (force control with the paper's cable forces, as the paper
-//! compared them), print the tip positions and the RMS distance between the two next to the
-//! paper's figures, and draw the paper's Fig. 3 layout (one row per case, three orthogonal
-//! views, both models overlaid) to `target/paper_cases.svg` and `.png` (or the folder given as
-//! the first argument). Every method in `EXTRA` that this build knows is drawn too.
+//! The paper's three cases (Mahapatra & Ghosal, §3), side by side:
+//!
+//! * the literal geometric method against the Cosserat rod under force control with the
+//!   paper's cable forces (the paper's own comparison), next to the paper's RMS figures;
+//! * the whole-robot energy model and the literal method against the rod driven by the same
+//!   cable lengths (displacement control, lengths along the routed path), with tensions.
+//!
+//! It draws the paper's Fig. 3 layout (one row per case, three orthogonal views; literal,
+//! energy and rod overlaid) to `target/paper_cases.svg` and `.png` (or the folder given as the
+//! first argument).
 //!
 //! `cargo run --release --example paper_cases [OUT_DIR]`
 
 use anyhow::Result;
+use ccrkit::method::cosserat::{Control, Cosserat};
 use ccrkit::plot::{plot_rows, Row};
-use ccrkit::{method_by_name, Model, Scene, Shape};
+use ccrkit::{method_by_name, Method, Model, Scene, Shape};
 use std::path::PathBuf;
 
 /// RMS between the paper's two models, its section 3 (mm).
 const PAPER_RMS_MM: [f64; 3] = [1.57, 1.52, 1.19];
 
-/// Further displacement-driven methods compared when available.
-const EXTRA: &[&str] = &["energy"];
+struct Case {
+    model: Model,
+    literal: Shape,
+    energy: Shape,
+    /// Rod, force control (the paper's forces).
+    rod_force: Shape,
+    /// Rod, displacement control with the same path lengths as the energy model.
+    rod_disp: Shape,
+}
 
 fn main() -> Result<()> {
     let out = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "target".into()));
     std::fs::create_dir_all(&out)?;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let mut methods = vec!["geometric", "cosserat"];
-    methods.extend(EXTRA.iter().filter(|m| method_by_name(m).is_ok()));
-    let mut solved: Vec<(Model, Vec<Shape>)> = vec![];
+    let scene = Scene::empty();
+    let literal = method_by_name("geometric")?;
+    let energy = method_by_name("energy")?;
+    let rod_force = Cosserat::full().with_control(Control::Force);
+    let rod_disp = Cosserat::full().with_control(Control::Displacement);
+    let mut cases = vec![];
     for case in 1..=3 {
         let model = Model::from_file(root.join(format!("models/paper/case{case}.toml")))?;
-        let mut shapes = vec![];
-        for m in &methods {
-            let method = method_by_name(m)?;
-            shapes.push(method.solve(&model.robot, &model.actuation, &Scene::empty(), None)?);
-        }
-        solved.push((model, shapes));
+        let (r, a) = (&model.robot, &model.actuation);
+        cases.push(Case {
+            literal: literal.solve(r, a, &scene, None)?,
+            energy: energy.solve(r, a, &scene, None)?,
+            rod_force: rod_force.solve(r, a, &scene, None)?,
+            rod_disp: rod_disp.solve(r, a, &scene, None)?,
+            model,
+        });
     }
+    let mm = |v: f64| v * 1000.0;
 
     println!("Tip positions (mm)\n");
-    println!("| case | method | tip x | tip y | tip z |");
+    println!(
+        "| case | literal geometric | energy | Cosserat (force) | Cosserat (displacement, path) |"
+    );
     println!("|---|---|---|---|---|");
-    for (k, (_, shapes)) in solved.iter().enumerate() {
-        for s in shapes {
-            let t = s.tip() * 1000.0;
-            println!(
-                "| {} | {} | {:.3} | {:.3} | {:.3} |",
-                k + 1,
-                s.method,
-                t.x,
-                t.y,
-                t.z
-            );
-        }
+    let tip = |s: &Shape| {
+        let t = s.tip() * 1000.0;
+        format!("({:.3}, {:.3}, {:.3})", t.x, t.y, t.z)
+    };
+    for (k, c) in cases.iter().enumerate() {
+        println!(
+            "| {} | {} | {} | {} | {} |",
+            k + 1,
+            tip(&c.literal),
+            tip(&c.energy),
+            tip(&c.rod_force),
+            tip(&c.rod_disp)
+        );
     }
-    println!("\nAgainst the Cosserat rod (force control, the paper's forces), mm\n");
-    println!("| case | method | RMS over disks | tip distance | paper's RMS (its geometric vs its rod) |");
-    println!("|---|---|---|---|---|");
-    for (k, (_, shapes)) in solved.iter().enumerate() {
-        let rod = &shapes[1];
-        for s in shapes.iter().filter(|s| s.method != "cosserat") {
-            let rms = s.rms_distance(rod).unwrap_or(f64::NAN) * 1000.0;
-            println!(
-                "| {} | {} | {:.2} | {:.2} | {:.2} |",
-                k + 1,
-                s.method,
-                rms,
-                s.tip_distance(rod) * 1000.0,
-                PAPER_RMS_MM[k]
-            );
-        }
+
+    println!("\nThe paper's comparison: literal geometric vs Cosserat rod with the paper's forces (mm)\n");
+    println!("| case | RMS over disks | tip distance | the paper's RMS |");
+    println!("|---|---|---|---|");
+    for (k, c) in cases.iter().enumerate() {
+        println!(
+            "| {} | {:.2} | {:.2} | {:.2} |",
+            k + 1,
+            mm(c.literal.rms_distance(&c.rod_force).unwrap_or(f64::NAN)),
+            mm(c.literal.tip_distance(&c.rod_force)),
+            PAPER_RMS_MM[k]
+        );
     }
+
+    println!("\nSame displacement inputs: each model vs the rod driven by the same cable lengths (path)\n");
+    println!("| case | literal RMS [mm] | energy RMS [mm] | energy / rod tensions [N] |");
+    println!("|---|---|---|---|");
+    for (k, c) in cases.iter().enumerate() {
+        let tens: Vec<String> = c
+            .energy
+            .cables
+            .iter()
+            .zip(&c.rod_disp.cables)
+            .map(|(a, b)| {
+                format!(
+                    "{} {:.3}/{:.3}",
+                    a.name,
+                    a.tension.unwrap_or(0.0),
+                    b.tension.unwrap_or(0.0)
+                )
+            })
+            .collect();
+        println!(
+            "| {} | {:.3} | {:.3} | {} |",
+            k + 1,
+            mm(c.literal.rms_distance(&c.rod_disp).unwrap_or(f64::NAN)),
+            mm(c.energy.rms_distance(&c.rod_disp).unwrap_or(f64::NAN)),
+            tens.join(", ")
+        );
+    }
+
     println!("\nZero terms of the literal method, sections 1..n:");
-    for (k, (_, shapes)) in solved.iter().enumerate() {
-        let zeros: Vec<String> = shapes[0]
+    for (k, c) in cases.iter().enumerate() {
+        let zeros: Vec<String> = c
+            .literal
             .report
             .sections
             .iter()
@@ -85,13 +131,17 @@ fn main() -> Result<()> {
         println!("  case {}: {}", k + 1, zeros.join(" "));
     }
 
-    let rows: Vec<Row> = solved
+    let rows: Vec<Row> = cases
         .iter()
         .enumerate()
-        .map(|(k, (model, shapes))| Row {
+        .map(|(k, c)| Row {
             title: format!("Case {}", ["I", "II", "III"][k]),
-            robot: &model.robot,
-            shapes: shapes.iter().map(|s| (s, s.method.clone())).collect(),
+            robot: &c.model.robot,
+            shapes: vec![
+                (&c.literal, "literal geometric".into()),
+                (&c.energy, "energy".into()),
+                (&c.rod_force, "cosserat (paper's forces)".into()),
+            ],
             scene: None,
         })
         .collect();

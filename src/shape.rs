@@ -97,6 +97,10 @@ pub struct SolveReport {
     /// Notes: choices made, inputs ignored.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
+    /// Method-specific solver state for warm starts (the energy method: sub-arc strains
+    /// followed by the cable multipliers).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state: Option<Vec<f64>>,
 }
 
 /// A solved shape.

@@ -93,8 +93,9 @@ struct RodArgs {
     /// Cable routing fit: `spline` or `fourier8`.
     #[arg(long, default_value = "spline")]
     routing: String,
-    /// Cable length measure under displacement control: `path` or `chord`.
-    #[arg(long, default_value = "path")]
+    /// Cable length measure under displacement control: `path` or `chord` (also read by
+    /// `--method energy`; alias `--cable-length`).
+    #[arg(long, visible_alias = "cable-length", default_value = "path")]
     length: String,
     /// RK4 steps per section (12 keeps case III's tip within 0.01 mm of a converged run).
     #[arg(long = "rk4-steps", default_value_t = 12)]
@@ -134,10 +135,28 @@ impl RodArgs {
             .with_adaptive(self.adaptive))
     }
 
+    fn energy(&self) -> Result<ccrkit::method::energy::Energy> {
+        use ccrkit::method::energy::{CableLength, Energy};
+        let length = match self.length.as_str() {
+            "path" => CableLength::Path,
+            "chord" => CableLength::Chord,
+            o => anyhow::bail!("unknown --cable-length `{o}` (path, chord)"),
+        };
+        let routing = match self.routing.as_str() {
+            "spline" => RoutingFit::Spline,
+            "fourier8" => RoutingFit::Fourier8,
+            o => anyhow::bail!("unknown --routing `{o}` (spline, fourier8)"),
+        };
+        Ok(Energy::default()
+            .with_cable_length(length)
+            .with_routing(routing))
+    }
+
     fn method(&self, name: &str) -> Result<Box<dyn ccrkit::Method>> {
         Ok(match name {
             "cosserat" => Box::new(self.cosserat(false)?),
             "kirchhoff" => Box::new(self.cosserat(true)?),
+            "energy" => Box::new(self.energy()?),
             other => method_by_name(other)?,
         })
     }
@@ -280,6 +299,63 @@ fn compare(file: &PathBuf, rod: &RodArgs) -> Result<()> {
             }
         }
         Err(e) => println!("cosserat (displacement): {e}"),
+    }
+    compare_energy(&model, rod, &geo, &cos)
+}
+
+/// The energy model next to the literal geometric method, each against the rod driven by the
+/// same cable lengths (path or chord measure): an RMS table.
+fn compare_energy(model: &Model, rod: &RodArgs, geo: &Shape, cos_force: &Shape) -> Result<()> {
+    use ccrkit::method::energy::{CableLength, Energy};
+    let scene = Scene::empty();
+    let mm = |v: f64| v * 1000.0;
+    println!();
+    println!("| model | length | rod (displacement) | RMS [mm] | tip [mm] | tensions model / rod [N] | time [µs] |");
+    println!("|---|---|---|---|---|---|---|");
+    for (lm, cl, tag) in [
+        (LengthMeasure::Path, CableLength::Path, "path"),
+        (LengthMeasure::Chord, CableLength::Chord, "chord"),
+    ] {
+        let rod_d = rod
+            .cosserat(false)?
+            .with_control(Control::Displacement)
+            .with_length(lm);
+        let cos_d = match rod_d.solve(&model.robot, &model.actuation, &scene, Some(cos_force)) {
+            Ok(s) => s,
+            Err(e) => {
+                println!("| rod | {tag} | error: {e} | | | | |");
+                continue;
+            }
+        };
+        let energy = Energy::default()
+            .with_cable_length(cl)
+            .with_routing(rod_d.routing);
+        let t = Instant::now();
+        let en = energy.solve(&model.robot, &model.actuation, &scene, None)?;
+        let te = t.elapsed().as_secs_f64();
+        let mut rows = vec![("energy", &en, Some(te))];
+        if cl == CableLength::Chord {
+            rows.push(("geometric", geo, Some(geo.report.solve_time_s)));
+        }
+        for (name, s, time) in rows {
+            let rms = s.rms_distance(&cos_d).context("disk counts differ")?;
+            let tens: Vec<String> = s
+                .cables
+                .iter()
+                .zip(&cos_d.cables)
+                .map(|(a, b)| match a.tension {
+                    Some(t) => format!("{} {:.4}/{:.4}", a.name, t, b.tension.unwrap_or(0.0)),
+                    None => format!("{} –/{:.4}", a.name, b.tension.unwrap_or(0.0)),
+                })
+                .collect();
+            println!(
+                "| {name} | {tag} | cosserat, {tag} lengths | {:.3} | {:.3} | {} | {} |",
+                mm(rms),
+                mm(s.tip_distance(&cos_d)),
+                tens.join(", "),
+                time.map(|t| format!("{:.0}", t * 1e6)).unwrap_or_default()
+            );
+        }
     }
     Ok(())
 }

@@ -205,6 +205,7 @@ impl Method for Geometric {
                 sections,
                 base_wrench: None,
                 notes,
+                state: None,
             },
         })
     }

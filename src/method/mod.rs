@@ -4,10 +4,12 @@
 //! |---|---|---|---|
 //! | `geometric` | [`geometric`] | displacement | the paper's section solver, literal (sum of angles) |
 //! | `geometric-squared` | [`geometric`] | displacement | same sections, squared angles (a discrete bending energy) |
+//! | `energy` | [`energy`] | displacement | whole robot: constant-strain sub-arcs, elastic energy, total cable lengths |
 //! | `cosserat` | [`cosserat`] | tension (or displacement) | Rucker–Webster rod with shear and extension, shooting |
 //! | `kirchhoff` | [`cosserat`] | tension (or displacement) | the same rod, inextensible and unshearable |
 
 pub mod cosserat;
+pub mod energy;
 pub mod geometric;
 
 use crate::actuation::Actuation;
@@ -71,13 +73,20 @@ pub fn solve_stepped(
 }
 
 /// Names accepted by [`method_by_name`].
-pub const METHOD_NAMES: &[&str] = &["geometric", "geometric-squared", "cosserat", "kirchhoff"];
+pub const METHOD_NAMES: &[&str] = &[
+    "geometric",
+    "geometric-squared",
+    "cosserat",
+    "kirchhoff",
+    "energy",
+];
 
 /// Build a method with default settings from its command-line name.
 pub fn method_by_name(name: &str) -> Result<Box<dyn Method>, SolveError> {
     match name {
         "geometric" => Ok(Box::new(geometric::Geometric::literal())),
         "geometric-squared" => Ok(Box::new(geometric::Geometric::squared())),
+        "energy" => Ok(Box::new(energy::Energy::default())),
         "cosserat" => Ok(Box::new(cosserat::Cosserat::full())),
         "kirchhoff" => Ok(Box::new(cosserat::Cosserat::kirchhoff())),
         other => Err(SolveError::InvalidInput {

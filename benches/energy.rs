@@ -1,0 +1,64 @@
+//! Criterion benchmarks of `--method energy` on the paper cases: cold starts (from the
+//! straight robot) and warm starts (from the solution of a 10 % smaller actuation).
+//!
+//! `cargo bench --bench energy`
+
+use ccrkit::method::energy::{CableLength, Energy};
+use ccrkit::{Method, Model, Scene, Shortening};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+
+fn paper_cases(c: &mut Criterion) {
+    let scene = Scene::empty();
+    for (tag, method) in [
+        ("path", Energy::default()),
+        (
+            "chord",
+            Energy::default().with_cable_length(CableLength::Chord),
+        ),
+    ] {
+        for case in 1..=3 {
+            let model = Model::from_file(format!("models/paper/case{case}.toml")).expect("model");
+            c.bench_function(&format!("energy-{tag}/case{case}/cold"), |b| {
+                b.iter(|| {
+                    method
+                        .solve(
+                            black_box(&model.robot),
+                            black_box(&model.actuation),
+                            &scene,
+                            None,
+                        )
+                        .expect("solve")
+                })
+            });
+            let mut before = model.actuation.clone();
+            for (ci, d) in before.cables.iter_mut().enumerate() {
+                if let Some(f) = model.actuation.shortening_fraction(&model.robot, ci) {
+                    d.shorten = Some(Shortening::Fraction(0.9 * f));
+                }
+            }
+            let prev = method
+                .solve(&model.robot, &before, &scene, None)
+                .expect("previous");
+            c.bench_function(&format!("energy-{tag}/case{case}/warm"), |b| {
+                b.iter(|| {
+                    method
+                        .solve(
+                            black_box(&model.robot),
+                            black_box(&model.actuation),
+                            &scene,
+                            Some(&prev),
+                        )
+                        .expect("solve")
+                })
+            });
+        }
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(30).measurement_time(std::time::Duration::from_secs(2));
+    targets = paper_cases
+}
+criterion_main!(benches);

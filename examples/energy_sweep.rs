@@ -1,0 +1,73 @@
+//! Energy model against the Cosserat rod (displacement control, same lengths): RMS over the
+//! disks, tension errors and solve time, per sub-arc count and cable-length measure.
+//!
+//! `cargo run --release --example energy_sweep [MODEL.toml ...]`
+
+use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
+use ccrkit::method::energy::{CableLength, Energy};
+use ccrkit::{Method, Model, Scene};
+use std::time::Instant;
+
+fn main() -> anyhow::Result<()> {
+    let mut files: Vec<String> = std::env::args().skip(1).collect();
+    if files.is_empty() {
+        files = (1..=3)
+            .map(|n| format!("models/paper/case{n}.toml"))
+            .collect();
+    }
+    let scene = Scene::empty();
+    for f in &files {
+        let model = Model::from_file(f)?;
+        for (len, cl) in [
+            (LengthMeasure::Path, CableLength::Path),
+            (LengthMeasure::Chord, CableLength::Chord),
+        ] {
+            let rod = Cosserat {
+                tolerance: 1e-11,
+                ..Cosserat::full()
+                    .with_control(Control::Displacement)
+                    .with_length(len)
+                    .with_steps(40)
+            };
+            let cos = rod.solve(&model.robot, &model.actuation, &scene, None)?;
+            for sa in [1, 2, 3, 4, 6, 8] {
+                if cl == CableLength::Chord && sa > 4 {
+                    continue;
+                }
+                let e = Energy::default().with_sub_arcs(sa).with_cable_length(cl);
+                let t = Instant::now();
+                let reps = 20;
+                let mut shape = None;
+                for _ in 0..reps {
+                    shape = Some(e.solve(&model.robot, &model.actuation, &scene, None)?);
+                }
+                let dt = t.elapsed().as_secs_f64() / reps as f64;
+                let s = shape.expect("solved");
+                let rms = s.rms_distance(&cos).unwrap_or(f64::NAN);
+                let tens: Vec<String> = s
+                    .cables
+                    .iter()
+                    .zip(&cos.cables)
+                    .map(|(a, b)| {
+                        let (ta, tb) = (a.tension.unwrap_or(0.0), b.tension.unwrap_or(0.0));
+                        format!(
+                            "{} {:.4}/{:.4} N ({:+.2} %)",
+                            a.name,
+                            ta,
+                            tb,
+                            100.0 * (ta - tb) / tb.max(1e-12)
+                        )
+                    })
+                    .collect();
+                println!(
+                    "{f} {len:?} sub_arcs {sa}: RMS {:.4} mm, {} it, {:.1} µs, [{}]",
+                    rms * 1e3,
+                    s.report.iterations,
+                    dt * 1e6,
+                    tens.join(", ")
+                );
+            }
+        }
+    }
+    Ok(())
+}
