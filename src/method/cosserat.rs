@@ -627,6 +627,55 @@ impl Problem<'_> {
                 n -= self.tip_f * ld.lam;
                 m -= self.tip_m * ld.lam;
             }
+            // Kink force of cables passing disk k. Where the strains jump at the disk (a cable
+            // is tied here, or a point load acts), a cable passing it changes direction at its
+            // hole, t⁻ = (v⁻ + u⁻ × r + r′)/|·| → t⁺, and, frictionless, pushes the disk with
+            // F = τ (t⁺ − t⁻): a point force the distributed Rucker–Webster loads cannot carry.
+            // n⁺ = n⁻ − F, m⁺ = m⁻ − (R r) × F, with t⁺ from the post-jump strains, which
+            // depend on F: a fixed point (the coupling is weak; it converges in a few sweeps).
+            let tied_here = robot
+                .cables
+                .iter()
+                .enumerate()
+                .any(|(c, cable)| cable.ends_at == k && ld.tau[c] != 0.0);
+            let point_load = self.disk_weight.norm() * ld.lam > 0.0;
+            if k < nsec && (tied_here || point_load) {
+                let (n_base, m_base) = (n, m);
+                let mut settled = false;
+                for _ in 0..50 {
+                    let mut yy = y;
+                    self.set_wrench(&mut yy, &n, &m);
+                    let vp = match self.set.model {
+                        RodModel::Full => v3(&yy, 12),
+                        RodModel::Kirchhoff => E3,
+                    };
+                    let up = v3(&yy, 15);
+                    let (mut n2, mut m2) = (n_base, m_base);
+                    for (c, cable) in robot.cables.iter().enumerate() {
+                        let t = ld.tau[c];
+                        if cable.ends_at <= k || t == 0.0 {
+                            continue;
+                        }
+                        let rm = self.routes[c].eval(robot.disk_s[k], k - 1);
+                        let rpl = self.routes[c].eval(robot.disk_s[k], k);
+                        let tm = u.cross(&rm.r) + rm.dr + v;
+                        let tp = up.cross(&rpl.r) + rpl.dr + vp;
+                        let f = r * (tp / tp.norm() - tm / tm.norm()) * t;
+                        n2 -= f;
+                        m2 -= (r * rm.r).cross(&f);
+                    }
+                    let change = (n2 - n).norm() + (m2 - m).norm() / self.len_l;
+                    n = n2;
+                    m = m2;
+                    if change <= 1e-14 * (1.0 + n.norm() + m.norm() / self.len_l) {
+                        settled = true;
+                        break;
+                    }
+                }
+                if !settled {
+                    return bad;
+                }
+            }
             self.set_wrench(&mut y, &n, &m);
             if k == nsec {
                 let mm = m / self.len_l;
