@@ -6,7 +6,9 @@
 //! | `geometric-squared` | [`geometric`] | displacement | same sections, squared angles (a discrete bending energy) |
 //! | `cosserat` | [`cosserat`] | tension (or displacement) | Rucker–Webster rod with shear and extension, shooting |
 //! | `kirchhoff` | [`cosserat`] | tension (or displacement) | the same rod, inextensible and unshearable |
+//! | `constant-curvature` | [`constant_curvature`] | displacement (or tension) | closed-form arc for straight, parallel cables |
 
+pub mod constant_curvature;
 pub mod cosserat;
 pub mod geometric;
 
@@ -71,7 +73,13 @@ pub fn solve_stepped(
 }
 
 /// Names accepted by [`method_by_name`].
-pub const METHOD_NAMES: &[&str] = &["geometric", "geometric-squared", "cosserat", "kirchhoff"];
+pub const METHOD_NAMES: &[&str] = &[
+    "geometric",
+    "geometric-squared",
+    "cosserat",
+    "kirchhoff",
+    "constant-curvature",
+];
 
 /// Build a method with default settings from its command-line name.
 pub fn method_by_name(name: &str) -> Result<Box<dyn Method>, SolveError> {
@@ -80,6 +88,9 @@ pub fn method_by_name(name: &str) -> Result<Box<dyn Method>, SolveError> {
         "geometric-squared" => Ok(Box::new(geometric::Geometric::squared())),
         "cosserat" => Ok(Box::new(cosserat::Cosserat::full())),
         "kirchhoff" => Ok(Box::new(cosserat::Cosserat::kirchhoff())),
+        "constant-curvature" => Ok(Box::new(
+            constant_curvature::ConstantCurvature::displacement(),
+        )),
         other => Err(SolveError::InvalidInput {
             field: "method".into(),
             reason: format!(
