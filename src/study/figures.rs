@@ -129,7 +129,16 @@ where
             )?
             .label(m.to_string())
             .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
-        for r in pts {
+        // Label the front and single-setting methods only (the rest would overlap).
+        let on_front = |r: &SpeedAccuracyRow| {
+            rows.iter()
+                .zip(&front)
+                .any(|(x, f)| *f && x.method == r.method && x.setting == r.setting)
+        };
+        for r in pts
+            .into_iter()
+            .filter(|r| r.setting == "default" || on_front(r))
+        {
             chart.draw_series(std::iter::once(Text::new(
                 r.setting.clone(),
                 (r.median_time_s, err(r)),
@@ -142,7 +151,7 @@ where
         .label_font(("sans-serif", 13))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
+        .position(SeriesLabelPosition::LowerRight)
         .draw()?;
     Ok(())
 }
