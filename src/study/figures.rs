@@ -139,11 +139,15 @@ where
             .into_iter()
             .filter(|r| r.setting == "default" || on_front(r))
         {
-            chart.draw_series(std::iter::once(Text::new(
-                r.setting.clone(),
-                (r.median_time_s, err(r)),
-                ("sans-serif", 11).into_font().color(&color.mix(0.9)),
-            )))?;
+            let label = if r.setting == "default" {
+                r.method.clone()
+            } else {
+                r.setting.clone()
+            };
+            let style = ("sans-serif", 12).into_font().color(&color.mix(0.95));
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((r.median_time_s, err(r))) + Text::new(label, (12, -6), style),
+            ))?;
         }
     }
     chart
