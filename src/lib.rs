@@ -20,6 +20,7 @@ pub mod robot;
 pub mod routing;
 pub mod scene;
 pub mod shape;
+pub mod study;
 
 pub use actuation::{Actuation, CableDrive, Shortening};
 pub use error::{ModelError, SolveError};

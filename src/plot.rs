@@ -15,7 +15,8 @@ use std::sync::Once;
 static FONT: Once = Once::new();
 static FONT_BYTES: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
-fn register_font() {
+/// Register the shipped DejaVu Sans font as `sans-serif` (once; every figure calls it).
+pub(crate) fn register_font() {
     FONT.call_once(|| {
         // The font is compiled in; registration only fails on a corrupt font file.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT_BYTES);

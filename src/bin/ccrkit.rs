@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
 use ccrkit::method::{method_by_name, Method, METHOD_NAMES};
 use ccrkit::routing::RoutingFit;
-use ccrkit::{plot, Model, Scene, Shape};
+use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -60,6 +60,90 @@ enum Command {
     /// Solve one model file and export the shape for other tools.
     #[command(subcommand)]
     Export(ExportCommand),
+    /// Studies: speed against accuracy, stability maps, workspace sweeps.
+    #[command(subcommand)]
+    Study(StudyCommand),
+}
+
+#[derive(Subcommand)]
+enum StudyCommand {
+    /// Median solve time and error against a converged Cosserat reference, for every method
+    /// and resolution setting: DIR/speed_accuracy.csv, .svg, .png.
+    SpeedAccuracy {
+        /// Model file (TOML).
+        file: PathBuf,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Solves per setting (median time).
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
+        /// Only these methods (comma-separated; default: all).
+        #[arg(long, value_delimiter = ',')]
+        methods: Vec<String>,
+    },
+    /// Converged/failed map over the inputs of the first two driven cables, per method, cold and
+    /// with continuation: DIR/stability.csv and DIR/stability_METHOD.{svg,png}.
+    Stability {
+        /// Model file (TOML).
+        file: PathBuf,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Grid points per axis.
+        #[arg(long, default_value_t = 40)]
+        grid: usize,
+        /// Largest shortening swept (percent of the cable length).
+        #[arg(long, default_value_t = 18.0)]
+        max_percent: f64,
+        /// Largest tension swept, as a multiple of the file's.
+        #[arg(long, default_value_t = 10.0)]
+        tension_factor: f64,
+        /// Input swept: `auto` (tension for the rods, shortening otherwise), `shortening`, `tension`.
+        #[arg(long, default_value = "auto")]
+        input: String,
+        /// Only these methods (comma-separated; default: all).
+        #[arg(long, value_delimiter = ',')]
+        methods: Vec<String>,
+    },
+    /// Sample the driven cables' inputs (Halton), solve in parallel, write the tip cloud:
+    /// DIR/workspace.csv (or workspace_shard_K_of_N.csv) and DIR/workspace.{svg,png}.
+    Workspace {
+        /// Model file (TOML).
+        file: PathBuf,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Samples in the whole sweep.
+        #[arg(long, default_value_t = 1000)]
+        samples: usize,
+        /// Method: see `ccrkit methods`.
+        #[arg(long, default_value = "geometric")]
+        method: String,
+        /// Solve only this share, `k/N` (blocks of --chunk samples, block j to shard j % N).
+        #[arg(long)]
+        shard: Option<String>,
+        /// Largest shortening sampled (percent).
+        #[arg(long, default_value_t = 10.0)]
+        max_percent: f64,
+        /// Largest tension sampled, as a multiple of the file's.
+        #[arg(long, default_value_t = 3.0)]
+        tension_factor: f64,
+        /// Input sampled: `auto`, `shortening`, `tension`.
+        #[arg(long, default_value = "auto")]
+        input: String,
+        /// Samples per block (warm starts stay inside a block; keep it equal across shards).
+        #[arg(long, default_value_t = 32)]
+        chunk: usize,
+    },
+    /// Join workspace shards into one CSV sorted by sample index.
+    Merge {
+        /// Output CSV.
+        out: PathBuf,
+        /// Shard CSVs.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+    },
 }
 
 #[derive(Subcommand)]
@@ -171,6 +255,7 @@ fn main() {
 
 fn run() -> Result<()> {
     match Cli::parse().command {
+        Command::Study(cmd) => study(cmd),
         Command::Compare { file, rod } => compare(&file, &rod),
         Command::Methods => {
             for m in METHOD_NAMES {
@@ -439,4 +524,202 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
         shape.report.iterations,
         median * 1e6
     );
+}
+
+fn parse_input(s: &str) -> Result<Option<study::Input>> {
+    Ok(match s {
+        "auto" => None,
+        "shortening" => Some(study::Input::Shortening),
+        "tension" => Some(study::Input::Tension),
+        o => anyhow::bail!("unknown --input `{o}` (auto, shortening, tension)"),
+    })
+}
+
+fn methods_or_all(m: Vec<String>) -> Vec<String> {
+    if m.is_empty() {
+        METHOD_NAMES.iter().map(|s| s.to_string()).collect()
+    } else {
+        m
+    }
+}
+
+fn create_dir(out: &PathBuf) -> Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))
+}
+
+fn study(cmd: StudyCommand) -> Result<()> {
+    use study::figures;
+    match cmd {
+        StudyCommand::SpeedAccuracy {
+            file,
+            out,
+            repeats,
+            methods,
+        } => {
+            let model = Model::from_file(&file)?;
+            create_dir(&out)?;
+            let opts = study::SpeedAccuracyOptions {
+                repeats,
+                methods: methods_or_all(methods),
+            };
+            let rows = study::speed_accuracy(&model, &opts)?;
+            let front = study::speed_accuracy_front(&rows);
+            println!(
+                "{:<20} {:<20} {:>14} {:>14} {:>14} {:>6}",
+                "method", "setting", "time [ms]", "tip err [mm]", "rms err [mm]", "pareto"
+            );
+            for (r, f) in rows.iter().zip(&front) {
+                if r.status == "ok" {
+                    println!(
+                        "{:<20} {:<20} {:>14.4} {:>14.6} {:>14.6} {:>6}",
+                        r.method,
+                        r.setting,
+                        r.median_time_s * 1e3,
+                        r.tip_error_m * 1e3,
+                        r.rms_error_m * 1e3,
+                        if *f { "*" } else { "" }
+                    );
+                } else {
+                    println!("{:<20} {:<20} {}", r.method, r.setting, r.status);
+                }
+            }
+            let csv = out.join("speed_accuracy.csv");
+            study::write_text(&csv, &study::speed_accuracy_csv(&rows))?;
+            let title = format!("{}: speed against accuracy", model.robot.name);
+            for ext in ["svg", "png"] {
+                figures::speed_accuracy_figure(
+                    &rows,
+                    &title,
+                    &out.join(format!("speed_accuracy.{ext}")),
+                )?;
+            }
+            eprintln!("wrote {} (+ .svg, .png)", csv.display());
+            Ok(())
+        }
+        StudyCommand::Stability {
+            file,
+            out,
+            grid,
+            max_percent,
+            tension_factor,
+            input,
+            methods,
+        } => {
+            let model = Model::from_file(&file)?;
+            create_dir(&out)?;
+            let opts = study::StabilityOptions {
+                grid,
+                max_fraction: max_percent / 100.0,
+                tension_factor,
+                input: parse_input(&input)?,
+                methods: methods_or_all(methods),
+                progress: true,
+            };
+            let t = Instant::now();
+            let st = study::stability(&model, &opts)?;
+            let secs = t.elapsed().as_secs_f64();
+            study::write_text(&out.join("stability.csv"), &study::stability_csv(&st))?;
+            print_stability_summary(&st);
+            for m in &opts.methods {
+                for ext in ["svg", "png"] {
+                    figures::stability_figure(&st, m, &out.join(format!("stability_{m}.{ext}")))?;
+                }
+            }
+            eprintln!(
+                "wrote {} and one map per method ({} solves in {secs:.1} s)",
+                out.join("stability.csv").display(),
+                st.points.len()
+            );
+            Ok(())
+        }
+        StudyCommand::Workspace {
+            file,
+            out,
+            samples,
+            method,
+            shard,
+            max_percent,
+            tension_factor,
+            input,
+            chunk,
+        } => {
+            let model = Model::from_file(&file)?;
+            create_dir(&out)?;
+            let shard: Option<study::Shard> = shard.map(|s| s.parse()).transpose()?;
+            let opts = study::WorkspaceOptions {
+                samples,
+                method,
+                input: parse_input(&input)?,
+                max_fraction: max_percent / 100.0,
+                tension_factor,
+                shard,
+                chunk,
+                progress: true,
+            };
+            let ws = study::workspace(&model, &opts)?;
+            let stem = match shard {
+                Some(s) => format!("workspace_shard_{}_of_{}", s.index, s.count),
+                None => "workspace".to_string(),
+            };
+            let csv = out.join(format!("{stem}.csv"));
+            study::write_text(&csv, &study::workspace_csv(&ws))?;
+            let ok = ws.samples.iter().filter(|s| s.status == "ok").count();
+            println!(
+                "{}: {} samples ({} ok) in {:.2} s: {:.1} solves/s on {} threads",
+                ws.method,
+                ws.samples.len(),
+                ok,
+                ws.elapsed_s,
+                ws.throughput(),
+                rayon::current_num_threads()
+            );
+            let title = format!("{} — {}", model.robot.name, ws.method);
+            for ext in ["svg", "png"] {
+                figures::workspace_figure(&ws, &title, &out.join(format!("{stem}.{ext}")))?;
+            }
+            eprintln!("wrote {} (+ .svg, .png)", csv.display());
+            Ok(())
+        }
+        StudyCommand::Merge { out, inputs } => {
+            let texts = inputs
+                .iter()
+                .map(|p| {
+                    std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))
+                })
+                .collect::<Result<Vec<_>>>()?;
+            let merged = study::merge_csv(&texts)?;
+            study::write_text(&out, &merged)?;
+            eprintln!(
+                "wrote {} ({} rows)",
+                out.display(),
+                merged.lines().count().saturating_sub(1)
+            );
+            Ok(())
+        }
+    }
+}
+
+fn print_stability_summary(st: &study::Stability) {
+    for s in study::stability_summary(st) {
+        let fails: Vec<String> = s.failures.iter().map(|(k, n)| format!("{k} {n}")).collect();
+        println!(
+            "{:<20} {:<13} {:>5}/{:<5} ok{}{}",
+            s.method,
+            if s.continuation {
+                "continuation"
+            } else {
+                "cold"
+            },
+            s.ok,
+            s.total,
+            if fails.is_empty() {
+                String::new()
+            } else {
+                format!(", failed: {}", fails.join(", "))
+            },
+            s.first_failure
+                .map(|(a, b)| format!(", first failure at ({a:.4}, {b:.4})"))
+                .unwrap_or_default()
+        );
+    }
 }

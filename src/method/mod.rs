@@ -7,7 +7,9 @@
 //! | `energy` | [`energy`] | displacement | whole robot: constant-strain sub-arcs, elastic energy, total cable lengths |
 //! | `cosserat` | [`cosserat`] | tension (or displacement) | Rucker–Webster rod with shear and extension, shooting |
 //! | `kirchhoff` | [`cosserat`] | tension (or displacement) | the same rod, inextensible and unshearable |
+//! | `constant-curvature` | [`constant_curvature`] | displacement (or tension) | closed-form arc for straight, parallel cables |
 
+pub mod constant_curvature;
 pub mod cosserat;
 pub mod energy;
 pub mod geometric;
@@ -79,6 +81,7 @@ pub const METHOD_NAMES: &[&str] = &[
     "cosserat",
     "kirchhoff",
     "energy",
+    "constant-curvature",
 ];
 
 /// Build a method with default settings from its command-line name.
@@ -89,6 +92,9 @@ pub fn method_by_name(name: &str) -> Result<Box<dyn Method>, SolveError> {
         "energy" => Ok(Box::new(energy::Energy::default())),
         "cosserat" => Ok(Box::new(cosserat::Cosserat::full())),
         "kirchhoff" => Ok(Box::new(cosserat::Cosserat::kirchhoff())),
+        "constant-curvature" => Ok(Box::new(
+            constant_curvature::ConstantCurvature::displacement(),
+        )),
         other => Err(SolveError::InvalidInput {
             field: "method".into(),
             reason: format!(
