@@ -3,7 +3,11 @@
 //!
 //! * [`speed_accuracy`]: every method of [`METHOD_NAMES`] at each of its resolution settings
 //!   ([`variants`]) — median solve time over a few repeats and the error against a converged
-//!   Cosserat reference ([`reference`]: full rod, 80 RK4 steps per section, force control).
+//!   Cosserat reference driven by the same kind of input: [`reference`] (full rod, 80 RK4 steps
+//!   per section, force control with the file's tensions) for force-driven methods, and
+//!   [`reference_displacement`] (the same rod driven by the file's cable displacements, lengths
+//!   along the routed path) for displacement-driven ones — the paper's cases give both inputs,
+//!   and they do not describe the same shape, so each model is judged on its own input.
 //!   A method added to [`METHOD_NAMES`] later (e.g. `energy`) joins with its default settings
 //!   unless [`variants`] lists settings for it.
 //! * [`stability`]: a grid over the inputs of two cables, each method solved cold and with
@@ -203,6 +207,27 @@ pub fn reference() -> Cosserat {
     }
 }
 
+/// The converged reference for displacement-driven methods: the same rod as [`reference`]
+/// driven by the model's cable displacements (lengths along the routed path).
+pub fn reference_displacement() -> Cosserat {
+    Cosserat {
+        tolerance: 1e-11,
+        ..Cosserat::full()
+            .with_steps(80)
+            .with_control(Control::Displacement)
+    }
+}
+
+/// True when a study variant takes cable displacements as its input (and is judged against
+/// [`reference_displacement`]); false for force-driven variants.
+pub fn displacement_driven(method: &str, setting: &str) -> bool {
+    match method {
+        "cosserat" | "kirchhoff" => false,
+        "constant-curvature" => setting != "force",
+        _ => true,
+    }
+}
+
 /// True when every coordinate of a shape is finite.
 pub fn shape_is_finite(s: &Shape) -> bool {
     s.disks.iter().all(|d| {
@@ -300,6 +325,9 @@ pub struct SpeedAccuracyRow {
     pub rms_error_m: f64,
     /// Iterations of one solve.
     pub iterations: usize,
+    /// Which reference the errors are measured against: `force` ([`reference`]) or
+    /// `displacement` ([`reference_displacement`]).
+    pub reference: String,
 }
 
 /// Options of [`speed_accuracy`].
@@ -329,6 +357,10 @@ pub fn speed_accuracy(
 ) -> Result<Vec<SpeedAccuracyRow>, StudyError> {
     let scene = Scene::empty();
     let reference = reference().solve(&model.robot, &model.actuation, &scene, None)?;
+    // Without displacement inputs the displacement-driven methods fail anyway.
+    let reference_disp = reference_displacement()
+        .solve(&model.robot, &model.actuation, &scene, None)
+        .ok();
     let mut rows = vec![];
     for name in &opts.methods {
         for v in variants(name)? {
@@ -351,12 +383,15 @@ pub fn speed_accuracy(
                     reason: "no solve ran".into(),
                 })
             }));
-            let (tip, rms) = match &o.shape {
-                Some(s) => (
-                    s.tip_distance(&reference),
-                    s.rms_distance(&reference).unwrap_or(f64::NAN),
-                ),
-                None => (f64::NAN, f64::NAN),
+            let by_disp = displacement_driven(&v.method, &v.setting);
+            let refer = if by_disp {
+                reference_disp.as_ref()
+            } else {
+                Some(&reference)
+            };
+            let (tip, rms) = match (&o.shape, refer) {
+                (Some(s), Some(r)) => (s.tip_distance(r), s.rms_distance(r).unwrap_or(f64::NAN)),
+                _ => (f64::NAN, f64::NAN),
             };
             rows.push(SpeedAccuracyRow {
                 method: v.method.clone(),
@@ -370,6 +405,7 @@ pub fn speed_accuracy(
                 rms_error_m: rms,
                 iterations: o.iterations,
                 status: o.status,
+                reference: if by_disp { "displacement" } else { "force" }.into(),
             });
         }
     }
@@ -406,11 +442,11 @@ pub fn speed_accuracy_front(rows: &[SpeedAccuracyRow]) -> Vec<bool> {
 pub fn speed_accuracy_csv(rows: &[SpeedAccuracyRow]) -> String {
     let front = speed_accuracy_front(rows);
     let mut s = String::from(
-        "method,setting,status,median_time_s,tip_error_m,rms_error_m,iterations,pareto\n",
+        "method,setting,status,median_time_s,tip_error_m,rms_error_m,iterations,pareto,reference\n",
     );
     for (r, f) in rows.iter().zip(front) {
         s += &format!(
-            "{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{}\n",
             r.method,
             r.setting,
             r.status,
@@ -418,7 +454,8 @@ pub fn speed_accuracy_csv(rows: &[SpeedAccuracyRow]) -> String {
             num(r.tip_error_m),
             num(r.rms_error_m),
             r.iterations,
-            f
+            f,
+            r.reference
         );
     }
     s
