@@ -666,11 +666,21 @@ impl Geometric {
                         va.total_cmp(&vb)
                     })
                     .unwrap_or(0);
+                let near = data
+                    .world
+                    .as_ref()
+                    .map(|w| {
+                        format!(
+                            " and keeps clear of the obstacles near this section ({})",
+                            w.names.join(", ")
+                        )
+                    })
+                    .unwrap_or_default();
                 return Err(SolveError::Infeasible {
                     cable: data.names[data.cons[worst].cables[0]].clone(),
                     section: i,
                     reason: format!(
-                        "no set of taut cables meets every cable length while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible); closest residual {closest:.3e} m"
+                        "no set of taut cables meets every cable length while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible){near}; closest residual {closest:.3e} m"
                     ),
                 });
             }
@@ -753,16 +763,15 @@ impl Geometric {
         closest: &mut f64,
     ) -> Option<Candidate> {
         let n_terms = data.terms.len();
-        if taut.is_empty() {
-            let straight = Pose::straight(data.l0);
-            if let Some(w) = &data.world {
-                if w.pairs(&straight)
-                    .iter()
-                    .any(|p| p.dist < w.clearance - CONTACT_TOL)
-                {
-                    return None;
-                }
-            }
+        // All cables slack: the straight pose, unless an obstacle is in its way — then the
+        // angles are minimized against the obstacles alone, like any other taut set (was:
+        // give up, so a robot pushed off its minimal bend by an obstacle was "infeasible").
+        let straight_blocked = data.world.as_ref().is_some_and(|w| {
+            w.pairs(&Pose::straight(data.l0))
+                .iter()
+                .any(|p| p.dist < w.clearance - CONTACT_TOL)
+        });
+        if taut.is_empty() && !straight_blocked {
             *count += 1;
             return Some(Candidate {
                 pose: Pose::straight(data.l0),
