@@ -3,8 +3,8 @@
 //!
 //! `cargo run --release --example make_vessel [OUT_FILE]`
 //!
-//! Bend radius 0.2 m, inner radius 15 mm (the paper robot's disks have 12 mm), the arc from
-//! θ = −0.1 rad (a little below the robot's base) to 1.1 rad, 61 rings of 32 vertices. A test
+//! Bend radius 0.11 m, inner radius 20 mm (the paper robot's disks have 12 mm), the arc from
+//! θ = −0.1 rad (a little below the robot's base) to 1.8 rad, 61 rings of 32 vertices. A test
 //! (`tests/obstacles.rs`) checks the committed file equals this output.
 
 use anyhow::Result;
@@ -12,7 +12,7 @@ use ccrkit::mesh::{bent_tube, to_obj};
 use std::path::PathBuf;
 
 /// The parameters of the committed vessel (shared with the test through this file's text).
-pub const VESSEL: (f64, f64, f64, f64, usize, usize) = (0.2, 0.015, -0.1, 1.1, 61, 32);
+pub const VESSEL: (f64, f64, f64, f64, usize, usize) = (0.11, 0.02, -0.1, 1.8, 61, 32);
 
 fn main() -> Result<()> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
