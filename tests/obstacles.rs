@@ -473,3 +473,25 @@ fn an_obstacle_in_the_way_of_a_slack_section_bends_it_away() {
     assert!(!s.contacts.is_empty());
     assert_valid(&m, &s, &m.scene);
 }
+
+#[test]
+fn the_robot_in_the_vessel_presses_on_its_wall_without_crossing_it() {
+    let model = case1();
+    let scene = Scene::from_file(root().join("models/scenes/vessel.toml")).unwrap();
+    let s = geometric()
+        .solve(&model.robot, &model.actuation, &scene, None)
+        .expect("the vessel scene solves");
+    assert!(s.contacts.len() >= 3, "contacts: {:?}", s.contacts);
+    assert_valid(&model, &s, &scene);
+    // Unsigned distances cannot tell inside from outside: check each disk centre lies inside
+    // the tube (closer to its centre line than the 20 mm radius), in the tube's frame.
+    let (bend, radius) = (0.11, 0.02);
+    let tube = &scene.obstacles[0];
+    for (k, d) in s.disks.iter().enumerate() {
+        let p = tube.pose.inverse() * nalgebra::Point3::from(d.position);
+        let q = p.coords - Vector3::new(bend, 0.0, 0.0);
+        let th = q.z.atan2(-q.x).clamp(-0.1, 1.8);
+        let c = Vector3::new(bend * (1.0 - th.cos()), 0.0, bend * th.sin());
+        assert!((p.coords - c).norm() < radius, "disk {k} left the tube");
+    }
+}
