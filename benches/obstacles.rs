@@ -79,6 +79,14 @@ fn bench(c: &mut Criterion) {
     grp.bench_function("wall", |b| {
         b.iter(|| black_box(g.solve(&model.robot, &model.actuation, &wall, None)))
     });
+    // The broad phase alone: what 1000 obstacles add to a solve before any narrow phase.
+    let origin = nalgebra::Vector3::zeros();
+    grp.bench_function("broad_phase_1000_out_of_reach", |b| {
+        b.iter(|| black_box(far.scene.near(black_box(&origin), 0.2)))
+    });
+    grp.bench_function("broad_phase_1000_in_reach", |b| {
+        b.iter(|| black_box(near.scene.near(black_box(&origin), 0.2)))
+    });
     grp.finish();
 }
 
