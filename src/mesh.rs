@@ -147,6 +147,45 @@ pub fn to_obj(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> String {
     s
 }
 
+/// A bent tube (a section of a torus surface, open at both ends) as a triangle mesh: the
+/// centreline is the arc `c(θ) = (R (1 − cos θ), 0, R sin θ)` in the x–z plane, starting at the
+/// origin along +z and bending towards +x with radius `bend_radius` (R), for θ from `theta0` to
+/// `theta1` [rad]; the wall is the circle of radius `tube_radius` around it, with `rings`
+/// circles along the arc and `segments` vertices on each. Deterministic, so the file it writes
+/// through [`to_obj`] can be regenerated bit for bit.
+pub fn bent_tube(
+    bend_radius: f64,
+    tube_radius: f64,
+    theta0: f64,
+    theta1: f64,
+    rings: usize,
+    segments: usize,
+) -> MeshData {
+    let rings = rings.max(2);
+    let segments = segments.max(3);
+    let mut verts = Vec::with_capacity(rings * segments);
+    for k in 0..rings {
+        let th = theta0 + (theta1 - theta0) * k as f64 / (rings - 1) as f64;
+        let c = Vector3::new(bend_radius * (1.0 - th.cos()), 0.0, bend_radius * th.sin());
+        // In-plane normal (away from the bend centre) and the bend's binormal.
+        let e1 = Vector3::new(-th.cos(), 0.0, th.sin());
+        let e2 = Vector3::new(0.0, 1.0, 0.0);
+        for j in 0..segments {
+            let phi = j as f64 / segments as f64 * std::f64::consts::TAU;
+            verts.push(c + tube_radius * (phi.cos() * e1 + phi.sin() * e2));
+        }
+    }
+    let mut tris = Vec::with_capacity(2 * (rings - 1) * segments);
+    let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
+    for k in 0..rings - 1 {
+        for j in 0..segments {
+            tris.push([id(k, j), id(k + 1, j), id(k + 1, j + 1)]);
+            tris.push([id(k, j), id(k + 1, j + 1), id(k, j + 1)]);
+        }
+    }
+    (verts, tris)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -174,6 +174,21 @@ impl Scene {
             .map(|(k, _)| k)
             .collect()
     }
+
+    /// Broad phase on a subset: the indices in `among` (e.g. an earlier [`Scene::near`]
+    /// result) whose bounds come within `radius` of `center`. Linear in `among.len()`, so a
+    /// per-section test costs nothing when the robot-level test kept no obstacle.
+    pub fn near_among(&self, among: &[usize], center: &Vector3<f64>, radius: f64) -> Vec<usize> {
+        among
+            .iter()
+            .copied()
+            .filter(|&k| {
+                self.obstacles
+                    .get(k)
+                    .is_some_and(|o| aabb_ball_distance(&o.aabb, center) <= radius)
+            })
+            .collect()
+    }
 }
 
 fn aabb_ball_distance(aabb: &(Vector3<f64>, Vector3<f64>), c: &Vector3<f64>) -> f64 {

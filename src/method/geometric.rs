@@ -701,11 +701,21 @@ impl Geometric {
                         va.total_cmp(&vb)
                     })
                     .unwrap_or(0);
+                let near = data
+                    .world
+                    .as_ref()
+                    .map(|w| {
+                        format!(
+                            " and keeps clear of the obstacles near this section ({})",
+                            w.names.join(", ")
+                        )
+                    })
+                    .unwrap_or_default();
                 return Err(SolveError::Infeasible {
                     cable: data.names[data.cons[worst].cables[0]].clone(),
                     section: i,
                     reason: format!(
-                        "no set of taut cables meets every cable length (each certified pose leaves a cable pushing or overstretched) while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible); {count} poses examined"
+                        "no set of taut cables meets every cable length (each certified pose leaves a cable pushing or overstretched) while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible){near}; {count} poses examined"
                     ),
                 });
             }
@@ -788,16 +798,15 @@ impl Geometric {
         closest: &mut f64,
     ) -> Option<Candidate> {
         let n_terms = data.terms.len();
-        if taut.is_empty() {
-            let straight = Pose::straight(data.l0);
-            if let Some(w) = &data.world {
-                if w.pairs(&straight)
-                    .iter()
-                    .any(|p| p.dist < w.clearance - CONTACT_TOL)
-                {
-                    return None;
-                }
-            }
+        // All cables slack: the straight pose, unless an obstacle is in its way — then the
+        // angles are minimized against the obstacles alone, like any other taut set (was:
+        // give up, so a robot pushed off its minimal bend by an obstacle was "infeasible").
+        let straight_blocked = data.world.as_ref().is_some_and(|w| {
+            w.pairs(&Pose::straight(data.l0))
+                .iter()
+                .any(|p| p.dist < w.clearance - CONTACT_TOL)
+        });
+        if taut.is_empty() && !straight_blocked {
             *count += 1;
             return Some(Candidate {
                 pose: Pose::straight(data.l0),
@@ -1027,7 +1036,12 @@ impl Geometric {
                 kkt_res -= p.grad * *m;
             }
             let stat = kkt_res.amax();
-            if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= 1e-11 {
+            // With active contacts the step carries the ~1e-8 m noise of parry's iterative
+            // distance queries on smooth shapes: converge at CONTACT_STEP_TOL there.
+            let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
+            let in_contact = mu_max > 1e-10;
+            let step_tol = if in_contact { CONTACT_STEP_TOL } else { 1e-11 };
+            if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= step_tol {
                 // Active contacts join the equalities for the second-order check.
                 let active_pairs: Vec<usize> = (0..pairs.len())
                     .filter(|&j| mu.get(j).copied().unwrap_or(0.0) > 1e-10)
@@ -1043,6 +1057,11 @@ impl Geometric {
                         residual: last_res,
                     });
                 }
+                let stat_tol = if in_contact {
+                    CONTACT_STAT_TOL * (1.0 + mu_max)
+                } else {
+                    1e-7
+                };
                 return self.certify(
                     data,
                     pose,
@@ -1050,7 +1069,7 @@ impl Geometric {
                     active,
                     squared,
                     &step.lambda,
-                    stat,
+                    (stat, stat_tol),
                     min_eig,
                     res,
                     it,
@@ -1126,7 +1145,7 @@ impl Geometric {
         active: &[usize],
         squared: bool,
         lambda: &[f64],
-        stationarity: f64,
+        (stationarity, stat_tol): (f64, f64),
         min_eig: f64,
         residual: f64,
         it: usize,
@@ -1136,7 +1155,7 @@ impl Geometric {
             iterations: it,
             residual,
         });
-        if stationarity > 1e-7 || min_eig < -1e-8 || min_eig.is_nan() {
+        if stationarity > stat_tol || min_eig < -1e-8 || min_eig.is_nan() {
             return reject;
         }
         let angles = data.term_angles(&pose);
@@ -1192,6 +1211,17 @@ fn nudge(p: &Pose, l0: f64) -> Pose {
         q: orthonormalize(&(p.q * exp_so3(&Vector3::new(0.9e-3, 1.1e-3, -0.8e-3)))),
     }
 }
+
+/// Newton step size at which a candidate with active contacts has converged [m or rad]: parry's
+/// GJK on smooth–smooth pairs (disk rim against a cylinder or a tube) leaves ~1e-8 of noise.
+const CONTACT_STEP_TOL: f64 = 1e-7;
+
+/// Stationarity a candidate with active contacts must meet, relative to (1 + largest contact
+/// multiplier): the contact normals carry the same noise.
+const CONTACT_STAT_TOL: f64 = 1e-6;
+
+/// Robot features within this of an obstacle are queried again moved this far away [m].
+const SEPARATION_SHIFT: f64 = 1e-3;
 
 /// Two candidates closer than this to the clearance count as touching [m].
 const CONTACT_TOL: f64 = 1e-9;
@@ -1276,7 +1306,11 @@ fn y_to_z() -> Matrix3<f64> {
 fn ppose(r: &Matrix3<f64>, t: &Vector3<f64>) -> PPose {
     let iso = nalgebra::Isometry3::from_parts(
         nalgebra::Translation3::from(*t),
-        nalgebra::UnitQuaternion::from_matrix(r),
+        // `r` is orthonormal (products of rotations, re-orthonormalized): the direct
+        // conversion, not `from_matrix`'s iterative fit (10 % of a contact solve's time).
+        nalgebra::UnitQuaternion::from_rotation_matrix(
+            &nalgebra::Rotation3::from_matrix_unchecked(*r),
+        ),
     );
     iso.into()
 }
@@ -1304,11 +1338,9 @@ impl SectionWorld {
         let l = robot.section_length(i);
         let margin = 0.5 * l + scene.clearance;
         let reach = l + robot.disk_radius + robot.disk_thickness + scene.clearance + margin;
-        let near: Vec<usize> = scene
-            .near(x_prev, reach)
-            .into_iter()
-            .filter(|k| relevant.contains(k))
-            .collect();
+        // Only the robot-level survivors are tested again (was: every obstacle of the scene
+        // tested, then a quadratic `relevant.contains` filter).
+        let near = scene.near_among(relevant, x_prev, reach);
         if near.is_empty() {
             return None;
         }
@@ -1375,6 +1407,28 @@ impl SectionWorld {
                 let Ok(Some(ct)) = parry3d::query::contact(gpose, g, opose, &**shape, self.margin)
                 else {
                     return;
+                };
+                // Near touching, parry switches between GJK (separated) and EPA (penetrating),
+                // whose normals for smooth shapes differ by ~1e-5: the Newton iterates then
+                // chatter at ~1e-7 m and never converge. Query again with the feature moved
+                // `shift` away along the normal, where GJK alone answers: the signed distance
+                // is max over directions m of (−h_B(−m) − h_A(m)), so the shifted answer minus
+                // `shift` is at least as close to the true value as the first one.
+                let shift = SEPARATION_SHIFT + (-ct.dist).max(0.0);
+                let ct = if ct.dist < SEPARATION_SHIFT {
+                    let n0 = nvec(ct.normal1);
+                    let moved =
+                        PPose::from_parts(gpose.translation - pvec(&(shift * n0)), gpose.rotation);
+                    match parry3d::query::contact(&moved, g, opose, &**shape, self.margin + shift) {
+                        Ok(Some(mut c2)) => {
+                            c2.dist -= shift;
+                            c2.point1 += pvec(&(shift * n0));
+                            c2
+                        }
+                        _ => ct,
+                    }
+                } else {
+                    ct
                 };
                 let mut a = nvec(ct.point1);
                 let n = nvec(ct.normal1);

@@ -1,0 +1,94 @@
+//! Obstacle cost of the geometric section solver on the paper's case-1 robot: no obstacles,
+//! 1000 obstacles out of reach (broad phase only), 1000 small obstacles in reach but clear of
+//! the shape (broad + narrow phase), and pressing on one wall (contacts active).
+//!
+//! `cargo bench --bench obstacles`
+
+use ccrkit::method::geometric::Geometric;
+use ccrkit::{Method, Model, Scene};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+use std::path::PathBuf;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Case 1 with `n` spheres of radius `r` at deterministic pseudo-random places in a shell of
+/// radii `r0..r1` around the base, below the plane `z = zmax`.
+fn scattered(n: usize, r: f64, r0: f64, r1: f64, zmax: f64) -> Model {
+    let mut text = std::fs::read_to_string(root().join("models/paper/case1.toml")).unwrap();
+    let mut seed: u64 = 0x2545_F491_4F6C_DD1D;
+    let mut rnd = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for k in 0..n {
+        let (u, v, w) = (rnd(), rnd(), rnd());
+        let th = u * std::f64::consts::TAU;
+        let z = zmax - v * (r1 + zmax);
+        let rad = r0 + w * (r1 - r0);
+        let rho = (rad * rad - z * z).max(0.0).sqrt();
+        text += &format!(
+            "[[obstacles]]\nname = \"s{k}\"\nshape = \"sphere\"\nposition = [{}, {}, {z}]\nradius = {r}\n",
+            rho * th.cos(),
+            rho * th.sin()
+        );
+    }
+    Model::from_toml_str(&text).unwrap()
+}
+
+fn bench(c: &mut Criterion) {
+    let model = Model::from_file(root().join("models/paper/case1.toml")).unwrap();
+    let far = scattered(1000, 0.01, 1.0, 2.0, 2.0);
+    // In reach of the robot-level ball (~0.2 m) but below the base, clear of every shape.
+    let near = scattered(1000, 0.001, 0.05, 0.19, -0.03);
+    let wall = Scene::from_file(root().join("models/scenes/wall.toml")).unwrap();
+    let g = Geometric::literal();
+    // One solve of each, with per-section iterations, for the report.
+    for (name, scene) in [
+        ("empty", &Scene::empty()),
+        ("1000 out of reach", &far.scene),
+        ("1000 in reach", &near.scene),
+        ("wall", &wall),
+    ] {
+        match g.solve(&model.robot, &model.actuation, scene, None) {
+            Ok(s) => {
+                let its: Vec<usize> = s.report.sections.iter().map(|r| r.iterations).collect();
+                eprintln!(
+                    "{name}: {} contacts, iterations per section {its:?}",
+                    s.contacts.len()
+                );
+            }
+            Err(e) => eprintln!("{name}: {e}"),
+        }
+    }
+    let mut grp = c.benchmark_group("obstacles_case1");
+    grp.sample_size(20);
+    grp.bench_function("empty", |b| {
+        b.iter(|| black_box(g.solve(&model.robot, &model.actuation, &Scene::empty(), None)))
+    });
+    grp.bench_function("1000_out_of_reach", |b| {
+        b.iter(|| black_box(g.solve(&model.robot, &model.actuation, &far.scene, None)))
+    });
+    grp.bench_function("1000_in_reach", |b| {
+        b.iter(|| black_box(g.solve(&model.robot, &model.actuation, &near.scene, None)))
+    });
+    grp.bench_function("wall", |b| {
+        b.iter(|| black_box(g.solve(&model.robot, &model.actuation, &wall, None)))
+    });
+    // The broad phase alone: what 1000 obstacles add to a solve before any narrow phase.
+    let origin = nalgebra::Vector3::zeros();
+    grp.bench_function("broad_phase_1000_out_of_reach", |b| {
+        b.iter(|| black_box(far.scene.near(black_box(&origin), 0.2)))
+    });
+    grp.bench_function("broad_phase_1000_in_reach", |b| {
+        b.iter(|| black_box(near.scene.near(black_box(&origin), 0.2)))
+    });
+    grp.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

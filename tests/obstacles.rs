@@ -1,0 +1,497 @@
+//! Obstacles in the geometric section solver, checked independently: penetration recomputed
+//! with parry3d from the output disk frames (backbone capsules, disk cylinders, cable chords),
+//! contact points projected on the obstacle and robot surfaces, exact equality with the free
+//! shape when nothing is in reach, named errors for impossible scenes, scene-file validation.
+
+use ccrkit::method::geometric::Geometric;
+use ccrkit::method::solve_stepped;
+use ccrkit::{Method, Model, Scene, Shape, SolveError};
+use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use parry3d::math::{Pose, Vector as PVec};
+use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
+use proptest::prelude::*;
+use std::path::PathBuf;
+
+/// Deepest allowed penetration of any robot feature into any obstacle [m].
+const PENETRATION_TOL: f64 = 1e-6;
+/// Distance of a reported contact point from the surface it lies on [m].
+const SURFACE_TOL: f64 = 1e-6;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn case1() -> Model {
+    Model::from_file(root().join("models/paper/case1.toml")).expect("case 1")
+}
+
+fn case1_text() -> String {
+    std::fs::read_to_string(root().join("models/paper/case1.toml")).expect("case 1 text")
+}
+
+/// Case 1 with extra `[[obstacles]]` text.
+fn case1_with(obstacles: &str) -> Model {
+    Model::from_toml_str(&format!("{}\n{obstacles}", case1_text())).expect("model with obstacles")
+}
+
+fn pv(v: &Vector3<f64>) -> PVec {
+    PVec::new(v.x, v.y, v.z)
+}
+
+fn pose(r: &Matrix3<f64>, t: &Vector3<f64>) -> Pose {
+    Isometry3::from_parts(Translation3::from(*t), UnitQuaternion::from_matrix(r)).into()
+}
+
+/// Parry's cylinder axis is local y; the disk normal is local z.
+fn y_to_z() -> Matrix3<f64> {
+    Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0)
+}
+
+/// Every robot feature of a shape as (label, parry shape, pose).
+fn features(model: &Model, shape: &Shape) -> Vec<(String, Box<dyn PShape>, Pose)> {
+    let robot = &model.robot;
+    let mut out: Vec<(String, Box<dyn PShape>, Pose)> = vec![];
+    for (k, d) in shape.disks.iter().enumerate() {
+        out.push((
+            format!("disk {k}"),
+            Box::new(Cylinder::new(robot.disk_thickness / 2.0, robot.disk_radius)),
+            pose(&(d.rotation * y_to_z()), &d.position),
+        ));
+    }
+    for k in 1..shape.disks.len() {
+        out.push((
+            format!("backbone {k}"),
+            Box::new(Capsule::new(
+                pv(&shape.disks[k - 1].position),
+                pv(&shape.disks[k].position),
+                robot.backbone.radius(),
+            )),
+            Pose::IDENTITY,
+        ));
+    }
+    for c in &shape.cables {
+        for k in 1..c.points.len() {
+            if (c.points[k] - c.points[k - 1]).norm() > 0.0 {
+                out.push((
+                    format!("cable {} {k}", c.name),
+                    Box::new(Segment::new(pv(&c.points[k - 1]), pv(&c.points[k]))),
+                    Pose::IDENTITY,
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Smallest signed distance between any feature and any obstacle, and where.
+fn min_distance(model: &Model, shape: &Shape, scene: &Scene) -> (f64, String) {
+    let mut best = (f64::INFINITY, String::new());
+    for (label, g, gp) in features(model, shape) {
+        for o in &scene.obstacles {
+            if let Ok(Some(ct)) = parry3d::query::contact(&gp, &*g, &o.parry_pose, &*o.shape, 1.0) {
+                if ct.dist < best.0 {
+                    best = (ct.dist, format!("{label} / {}", o.name));
+                }
+            }
+        }
+    }
+    best
+}
+
+/// No penetration, and every contact's points lie on the obstacle and on the robot.
+fn assert_valid(model: &Model, shape: &Shape, scene: &Scene) {
+    let (d, where_) = min_distance(model, shape, scene);
+    assert!(d >= -PENETRATION_TOL, "penetration {d:.3e} m at {where_}");
+    let feats = features(model, shape);
+    for c in &shape.contacts {
+        let o = scene
+            .obstacles
+            .iter()
+            .find(|o| o.name == c.obstacle)
+            .expect("contact names a scene obstacle");
+        let q = PVec::new(
+            c.point_obstacle[0],
+            c.point_obstacle[1],
+            c.point_obstacle[2],
+        );
+        let proj = o.shape.project_point(&o.parry_pose, q, false);
+        let off = (proj.point - q).length();
+        assert!(
+            off <= SURFACE_TOL,
+            "contact point {:?} is {off:.3e} m off `{}`",
+            c.point_obstacle,
+            o.name
+        );
+        let r = PVec::new(c.point_robot[0], c.point_robot[1], c.point_robot[2]);
+        let on_robot = feats
+            .iter()
+            .map(|(_, g, gp)| (g.project_point(gp, r, false).point - r).length())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            on_robot <= SURFACE_TOL,
+            "robot contact point {:?} is {on_robot:.3e} m off every robot feature",
+            c.point_robot
+        );
+    }
+}
+
+fn geometric() -> Geometric {
+    Geometric::literal()
+}
+
+#[test]
+fn obstacles_out_of_reach_give_exactly_the_free_shape() {
+    let model = case1();
+    let free = geometric()
+        .solve(&model.robot, &model.actuation, &Scene::empty(), None)
+        .unwrap();
+    let far = case1_with(
+        r#"
+[[obstacles]]
+name = "far-ball"
+shape = "sphere"
+position = [1.0, 1.0, 1.0]
+radius = 0.05
+[[obstacles]]
+name = "far-box"
+shape = "box"
+position = [-0.5, 0.0, 0.1]
+half_extents = [0.01, 0.01, 0.01]
+"#,
+    );
+    assert_eq!(far.scene.obstacles.len(), 2);
+    let s = geometric()
+        .solve(&far.robot, &far.actuation, &far.scene, None)
+        .unwrap();
+    assert!(s.contacts.is_empty());
+    for (a, b) in s.disks.iter().zip(&free.disks) {
+        for k in 0..3 {
+            assert_eq!(a.position[k].to_bits(), b.position[k].to_bits());
+        }
+    }
+}
+
+#[test]
+fn a_wall_where_the_free_tip_would_be_stops_the_robot_there() {
+    let model = case1();
+    let free = geometric()
+        .solve(&model.robot, &model.actuation, &Scene::empty(), None)
+        .unwrap();
+    let face = free.tip().x - 0.008;
+    let walled = case1_with(&format!(
+        r#"
+[[obstacles]]
+name = "wall"
+shape = "box"
+position = [{}, 0.0, 0.1]
+half_extents = [0.005, 0.15, 0.12]
+"#,
+        face + 0.005
+    ));
+    let s = solve_stepped(
+        &geometric(),
+        &walled.robot,
+        &walled.actuation,
+        &walled.scene,
+        2,
+    )
+    .expect("the robot presses on the wall");
+    assert!(!s.contacts.is_empty(), "no contact reported");
+    for c in &s.contacts {
+        assert_eq!(c.obstacle, "wall");
+        assert!((c.point_obstacle[0] - face).abs() < SURFACE_TOL);
+        assert!(c.multiplier >= 0.0);
+    }
+    assert!(s.tip().x < free.tip().x);
+    assert_valid(&walled, &s, &walled.scene);
+}
+
+#[test]
+fn the_pillar_scene_converges_with_contacts_on_a_smooth_obstacle() {
+    // Regression: disk-against-cylinder contacts chattered at ~1e-7 m (GJK vs EPA normals)
+    // and no candidate was ever certified ("did not converge in section 5").
+    let model = case1();
+    let scene = Scene::from_file(root().join("models/scenes/pillar.toml")).unwrap();
+    let s = geometric()
+        .solve(&model.robot, &model.actuation, &scene, None)
+        .expect("pillar solves");
+    assert!(!s.contacts.is_empty());
+    assert_valid(&model, &s, &scene);
+}
+
+#[test]
+fn the_wall_scene_file_gives_contacts_on_the_last_disks() {
+    let model = case1();
+    let scene = Scene::from_file(root().join("models/scenes/wall.toml")).unwrap();
+    let s = geometric()
+        .solve(&model.robot, &model.actuation, &scene, None)
+        .unwrap();
+    let disks: Vec<usize> = s.contacts.iter().filter_map(|c| c.disk).collect();
+    assert_eq!(disks, vec![8, 9]);
+    assert_valid(&model, &s, &scene);
+}
+
+#[test]
+fn the_base_inside_an_obstacle_is_obstructed_at_section_0() {
+    let m = case1_with(
+        r#"
+[[obstacles]]
+name = "blob"
+shape = "sphere"
+position = [0.0, 0.0, 0.0]
+radius = 0.005
+"#,
+    );
+    match geometric().solve(&m.robot, &m.actuation, &m.scene, None) {
+        Err(SolveError::Obstructed {
+            obstacle, section, ..
+        }) => {
+            assert_eq!(obstacle, "blob");
+            assert_eq!(section, 0);
+        }
+        other => panic!("expected Obstructed at section 0, got {other:?}"),
+    }
+}
+
+#[test]
+fn a_robot_boxed_in_too_tightly_gives_a_named_error() {
+    // A closed box of 28 mm x 28 mm x 17 mm around the base: disk 1 (radius 12 mm, 20 mm from
+    // the base) fits nowhere inside.
+    let mut text = String::new();
+    for (name, p, h) in [
+        ("px", [0.024, 0.0, 0.0], [0.01, 0.05, 0.05]),
+        ("nx", [-0.024, 0.0, 0.0], [0.01, 0.05, 0.05]),
+        ("py", [0.0, 0.024, 0.0], [0.05, 0.01, 0.05]),
+        ("ny", [0.0, -0.024, 0.0], [0.05, 0.01, 0.05]),
+        ("lid", [0.0, 0.0, 0.025], [0.05, 0.05, 0.01]),
+        ("floor", [0.0, 0.0, -0.012], [0.05, 0.05, 0.01]),
+    ] {
+        text += &format!(
+            "[[obstacles]]\nname = \"{name}\"\nshape = \"box\"\nposition = {p:?}\nhalf_extents = {h:?}\n"
+        );
+    }
+    let m = case1_with(&text);
+    match geometric().solve(&m.robot, &m.actuation, &m.scene, None) {
+        Err(SolveError::Obstructed { .. })
+        | Err(SolveError::Infeasible { .. })
+        | Err(SolveError::NotConverged { .. }) => {}
+        other => panic!("expected a named error, got {other:?}"),
+    }
+}
+
+#[test]
+fn the_committed_vessel_mesh_is_what_the_generator_writes() {
+    let text = std::fs::read_to_string(root().join("models/meshes/vessel.obj")).unwrap();
+    let body: String = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let (v, t) = ccrkit::mesh::bent_tube(0.11, 0.02, -0.1, 1.8, 61, 32);
+    assert_eq!(body, ccrkit::mesh::to_obj(&v, &t));
+    let scene = Scene::from_file(root().join("models/scenes/vessel.toml")).unwrap();
+    assert_eq!(scene.obstacles[0].name, "vessel");
+}
+
+#[test]
+fn near_among_only_tests_the_given_obstacles() {
+    let m = case1_with(
+        r#"
+[[obstacles]]
+name = "a"
+shape = "sphere"
+position = [0.0, 0.0, 0.1]
+radius = 0.01
+[[obstacles]]
+name = "b"
+shape = "sphere"
+position = [0.0, 0.0, 0.12]
+radius = 0.01
+"#,
+    );
+    let c = Vector3::new(0.0, 0.0, 0.1);
+    assert_eq!(m.scene.near(&c, 0.05), vec![0, 1]);
+    assert_eq!(m.scene.near_among(&[1], &c, 0.05), vec![1]);
+    assert_eq!(m.scene.near_among(&[], &c, 0.05), Vec::<usize>::new());
+    assert_eq!(m.scene.near_among(&[7], &c, 0.05), Vec::<usize>::new());
+}
+
+// ---- scene-file validation: one test per rule, each naming the field ----
+
+fn scene_err(name: &str, body: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("ccrkit-obstacles-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(format!("{name}.toml"));
+    std::fs::write(&p, body).unwrap();
+    match Scene::from_file(&p) {
+        Ok(_) => panic!("scene `{name}` was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn assert_names(msg: &str, what: &str) {
+    assert!(msg.contains(what), "error `{msg}` does not name `{what}`");
+}
+
+#[test]
+fn unknown_shape_is_rejected() {
+    let e = scene_err("shape", "[[obstacles]]\nshape = \"cone\"\nradius = 0.01\n");
+    assert_names(&e, "obstacles[0].shape");
+    assert_names(&e, "cone");
+}
+
+#[test]
+fn missing_size_is_rejected() {
+    let e = scene_err("missing", "[[obstacles]]\nshape = \"sphere\"\n");
+    assert_names(&e, "obstacles[0].radius");
+    let e = scene_err("missing-he", "[[obstacles]]\nshape = \"box\"\n");
+    assert_names(&e, "obstacles[0].half_extents");
+}
+
+#[test]
+fn negative_size_is_rejected() {
+    let e = scene_err("neg", "[[obstacles]]\nshape = \"sphere\"\nradius = -0.01\n");
+    assert_names(&e, "obstacles[0].radius");
+    let e = scene_err(
+        "neg-he",
+        "[[obstacles]]\nshape = \"box\"\nhalf_extents = [0.01, -0.02, 0.01]\n",
+    );
+    assert_names(&e, "obstacles[0].half_extents[1]");
+    let e = scene_err(
+        "neg-hh",
+        "[[obstacles]]\nshape = \"cylinder\"\nradius = 0.01\nhalf_height = 0.0\n",
+    );
+    assert_names(&e, "obstacles[0].half_height");
+}
+
+#[test]
+fn bad_quaternion_is_rejected() {
+    let e = scene_err(
+        "quat",
+        "[[obstacles]]\nshape = \"sphere\"\nradius = 0.01\nrotation = { quaternion = [0.0, 0.0, 0.0, 0.0] }\n",
+    );
+    assert_names(&e, "obstacles[0].rotation.quaternion");
+}
+
+#[test]
+fn a_mesh_that_does_not_load_names_the_file() {
+    let e = scene_err(
+        "mesh",
+        "[[obstacles]]\nshape = \"mesh\"\npath = \"no-such-vessel.obj\"\n",
+    );
+    assert_names(&e, "obstacles[0].path");
+    assert_names(&e, "no-such-vessel.obj");
+}
+
+#[test]
+fn duplicate_names_are_rejected() {
+    let e = scene_err(
+        "dup",
+        "[[obstacles]]\nname = \"x\"\nshape = \"sphere\"\nradius = 0.01\n[[obstacles]]\nname = \"x\"\nshape = \"sphere\"\nradius = 0.02\n",
+    );
+    assert_names(&e, "obstacles[1].name");
+}
+
+#[test]
+fn unknown_fields_are_rejected() {
+    let e = scene_err(
+        "unknown",
+        "[[obstacles]]\nshape = \"sphere\"\nradius = 0.01\ncolour = \"red\"\n",
+    );
+    assert_names(&e, "colour");
+    let e = scene_err("unknown-top", "gravity = 9.81\n");
+    assert_names(&e, "gravity");
+    let e = scene_err(
+        "wrong-size",
+        "[[obstacles]]\nshape = \"sphere\"\nradius = 0.01\nhalf_height = 0.01\n",
+    );
+    assert_names(&e, "obstacles[0].half_height");
+}
+
+// ---- random scenes ----
+
+fn obstacle_strategy() -> impl Strategy<Value = String> {
+    (
+        prop::bool::ANY,
+        -0.06f64..0.12,
+        -0.06f64..0.14,
+        0.03f64..0.19,
+        0.004f64..0.02,
+        0.004f64..0.02,
+        0.004f64..0.02,
+    )
+        .prop_map(|(ball, x, y, z, a, b, c)| {
+            if ball {
+                format!("shape = \"sphere\"\nposition = [{x}, {y}, {z}]\nradius = {a}\n")
+            } else {
+                format!(
+                    "shape = \"box\"\nposition = [{x}, {y}, {z}]\nhalf_extents = [{a}, {b}, {c}]\n"
+                )
+            }
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Random spheres and boxes around the robot's reach: either a shape without penetration
+    /// whose contacts lie on both surfaces, or a named error — never a wrong shape.
+    #[test]
+    fn random_scenes_never_give_a_penetrating_shape(obs in prop::collection::vec(obstacle_strategy(), 1..4)) {
+        let text: String = obs.iter().map(|o| format!("[[obstacles]]\n{o}")).collect();
+        let m = case1_with(&text);
+        match solve_stepped(&geometric(), &m.robot, &m.actuation, &m.scene, 2) {
+            Ok(s) => assert_valid(&m, &s, &m.scene),
+            Err(SolveError::Obstructed { .. })
+            | Err(SolveError::Infeasible { .. })
+            | Err(SolveError::NotConverged { .. }) => {}
+            Err(e) => panic!("unexpected error kind: {e}"),
+        }
+    }
+}
+
+#[test]
+#[ignore = "open: the slack face now runs, but section 5 is not certified (NotConverged)"]
+fn an_obstacle_in_the_way_of_a_slack_section_bends_it_away() {
+    // Regression: with every cable slack the section only tried the straight pose, and when
+    // an obstacle blocked it the section was reported infeasible. Both cables at 0 %: the
+    // straight robot would graze a ball on the side opposite both cables (240°), and bending
+    // towards 60° slackens both.
+    let text = case1_text()
+        .replace("shorten_percent = 4.0", "shorten_percent = 0.0")
+        .replace("shorten_percent = 3.0", "shorten_percent = 0.0");
+    let a = 240f64.to_radians();
+    let m = Model::from_toml_str(&format!(
+        "{text}\n[[obstacles]]\nname = \"ball\"\nshape = \"sphere\"\nposition = [{}, {}, 0.1]\nradius = 0.01\n",
+        0.02 * a.cos(),
+        0.02 * a.sin()
+    ))
+    .unwrap();
+    let s = geometric()
+        .solve(&m.robot, &m.actuation, &m.scene, None)
+        .expect("the slack robot bends away from the ball");
+    assert!(!s.contacts.is_empty());
+    assert_valid(&m, &s, &m.scene);
+}
+
+#[test]
+fn the_robot_in_the_vessel_presses_on_its_wall_without_crossing_it() {
+    let model = case1();
+    let scene = Scene::from_file(root().join("models/scenes/vessel.toml")).unwrap();
+    let s = geometric()
+        .solve(&model.robot, &model.actuation, &scene, None)
+        .expect("the vessel scene solves");
+    assert!(s.contacts.len() >= 3, "contacts: {:?}", s.contacts);
+    assert_valid(&model, &s, &scene);
+    // Unsigned distances cannot tell inside from outside: check each disk centre lies inside
+    // the tube (closer to its centre line than the 20 mm radius), in the tube's frame.
+    let (bend, radius) = (0.11, 0.02);
+    let tube = &scene.obstacles[0];
+    for (k, d) in s.disks.iter().enumerate() {
+        let p = tube.pose.inverse() * nalgebra::Point3::from(d.position);
+        let q = p.coords - Vector3::new(bend, 0.0, 0.0);
+        let th = q.z.atan2(-q.x).clamp(-0.1, 1.8);
+        let c = Vector3::new(bend * (1.0 - th.cos()), 0.0, bend * th.sin());
+        assert!((p.coords - c).norm() < radius, "disk {k} left the tube");
+    }
+}
