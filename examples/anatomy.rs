@@ -14,10 +14,12 @@
 //! this example still checks it independently — each disk centre must lie inside the tube
 //! (closer to its centre line than the tube radius) — and fails rather than draw a wrong shape.
 
+mod common;
+
 use anyhow::{bail, Result};
 use ccrkit::plot::plot_scene;
 use ccrkit::shape::Shape;
-use ccrkit::{method_by_name, Actuation, Model, Scene, Shortening};
+use ccrkit::{method_by_name, Model, Scene};
 use nalgebra::{Point3, Vector3};
 use std::path::PathBuf;
 
@@ -47,7 +49,7 @@ fn main() -> Result<()> {
             let mut last: Option<(f64, Shape)> = None;
             for k in 1..=STEPS {
                 let f = k as f64 / STEPS as f64;
-                let act = scaled(&model.actuation, f);
+                let act = model.actuation.scaled(f);
                 let warm = last.as_ref().map(|(_, s)| s);
                 match method.solve(&model.robot, &act, &scene, warm) {
                     Ok(s) => {
@@ -81,32 +83,13 @@ fn main() -> Result<()> {
         t.y,
         t.z
     );
-    for c in &shape.contacts {
-        let p = c.point_robot.map(|x| x * 1e3);
-        println!(
-            "contact {} {} at [{:.3}, {:.3}, {:.3}] mm, distance {:.2e} m, multiplier {:.4}",
-            c.obstacle, c.feature, p[0], p[1], p[2], c.distance, c.multiplier
-        );
-    }
+    common::print_contacts(&shape.contacts);
     for ext in ["png", "svg"] {
         let p = out.join(format!("anatomy.{ext}"));
         plot_scene(&shape, &model.robot, &scene, &p)?;
         println!("wrote {}", p.display());
     }
     Ok(())
-}
-
-/// The actuation with every displacement and tension scaled by `f`.
-fn scaled(act: &Actuation, f: f64) -> Actuation {
-    let mut a = act.clone();
-    for d in &mut a.cables {
-        d.shorten = d.shorten.map(|s| match s {
-            Shortening::Length(x) => Shortening::Length(f * x),
-            Shortening::Fraction(x) => Shortening::Fraction(f * x),
-        });
-        d.tension = d.tension.map(|t| f * t);
-    }
-    a
 }
 
 /// Every disk centre closer to the tube's centre line than its radius (tube frame).

@@ -68,6 +68,20 @@ impl Actuation {
         self.cables.get(c)?.tension
     }
 
+    /// Every displacement and tension scaled by `f` (a point on the path from no actuation to
+    /// this one, for continuation).
+    pub fn scaled(&self, f: f64) -> Actuation {
+        let mut a = self.clone();
+        for d in &mut a.cables {
+            d.shorten = d.shorten.map(|s| match s {
+                Shortening::Length(x) => Shortening::Length(f * x),
+                Shortening::Fraction(x) => Shortening::Fraction(f * x),
+            });
+            d.tension = d.tension.map(|t| f * t);
+        }
+        a
+    }
+
     /// Set the shortening of the named cable as a fraction (builder style, for sweeps).
     pub fn with_fraction(mut self, c: usize, fraction: f64) -> Self {
         if let Some(d) = self.cables.get_mut(c) {

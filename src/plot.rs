@@ -141,6 +141,43 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rows: &[Row]) -> Resu
     Ok(())
 }
 
+/// A chart on `area` with equal scales on both axes (a square window of side `span` around
+/// `center`), light grid and the given axis labels: the frame of every projected view.
+pub(crate) fn square_chart<'a, DB: DrawingBackend + 'a>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: String,
+    caption_size: u32,
+    center: (f64, f64),
+    span: f64,
+    labels: (&str, &str),
+) -> Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    Box<dyn std::error::Error + 'a>,
+> {
+    let (cx, cy) = center;
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", caption_size))
+        .margin(8)
+        .x_label_area_size(32)
+        .y_label_area_size(44)
+        .build_cartesian_2d(
+            (cx - span / 2.0)..(cx + span / 2.0),
+            (cy - span / 2.0)..(cy + span / 2.0),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc(labels.0)
+        .y_desc(labels.1)
+        .label_style(("sans-serif", 12))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    Ok(chart)
+}
+
 fn disk_outline(shape: &Shape, k: usize, radius: f64) -> Vec<Vector3<f64>> {
     let d = &shape.disks[k];
     (0..=32)
@@ -195,22 +232,7 @@ fn draw_view<'a, DB: DrawingBackend + 'a>(
     } else {
         String::new()
     };
-    let mut chart = ChartBuilder::on(area)
-        .caption(caption, ("sans-serif", 18))
-        .margin(8)
-        .x_label_area_size(32)
-        .y_label_area_size(44)
-        .build_cartesian_2d(
-            (cx - span / 2.0)..(cx + span / 2.0),
-            (cy - span / 2.0)..(cy + span / 2.0),
-        )?;
-    chart
-        .configure_mesh()
-        .x_desc(xl)
-        .y_desc(yl)
-        .label_style(("sans-serif", 12))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()?;
+    let mut chart = square_chart(area, caption, 18, (cx, cy), span, (xl, yl))?;
     for w in wires {
         chart.draw_series(LineSeries::new(
             w,

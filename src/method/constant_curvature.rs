@@ -50,11 +50,12 @@
 use crate::actuation::Actuation;
 use crate::error::SolveError;
 use crate::method::cosserat::Control;
+use crate::method::geometric::cable_paths;
 use crate::method::Method;
 use crate::numeric::rotation::exp_so3;
 use crate::robot::Robot;
 use crate::scene::Scene;
-use crate::shape::{CablePath, DiskFrame, Shape, SolveReport};
+use crate::shape::{DiskFrame, Shape, SolveReport};
 use nalgebra::{Matrix2, Vector2, Vector3};
 use std::time::Instant;
 
@@ -253,24 +254,22 @@ impl Method for ConstantCurvature {
             }
         }
         backbone.push(arc_frame(&u, len).0);
-        let cables = robot
+        let slack_sections: Vec<Vec<usize>> = robot
             .cables
             .iter()
             .enumerate()
-            .map(|(c, cable)| CablePath {
-                name: cable.name.clone(),
-                points: (0..=cable.ends_at)
-                    .map(|k| disks[k].position + disks[k].rotation * cable.hole(k))
-                    .collect(),
-                slack: slack[c],
-                slack_sections: if slack[c] {
+            .map(|(c, cable)| {
+                if slack[c] {
                     (1..=cable.ends_at).collect()
                 } else {
                     vec![]
-                },
-                tension: tensions[c],
+                }
             })
             .collect();
+        let mut cables = cable_paths(robot, &disks, &slack_sections);
+        for (path, t) in cables.iter_mut().zip(&tensions) {
+            path.tension = *t;
+        }
         notes.push(format!(
             "curvature {:.6} 1/m, bending plane {:.6} rad",
             u.norm(),

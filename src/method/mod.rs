@@ -49,19 +49,7 @@ pub fn solve_stepped(
     let mut shape: Option<Shape> = None;
     let mut iterations = 0;
     for k in 1..=steps {
-        let f = k as f64 / steps as f64;
-        let mut a = act.clone();
-        for d in &mut a.cables {
-            d.shorten = d.shorten.map(|s| match s {
-                crate::actuation::Shortening::Length(x) => {
-                    crate::actuation::Shortening::Length(f * x)
-                }
-                crate::actuation::Shortening::Fraction(x) => {
-                    crate::actuation::Shortening::Fraction(f * x)
-                }
-            });
-            d.tension = d.tension.map(|t| f * t);
-        }
+        let a = act.scaled(k as f64 / steps as f64);
         let s = method.solve(robot, &a, scene, shape.as_ref())?;
         iterations += s.report.iterations;
         shape = Some(s);

@@ -318,22 +318,8 @@ where
         } else {
             String::new()
         };
-        let mut chart = ChartBuilder::on(&areas[k])
-            .caption(caption, ("sans-serif", 17))
-            .margin(8)
-            .x_label_area_size(32)
-            .y_label_area_size(44)
-            .build_cartesian_2d(
-                (cx - span / 2.0)..(cx + span / 2.0),
-                (cy - span / 2.0)..(cy + span / 2.0),
-            )?;
-        chart
-            .configure_mesh()
-            .x_desc(xl)
-            .y_desc(yl)
-            .label_style(("sans-serif", 12))
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()?;
+        let mut chart = crate::plot::square_chart(&areas[k], caption, 17, (cx, cy), span, (xl, yl))
+            .map_err(|e| e.to_string())?;
         chart.draw_series(
             tips.iter()
                 .map(|t| Circle::new((t[ix], t[iy]), 2, PALETTE[0].mix(0.6).filled())),
