@@ -1,8 +1,10 @@
 //! The Cosserat rod against independent truths: closed-form arcs and beams, global static
 //! balance, force/displacement inversion, RK4 order, inner-disk terminations, slack cables.
 
+mod common;
 use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
-use ccrkit::{Actuation, Method, Model, Scene, Shape, Shortening, SolveError};
+use ccrkit::{Actuation, Method, Model, Scene, Shortening, SolveError};
+use common::{paper, solve};
 use nalgebra::Vector3;
 
 /// Relative tolerance for "exact" closed forms (integration + shooting error only).
@@ -40,19 +42,6 @@ angles = {{ straight = 0.0 }}
 "#
     );
     Model::from_toml_str(&text).expect("test model parses")
-}
-
-fn paper(n: usize) -> Model {
-    Model::from_file(format!(
-        "{}/models/paper/case{n}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .expect("paper model parses")
-}
-
-fn solve(m: &dyn Method, model: &Model) -> Shape {
-    m.solve(&model.robot, &model.actuation, &Scene::empty(), None)
-        .expect("solves")
 }
 
 fn tight(c: Cosserat) -> Cosserat {

@@ -4,10 +4,12 @@
 //! slack / free / inner-disk cables, warm starts, errors, and agreement with the Cosserat rod
 //! driven by the same cable lengths.
 
+mod common;
 use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
 use ccrkit::method::energy::{CableLength, Energy};
 use ccrkit::routing::Route;
 use ccrkit::{Actuation, Method, Model, Robot, Scene, Shape, Shortening, SolveError};
+use common::{paper, solve};
 use nalgebra::{Matrix4, Rotation3, Vector3, Vector4};
 
 const E: f64 = 1.1e9;
@@ -46,19 +48,6 @@ backbone = {{ youngs_modulus = {E}, poisson_ratio = 0.3, diameter = {D} }}
 "#
     );
     Model::from_toml_str(&text).expect("test model parses")
-}
-
-fn paper(n: usize) -> Model {
-    Model::from_file(format!(
-        "{}/models/paper/case{n}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .expect("paper model parses")
-}
-
-fn solve(m: &dyn Method, model: &Model) -> Shape {
-    m.solve(&model.robot, &model.actuation, &Scene::empty(), None)
-        .expect("solves")
 }
 
 /// The rod under displacement control, tight tolerance, 20 RK4 steps per section.

@@ -1,0 +1,19 @@
+//! Helpers shared by the integration tests (each test file uses the ones it needs).
+#![allow(dead_code)]
+
+use ccrkit::{Method, Model, Scene, Shape};
+
+/// Paper case `n` (1, 2 or 3) from `models/paper/`.
+pub fn paper(n: usize) -> Model {
+    Model::from_file(format!(
+        "{}/models/paper/case{n}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("paper model parses")
+}
+
+/// Solve a model without obstacles, expecting success.
+pub fn solve(m: &dyn Method, model: &Model) -> Shape {
+    m.solve(&model.robot, &model.actuation, &Scene::empty(), None)
+        .expect("solves")
+}
