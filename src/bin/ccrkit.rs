@@ -1,6 +1,6 @@
 //! `ccrkit`: the command line, a thin shell over the library.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
 use ccrkit::method::{method_by_name, Method, METHOD_NAMES};
 use ccrkit::routing::RoutingFit;
@@ -44,6 +44,10 @@ enum Command {
         /// Reach the actuation in K equal steps, each warm-started from the last.
         #[arg(long, default_value_t = 1)]
         steps: usize,
+        /// Start from the shape another method finds (e.g. `geometric`, whose sections never
+        /// cross an obstacle, for `energy` inside a tube); its time is not counted.
+        #[arg(long, value_name = "METHOD")]
+        warm_from: Option<String>,
         #[command(flatten)]
         rod: RodArgs,
     },
@@ -292,6 +296,7 @@ fn run() -> Result<()> {
             repeat,
             scene,
             steps,
+            warm_from,
             rod,
         } => {
             let model = Model::from_file(&file)?;
@@ -300,7 +305,21 @@ fn run() -> Result<()> {
             if let Some(p) = scene {
                 sc.merge(Scene::from_file(&p)?);
             }
-            let (shape, median) = solve_timed(&*m, &model, &sc, repeat.max(1), steps)?;
+            let warm = match warm_from {
+                Some(name) if steps > 1 => {
+                    bail!("--warm-from {name} and --steps {steps} cannot be combined")
+                }
+                Some(name) => {
+                    let w = rod.method(&name)?;
+                    Some(
+                        w.solve(&model.robot, &model.actuation, &sc, None)
+                            .with_context(|| format!("the --warm-from method `{name}`"))?,
+                    )
+                }
+                None => None,
+            };
+            let (shape, median) =
+                solve_timed(&*m, &model, &sc, repeat.max(1), steps, warm.as_ref())?;
             let quiet = json.as_deref() == Some("-");
             if !quiet {
                 print_summary(&model, &shape, median, repeat.max(1));
@@ -452,12 +471,16 @@ fn solve_timed(
     scene: &Scene,
     repeat: usize,
     steps: usize,
+    warm: Option<&Shape>,
 ) -> Result<(Shape, f64)> {
     let mut times = Vec::with_capacity(repeat);
     let mut shape = None;
     for _ in 0..repeat {
         let t = Instant::now();
-        let s = ccrkit::method::solve_stepped(m, &model.robot, &model.actuation, scene, steps)?;
+        let s = match warm {
+            Some(w) => m.solve(&model.robot, &model.actuation, scene, Some(w))?,
+            None => ccrkit::method::solve_stepped(m, &model.robot, &model.actuation, scene, steps)?,
+        };
         times.push(t.elapsed().as_secs_f64());
         shape = Some(s);
     }

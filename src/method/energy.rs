@@ -96,15 +96,20 @@
 // Index loops mirror the block/variable layout of the math below.
 #![allow(clippy::needless_range_loop)]
 
+mod contacts;
+
 use crate::actuation::Actuation;
 use crate::error::SolveError;
+use crate::method::contact::check_base;
 use crate::method::geometric::cable_paths;
 use crate::method::Method;
 use crate::numeric::ad::{Real, D2};
+use crate::numeric::rotation::log_so3;
 use crate::robot::Robot;
 use crate::routing::{Route, RoutingFit};
 use crate::scene::Scene;
-use crate::shape::{DiskFrame, Shape, SolveReport};
+use crate::shape::{Contact, DiskFrame, Shape, SolveReport};
+use contacts::{Feat, Pair, World};
 use nalgebra::{Matrix3, Vector3};
 use std::time::Instant;
 
@@ -486,7 +491,32 @@ struct Problem<'a> {
     nblocks: usize,
     /// Stationarity scale: r̄ / (EI ℓ_min).
     stat_scale: f64,
+    /// Obstacles within reach (none: no distance constraints).
+    world: Option<World<'a>>,
 }
+
+/// What [`Energy::newton`] found.
+struct Solution {
+    xi: Vec<f64>,
+    /// Cable multipliers (tensions) [N].
+    lam: Vec<f64>,
+    /// Active contacts with their reactions [N].
+    contacts: Vec<Contact>,
+    iterations: usize,
+    residual: f64,
+}
+
+/// Residual [m] at which a solution with active contacts has converged: parry's distances and
+/// normals on smooth pairs (a disk rim against a cylinder or a tube) carry ~1e-9 m of noise.
+const CONTACT_RESIDUAL: f64 = 1e-8;
+
+/// A full Newton step that moves no point of the robot by more than this [m] ends a solve
+/// with active contacts (see [`Energy::newton`]).
+const CONTACT_STEP: f64 = 1e-7;
+
+/// Noise of parry's signed distances near touching [m]: a merit decrease predicted below
+/// `penalty × CONTACT_NOISE` cannot be checked, so the full step is taken.
+const CONTACT_NOISE: f64 = 1e-9;
 
 /// Scratch for the Newton iterations (allocated once per solve).
 struct Work {
@@ -714,6 +744,47 @@ impl Problem<'_> {
         }
     }
 
+    /// Strains that put the disks where `disks` has them, approximately: per section, the
+    /// constant strain whose exponential has the section's relative rotation (`u = log(R)/l`)
+    /// and its chord length (`ε`), on every sub-arc of the section. A start for shapes from
+    /// other methods (e.g. the geometric method's inside a tube, where the straight start
+    /// would cross the wall); non-finite frames leave the straight start.
+    fn strains_from_disks(&self, disks: &[DiskFrame], xi: &mut [f64]) {
+        let mut out = vec![0.0; xi.len()];
+        for i in 1..disks.len() {
+            let (a, b) = (&disks[i - 1], &disks[i]);
+            let r = a.rotation.transpose() * b.rotation;
+            let p = a.rotation.transpose() * (b.position - a.position);
+            let l = self.robot.section_length(i);
+            let u = log_so3(&r) / l;
+            let (_, unit) = sub_arc_exp(&[u.x, u.y, u.z, 0.0], l);
+            let stretch = p.norm() / unit.norm();
+            for j in (i - 1) * self.m..i * self.m {
+                out[4 * j..4 * j + 4].copy_from_slice(&[u.x, u.y, u.z, stretch - 1.0]);
+            }
+        }
+        if out.iter().all(|v| v.is_finite()) {
+            xi.copy_from_slice(&out);
+        }
+    }
+
+    /// Upper bound on how far a change `d` of the strains moves any point of the robot [m]:
+    /// turning sub-arc `j` by `ℓ_j |δu_j|` moves what lies beyond it by at most that angle
+    /// times the length beyond, stretching it by `ℓ_j |δε_j|`.
+    fn move_bound(&self, d: &[f64]) -> f64 {
+        let total: f64 = self.ell.iter().sum();
+        let mut s = 0.0;
+        let mut bound = 0.0;
+        for (j, l) in self.ell.iter().enumerate() {
+            let du =
+                (d[4 * j] * d[4 * j] + d[4 * j + 1] * d[4 * j + 1] + d[4 * j + 2] * d[4 * j + 2])
+                    .sqrt();
+            bound += l * (du * (total - s) + d[4 * j + 3].abs());
+            s += l;
+        }
+        bound
+    }
+
     /// Solve `H x = rhs` in place with the factored blocks.
     fn block_solve(&self, hess: &[f64], x: &mut [f64]) {
         let nb = self.nb;
@@ -836,6 +907,114 @@ fn small_solve(s: &mut [f64], r: &mut [f64], n: usize) -> Option<()> {
     Some(())
 }
 
+/// Minimize `½ λᵀ S λ − qᵀ λ` over `λ ≥ 0` (`S`: `n × n`, symmetric positive semidefinite,
+/// row-major): the dual of one step's QP. A primal active set on the bounds: on the free set
+/// `F` solve `S_FF λ_F = q_F`; if that leaves the bounds, move to the first bound met and fix
+/// it there, else free the fixed bound with the most negative gradient `(S λ − q)_i`; done
+/// when none is negative. `lam` holds the start (projected on `λ ≥ 0`) and the result. When
+/// the free rows are dependent (two contacts at one joint, cables sharing a path), a ridge
+/// from 1e-12 of the largest diagonal up makes them solvable and they share the load; it is
+/// not used otherwise, since even 1e-12 moves the step by more than the last Newton
+/// corrections. `false` if it cycles.
+fn nonneg_qp(s: &[f64], q: &[f64], n: usize, lam: &mut [f64]) -> bool {
+    if n == 0 {
+        return true;
+    }
+    let big = (0..n).map(|i| s[i * n + i].abs()).fold(0.0, f64::max);
+    let mut ridge = 0.0;
+    for l in lam.iter_mut() {
+        *l = if l.is_finite() { l.max(0.0) } else { 0.0 };
+    }
+    let mut free: Vec<bool> = lam.iter().map(|&l| l > 0.0).collect();
+    // A bound freed because its gradient was negative must come out positive; in round-off
+    // (nearly dependent rows) it may not: then it stays fixed (its gradient is ~0 anyway).
+    let mut blocked = vec![false; n];
+    let mut last_added: Option<usize> = None;
+    let mut x = vec![0.0; n];
+    let (mut sub, mut rhs, mut idx) = (vec![], vec![], vec![]);
+    for _ in 0..20 * n + 50 {
+        idx.clear();
+        idx.extend((0..n).filter(|&i| free[i]));
+        let k = idx.len();
+        x.fill(0.0);
+        if k > 0 {
+            loop {
+                sub.clear();
+                rhs.clear();
+                for &a in &idx {
+                    rhs.push(q[a]);
+                    for &b in &idx {
+                        sub.push(s[a * n + b] + if a == b { ridge } else { 0.0 });
+                    }
+                }
+                if small_solve(&mut sub, &mut rhs, k).is_some() {
+                    break;
+                }
+                // Dependent rows: a ridge (it perturbs the multipliers, so only when needed).
+                ridge = if ridge == 0.0 {
+                    1e-12 * big
+                } else {
+                    100.0 * ridge
+                };
+                if !(ridge > 0.0 && ridge < big) {
+                    return false;
+                }
+            }
+            for (t, &a) in idx.iter().enumerate() {
+                x[a] = rhs[t];
+            }
+        }
+        if idx.iter().all(|&a| x[a] >= 0.0) {
+            lam.copy_from_slice(&x);
+            let mut best: Option<(usize, f64)> = None;
+            for i in (0..n).filter(|&i| !free[i] && !blocked[i]) {
+                let (mut g, mut scale) = (-q[i], q[i].abs());
+                for j in 0..n {
+                    g += s[i * n + j] * lam[j];
+                    scale += (s[i * n + j] * lam[j]).abs();
+                }
+                if g < -1e-12 * scale && best.is_none_or(|(_, b)| g < b) {
+                    best = Some((i, g));
+                }
+            }
+            match best {
+                Some((i, _)) => {
+                    free[i] = true;
+                    last_added = Some(i);
+                }
+                None => return true,
+            }
+        } else {
+            if let Some(i) = last_added.take() {
+                if x[i] < 0.0 {
+                    free[i] = false;
+                    blocked[i] = true;
+                    continue;
+                }
+            }
+            let mut alpha = 1.0;
+            let mut hit = None;
+            for &a in &idx {
+                if x[a] < 0.0 {
+                    let r = lam[a] / (lam[a] - x[a]);
+                    if r < alpha {
+                        alpha = r;
+                        hit = Some(a);
+                    }
+                }
+            }
+            for &a in &idx {
+                lam[a] += alpha * (x[a] - lam[a]);
+                if lam[a] <= 0.0 || Some(a) == hit {
+                    lam[a] = 0.0;
+                    free[a] = false;
+                }
+            }
+        }
+    }
+    false
+}
+
 impl Method for Energy {
     fn name(&self) -> &str {
         "energy"
@@ -849,12 +1028,6 @@ impl Method for Energy {
         warm: Option<&Shape>,
     ) -> Result<Shape, SolveError> {
         let start = Instant::now();
-        if !scene.is_empty() {
-            return Err(SolveError::Unsupported {
-                method: self.name().into(),
-                reason: "obstacles are not handled by the energy model yet".into(),
-            });
-        }
         if self.sub_arcs == 0 {
             return Err(SolveError::InvalidInput {
                 field: "sub_arcs".into(),
@@ -879,7 +1052,7 @@ impl Method for Energy {
                 reason: format!("must be in (0, 1], got {}", self.min_stretch),
             });
         }
-        let prob = self.setup(robot, act)?;
+        let prob = self.setup(robot, act, scene)?;
         let mut notes = vec![format!(
             "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
             self.sub_arcs, self.cable_length, self.routing
@@ -898,13 +1071,25 @@ impl Method for Energy {
                 _ => {}
             }
         }
-        let (xi, lam, it, resid) = self.newton(&prob, warm)?;
-        Ok(self.build_shape(&prob, &xi, &lam, it, resid, start, notes))
+        if let Some(wd) = &prob.world {
+            notes.push(format!(
+                "obstacles: {} of {} within reach; contact multipliers are reactions [N]",
+                wd.obstacle_count(),
+                scene.obstacles.len()
+            ));
+        }
+        let sol = self.newton(&prob, warm)?;
+        Ok(self.build_shape(&prob, sol, start, notes))
     }
 }
 
 impl Energy {
-    fn setup<'a>(&'a self, robot: &'a Robot, act: &Actuation) -> Result<Problem<'a>, SolveError> {
+    fn setup<'a>(
+        &'a self,
+        robot: &'a Robot,
+        act: &Actuation,
+        scene: &'a Scene,
+    ) -> Result<Problem<'a>, SolveError> {
         let m = self.sub_arcs;
         let n = robot.sections();
         let nsub = n * m;
@@ -962,7 +1147,15 @@ impl Energy {
             nb,
             nblocks,
             stat_scale: rbar / (ei * lmin),
+            world: None,
         };
+        if !scene.is_empty() {
+            // Broad phase, robot level: only obstacles within reach of the base take part.
+            let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
+            let near = scene.near(&Vector3::zeros(), reach);
+            check_base(robot, scene, &near)?;
+            prob.world = World::new(robot, scene, near, m);
+        }
         // Undeformed lengths in the chosen measure (straight backbone, ξ = 0).
         let mut len0 = vec![0.0; nc];
         prob.lengths(&vec![0.0; 4 * nsub], &mut len0);
@@ -1007,54 +1200,57 @@ impl Energy {
         Ok(prob)
     }
 
-    /// Newton–KKT with a primal–dual active set (module docs). Returns strains, multipliers,
-    /// iterations and the final residual.
-    fn newton(
-        &self,
-        prob: &Problem,
-        warm: Option<&Shape>,
-    ) -> Result<(Vec<f64>, Vec<f64>, usize, f64), SolveError> {
+    /// Sequential QP (Newton–KKT) on the whole robot (module docs). Returns the strains, the
+    /// cable multipliers, the active contacts with theirs, iterations and the final residual.
+    fn newton(&self, prob: &Problem, warm: Option<&Shape>) -> Result<Solution, SolveError> {
         let robot = prob.robot;
         let nc = robot.cables.len();
         let nv = prob.nvar();
         let nb = prob.nb;
         let mut xi = vec![0.0; nv];
         let mut lam = vec![0.0; nc];
-        if let Some(st) = warm.and_then(|w| w.report.state.as_ref()) {
-            if st.len() == nv + nc && st.iter().all(|v| v.is_finite()) {
-                xi.copy_from_slice(&st[..nv]);
-                for c in 0..nc {
-                    if matches!(prob.drives[c], Drive::Length(_)) {
-                        lam[c] = st[nv + c].max(0.0);
-                    }
+        let state = warm
+            .and_then(|w| w.report.state.as_ref())
+            .filter(|st| st.len() == nv + nc && st.iter().all(|v| v.is_finite()));
+        if let Some(st) = state {
+            xi.copy_from_slice(&st[..nv]);
+            for c in 0..nc {
+                if matches!(prob.drives[c], Drive::Length(_)) {
+                    lam[c] = st[nv + c].max(0.0);
                 }
             }
+        } else if let Some(w) = warm.filter(|w| w.disks.len() == robot.sections() + 1) {
+            // Another method's shape (or another discretization): its disk frames.
+            prob.strains_from_disks(&w.disks, &mut xi);
         }
         let target = |c: usize| match prob.drives[c] {
             Drive::Length(t) => Some(t),
             _ => None,
         };
+        // Rows of the constraint set that never changes: the displacement-driven cables.
+        let cable_rows: Vec<usize> = (0..nc).filter(|&c| target(c).is_some()).collect();
         let mut w = Work {
             len: vec![0.0; nc],
             grad: vec![vec![0.0; nv]; nc],
             hess: vec![0.0; prob.nblocks * nb * nb],
             raw: vec![0.0; prob.nblocks * nb * nb],
-            y: vec![vec![0.0; nv]; nc],
+            y: vec![],
             z: vec![0.0; nv],
             gobj: vec![0.0; nv],
         };
         let mut trial = vec![0.0; nv];
         let mut trial_len = vec![0.0; nc];
         let mut dxi = vec![0.0; nv];
-        let mut active = vec![false; nc];
-        let mut s_mat = vec![0.0; nc * nc];
-        let mut rhs = vec![0.0; nc];
-        let mut idx: Vec<usize> = Vec::with_capacity(nc);
         let tol = self.tolerance;
-        let mut first = true;
         let mut resid = f64::INFINITY;
         let mut exact = false;
         let mut stalled = false;
+        // Contacts: the pairs at the current point and the multipliers of the last step.
+        let world = prob.world.as_ref();
+        let clearance = world.map_or(0.0, |wd| wd.clearance());
+        let mut pairs: Vec<Pair> = vec![];
+        let mut mu_prev: Vec<((usize, Feat), f64)> = vec![];
+        let mut last_move = f64::INFINITY;
         for it in 0..=self.max_iterations {
             // Weights of the constraint Hessians: multipliers of taut cables, input tensions.
             let wgt: Vec<f64> = (0..nc)
@@ -1065,14 +1261,20 @@ impl Energy {
                 })
                 .collect();
             prob.evaluate(&xi, &wgt, &mut w, exact);
-            if first {
-                for c in 0..nc {
-                    if let Some(t) = target(c) {
-                        active[c] = lam[c] > 0.0 || w.len[c] >= t - tol;
-                    }
-                }
-                first = false;
+            let kin_now = world.map(|wd| wd.kinematics(&xi, &prob.ell, true));
+            let mut clear = f64::INFINITY;
+            if let (Some(wd), Some(k)) = (world, &kin_now) {
+                (pairs, clear) = wd.pairs(k);
             }
+            let mu: Vec<f64> = pairs
+                .iter()
+                .map(|p| {
+                    mu_prev
+                        .iter()
+                        .find(|(k, _)| *k == p.key())
+                        .map_or(0.0, |(_, m)| *m)
+                })
+                .collect();
             // Gradient of the objective part (energy + tension potentials).
             for i in 0..nv {
                 w.gobj[i] = prob.k[i] * xi[i];
@@ -1084,21 +1286,26 @@ impl Energy {
                     }
                 }
             }
-            // Residuals at the current point.
+            // Residuals: cable lengths (equal if taut, not longer if slack), contacts (no
+            // penetration; touching where the reaction is positive), stationarity.
             let mut feas = 0.0f64;
-            for c in 0..nc {
-                if let Some(t) = target(c) {
-                    let r = w.len[c] - t;
-                    feas = feas.max(if active[c] { r.abs() } else { r.max(0.0) });
-                }
+            for &c in &cable_rows {
+                let r = w.len[c] - target(c).unwrap_or(0.0);
+                feas = feas.max(if lam[c] > 0.0 { r.abs() } else { r.max(0.0) });
+            }
+            let mut gap = 0.0f64;
+            for (p, &m) in pairs.iter().zip(&mu) {
+                let r = clearance - p.dist;
+                gap = gap.max(if m > 0.0 { r.abs() } else { r.max(0.0) });
             }
             let mut stat = 0.0f64;
             for i in 0..nv {
                 let mut g = w.gobj[i];
-                for c in 0..nc {
-                    if active[c] {
-                        g += lam[c] * w.grad[c][i];
-                    }
+                for &c in &cable_rows {
+                    g += lam[c] * w.grad[c][i];
+                }
+                for (p, &m) in pairs.iter().zip(&mu) {
+                    g -= m * p.grad[i];
                 }
                 stat = stat.max(g.abs());
             }
@@ -1113,14 +1320,37 @@ impl Energy {
                 exact = true;
                 prob.evaluate(&xi, &wgt, &mut w, exact);
             }
-            resid = feas.max(stat);
+            resid = feas.max(stat).max(gap);
             if !resid.is_finite() {
                 break;
             }
-            let dual_ok = (0..nc).all(|c| !active[c] || lam[c] >= 0.0);
-            if resid <= tol && dual_ok {
+            // With contacts, parry's distances on smooth pairs carry ~1e-9 m of noise.
+            // With active contacts, parry's normals on smooth pairs carry noise that keeps
+            // the stationarity residual from falling below ~1e-6: there the solution has
+            // converged once a full Newton step moves no point of the robot by more than
+            // CONTACT_STEP (a bound: Σ ℓ_j (|δu_j| (L − s_j) + |δε_j|)).
+            let in_contact = mu.iter().any(|&m| m > 0.0);
+            let ctol = if in_contact {
+                tol.max(CONTACT_RESIDUAL)
+            } else {
+                tol
+            };
+            let settled = in_contact && last_move <= CONTACT_STEP;
+            if feas <= tol && gap <= ctol && (stat <= ctol || settled) {
                 self.check_stretch(prob, &xi, &lam)?;
-                return Ok((xi, lam, it, resid));
+                let contacts = pairs
+                    .iter()
+                    .zip(&mu)
+                    .filter(|(_, &m)| m > 0.0)
+                    .filter_map(|(p, &m)| world.map(|wd| wd.contact(p, m)))
+                    .collect();
+                return Ok(Solution {
+                    xi,
+                    lam,
+                    contacts,
+                    iterations: it,
+                    residual: resid,
+                });
             }
             if it == self.max_iterations {
                 break;
@@ -1157,97 +1387,119 @@ impl Energy {
                     }
                 }
             }
+            // The QP of this step in its dual: rows a_r (cable gradients, minus distance
+            // gradients), values c_r (length − target, clearance − distance) ≤ 0. With
+            // z = H⁻¹ ∇f and y_r = H⁻¹ a_r the step is −z − Σ λ_r y_r, where λ ≥ 0 minimizes
+            // ½ λᵀ S λ − qᵀ λ, S = [a_rᵀ y_s], q_r = c_r − a_rᵀ z.
+            let nrow = cable_rows.len() + pairs.len();
+            let row = |r: usize| -> (&[f64], f64, f64) {
+                if r < cable_rows.len() {
+                    let c = cable_rows[r];
+                    (&w.grad[c], 1.0, w.len[c] - target(c).unwrap_or(0.0))
+                } else {
+                    let p = &pairs[r - cable_rows.len()];
+                    (&p.grad, -1.0, clearance - p.dist)
+                }
+            };
             w.z.copy_from_slice(&w.gobj);
             prob.block_solve(&w.hess, &mut w.z);
-            for c in 0..nc {
-                if active[c] {
-                    w.y[c].copy_from_slice(&w.grad[c]);
-                    prob.block_solve(&w.hess, &mut w.y[c]);
-                }
+            let mut ys = std::mem::take(&mut w.y);
+            ys.resize_with(nrow, Vec::new);
+            for (r, y) in ys.iter_mut().enumerate() {
+                let (a, sign, _) = row(r);
+                y.clear();
+                y.extend(a.iter().map(|v| sign * v));
+                prob.block_solve(&w.hess, y);
             }
-            // Active-set inner loop: new multipliers on the working set.
-            let mut lam_new = vec![0.0; nc];
-            loop {
-                idx.clear();
-                idx.extend((0..nc).filter(|&c| active[c]));
-                let k = idx.len();
-                for (a, &ca) in idx.iter().enumerate() {
-                    let t = target(ca).unwrap_or(0.0);
-                    rhs[a] = (w.len[ca] - t) - dot(&w.grad[ca], &w.z);
-                    for (b, &cb) in idx.iter().enumerate() {
-                        s_mat[a * k + b] = dot(&w.grad[ca], &w.y[cb]);
-                    }
+            let mut s_mat = vec![0.0; nrow * nrow];
+            let mut q = vec![0.0; nrow];
+            let mut lam_new = vec![0.0; nrow];
+            for r in 0..nrow {
+                let (a, sign, c) = row(r);
+                q[r] = c - sign * dot(a, &w.z);
+                for s in 0..nrow {
+                    s_mat[r * nrow + s] = sign * dot(a, &ys[s]);
                 }
-                if k > 0 && small_solve(&mut s_mat[..k * k], &mut rhs[..k], k).is_none() {
-                    // Dependent cables: relax the one with the longest target first.
-                    let drop = idx
-                        .iter()
-                        .copied()
-                        .max_by(|&a, &b| {
-                            let ta = target(a).unwrap_or(0.0) - w.len[a];
-                            let tb = target(b).unwrap_or(0.0) - w.len[b];
-                            ta.total_cmp(&tb)
-                        })
-                        .unwrap_or(0);
-                    active[drop] = false;
-                    continue;
-                }
-                lam_new.fill(0.0);
-                for (a, &ca) in idx.iter().enumerate() {
-                    lam_new[ca] = rhs[a];
-                }
-                let worst = idx
-                    .iter()
-                    .copied()
-                    .filter(|&c| lam_new[c] < 0.0)
-                    .min_by(|&a, &b| lam_new[a].total_cmp(&lam_new[b]));
-                match worst {
-                    Some(c) => active[c] = false,
-                    None => break,
-                }
+                lam_new[r] = if r < cable_rows.len() {
+                    lam[cable_rows[r]]
+                } else {
+                    mu[r - cable_rows.len()]
+                };
+            }
+            if !nonneg_qp(&s_mat, &q, nrow, &mut lam_new) {
+                return Err(SolveError::NotConverged {
+                    method: self.name().into(),
+                    section: None,
+                    iterations: it,
+                    residual: resid,
+                    detail: "the step's QP (cable and contact multipliers) did not converge".into(),
+                });
             }
             for i in 0..nv {
                 let mut d = -w.z[i];
-                for c in 0..nc {
-                    if active[c] {
-                        d -= lam_new[c] * w.y[c][i];
-                    }
+                for r in 0..nrow {
+                    d -= lam_new[r] * ys[r][i];
                 }
                 dxi[i] = d;
             }
+            w.y = ys;
             // Line search on the ℓ1 merit.
-            let mu = 2.0 * lam_new.iter().cloned().fold(0.0, f64::max) + 1e-3;
-            let merit = |x: &[f64], len: &[f64]| -> f64 {
+            let pen = 2.0 * lam_new.iter().cloned().fold(0.0, f64::max) + 1e-3;
+            let violation = |len: &[f64], ps: &[Pair]| -> f64 {
+                let mut v = 0.0;
+                for &c in &cable_rows {
+                    v += (len[c] - target(c).unwrap_or(0.0)).max(0.0);
+                }
+                for p in ps {
+                    v += (clearance - p.dist).max(0.0);
+                }
+                v
+            };
+            let merit = |x: &[f64], len: &[f64], ps: &[Pair]| -> f64 {
                 let mut f = prob.energy(x);
                 for c in 0..nc {
-                    match prob.drives[c] {
-                        Drive::Tension(t) => f += t * len[c],
-                        Drive::Length(t) => f += mu * (len[c] - t).max(0.0),
-                        Drive::Free => {}
+                    if let Drive::Tension(t) = prob.drives[c] {
+                        f += t * len[c];
                     }
                 }
-                f
+                f + pen * violation(len, ps)
             };
-            let phi0 = merit(&xi, &w.len);
-            let mut viol0 = 0.0;
-            for c in 0..nc {
-                if let Some(t) = target(c) {
-                    viol0 += (w.len[c] - t).max(0.0);
-                }
-            }
-            let dphi = dot(&w.gobj, &dxi) - mu * viol0;
-            // Near the solution the merit changes below round-off: take the full step.
-            let tiny = dphi.abs() <= 1e-12 * phi0.abs();
-            let mut alpha = 1.0;
+            let phi0 = merit(&xi, &w.len, &pairs);
+            let dphi = dot(&w.gobj, &dxi) - pen * violation(&w.len, &pairs);
+            // Near the solution the merit changes below round-off (or below the noise of
+            // parry's distances, with contacts): take the full step.
+            let noise = if pairs.is_empty() {
+                0.0
+            } else {
+                pen * CONTACT_NOISE
+            };
+            let tiny = dphi.abs() <= 1e-12 * phi0.abs() + noise;
+            let mut alpha: f64 = 1.0;
             let mut accepted = false;
             for _ in 0..40 {
                 for i in 0..nv {
                     trial[i] = xi[i] + alpha * dxi[i];
                 }
                 let stretch_ok = (0..prob.nsub).all(|j| trial[4 * j + 3] > -1.0 + 1e-3);
-                if stretch_ok {
+                // No point may move farther than the robot's distance to the obstacles, or
+                // than half the pair margin when closer: features near an obstacle are held
+                // by their linearized constraints, the others cannot reach one, so nothing
+                // passes through an obstacle between two iterates (distances to open meshes
+                // are unsigned: a jump through a wall would look clear).
+                let kin_trial = world.map(|wd| wd.kinematics(&trial, &prob.ell, false));
+                let near_enough = match (world, &kin_now, &kin_trial) {
+                    (Some(wd), Some(k0), Some(k1)) => {
+                        wd.max_move(k0, k1) <= clear.max(0.5 * wd.margin())
+                    }
+                    _ => true,
+                };
+                if stretch_ok && near_enough {
                     prob.lengths(&trial, &mut trial_len);
-                    let phi = merit(&trial, &trial_len);
+                    let trial_pairs = match (world, &kin_trial) {
+                        (Some(wd), Some(k)) => wd.pairs(k).0,
+                        _ => vec![],
+                    };
+                    let phi = merit(&trial, &trial_len, &trial_pairs);
                     if phi.is_finite()
                         && (tiny || phi <= phi0 + 1e-4 * alpha * dphi.min(0.0) + 1e-14 * phi0.abs())
                     {
@@ -1263,32 +1515,59 @@ impl Energy {
                 alpha = 0.0;
             }
             stalled = !accepted;
+            last_move = if alpha == 1.0 {
+                prob.move_bound(&dxi)
+            } else {
+                f64::INFINITY
+            };
             for i in 0..nv {
                 xi[i] += alpha * dxi[i];
             }
-            for c in 0..nc {
-                lam[c] = if active[c] { lam_new[c] } else { 0.0 };
+            lam.fill(0.0);
+            for (r, &c) in cable_rows.iter().enumerate() {
+                lam[c] = lam_new[r];
             }
-            // Cables stretched past their length join the working set.
-            if !accepted {
-                prob.lengths(&xi, &mut trial_len);
-            }
-            for c in 0..nc {
-                if let Some(t) = target(c) {
-                    if !active[c] && trial_len[c] > t + tol {
-                        active[c] = true;
-                    }
+            mu_prev.clear();
+            for (k, p) in pairs.iter().enumerate() {
+                let m = lam_new[cable_rows.len() + k];
+                if m > 0.0 {
+                    mu_prev.push((p.key(), m));
                 }
             }
         }
         // Not converged: was the target out of reach (compressed backbone)?
         self.check_stretch(prob, &xi, &lam)?;
+        // Still inside an obstacle: the start crossed it (the straight robot through a wall,
+        // or a tube it does not fit).
+        if let Some(p) = pairs
+            .iter()
+            .filter(|p| p.dist < clearance - CONTACT_RESIDUAL)
+            .min_by(|a, b| a.dist.total_cmp(&b.dist))
+        {
+            let c = world.map(|wd| wd.contact(p, 0.0));
+            return Err(SolveError::Obstructed {
+                obstacle: c.as_ref().map(|c| c.obstacle.clone()).unwrap_or_default(),
+                section: c.and_then(|c| c.section.or(c.disk)).unwrap_or(0),
+                reason: format!(
+                    "after {} iterations the {} still lies {:.3e} m inside the clearance: the \
+                     start crosses the obstacle; start from a shape that is clear of it (e.g. \
+                     the geometric method's, `--warm-from geometric`)",
+                    self.max_iterations,
+                    match p.feat {
+                        Feat::Backbone(_) => "backbone",
+                        Feat::Disk(_) => "disk",
+                        Feat::Cable(..) => "cable",
+                    },
+                    clearance - p.dist
+                ),
+            });
+        }
         Err(SolveError::NotConverged {
             method: self.name().into(),
             section: None,
             iterations: self.max_iterations,
             residual: resid,
-            detail: "residual = max(length error [m], r̄·|∇ℒ|∞/(EI ℓ))".into(),
+            detail: "residual = max(length error [m], contact gap [m], r̄·|∇ℒ|∞/(EI ℓ))".into(),
         })
     }
 
@@ -1321,17 +1600,14 @@ impl Energy {
         })
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn build_shape(
         &self,
         prob: &Problem,
-        xi: &[f64],
-        lam: &[f64],
-        iterations: usize,
-        residual: f64,
+        sol: Solution,
         start: Instant,
         notes: Vec<String>,
     ) -> Shape {
+        let (xi, lam) = (&sol.xi[..], &sol.lam[..]);
         let robot = prob.robot;
         let n = robot.sections();
         let ns = self.samples_per_sub_arc.max(1);
@@ -1389,11 +1665,11 @@ impl Energy {
             disks,
             backbone,
             cables,
-            contacts: vec![],
+            contacts: sol.contacts,
             report: SolveReport {
                 converged: true,
-                iterations,
-                residual,
+                iterations: sol.iterations,
+                residual: sol.residual,
                 solve_time_s: start.elapsed().as_secs_f64(),
                 sections: vec![],
                 base_wrench: None,
@@ -1412,7 +1688,8 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// Length of every cable of `robot` for the strains `xi` (4 per sub-arc, `sub_arcs` per
 /// section) in the measure of `set`: the function the constraints use, exposed for checks.
 pub fn cable_lengths(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<Vec<f64>, SolveError> {
-    let prob = set.setup(robot, &Actuation::free(robot))?;
+    let empty = Scene::empty();
+    let prob = set.setup(robot, &Actuation::free(robot), &empty)?;
     if xi.len() != prob.nvar() {
         return Err(SolveError::InvalidInput {
             field: "xi".into(),
@@ -1422,6 +1699,22 @@ pub fn cable_lengths(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<Vec<f64>
     let mut out = vec![0.0; robot.cables.len()];
     prob.lengths(xi, &mut out);
     Ok(out)
+}
+
+/// Elastic energy `Σ ½ ℓ (EI κ² + GJ τ² + EA ε²)` [J] of the strains `xi` (layout as in
+/// [`cable_lengths`]), the objective the method minimizes when every cable is
+/// displacement-driven: exposed for checks (e.g. that a contact multiplier is the price of
+/// the clearance, `∂E*/∂clearance`).
+pub fn elastic_energy(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<f64, SolveError> {
+    let empty = Scene::empty();
+    let prob = set.setup(robot, &Actuation::free(robot), &empty)?;
+    if xi.len() != prob.nvar() {
+        return Err(SolveError::InvalidInput {
+            field: "xi".into(),
+            reason: format!("expected {} strains, got {}", prob.nvar(), xi.len()),
+        });
+    }
+    Ok(prob.energy(xi))
 }
 
 #[cfg(test)]
@@ -1571,7 +1864,8 @@ mod tests {
     fn path_derivatives_match_finite_differences() {
         let m = case(3);
         let set = Energy::default().with_sub_arcs(2);
-        let prob = set.setup(&m.robot, &m.actuation).expect("setup");
+        let empty = Scene::empty();
+        let prob = set.setup(&m.robot, &m.actuation, &empty).expect("setup");
         let nv = prob.nvar();
         let xi: Vec<f64> = (0..nv).map(|i| 0.5 * ((i as f64) * 0.7).sin()).collect();
         let nc = m.robot.cables.len();

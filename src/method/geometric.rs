@@ -56,6 +56,9 @@
 
 use crate::actuation::Actuation;
 use crate::error::SolveError;
+use crate::method::contact::{
+    check_base, nvec, polish, ppose, pvec, query, y_to_z, Witness, CONTACT_TOL,
+};
 use crate::method::Method;
 use crate::numeric::ad::{Real, D2, V3};
 use crate::numeric::kkt::{kkt_step, kkt_step6, multipliers};
@@ -65,7 +68,7 @@ use crate::robot::Robot;
 use crate::scene::Scene;
 use crate::shape::{CablePath, Contact, DiskFrame, SectionReport, Shape, SolveReport};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
-use parry3d::math::{Pose as PPose, Vector as PVec};
+use parry3d::math::Pose as PPose;
 use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
 use std::time::Instant;
 
@@ -1220,12 +1223,6 @@ const CONTACT_STEP_TOL: f64 = 1e-7;
 /// multiplier): the contact normals carry the same noise.
 const CONTACT_STAT_TOL: f64 = 1e-6;
 
-/// Robot features within this of an obstacle are queried again moved this far away [m].
-const SEPARATION_SHIFT: f64 = 1e-3;
-
-/// Two candidates closer than this to the clearance count as touching [m].
-const CONTACT_TOL: f64 = 1e-9;
-
 /// A robot feature of one section.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Feature {
@@ -1296,31 +1293,6 @@ struct SectionWorld {
     clearance: f64,
     /// Pairs farther apart than this are left out of the step [m].
     margin: f64,
-}
-
-/// Rotation taking parry's cylinder axis (local y) to the disk normal (local z).
-fn y_to_z() -> Matrix3<f64> {
-    Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0)
-}
-
-fn ppose(r: &Matrix3<f64>, t: &Vector3<f64>) -> PPose {
-    let iso = nalgebra::Isometry3::from_parts(
-        nalgebra::Translation3::from(*t),
-        // `r` is orthonormal (products of rotations, re-orthonormalized): the direct
-        // conversion, not `from_matrix`'s iterative fit (10 % of a contact solve's time).
-        nalgebra::UnitQuaternion::from_rotation_matrix(
-            &nalgebra::Rotation3::from_matrix_unchecked(*r),
-        ),
-    );
-    iso.into()
-}
-
-fn pvec(v: &Vector3<f64>) -> PVec {
-    PVec::new(v.x, v.y, v.z)
-}
-
-fn nvec(v: PVec) -> Vector3<f64> {
-    Vector3::new(v.x, v.y, v.z)
 }
 
 impl SectionWorld {
@@ -1404,34 +1376,22 @@ impl SectionWorld {
             .collect();
         for (k, (shape, opose)) in self.shapes.iter().enumerate() {
             let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
-                let Ok(Some(ct)) = parry3d::query::contact(gpose, g, opose, &**shape, self.margin)
-                else {
+                let Some(ct) = query(gpose, g, opose, &**shape, self.margin) else {
                     return;
                 };
-                // Near touching, parry switches between GJK (separated) and EPA (penetrating),
-                // whose normals for smooth shapes differ by ~1e-5: the Newton iterates then
-                // chatter at ~1e-7 m and never converge. Query again with the feature moved
-                // `shift` away along the normal, where GJK alone answers: the signed distance
-                // is max over directions m of (−h_B(−m) − h_A(m)), so the shifted answer minus
-                // `shift` is at least as close to the true value as the first one.
-                let shift = SEPARATION_SHIFT + (-ct.dist).max(0.0);
-                let ct = if ct.dist < SEPARATION_SHIFT {
-                    let n0 = nvec(ct.normal1);
-                    let moved =
-                        PPose::from_parts(gpose.translation - pvec(&(shift * n0)), gpose.rotation);
-                    match parry3d::query::contact(&moved, g, opose, &**shape, self.margin + shift) {
-                        Ok(Some(mut c2)) => {
-                            c2.dist -= shift;
-                            c2.point1 += pvec(&(shift * n0));
-                            c2
-                        }
-                        _ => ct,
-                    }
-                } else {
-                    ct
-                };
                 let mut a = nvec(ct.point1);
-                let n = nvec(ct.normal1);
+                let mut n = nvec(ct.normal1);
+                let mut po = nvec(ct.point2);
+                let mut dist = ct.dist;
+                let rough = Witness {
+                    robot: a,
+                    obstacle: po,
+                    normal: -n,
+                    dist,
+                };
+                if let Some(w) = polish(g, gpose, &**shape, opose, &rough) {
+                    (a, po, n, dist) = (w.robot, w.obstacle, -w.normal, w.dist);
+                }
                 if feature == Feature::Disk {
                     // The iterative query places the witness on the rim to ~1e-6 only; for a
                     // convex feature it is exactly the support point along the normal.
@@ -1472,10 +1432,10 @@ impl SectionWorld {
                 out.push(Pair {
                     obstacle: k,
                     feature,
-                    dist: ct.dist,
+                    dist,
                     grad: Vector6::new(gp.x, gp.y, gp.z, gw.x, gw.y, gw.z),
                     point_robot: a,
-                    point_obstacle: nvec(ct.point2),
+                    point_obstacle: po,
                     normal: -n,
                 });
             };
@@ -1499,30 +1459,6 @@ impl SectionWorld {
         }
         out
     }
-}
-
-/// The base disk must not lie inside (or within the clearance of) an obstacle.
-fn check_base(robot: &Robot, scene: &Scene, relevant: &[usize]) -> Result<(), SolveError> {
-    let disk = Cylinder::new(robot.disk_thickness / 2.0, robot.disk_radius);
-    let pose = ppose(&y_to_z(), &Vector3::zeros());
-    for &k in relevant {
-        let o = &scene.obstacles[k];
-        if let Ok(Some(ct)) =
-            parry3d::query::contact(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance)
-        {
-            if ct.dist < scene.clearance - CONTACT_TOL {
-                return Err(SolveError::Obstructed {
-                    obstacle: o.name.clone(),
-                    section: 0,
-                    reason: format!(
-                        "the base disk lies inside or within the clearance of this obstacle (distance {:.3e} m)",
-                        ct.dist
-                    ),
-                });
-            }
-        }
-    }
-    Ok(())
 }
 
 /// Relative poses (disk i in the frame of disk i−1) of a solved shape, as warm starts.

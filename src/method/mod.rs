@@ -10,6 +10,7 @@
 //! | `constant-curvature` | [`constant_curvature`] | displacement (or tension) | closed-form arc for straight, parallel cables |
 
 pub mod constant_curvature;
+pub(crate) mod contact;
 pub mod cosserat;
 pub mod energy;
 pub mod geometric;

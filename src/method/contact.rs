@@ -1,0 +1,204 @@
+//! Distance queries shared by the methods that handle obstacles (the geometric section solver
+//! and the whole-robot energy model): parry3d poses and vectors from nalgebra ones, a contact
+//! query that stays on GJK near touching, and the base-disk check.
+//!
+//! Robot features are the same for every method: backbone pieces are capsules of the
+//! backbone radius, disks are thin cylinders (parry's cylinder axis is its local y, the disk
+//! normal is local z, hence [`y_to_z`]) and cable chords are segments.
+
+use crate::error::SolveError;
+use crate::robot::Robot;
+use crate::scene::Scene;
+use nalgebra::{Matrix3, Vector3};
+use parry3d::math::{Pose as PPose, Vector as PVec};
+use parry3d::query::Contact as PContact;
+use parry3d::shape::{Cylinder, Shape as PShape};
+
+/// Robot features within this of an obstacle are queried again moved this far away [m].
+pub(crate) const SEPARATION_SHIFT: f64 = 1e-3;
+
+/// Two candidates closer than this to the clearance count as touching [m].
+pub(crate) const CONTACT_TOL: f64 = 1e-9;
+
+/// Rotation taking parry's cylinder axis (local y) to the disk normal (local z).
+pub(crate) fn y_to_z() -> Matrix3<f64> {
+    Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0)
+}
+
+/// A parry pose from an orthonormal rotation and a translation.
+pub(crate) fn ppose(r: &Matrix3<f64>, t: &Vector3<f64>) -> PPose {
+    let iso = nalgebra::Isometry3::from_parts(
+        nalgebra::Translation3::from(*t),
+        // `r` is orthonormal (products of rotations, re-orthonormalized): the direct
+        // conversion, not `from_matrix`'s iterative fit (10 % of a contact solve's time).
+        nalgebra::UnitQuaternion::from_rotation_matrix(
+            &nalgebra::Rotation3::from_matrix_unchecked(*r),
+        ),
+    );
+    iso.into()
+}
+
+/// parry vector from nalgebra.
+pub(crate) fn pvec(v: &Vector3<f64>) -> PVec {
+    PVec::new(v.x, v.y, v.z)
+}
+
+/// nalgebra vector from parry.
+pub(crate) fn nvec(v: PVec) -> Vector3<f64> {
+    Vector3::new(v.x, v.y, v.z)
+}
+
+/// Signed distance, witness points and normal (`normal1`, from the robot feature `g` towards
+/// the obstacle) of one feature–obstacle pair, or `None` beyond `margin`.
+///
+/// Near touching, parry switches between GJK (separated) and EPA (penetrating), whose normals
+/// for smooth shapes differ by ~1e-5: Newton iterates then chatter at ~1e-7 m and never
+/// converge. So a pair closer than [`SEPARATION_SHIFT`] is queried again with the feature moved
+/// `shift` away along the normal, where GJK alone answers: the signed distance is the max over
+/// directions m of (−h_B(−m) − h_A(m)), so the shifted answer minus `shift` is at least as
+/// close to the true value as the first one.
+pub(crate) fn query(
+    gpose: &PPose,
+    g: &dyn PShape,
+    opose: &PPose,
+    shape: &dyn PShape,
+    margin: f64,
+) -> Option<PContact> {
+    let mut exact = true;
+    let ct = match parry3d::query::contact(gpose, g, opose, shape, margin).ok()? {
+        Some(ct) => ct,
+        // `None` also means that EPA failed on shapes that barely overlap (seen for a disk on
+        // a cylinder at 1e-12 m): then find the normal from a copy of the feature moved clear
+        // along an axis.
+        None if parry3d::query::intersection_test(gpose, g, opose, shape)
+            .ok()?
+            .intersecting =>
+        {
+            exact = false;
+            let axes = [Vector3::x(), Vector3::y(), Vector3::z()];
+            let clear = 2.0 * SEPARATION_SHIFT;
+            let mut ct = axes.iter().flat_map(|a| [*a, -a]).find_map(|dir| {
+                let moved =
+                    PPose::from_parts(gpose.translation + pvec(&(clear * dir)), gpose.rotation);
+                match parry3d::query::contact(&moved, g, opose, shape, margin + clear) {
+                    Ok(Some(c)) if c.dist > 0.0 => Some(c),
+                    _ => None,
+                }
+            })?;
+            ct.dist = 0.0;
+            ct
+        }
+        None => return None,
+    };
+    if ct.dist >= SEPARATION_SHIFT {
+        return Some(ct);
+    }
+    let shift = SEPARATION_SHIFT + (-ct.dist).max(0.0);
+    let n0 = nvec(ct.normal1);
+    let moved = PPose::from_parts(gpose.translation - pvec(&(shift * n0)), gpose.rotation);
+    match parry3d::query::contact(&moved, g, opose, shape, margin + shift) {
+        Ok(Some(mut c2)) => {
+            c2.dist -= shift;
+            c2.point1 += pvec(&(shift * n0));
+            Some(c2)
+        }
+        // Without the GJK answer, the first one only if it was a real one.
+        _ if exact => Some(ct),
+        _ => None,
+    }
+}
+
+/// Closest points of one feature–obstacle pair.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Witness {
+    /// On the robot feature.
+    pub robot: Vector3<f64>,
+    /// On the obstacle.
+    pub obstacle: Vector3<f64>,
+    /// Unit normal from the obstacle towards the robot.
+    pub normal: Vector3<f64>,
+    /// Signed distance [m].
+    pub dist: f64,
+}
+
+/// Polish a GJK answer by alternating projections between the feature and the obstacle.
+///
+/// GJK's witness points are good to ~1e-6 m at centimetres (the distance is stationary in
+/// them, so it is far better), which makes the normal — the direction of the gradient — off by
+/// ~5e-5. Projecting back and forth between the two convex sets converges to the closest pair,
+/// whose difference is the exact normal. Near touching the feature is moved
+/// [`SEPARATION_SHIFT`] away along the normal first (as in [`query`]) and moved back after.
+/// `None` when the polish cannot improve (overlap, a mesh obstacle, degenerate gap); the
+/// caller keeps GJK's answer. `rough.normal` points from the obstacle to the robot.
+pub(crate) fn polish(
+    g: &dyn PShape,
+    gpose: &PPose,
+    shape: &dyn PShape,
+    opose: &PPose,
+    rough: &Witness,
+) -> Option<Witness> {
+    let (a, po, n, dist) = (&rough.robot, &rough.obstacle, &rough.normal, rough.dist);
+    if dist < -SEPARATION_SHIFT || shape.as_composite_shape().is_some() {
+        return None;
+    }
+    let shift = if dist < SEPARATION_SHIFT {
+        SEPARATION_SHIFT
+    } else {
+        0.0
+    };
+    let sigma = n * shift;
+    let moved = PPose::from_parts(gpose.translation + pvec(&sigma), gpose.rotation);
+    let mut xs = a + sigma;
+    let mut po = *po;
+    for _ in 0..4 {
+        let pf = g.project_point(&moved, pvec(&po), false);
+        if pf.is_inside {
+            return None;
+        }
+        xs = nvec(pf.point);
+        let pr = shape.project_point(opose, pvec(&xs), false);
+        if pr.is_inside {
+            return None;
+        }
+        po = nvec(pr.point);
+    }
+    let gap = xs - po;
+    let len = gap.norm();
+    if len < 0.1 * SEPARATION_SHIFT.max(dist) {
+        return None;
+    }
+    Some(Witness {
+        robot: xs - sigma,
+        obstacle: po,
+        normal: gap / len,
+        dist: len - shift,
+    })
+}
+
+/// The base disk must not lie inside (or within the clearance of) an obstacle.
+pub(crate) fn check_base(
+    robot: &Robot,
+    scene: &Scene,
+    relevant: &[usize],
+) -> Result<(), SolveError> {
+    let disk = Cylinder::new(robot.disk_thickness / 2.0, robot.disk_radius);
+    let pose = ppose(&y_to_z(), &Vector3::zeros());
+    for &k in relevant {
+        let o = &scene.obstacles[k];
+        if let Ok(Some(ct)) =
+            parry3d::query::contact(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance)
+        {
+            if ct.dist < scene.clearance - CONTACT_TOL {
+                return Err(SolveError::Obstructed {
+                    obstacle: o.name.clone(),
+                    section: 0,
+                    reason: format!(
+                        "the base disk lies inside or within the clearance of this obstacle (distance {:.3e} m)",
+                        ct.dist
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
