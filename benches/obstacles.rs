@@ -1,9 +1,11 @@
-//! Obstacle cost of the geometric section solver on the paper's case-1 robot: no obstacles,
-//! 1000 obstacles out of reach (broad phase only), 1000 small obstacles in reach but clear of
-//! the shape (broad + narrow phase), and pressing on one wall (contacts active).
+//! Obstacle cost of the geometric section solver and of the energy model on the paper's case-1
+//! robot: no obstacles, 1000 obstacles out of reach (broad phase only), 1000 small obstacles in
+//! reach but clear of the shape (broad + narrow phase), and pressing on one wall or a pillar
+//! (contacts active).
 //!
 //! `cargo bench --bench obstacles`
 
+use ccrkit::method::energy::Energy;
 use ccrkit::method::geometric::Geometric;
 use ccrkit::{Method, Model, Scene};
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -87,6 +89,28 @@ fn bench(c: &mut Criterion) {
     grp.bench_function("broad_phase_1000_in_reach", |b| {
         b.iter(|| black_box(near.scene.near(black_box(&origin), 0.2)))
     });
+    // The energy model, cold starts.
+    let pillar = Scene::from_file(root().join("models/scenes/pillar.toml")).unwrap();
+    let e = Energy::default();
+    for (name, scene) in [
+        ("empty", &Scene::empty()),
+        ("1000_out_of_reach", &far.scene),
+        ("1000_in_reach", &near.scene),
+        ("wall", &wall),
+        ("pillar", &pillar),
+    ] {
+        match e.solve(&model.robot, &model.actuation, scene, None) {
+            Ok(s) => eprintln!(
+                "energy {name}: {} contacts, {} iterations",
+                s.contacts.len(),
+                s.report.iterations
+            ),
+            Err(err) => eprintln!("energy {name}: {err}"),
+        }
+        grp.bench_function(format!("energy_{name}"), |b| {
+            b.iter(|| black_box(e.solve(&model.robot, &model.actuation, scene, None)))
+        });
+    }
     grp.finish();
 }
 

@@ -1,6 +1,7 @@
 //! The paper's case-1 robot pressing against a wall (`models/scenes/wall.toml`): solve with the
-//! obstacle-aware geometric method in `--steps`-style continuation, print the contacts, and
-//! draw shape, wall and contact points to `target/obstacle_wall.{png,svg}` (or OUT_DIR).
+//! obstacle-aware geometric method in `--steps`-style continuation and with the energy model,
+//! print the contacts, and draw shape, wall and contact points to
+//! `target/obstacle_wall{,_energy}.{png,svg}` (or OUT_DIR).
 //!
 //! `cargo run --release --example obstacle_wall [OUT_DIR]`
 

@@ -1,7 +1,7 @@
 //! The paper's case-1 robot pressing against a horizontal pillar (`models/scenes/pillar.toml`),
 //! wrapping against it: solve with the obstacle-aware geometric method in `--steps`-style
-//! continuation, print the contacts, and draw shape, pillar and contact points to
-//! `target/pillar.{png,svg}` (or OUT_DIR).
+//! continuation and with the energy model, print the contacts, and draw shape, pillar and
+//! contact points to `target/pillar{,_energy}.{png,svg}` (or OUT_DIR).
 //!
 //! `cargo run --release --example pillar [OUT_DIR]`
 

@@ -175,6 +175,28 @@ impl Scene {
             .collect()
     }
 
+    /// Distance from `center` to the axis-aligned bounds of obstacle `k` (0 inside them,
+    /// infinite for an index out of range): a lower bound on the distance to the obstacle.
+    pub fn bounds_distance(&self, k: usize, center: &Vector3<f64>) -> f64 {
+        self.obstacles
+            .get(k)
+            .map_or(f64::INFINITY, |o| aabb_ball_distance(&o.aabb, center))
+    }
+
+    /// Distance between the axis-aligned box `lo..hi` and the bounds of obstacle `k` (0 when
+    /// they overlap, infinite for an index out of range): a lower bound on the distance from
+    /// anything inside the box to the obstacle.
+    pub fn bounds_gap(&self, k: usize, lo: &Vector3<f64>, hi: &Vector3<f64>) -> f64 {
+        self.obstacles.get(k).map_or(f64::INFINITY, |o| {
+            let mut d2 = 0.0;
+            for a in 0..3 {
+                let g = (o.aabb.0[a] - hi[a]).max(lo[a] - o.aabb.1[a]).max(0.0);
+                d2 += g * g;
+            }
+            d2.sqrt()
+        })
+    }
+
     /// Broad phase on a subset: the indices in `among` (e.g. an earlier [`Scene::near`]
     /// result) whose bounds come within `radius` of `center`. Linear in `among.len()`, so a
     /// per-section test costs nothing when the robot-level test kept no obstacle.

@@ -1,6 +1,7 @@
 //! Shared by the obstacle examples: solve the paper's case-1 robot next to a scene file with
-//! the obstacle-aware geometric method (in continuation steps), print the free and obstructed
-//! tips and the contacts, and draw shape, obstacles and contact points.
+//! the obstacle-aware geometric method (in continuation steps) and with the whole-robot energy
+//! model, print the free and obstructed tips and the contacts of both, and draw shape,
+//! obstacles and contact points.
 
 // Each example includes this module and uses the part it needs.
 #![allow(dead_code)]
@@ -23,11 +24,30 @@ pub fn run(scene: &str, name: &str, what: &str, steps: usize) -> Result<()> {
     let free = method.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
     let shape = solve_stepped(&*method, &model.robot, &model.actuation, &scene, steps)?;
     let (f, t) = (free.tip() * 1e3, shape.tip() * 1e3);
+    println!("geometric (the paper's section solver; multipliers in rad/m)");
     println!("free tip         [{:.3}, {:.3}, {:.3}] mm", f.x, f.y, f.z);
     println!("with the {what:<7} [{:.3}, {:.3}, {:.3}] mm", t.x, t.y, t.z);
     print_contacts(&shape.contacts);
     for ext in ["png", "svg"] {
         let p = out.join(format!("{name}.{ext}"));
+        plot_scene(&shape, &model.robot, &scene, &p)?;
+        println!("wrote {}", p.display());
+    }
+    // The whole-robot energy model: one solve, contact multipliers are reactions in newtons.
+    let energy = method_by_name("energy")?;
+    let free = energy.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
+    let shape = energy.solve(&model.robot, &model.actuation, &scene, None)?;
+    let (f, t) = (free.tip() * 1e3, shape.tip() * 1e3);
+    println!(
+        "\nenergy (whole robot; multipliers are reactions in N; {} iterations, {:.2} ms)",
+        shape.report.iterations,
+        shape.report.solve_time_s * 1e3
+    );
+    println!("free tip         [{:.3}, {:.3}, {:.3}] mm", f.x, f.y, f.z);
+    println!("with the {what:<7} [{:.3}, {:.3}, {:.3}] mm", t.x, t.y, t.z);
+    print_contacts(&shape.contacts);
+    for ext in ["png", "svg"] {
+        let p = out.join(format!("{name}_energy.{ext}"));
         plot_scene(&shape, &model.robot, &scene, &p)?;
         println!("wrote {}", p.display());
     }

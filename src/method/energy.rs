@@ -73,16 +73,33 @@
 //!
 //! # Solver
 //!
-//! Newton–KKT with the exact Lagrangian Hessian `H = K + Σ (λ_c or T_c) ∇²L_c` and a primal–dual
-//! active set for the pull-only inequalities. Per iteration: factor the blocks of `H`
-//! (Cholesky), form the Schur complement `S = A H⁻¹ Aᵀ` over the working set (one row per taut
-//! cable), solve for the new multipliers, drop a cable whose multiplier comes out negative
-//! (slack) and re-solve; line search on the ℓ1 merit `E + Σ T L + μ Σ max(0, L − L_target)`;
-//! cables whose length exceeds their target join the working set. Converged when the length
-//! residual is ≤ [`Energy::tolerance`] [m] and the stationarity residual, expressed as a length
-//! (`r̄ |∇ℒ|∞ / (EI ℓ)`, a curvature error times the hole radius), is below the same tolerance.
-//! Cost per iteration is linear in the number of sub-arcs. Warm starts read
-//! `report.state = [ξ…, λ…]` of a previous shape of the same robot and settings.
+//! Sequential QP (Newton–KKT) with the exact Lagrangian Hessian of the cable terms,
+//! `H = K + Σ (λ_c or T_c) ∇²L_c` (block diagonal). Every displacement-driven cable is a
+//! pull-only inequality and every feature–obstacle pair within a margin (module
+//! `energy/contacts.rs`) a distance inequality; the step's QP is solved in its dual: with
+//! `z = H⁻¹ ∇f` and `y_r = H⁻¹ a_r` for each constraint row `a_r`, the multipliers minimize
+//! `½ λᵀ S λ − qᵀ λ` over `λ ≥ 0` (`S = [a_rᵀ y_s]`, `q_r = c_r − a_rᵀ z`; a small dense
+//! problem, primal active set in `nonneg_qp`) and the step is `−z − Σ λ_r y_r`. A cable
+//! whose multiplier is zero is slack; a contact whose multiplier is positive presses. Line
+//! search on the ℓ1 merit `E + Σ T L + μ Σ max(0, c_r)`, with every pair re-queried at the
+//! trial point. Converged when the length residual is ≤ [`Energy::tolerance`] [m] and the
+//! stationarity residual, expressed as a length (`r̄ |∇ℒ|∞ / (EI ℓ)`, a curvature error
+//! times the hole radius), is below the same tolerance (with active contacts, see
+//! `energy/contacts.rs` and `CONTACT_STEP`). Cost per iteration is linear in the number of
+//! sub-arcs without obstacles. Warm starts read `report.state = [ξ…, λ…]` of a previous
+//! shape of the same robot and settings, or fit strains to the disk frames of any other shape
+//! (e.g. the geometric method's, to start inside a tube).
+//!
+//! # Obstacles
+//!
+//! Distance constraints for backbone sub-arcs, disks and cable chords, with exact gradients
+//! in the strains (derivation in `energy/contacts.rs`); the multiplier of a contact is its normal
+//! reaction [N] (energy J over distance m). A step never moves any point of the robot farther
+//! than its distance to the obstacles (or half the pair margin when closer), so no feature
+//! passes through an obstacle between iterates — distances to open meshes are unsigned. A
+//! start that already crosses an obstacle (the straight robot through a bent tube) ends in
+//! [`SolveError::Obstructed`] naming the obstacle; start from a clear shape instead. A base
+//! disk inside an obstacle is `Obstructed` at section 0.
 //!
 //! Errors: a target length ≤ 0, or a solution that needs the backbone compressed below
 //! [`Energy::min_stretch`], is [`SolveError::Infeasible`] naming the cable (the most loaded one

@@ -46,7 +46,7 @@
 use super::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use crate::method::contact::{nvec, polish, ppose, pvec, query, y_to_z, Witness};
 use crate::robot::Robot;
-use crate::scene::{ObstacleKind, Scene};
+use crate::scene::Scene;
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3};
 use parry3d::math::Pose as PPose;
@@ -103,8 +103,6 @@ pub(super) struct World<'a> {
     margin: f64,
     /// Sub-arcs per section.
     m: usize,
-    /// How far queries against solid obstacles look [m].
-    reach: f64,
 }
 
 impl<'a> World<'a> {
@@ -123,7 +121,6 @@ impl<'a> World<'a> {
             near,
             margin: scene.clearance + 0.5 * lmax,
             m,
-            reach: scene.clearance + robot.length() + robot.disk_radius,
         })
     }
 
@@ -215,10 +212,32 @@ impl<'a> World<'a> {
     }
 
     /// Every feature–obstacle pair within the margin at `kin`, with gradients if `kin` carries
-    /// the integrals, and a lower bound on the distance between the robot and the obstacles
-    /// (the smallest distance found, or how far the queries looked).
+    /// the integrals, and a lower bound on the distance between the robot and the obstacles:
+    /// the smallest distance found, the margin for a pair beyond it, or the distance to the
+    /// bounds of an obstacle not queried.
     pub fn pairs(&self, kin: &Kin) -> (Vec<Pair>, f64) {
         let mut clear = f64::INFINITY;
+        // Robot-level pass: the bounds of every frame origin grown by the largest feature
+        // reach (disk radius, half a sub-arc); obstacles farther than the margin from them
+        // only bound `clear`.
+        let grow = self.robot.disk_radius.max(self.robot.backbone.radius())
+            + kin.pos.windows(2).map(|w| 0.5 * (w[1] - w[0]).norm()).fold(0.0, f64::max);
+        let (mut lo, mut hi) = (kin.pos[0], kin.pos[0]);
+        for p in &kin.pos {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let g3 = Vector3::repeat(grow);
+        let (lo, hi) = (lo - g3, hi + g3);
+        let mut candidates = Vec::with_capacity(self.near.len());
+        for &k in &self.near {
+            let gap = self.scene.bounds_gap(k, &lo, &hi);
+            if gap > self.margin {
+                clear = clear.min(gap);
+            } else {
+                candidates.push(k);
+            }
+        }
         let robot = self.robot;
         let m = self.m;
         let nsub = kin.pos.len() - 1;
@@ -236,31 +255,19 @@ impl<'a> World<'a> {
                                  center: Vector3<f64>,
                                  radius: f64,
                                  ends: Ends| {
-            for &k in &self.near {
+            for &k in &candidates {
                 let o = &self.scene.obstacles[k];
-                // How far to look: the margin for meshes (a wide query visits many
-                // triangles), the robot's reach for solids, for `clear`.
-                let look = if matches!(o.kind, ObstacleKind::Mesh { .. }) {
-                    self.margin
-                } else {
-                    self.reach
-                };
-                if self
-                    .scene
-                    .near_among(&[k], &center, radius + look)
-                    .is_empty()
-                {
-                    clear = clear.min(look);
+                // Bounds farther than the margin: no query, their distance bounds `clear`.
+                let lower = self.scene.bounds_distance(k, &center) - radius;
+                if lower > self.margin {
+                    clear = clear.min(lower);
                     continue;
                 }
-                let Some(ct) = query(gpose, g, &o.parry_pose, &*o.shape, look) else {
-                    clear = clear.min(look);
+                let Some(ct) = query(gpose, g, &o.parry_pose, &*o.shape, self.margin) else {
+                    clear = clear.min(self.margin);
                     continue;
                 };
                 clear = clear.min(ct.dist);
-                if ct.dist > self.margin {
-                    continue;
-                }
                 let mut a = nvec(ct.point1);
                 let mut n = -nvec(ct.normal1);
                 let mut po = nvec(ct.point2);
