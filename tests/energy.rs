@@ -35,6 +35,11 @@ fn ea() -> f64 {
 }
 
 fn model(cables: &str) -> Model {
+    model_with_density(cables, 0.0)
+}
+
+/// The test robot with a backbone density [kg/m³] (its weight under gravity).
+fn model_with_density(cables: &str, density: f64) -> Model {
     let text = format!(
         r#"
 name = "test"
@@ -43,7 +48,7 @@ sections = 9
 section_length = 0.020
 disk_radius = 0.012
 disk_thickness = 0.002
-backbone = {{ youngs_modulus = {E}, poisson_ratio = 0.3, diameter = {D} }}
+backbone = {{ youngs_modulus = {E}, poisson_ratio = 0.3, diameter = {D}, density = {density} }}
 {cables}
 "#
     );
@@ -604,4 +609,68 @@ fn equilibrium_holds_by_finite_differences() {
         worst <= 1e-6 * scale,
         "stationarity {worst:e} vs scale {scale:e}"
     );
+}
+
+/// A cantilever with a small tip force and one unactuated cable (free): the tip deflects by
+/// `F L³ / (3 EI)` (Euler–Bernoulli) within 1 %.
+#[test]
+fn cantilever_tip_force_matches_beam_theory() {
+    let f = 0.005; // N: ≈ 2.2 mm on 180 mm
+    let m = model(&format!(
+        "[[cables]]\nname = \"A\"\nradius = {R_HOLE}\nangles = {{ straight = 0.0 }}\n\
+         [loads]\ntip_force = [{f}, 0.0, 0.0]"
+    ));
+    let s = solve(&Energy::default(), &m);
+    let len = m.robot.length();
+    let expected = f * len.powi(3) / (3.0 * ei());
+    let got = s.tip().x;
+    eprintln!("cantilever: tip {got:.6e} m, F L³/3EI {expected:.6e} m");
+    assert!(
+        ((got - expected) / expected).abs() < 0.01,
+        "tip {got} vs {expected}"
+    );
+}
+
+/// Gravity sideways (backbone weight and disk masses) on a displacement-driven robot, and a
+/// tip force on top: the energy model against the rod driven by the same cable lengths, with
+/// the same loads (≤ 0.3 mm, tensions within 2 %).
+#[test]
+fn agrees_with_cosserat_under_gravity_and_a_tip_force() {
+    let loads =
+        "[loads]\ngravity = [-9.81, 0.0, 0.0]\ndisk_mass = 0.005\ntip_force = [0.0, 0.02, -0.01]";
+    let text = format!(
+        "[[cables]]\nname = \"A\"\nradius = {R_HOLE}\nangles = {{ straight = 0.0 }}\nshorten = 0.003\n\
+         [[cables]]\nname = \"B\"\nradius = {R_HOLE}\nangles = {{ straight = 2.0944 }}\nshorten = 0.002\n\
+         {loads}"
+    );
+    // A dense backbone (steel, 3 mm: 0.54 N/m) so its weight matters next to the disks'.
+    let m = model_with_density(&text, 7800.0);
+    let (rms, errs) = agreement(&m, CableLength::Path);
+    eprintln!(
+        "gravity + tip force: RMS {:.4} mm, tension errors {errs:?}",
+        rms * 1e3
+    );
+    assert!(rms <= RMS_BOUND, "RMS {rms}");
+    for e in errs {
+        assert!(e <= TENSION_REL, "tension error {e}");
+    }
+    // The loads matter: without them the shape is elsewhere.
+    let free = solve(
+        &Energy::default(),
+        &model_with_density(&text.replace(loads, ""), 7800.0),
+    );
+    let loaded = solve(&Energy::default(), &m);
+    assert!(free.rms_distance(&loaded).unwrap() > 10.0 * RMS_BOUND);
+}
+
+#[test]
+fn a_tip_moment_is_unsupported_not_ignored() {
+    let m = model(&format!(
+        "[[cables]]\nname = \"A\"\nradius = {R_HOLE}\nangles = {{ straight = 0.0 }}\nshorten = 0.002\n\
+         [loads]\ntip_moment = [0.0, 0.001, 0.0]"
+    ));
+    match Energy::default().solve(&m.robot, &m.actuation, &Scene::empty(), None) {
+        Err(SolveError::Unsupported { reason, .. }) => assert!(reason.contains("moment")),
+        other => panic!("expected Unsupported, got {other:?}"),
+    }
 }

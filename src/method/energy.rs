@@ -90,6 +90,15 @@
 //! shape of the same robot and settings, or fit strains to the disk frames of any other shape
 //! (e.g. the geometric method's, to start inside a tube).
 //!
+//! # Loads
+//!
+//! Gravity (`loads.gravity` on the backbone's `ρ A` per length, lumped half to each end of
+//! its sub-arc, and on `loads.disk_mass` at each disk) and `loads.tip_force` are dead loads
+//! `F_f` at the sub-arc ends, with the potential `V = −Σ F_f · p_f` added to the objective and
+//! its exact gradient (see `add_load_gradient`) to the stationarity; their curvature is left
+//! out of the Hessian, so convergence with loads is linear. A dead tip moment has no potential
+//! for finite 3-D rotations: [`SolveError::Unsupported`].
+//!
 //! # Obstacles
 //!
 //! Distance constraints for backbone sub-arcs, disks and cable chords, with exact gradients
@@ -510,6 +519,9 @@ struct Problem<'a> {
     stat_scale: f64,
     /// Obstacles within reach (none: no distance constraints).
     world: Option<World<'a>>,
+    /// Dead loads at the sub-arc ends (frame `f` = end of sub-arc `f − 1`; empty: none):
+    /// backbone weight lumped half to each end of its sub-arc, disk weights, the tip force.
+    frame_forces: Vec<Vector3<f64>>,
 }
 
 /// What [`Energy::newton`] found.
@@ -558,6 +570,45 @@ impl Problem<'_> {
 
     fn energy(&self, xi: &[f64]) -> f64 {
         0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>()
+    }
+
+    /// Potential of the dead loads, `V = −Σ F_f · p_f` [J] (0 without loads).
+    fn load_potential(&self, xi: &[f64]) -> f64 {
+        if self.frame_forces.is_empty() {
+            return 0.0;
+        }
+        let kin = contacts::kinematics(xi, &self.ell, false);
+        -self
+            .frame_forces
+            .iter()
+            .zip(&kin.pos)
+            .map(|(f, p)| f.dot(p))
+            .sum::<f64>()
+    }
+
+    /// Add `∇V` to `g`. A frame origin beyond sub-arc `j` moves by
+    /// `∂x/∂u_a = (M_j e_a) × x − N_{j,a}`, `∂x/∂ε = M_j e_z` (`energy/contacts.rs`), so with
+    /// the suffix sums `S_j = Σ_{f>j} F_f`, `C_j = Σ_{f>j} p_f × F_f`:
+    /// `∂V/∂u_a = −((M_j e_a) · C_j − N_{j,a} · S_j)`, `∂V/∂ε = −(M_j e_z) · S_j`.
+    fn add_load_gradient(&self, xi: &[f64], g: &mut [f64]) {
+        if self.frame_forces.is_empty() {
+            return;
+        }
+        let kin = contacts::kinematics(xi, &self.ell, true);
+        let (mut sum, mut mom) = (Vector3::zeros(), Vector3::zeros());
+        for j in (0..self.nsub).rev() {
+            let f = &self.frame_forces[j + 1];
+            sum += f;
+            mom += kin.pos[j + 1].cross(f);
+            let m = &kin.m_int[j];
+            let mc = m.tr_mul(&mom);
+            let ms = m.tr_mul(&sum);
+            let nj = &kin.n_int[j];
+            g[4 * j] -= mc.x - nj[0].dot(&sum);
+            g[4 * j + 1] -= mc.y - nj[1].dot(&sum);
+            g[4 * j + 2] -= mc.z - nj[2].dot(&sum);
+            g[4 * j + 3] -= ms.z;
+        }
     }
 
     /// Lengths of every cable in the chosen measure (value only).
@@ -1074,9 +1125,12 @@ impl Method for Energy {
             "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
             self.sub_arcs, self.cable_length, self.routing
         )];
-        let l = &robot.loads;
-        if l.gravity.norm() > 0.0 || l.tip_force.norm() > 0.0 || l.tip_moment.norm() > 0.0 {
-            notes.push("external loads (gravity, tip wrench) are ignored by this model".into());
+        if !prob.frame_forces.is_empty() {
+            notes.push(
+                "gravity and the tip force enter as dead-load potentials (backbone weight lumped \
+                 at sub-arc ends); their curvature is left out of the Hessian"
+                    .into(),
+            );
         }
         for (c, d) in prob.drives.iter().enumerate() {
             match d {
@@ -1165,7 +1219,37 @@ impl Energy {
             nblocks,
             stat_scale: rbar / (ei * lmin),
             world: None,
+            frame_forces: vec![],
         };
+        let loads = &robot.loads;
+        if loads.tip_moment.norm() > 0.0 {
+            return Err(SolveError::Unsupported {
+                method: self.name().into(),
+                reason: "a dead tip moment is not conservative (no potential): use the \
+                         Cosserat model for tip moments"
+                    .into(),
+            });
+        }
+        let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
+        if !finite(&loads.gravity) || !finite(&loads.tip_force) || !loads.disk_mass.is_finite() {
+            return Err(SolveError::InvalidInput {
+                field: "loads".into(),
+                reason: "gravity, disk_mass and tip_force must be finite".into(),
+            });
+        }
+        if loads.gravity.norm() > 0.0 || loads.tip_force.norm() > 0.0 {
+            let mut ff = vec![Vector3::zeros(); nsub + 1];
+            let w = loads.gravity * (bb.density * bb.area());
+            for j in 0..nsub {
+                ff[j] += w * (0.5 * prob.ell[j]);
+                ff[j + 1] += w * (0.5 * prob.ell[j]);
+            }
+            for k in 1..=n {
+                ff[k * m] += loads.gravity * loads.disk_mass;
+            }
+            ff[nsub] += loads.tip_force;
+            prob.frame_forces = ff;
+        }
         if !scene.is_empty() {
             // Broad phase, robot level: only obstacles within reach of the base take part.
             let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
@@ -1303,6 +1387,7 @@ impl Energy {
                     }
                 }
             }
+            prob.add_load_gradient(&xi, &mut w.gobj);
             // Residuals: cable lengths (equal if taut, not longer if slack), contacts (no
             // penetration; touching where the reaction is positive), stationarity.
             let mut feas = 0.0f64;
@@ -1473,7 +1558,7 @@ impl Energy {
                 v
             };
             let merit = |x: &[f64], len: &[f64], ps: &[Pair]| -> f64 {
-                let mut f = prob.energy(x);
+                let mut f = prob.energy(x) + prob.load_potential(x);
                 for c in 0..nc {
                     if let Drive::Tension(t) = prob.drives[c] {
                         f += t * len[c];

@@ -87,10 +87,50 @@ impl Pair {
 
 /// Frames at every sub-arc end, and the integrals `M_j`, `N_j` of every sub-arc.
 pub(super) struct Kin {
-    rot: Vec<Matrix3<f64>>,
-    pos: Vec<Vector3<f64>>,
-    m_int: Vec<Matrix3<f64>>,
-    n_int: Vec<[Vector3<f64>; 3]>,
+    pub rot: Vec<Matrix3<f64>>,
+    pub pos: Vec<Vector3<f64>>,
+    pub m_int: Vec<Matrix3<f64>>,
+    pub n_int: Vec<[Vector3<f64>; 3]>,
+}
+
+/// Forward kinematics of the strains `xi` (sub-arc lengths `ell`); with `integrals`, also
+/// `M_j`, `N_j` for the gradients.
+pub(super) fn kinematics(xi: &[f64], ell: &[f64], integrals: bool) -> Kin {
+    let nsub = ell.len();
+    let mut kin = Kin {
+        rot: Vec::with_capacity(nsub + 1),
+        pos: Vec::with_capacity(nsub + 1),
+        m_int: Vec::with_capacity(if integrals { nsub } else { 0 }),
+        n_int: Vec::with_capacity(if integrals { nsub } else { 0 }),
+    };
+    let (mut r, mut p) = (Matrix3::identity(), Vector3::zeros());
+    kin.rot.push(r);
+    kin.pos.push(p);
+    for j in 0..nsub {
+        let x = &xi[4 * j..4 * j + 4];
+        if integrals {
+            let mut mi = Matrix3::zeros();
+            let mut ni = [Vector3::zeros(); 3];
+            for q in 0..GL_NODES {
+                let w = 0.5 * ell[j] * GL_W[q];
+                let (rl, pl) = sub_arc_exp(x, 0.5 * ell[j] * (1.0 + GL_X[q]));
+                let rs = r * rl;
+                let ps = p + r * pl;
+                mi += rs * w;
+                for (a, na) in ni.iter_mut().enumerate() {
+                    *na += rs.column(a).cross(&ps) * w;
+                }
+            }
+            kin.m_int.push(mi);
+            kin.n_int.push(ni);
+        }
+        let (rl, pl) = sub_arc_exp(x, ell[j]);
+        p += r * pl;
+        r *= rl;
+        kin.rot.push(r);
+        kin.pos.push(p);
+    }
+    kin
 }
 
 /// The obstacles that can matter for this robot, and its feature sizes.
@@ -142,41 +182,7 @@ impl<'a> World<'a> {
     /// Forward kinematics of the strains `xi` (sub-arc lengths `ell`); with `integrals`, also
     /// `M_j`, `N_j` for the gradients.
     pub fn kinematics(&self, xi: &[f64], ell: &[f64], integrals: bool) -> Kin {
-        let nsub = ell.len();
-        let mut kin = Kin {
-            rot: Vec::with_capacity(nsub + 1),
-            pos: Vec::with_capacity(nsub + 1),
-            m_int: Vec::with_capacity(if integrals { nsub } else { 0 }),
-            n_int: Vec::with_capacity(if integrals { nsub } else { 0 }),
-        };
-        let (mut r, mut p) = (Matrix3::identity(), Vector3::zeros());
-        kin.rot.push(r);
-        kin.pos.push(p);
-        for j in 0..nsub {
-            let x = &xi[4 * j..4 * j + 4];
-            if integrals {
-                let mut mi = Matrix3::zeros();
-                let mut ni = [Vector3::zeros(); 3];
-                for q in 0..GL_NODES {
-                    let w = 0.5 * ell[j] * GL_W[q];
-                    let (rl, pl) = sub_arc_exp(x, 0.5 * ell[j] * (1.0 + GL_X[q]));
-                    let rs = r * rl;
-                    let ps = p + r * pl;
-                    mi += rs * w;
-                    for (a, na) in ni.iter_mut().enumerate() {
-                        *na += rs.column(a).cross(&ps) * w;
-                    }
-                }
-                kin.m_int.push(mi);
-                kin.n_int.push(ni);
-            }
-            let (rl, pl) = sub_arc_exp(x, ell[j]);
-            p += r * pl;
-            r *= rl;
-            kin.rot.push(r);
-            kin.pos.push(p);
-        }
-        kin
+        kinematics(xi, ell, integrals)
     }
 
     /// How far any point of the robot moves between two states, bounded above: the largest
@@ -221,7 +227,11 @@ impl<'a> World<'a> {
         // reach (disk radius, half a sub-arc); obstacles farther than the margin from them
         // only bound `clear`.
         let grow = self.robot.disk_radius.max(self.robot.backbone.radius())
-            + kin.pos.windows(2).map(|w| 0.5 * (w[1] - w[0]).norm()).fold(0.0, f64::max);
+            + kin
+                .pos
+                .windows(2)
+                .map(|w| 0.5 * (w[1] - w[0]).norm())
+                .fold(0.0, f64::max);
         let (mut lo, mut hi) = (kin.pos[0], kin.pos[0]);
         for p in &kin.pos {
             lo = lo.inf(p);
