@@ -1787,9 +1787,14 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// Length of every cable of `robot` for the strains `xi` (4 per sub-arc, `sub_arcs` per
-/// section) in the measure of `set`: the function the constraints use, exposed for checks.
-pub fn cable_lengths(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<Vec<f64>, SolveError> {
+/// Run `f` on the unactuated, obstacle-free problem of `robot` and `set` once `xi` is known
+/// to have the right length: the shared front of the check functions below.
+fn with_problem<T>(
+    robot: &Robot,
+    set: &Energy,
+    xi: &[f64],
+    f: impl FnOnce(&Problem) -> T,
+) -> Result<T, SolveError> {
     let empty = Scene::empty();
     let prob = set.setup(robot, &Actuation::free(robot), &empty)?;
     if xi.len() != prob.nvar() {
@@ -1798,9 +1803,17 @@ pub fn cable_lengths(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<Vec<f64>
             reason: format!("expected {} strains, got {}", prob.nvar(), xi.len()),
         });
     }
-    let mut out = vec![0.0; robot.cables.len()];
-    prob.lengths(xi, &mut out);
-    Ok(out)
+    Ok(f(&prob))
+}
+
+/// Length of every cable of `robot` for the strains `xi` (4 per sub-arc, `sub_arcs` per
+/// section) in the measure of `set`: the function the constraints use, exposed for checks.
+pub fn cable_lengths(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<Vec<f64>, SolveError> {
+    with_problem(robot, set, xi, |prob| {
+        let mut out = vec![0.0; robot.cables.len()];
+        prob.lengths(xi, &mut out);
+        out
+    })
 }
 
 /// Elastic energy `Σ ½ ℓ (EI κ² + GJ τ² + EA ε²)` [J] of the strains `xi` (layout as in
@@ -1808,15 +1821,7 @@ pub fn cable_lengths(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<Vec<f64>
 /// displacement-driven: exposed for checks (e.g. that a contact multiplier is the price of
 /// the clearance, `∂E*/∂clearance`).
 pub fn elastic_energy(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<f64, SolveError> {
-    let empty = Scene::empty();
-    let prob = set.setup(robot, &Actuation::free(robot), &empty)?;
-    if xi.len() != prob.nvar() {
-        return Err(SolveError::InvalidInput {
-            field: "xi".into(),
-            reason: format!("expected {} strains, got {}", prob.nvar(), xi.len()),
-        });
-    }
-    Ok(prob.energy(xi))
+    with_problem(robot, set, xi, |prob| prob.energy(xi))
 }
 
 #[cfg(test)]
