@@ -674,3 +674,20 @@ fn a_tip_moment_is_unsupported_not_ignored() {
         other => panic!("expected Unsupported, got {other:?}"),
     }
 }
+
+/// Any method's shape is a start: the strains are fitted to its disk frames. From the literal
+/// geometric method's shape (4–5 mm away) the solve lands on the cold solution.
+#[test]
+fn a_shape_from_another_method_is_a_warm_start() {
+    for n in 1..=3 {
+        let m = paper(n);
+        let e = Energy::default();
+        let cold = solve(&e, &m);
+        let geo = solve(&ccrkit::method::geometric::Geometric::literal(), &m);
+        let warm = e
+            .solve(&m.robot, &m.actuation, &Scene::empty(), Some(&geo))
+            .expect("solves from the geometric shape");
+        let d = warm.rms_distance(&cold).unwrap();
+        assert!(d < 1e-9, "case {n}: {d} m from the cold solution");
+    }
+}
