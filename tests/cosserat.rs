@@ -295,3 +295,38 @@ fn non_convergence_is_an_error_not_a_shape() {
         Ok(s) => assert!(s.report.converged && s.report.residual <= m.tolerance),
     }
 }
+
+/// Agreement of the variational (sensitivity-equation) Jacobian with central differences.
+const JAC_REL: f64 = 1e-6;
+
+fn check_jacobian(m: &Cosserat, model: &Model, tension_guess: f64) {
+    let (f, jv, jc) = m
+        .shooting_jacobians(&model.robot, &model.actuation, tension_guess)
+        .expect("valid")
+        .expect("variational Jacobian available");
+    assert!(f.iter().all(|v| v.is_finite()));
+    let scale = jc.abs().max();
+    let err = (&jv - &jc).abs().max();
+    assert!(
+        err <= JAC_REL * scale,
+        "{}: variational vs central differences: max error {err:e}, scale {scale:e}\ndiff {:.2e}",
+        m.name(),
+        &jv - &jc
+    );
+}
+
+#[test]
+fn variational_jacobian_matches_central_differences() {
+    for n in [1, 3] {
+        let model = paper(n);
+        for m in [Cosserat::full(), Cosserat::kirchhoff()] {
+            // Force control: the base wrench unknowns.
+            check_jacobian(&m, &model, 0.0);
+            // Displacement control: plus one tension per cable, both length measures.
+            for length in [LengthMeasure::Path, LengthMeasure::Chord] {
+                let d = m.clone().with_control(Control::Displacement).with_length(length);
+                check_jacobian(&d, &model, 2.0);
+            }
+        }
+    }
+}

@@ -74,7 +74,7 @@ use crate::actuation::Actuation;
 use crate::error::SolveError;
 use crate::method::Method;
 use crate::robot::Robot;
-use crate::routing::{Route, RoutingFit};
+use crate::routing::{Route, RoutePoint, RoutingFit};
 use crate::scene::Scene;
 use crate::shape::{CablePath, DiskFrame, Shape, SolveReport};
 use nalgebra::{DMatrix, DVector, Matrix3, SVector, Vector3, Vector6};
@@ -85,6 +85,48 @@ pub const MAX_CABLES: usize = 16;
 
 type State = SVector<f64, 18>;
 type Buf = [f64; MAX_CABLES];
+
+/// Most tangent directions of the variational equations: 6 base-wrench unknowns plus one
+/// tension per cable.
+const MAXD: usize = 6 + MAX_CABLES;
+
+/// Tangent directions of one right-hand-side evaluation (inputs `dy_in`, outputs `dy_out`,
+/// `dlr` = `δ|ṗ_c|`); direction `d` also moves the tension of cable `tcab[d]`
+/// (`usize::MAX`: none).
+struct Tangents {
+    nd: usize,
+    tcab: [usize; MAXD],
+    dy_in: [State; MAXD],
+    dy_out: [State; MAXD],
+    dlr: [Buf; MAXD],
+}
+
+impl Tangents {
+    fn new() -> Self {
+        Tangents {
+            nd: 0,
+            tcab: [usize::MAX; MAXD],
+            dy_in: [State::zeros(); MAXD],
+            dy_out: [State::zeros(); MAXD],
+            dlr: [[0.0; MAX_CABLES]; MAXD],
+        }
+    }
+}
+
+/// Variational state carried along one shooting pass: `∂y/∂x` column by column, the
+/// tangents of the path lengths, and at the end the tangents of the residual.
+struct Var {
+    nd: usize,
+    tg: Tangents,
+    /// `δ` of each cable's hole at the last disk passed.
+    hole: [[Vector3<f64>; MAX_CABLES]; MAXD],
+    tcab: [usize; MAXD],
+    y: [State; MAXD],
+    path: [Buf; MAXD],
+    chord: [Buf; MAXD],
+    resid: [Vector6<f64>; MAXD],
+    len: [Buf; MAXD],
+}
 
 /// Rod constitutive model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -121,8 +163,15 @@ pub enum LengthMeasure {
 pub struct Cosserat {
     /// Full (shear + extension) or Kirchhoff rod.
     pub model: RodModel,
-    /// Fixed RK4 steps per section (used when `adaptive` is `None`).
+    /// Fixed RK4 steps per section (used when `adaptive` is `None`) where the routing is
+    /// smooth; sections where a cable's route bends sharply get more (see `bend_refine`).
     pub steps_per_section: usize,
+    /// Route bend `β_k = max_c h_k² |r_c''| / r̄_c` (over the section's ends and cables)
+    /// above which section `k` gets `⌈N (β_k / bend_refine)^½⌉` RK4 steps instead of `N =
+    /// steps_per_section`: the tendon load is `∝ τ r''`, so a sharply bent route (case III's
+    /// jumping cable B, `β ≈ 6.5`) needs finer steps than a straight or helical one (`β ≤ 0.35`).
+    /// `f64::INFINITY` disables the refinement.
+    pub bend_refine: f64,
     /// Adaptive Dormand–Prince RK45 with this tolerance (scaled state error) instead of RK4.
     pub adaptive: Option<f64>,
     /// Cable routing fit.
@@ -142,6 +191,7 @@ impl Default for Cosserat {
         Cosserat {
             model: RodModel::Full,
             steps_per_section: 12,
+            bend_refine: 1.0,
             adaptive: None,
             routing: RoutingFit::Spline,
             control: Control::Force,
@@ -265,6 +315,11 @@ struct Problem<'a> {
     len0: Buf,
     /// Residual scale of each cable's length equation.
     kl: Buf,
+    /// RK4 steps of each section (index = section, 1-based; entry 0 unused).
+    nsteps: Vec<usize>,
+    /// Spline routes as cubics in `σ = s − s_{k−1}` per section: `[c0, c1, c2, c3]` at
+    /// index `(k − 1)·ncables + c` (empty for the Fourier fit).
+    cubic: Vec<[Vector3<f64>; 4]>,
 }
 
 const E3: Vector3<f64> = Vector3::new(0.0, 0.0, 1.0);
@@ -273,88 +328,266 @@ impl Problem<'_> {
     /// `y'` at `s` in section `sec` (1-based); `lr[c]` receives `|ṗ_c|`.
     #[inline]
     fn deriv(&self, s: f64, y: &State, sec: usize, ld: &LoadCase, lr: &mut Buf) -> State {
+        self.deriv_t(s, y, sec, ld, lr, None)
+    }
+
+    /// `y'` and, for every tangent direction `δy_d` in `tan` (with its tension direction
+    /// `δτ`), the directional derivative `(∂y'/∂y) δy_d + (∂y'/∂τ) δτ_d` (the variational
+    /// equations, written out analytically; `tan.dlr` receives `δ|ṗ_c|`).
+    ///
+    /// The tendon matrices are formed from vectors: with `t = ṗ/|ṗ|`, `α = τ/|ṗ|`,
+    /// `A_i = α (I − t tᵀ)`, `A_i r̂ = α (r̂ − t wᵀ)`, `r̂ A_i r̂ = α (r̂² + w wᵀ)`, `w = t × r`,
+    /// and `B = Gᵀ` (the system is symmetric). For the tangents,
+    /// `δA_i x = δα (x − t (t·x)) − α (δt (t·x) + t (δt·x))`, `δα = (δτ − α δ|ṗ|)/|ṗ|`,
+    /// `δt = (δṗ − t δ|ṗ|)/|ṗ|`, `δṗ = δu × r + δv`, and
+    /// `δ[v'; u'] = M⁻¹ (δ[d; c] − δM [v'; u'])` with the factors of `M` reused.
+    #[inline]
+    fn deriv_t(
+        &self,
+        s: f64,
+        y: &State,
+        sec: usize,
+        ld: &LoadCase,
+        lr: &mut Buf,
+        tan: Option<&mut Tangents>,
+    ) -> State {
         let r = rot_of(y);
         let w = v3(y, 12);
         let u = v3(y, 15);
-        let v = match self.set.model {
-            RodModel::Full => w,
-            RodModel::Kirchhoff => E3,
-        };
+        let full = self.set.model == RodModel::Full;
+        let v = if full { w } else { E3 };
         let mut am = Matrix3::zeros();
-        let mut bm = Matrix3::zeros();
         let mut gm = Matrix3::zeros();
         let mut hm = Matrix3::zeros();
         let mut a = Vector3::zeros();
         let mut b = Vector3::zeros();
+        // Per-cable quantities the tangents need.
+        let nc = self.robot.cables.len();
+        let mut cr = [Vector3::zeros(); MAX_CABLES];
+        let mut cdr = [Vector3::zeros(); MAX_CABLES];
+        let mut ct = [Vector3::zeros(); MAX_CABLES];
+        let mut cq = [Vector3::zeros(); MAX_CABLES];
+        let mut cpd = [Vector3::zeros(); MAX_CABLES];
+        let mut on = [false; MAX_CABLES];
         for (c, cable) in self.robot.cables.iter().enumerate() {
             if cable.ends_at < sec {
                 continue;
             }
-            let rp = self.routes[c].eval(s, sec - 1);
+            on[c] = true;
+            let rp = self.eval_route(c, s, sec);
             let pd = u.cross(&rp.r) + rp.dr + v;
             let nrm = pd.norm();
             lr[c] = nrm;
-            let t = ld.tau[c];
-            if t == 0.0 {
+            let tt = pd / nrm;
+            let q = u.cross(&pd) + u.cross(&rp.dr) + rp.ddr;
+            cr[c] = rp.r;
+            cdr[c] = rp.dr;
+            ct[c] = tt;
+            cq[c] = q;
+            cpd[c] = pd;
+            let tau = ld.tau[c];
+            if tau == 0.0 {
                 continue;
             }
-            // ṗ̂² = ṗ ṗᵀ − |ṗ|² I
-            let ai = (pd * pd.transpose() - Matrix3::from_diagonal_element(nrm * nrm))
-                * (-t / (nrm * nrm * nrm));
-            let rh = hat(&rp.r);
-            let ai_vec = ai * (u.cross(&pd) + u.cross(&rp.dr) + rp.ddr);
-            let bi = rh * ai;
+            let al = tau / nrm;
+            let ww = tt.cross(&rp.r);
+            let rr = rp.r;
+            // A_i = α (I − t tᵀ)
+            let ai = (Matrix3::identity() - tt * tt.transpose()) * al;
+            // G −= A_i r̂ = α (r̂ − t wᵀ)
+            gm -= (hat(&rr) - tt * ww.transpose()) * al;
+            // H −= r̂ A_i r̂ = α (r rᵀ − |r|² I + w wᵀ)
+            hm -= (rr * rr.transpose() - Matrix3::from_diagonal_element(rr.norm_squared())
+                + ww * ww.transpose())
+                * al;
             am += ai;
-            gm -= ai * rh;
-            hm -= bi * rh;
-            bm += bi;
+            let ai_vec = (q - tt * tt.dot(&q)) * al;
             a += ai_vec;
-            b += rp.r.cross(&ai_vec);
+            b += rr.cross(&ai_vec);
         }
+        let bm = gm.transpose();
         let f = self.f_dist * ld.lam;
         let fb = r.tr_mul(&f);
         let mut dy = State::zeros();
         let mb = self.kbt.component_mul(&u);
-        match self.set.model {
-            RodModel::Full => {
-                let nb = self.kse.component_mul(&(v - E3));
-                let cc = -u.cross(&mb) - v.cross(&nb) - b;
-                let dd = -u.cross(&nb) - fb - a;
-                // Block elimination (Schur complement on the bending block): two 3×3
-                // inverses instead of a 6×6 LU.
-                let k1 = Matrix3::from_diagonal(&self.kse) + am;
-                let k2 = Matrix3::from_diagonal(&self.kbt) + hm;
-                let Some(k1i) = k1.try_inverse() else {
-                    return State::from_element(f64::NAN);
-                };
-                let k1g = k1i * gm;
-                let k1d = k1i * dd;
-                let schur = k2 - bm * k1g;
-                let Some(si) = schur.try_inverse() else {
-                    return State::from_element(f64::NAN);
-                };
-                let du = si * (cc - bm * k1d);
-                let dv = k1d - k1g * du;
-                let sol = Vector6::new(dv.x, dv.y, dv.z, du.x, du.y, du.z);
-                put3(&mut dy, 0, &(r * v));
-                put3(&mut dy, 12, &Vector3::new(sol[0], sol[1], sol[2]));
-                put3(&mut dy, 15, &Vector3::new(sol[3], sol[4], sol[5]));
-            }
-            RodModel::Kirchhoff => {
-                let nb = r.tr_mul(&w);
-                let cc = -u.cross(&mb) - E3.cross(&nb) - b;
-                let mat = Matrix3::from_diagonal(&self.kbt) + hm;
-                let Some(du) = mat.try_inverse().map(|mi| mi * cc) else {
-                    return State::from_element(f64::NAN);
-                };
-                put3(&mut dy, 0, &r.column(2).into_owned());
-                put3(&mut dy, 12, &(-f - r * (a + gm * du)));
-                put3(&mut dy, 15, &du);
-            }
-        }
         let rd = r * hat(&u);
         dy.as_mut_slice()[3..12].copy_from_slice(rd.as_slice());
+        // Solution (v', u') and the factors needed again by the tangents.
+        let (dv, du, nb);
+        let (k1i, k1g, si, mi);
+        let kbt_h = Matrix3::from_diagonal(&self.kbt) + hm;
+        if full {
+            nb = self.kse.component_mul(&(v - E3));
+            let cc = -u.cross(&mb) - v.cross(&nb) - b;
+            let dd = -u.cross(&nb) - fb - a;
+            // Block elimination (Schur complement on the bending block): two 3×3
+            // inverses instead of a 6×6 LU.
+            let k1 = Matrix3::from_diagonal(&self.kse) + am;
+            let Some(k1inv) = k1.try_inverse() else {
+                return State::from_element(f64::NAN);
+            };
+            k1g = k1inv * gm;
+            let k1d = k1inv * dd;
+            let schur = kbt_h - bm * k1g;
+            let Some(sinv) = schur.try_inverse() else {
+                return State::from_element(f64::NAN);
+            };
+            du = sinv * (cc - bm * k1d);
+            dv = k1d - k1g * du;
+            k1i = k1inv;
+            si = sinv;
+            mi = Matrix3::zeros();
+            put3(&mut dy, 0, &(r * v));
+            put3(&mut dy, 12, &dv);
+            put3(&mut dy, 15, &du);
+        } else {
+            nb = r.tr_mul(&w);
+            let cc = -u.cross(&mb) - E3.cross(&nb) - b;
+            let Some(minv) = kbt_h.try_inverse() else {
+                return State::from_element(f64::NAN);
+            };
+            du = minv * cc;
+            dv = Vector3::zeros();
+            mi = minv;
+            k1i = Matrix3::zeros();
+            k1g = Matrix3::zeros();
+            si = Matrix3::zeros();
+            put3(&mut dy, 0, &r.column(2).into_owned());
+            put3(&mut dy, 12, &(-f - r * (a + gm * du)));
+            put3(&mut dy, 15, &du);
+        }
+        let Some(tan) = tan else {
+            return dy;
+        };
+        // z_i = v' − r_i × u' (so that δA v' + δG u' = Σ δA_i z_i, δB v' + δH u' = Σ r_i × δA_i z_i).
+        let mut cz = [Vector3::zeros(); MAX_CABLES];
+        for c in 0..nc {
+            if on[c] {
+                cz[c] = dv - cr[c].cross(&du);
+            }
+        }
+        let g_du = gm * du;
+        for d in 0..tan.nd {
+            let ty = &tan.dy_in[d];
+            let dr_m = Matrix3::from_column_slice(&ty.as_slice()[3..12]);
+            let dw = v3(ty, 12);
+            let duu = v3(ty, 15);
+            let dvv = if full { dw } else { Vector3::zeros() };
+            let tc = tan.tcab[d];
+            tan.dlr[d] = [0.0; MAX_CABLES];
+            let mut da = Vector3::zeros();
+            let mut db = Vector3::zeros();
+            let mut e1 = Vector3::zeros();
+            let mut e2 = Vector3::zeros();
+            for c in 0..nc {
+                if !on[c] {
+                    continue;
+                }
+                let dtau = if tc == c { 1.0 } else { 0.0 };
+                let tt = ct[c];
+                let nrm = lr[c];
+                let dpd = duu.cross(&cr[c]) + dvv;
+                let dn = tt.dot(&dpd);
+                tan.dlr[d][c] = dn;
+                let tau = ld.tau[c];
+                if tau == 0.0 && dtau == 0.0 {
+                    continue;
+                }
+                let al = tau / nrm;
+                let dal = (dtau - al * dn) / nrm;
+                let dt = (dpd - tt * dn) / nrm;
+                // δA_i x
+                let da_x = |x: &Vector3<f64>| -> Vector3<f64> {
+                    let tx = tt.dot(x);
+                    (x - tt * tx) * dal - (dt * tx + tt * dt.dot(x)) * al
+                };
+                let dq = duu.cross(&cpd[c]) + u.cross(&dpd) + duu.cross(&cdr[c]);
+                let dai = da_x(&cq[c]) + (dq - tt * tt.dot(&dq)) * al;
+                da += dai;
+                db += cr[c].cross(&dai);
+                let az = da_x(&cz[c]);
+                e1 += az;
+                e2 += cr[c].cross(&az);
+            }
+            let dmb = self.kbt.component_mul(&duu);
+            let out = &mut tan.dy_out[d];
+            let drd = dr_m * hat(&u) + r * hat(&duu);
+            out.as_mut_slice()[3..12].copy_from_slice(drd.as_slice());
+            if full {
+                let dnb = self.kse.component_mul(&dvv);
+                let dcc = -duu.cross(&mb) - u.cross(&dmb) - dvv.cross(&nb) - v.cross(&dnb) - db;
+                let ddd = -duu.cross(&nb) - u.cross(&dnb) - dr_m.tr_mul(&f) - da;
+                let r1 = ddd - e1;
+                let r2 = dcc - e2;
+                let k1r = k1i * r1;
+                let ddu = si * (r2 - bm * k1r);
+                let ddv = k1r - k1g * ddu;
+                put3(out, 0, &(dr_m * v + r * dvv));
+                put3(out, 12, &ddv);
+                put3(out, 15, &ddu);
+            } else {
+                let dnb = dr_m.tr_mul(&w) + r.tr_mul(&dw);
+                let dcc = -duu.cross(&mb) - u.cross(&dmb) - E3.cross(&dnb) - db;
+                let ddu = mi * (dcc - e2);
+                let ddn = -dr_m * (a + g_du) - r * (da + e1 + gm * ddu);
+                put3(out, 0, &dr_m.column(2).into_owned());
+                put3(out, 12, &ddn);
+                put3(out, 15, &ddu);
+            }
+        }
         dy
+    }
+    /// One RK4 step of the state and of its tangents (the exact derivative of the discrete
+    /// RK4 map: each stage's tangent is the stage state's tangent pushed through `∂y'/∂y`).
+    #[allow(clippy::too_many_arguments)]
+    fn rk4_t(
+        &self,
+        s: f64,
+        h: f64,
+        y: &mut State,
+        sec: usize,
+        ld: &LoadCase,
+        len: &mut Buf,
+        var: &mut Var,
+    ) {
+        let nd = var.nd;
+        let tg = &mut var.tg;
+        let nc = self.robot.cables.len();
+        let mut ks = [State::zeros(); 4];
+        let mut ls = [[0.0; MAX_CABLES]; 4];
+        let mut kt = [[State::zeros(); MAXD]; 4];
+        let mut lt = [[[0.0; MAX_CABLES]; MAXD]; 4];
+        const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
+        for st in 0..4 {
+            let (ys, ss) = if st == 0 {
+                (*y, s)
+            } else {
+                (*y + ks[st - 1] * (C[st] * h), s + C[st] * h)
+            };
+            for d in 0..nd {
+                tg.dy_in[d] = if st == 0 {
+                    var.y[d]
+                } else {
+                    var.y[d] + kt[st - 1][d] * (C[st] * h)
+                };
+            }
+            ks[st] = self.deriv_t(ss, &ys, sec, ld, &mut ls[st], Some(tg));
+            for d in 0..nd {
+                kt[st][d] = tg.dy_out[d];
+                lt[st][d] = tg.dlr[d];
+            }
+        }
+        *y += (ks[0] + (ks[1] + ks[2]) * 2.0 + ks[3]) * (h / 6.0);
+        for c in 0..nc {
+            len[c] += (ls[0][c] + 2.0 * (ls[1][c] + ls[2][c]) + ls[3][c]) * (h / 6.0);
+        }
+        for d in 0..nd {
+            var.y[d] += (kt[0][d] + (kt[1][d] + kt[2][d]) * 2.0 + kt[3][d]) * (h / 6.0);
+            for c in 0..nc {
+                var.path[d][c] +=
+                    (lt[0][d][c] + 2.0 * (lt[1][d][c] + lt[2][d][c]) + lt[3][d][c]) * (h / 6.0);
+            }
+        }
     }
 
     /// One classical RK4 step from `s` of size `h`; path lengths accumulate in `len`.
@@ -374,6 +607,68 @@ impl Problem<'_> {
         for c in 0..self.robot.cables.len() {
             len[c] += (l1[c] + 2.0 * (l2[c] + l3[c]) + l4[c]) * (h / 6.0);
         }
+    }
+
+    /// The natural-spline routes as one cubic per section (exact: a cubic is fixed by `r`,
+    /// `r'`, `r''` at the section start and `r''` at its end), evaluated without the
+    /// spline's divisions in the hot loop.
+    fn route_cubics(&self) -> Vec<[Vector3<f64>; 4]> {
+        if self.set.routing != RoutingFit::Spline {
+            return vec![];
+        }
+        let robot = self.robot;
+        let mut out = Vec::with_capacity(robot.sections() * robot.cables.len());
+        for k in 1..=robot.sections() {
+            let (s0, s1) = (robot.disk_s[k - 1], robot.disk_s[k]);
+            for route in &self.routes {
+                let a = route.eval(s0, k - 1);
+                let b = route.eval(s1, k - 1);
+                out.push([a.r, a.dr, a.ddr * 0.5, (b.ddr - a.ddr) / (6.0 * (s1 - s0))]);
+            }
+        }
+        out
+    }
+
+    /// Route of cable `c` at `s` in section `sec` (1-based).
+    #[inline]
+    fn eval_route(&self, c: usize, s: f64, sec: usize) -> RoutePoint {
+        if self.cubic.is_empty() {
+            return self.routes[c].eval(s, sec - 1);
+        }
+        let [c0, c1, c2, c3] = &self.cubic[(sec - 1) * self.robot.cables.len() + c];
+        let x = s - self.robot.disk_s[sec - 1];
+        RoutePoint {
+            r: c0 + (c1 + (c2 + c3 * x) * x) * x,
+            dr: c1 + (c2 * 2.0 + c3 * (3.0 * x)) * x,
+            ddr: c2 * 2.0 + c3 * (6.0 * x),
+        }
+    }
+
+    /// RK4 steps of every section: `steps_per_section`, more where a route bends sharply.
+    fn steps_per_section(&self) -> Vec<usize> {
+        let robot = self.robot;
+        let base = self.set.steps_per_section.max(1);
+        let mut out = vec![base; robot.sections() + 1];
+        for (k, n) in out.iter_mut().enumerate().skip(1) {
+            let (s0, s1) = (robot.disk_s[k - 1], robot.disk_s[k]);
+            let h = s1 - s0;
+            let mut bend = 0.0f64;
+            for (c, cable) in robot.cables.iter().enumerate() {
+                if cable.ends_at < k {
+                    continue;
+                }
+                let rbar = 0.5 * (cable.radius[k - 1] + cable.radius[k]);
+                let rbar = if rbar > 0.0 { rbar } else { robot.disk_radius };
+                let a = self.routes[c].eval(s0, k - 1).ddr.norm();
+                let b = self.routes[c].eval(s1, k - 1).ddr.norm();
+                bend = bend.max(a.max(b) * h * h / rbar);
+            }
+            let ratio = bend / self.set.bend_refine;
+            if ratio > 1.0 {
+                *n = (base as f64 * ratio.sqrt()).ceil() as usize;
+            }
+        }
+        out
     }
 
     /// Scaled max-norm of a state error (for the adaptive integrator).
@@ -406,16 +701,20 @@ impl Problem<'_> {
         len: &mut Buf,
         h_adapt: &mut f64,
         trace: &mut Option<&mut Trace>,
+        var: &mut Option<&mut Var>,
     ) -> bool {
         let (s0, s1) = (self.robot.disk_s[sec - 1], self.robot.disk_s[sec]);
         match self.set.adaptive {
             None => {
-                let nsteps = self.set.steps_per_section.max(1);
+                let nsteps = self.nsteps[sec];
                 let h = (s1 - s0) / nsteps as f64;
                 for j in 0..nsteps {
                     // Each step starts at its own arc length (never drop s0).
                     let s = s0 + j as f64 * h;
-                    self.rk4(s, h, y, sec, ld, len);
+                    match var.as_deref_mut() {
+                        Some(vr) => self.rk4_t(s, h, y, sec, ld, len, vr),
+                        None => self.rk4(s, h, y, sec, ld, len),
+                    }
                     if let Some(t) = trace.as_deref_mut() {
                         t.backbone.push(v3(y, 0));
                     }
@@ -539,6 +838,81 @@ impl Problem<'_> {
         (yn, ln, self.err_norm(&e))
     }
 
+    /// Tangents at disk `k` (after integrating section `k`, before its jumps): chord lengths
+    /// (`δ|h_k − h_{k−1}| = e·(δh_k − δh_{k−1})`, `δh = δp + δR r_k`) and, at the tip, the
+    /// residual `[n(L⁺), m(L⁺)/L]` with the tie forces of the cables ending there,
+    /// `F = −τ R t`, `δF = −δτ R t − τ (δR t + R δt)`.
+    fn disk_tangents(
+        &self,
+        k: usize,
+        y: &State,
+        ld: &LoadCase,
+        prev: &[Vector3<f64>; MAX_CABLES],
+        vr: &mut Var,
+    ) {
+        let robot = self.robot;
+        let r = rot_of(y);
+        let p = v3(y, 0);
+        let full = self.set.model == RodModel::Full;
+        let w = v3(y, 12);
+        let u = v3(y, 15);
+        let v = if full { w } else { E3 };
+        let tip = k == robot.sections();
+        for d in 0..vr.nd {
+            let ty = vr.y[d];
+            let dp = v3(&ty, 0);
+            let dr_m = Matrix3::from_column_slice(&ty.as_slice()[3..12]);
+            let dw = v3(&ty, 12);
+            let du = v3(&ty, 15);
+            let dv = if full { dw } else { Vector3::zeros() };
+            for (c, cable) in robot.cables.iter().enumerate() {
+                if cable.ends_at < k {
+                    continue;
+                }
+                let hk = cable.hole(k);
+                let seg = p + r * hk - prev[c];
+                let dh = dp + dr_m * hk;
+                let len = seg.norm();
+                if len > 0.0 {
+                    vr.chord[d][c] += seg.dot(&(dh - vr.hole[d][c])) / len;
+                }
+                vr.hole[d][c] = dh;
+            }
+            if !tip {
+                continue;
+            }
+            let mut dn = if full {
+                dr_m * self.kse.component_mul(&(v - E3)) + r * self.kse.component_mul(&dw)
+            } else {
+                dw
+            };
+            let mut dm = dr_m * self.kbt.component_mul(&u) + r * self.kbt.component_mul(&du);
+            for (c, cable) in robot.cables.iter().enumerate() {
+                let tau = ld.tau[c];
+                let dtau = if vr.tcab[d] == c { 1.0 } else { 0.0 };
+                if cable.ends_at != k || (tau == 0.0 && dtau == 0.0) {
+                    continue;
+                }
+                let rp = self.eval_route(c, robot.disk_s[k], k);
+                let pd = u.cross(&rp.r) + rp.dr + v;
+                let nrm = pd.norm();
+                let t = pd / nrm;
+                let dpd = du.cross(&rp.r) + dv;
+                let dt = (dpd - t * t.dot(&dpd)) / nrm;
+                let f = r * t * (-tau);
+                let df = -(r * t) * dtau - (dr_m * t + r * dt) * tau;
+                dn -= df;
+                dm -= (dr_m * rp.r).cross(&f) + (r * rp.r).cross(&df);
+            }
+            let dm = dm / self.len_l;
+            vr.resid[d] = Vector6::new(dn.x, dn.y, dn.z, dm.x, dm.y, dm.z);
+            vr.len[d] = match self.set.length {
+                LengthMeasure::Path => vr.path[d],
+                LengthMeasure::Chord => vr.chord[d],
+            };
+        }
+    }
+
     /// Rod force and moment (base frame) from the state.
     #[inline]
     fn wrench(&self, y: &State) -> (Vector3<f64>, Vector3<f64>) {
@@ -569,6 +943,7 @@ impl Problem<'_> {
         m0: &Vector3<f64>,
         ld: &LoadCase,
         mut trace: Option<&mut Trace>,
+        mut var: Option<&mut Var>,
     ) -> Shot {
         let robot = self.robot;
         let mut y = State::zeros();
@@ -592,11 +967,14 @@ impl Problem<'_> {
             tip: Vector3::from_element(f64::NAN),
         };
         for k in 1..=nsec {
-            if !self.section(k, &mut y, ld, &mut path, &mut h_adapt, &mut trace) {
+            if !self.section(k, &mut y, ld, &mut path, &mut h_adapt, &mut trace, &mut var) {
                 return bad;
             }
             let r = rot_of(&y);
             let p = v3(&y, 0);
+            if let Some(vr) = var.as_deref_mut() {
+                self.disk_tangents(k, &y, ld, &prev, vr);
+            }
             if let Some(t) = trace.as_deref_mut() {
                 t.disks.push((p, r));
             }
@@ -615,7 +993,7 @@ impl Problem<'_> {
                 prev[c] = hole;
                 let t = ld.tau[c];
                 if cable.ends_at == k && t != 0.0 {
-                    let rp = self.routes[c].eval(robot.disk_s[k], k - 1);
+                    let rp = self.eval_route(c, robot.disk_s[k], k);
                     let pd = u.cross(&rp.r) + rp.dr + v;
                     let f = r * pd * (-t / pd.norm());
                     n -= f;
@@ -640,6 +1018,8 @@ impl Problem<'_> {
                 .any(|(c, cable)| cable.ends_at == k && ld.tau[c] != 0.0);
             let point_load = self.disk_weight.norm() * ld.lam > 0.0;
             if k < nsec && (tied_here || point_load) {
+                // The variational pass is only run where no such jump occurs (`var_ok`).
+                debug_assert!(var.is_none());
                 let (n_base, m_base) = (n, m);
                 let mut settled = false;
                 for _ in 0..50 {
@@ -805,7 +1185,7 @@ impl Problem<'_> {
             tau: self.tensions(x, setup, lam),
             lam,
         };
-        let shot = self.shoot(&n0, &m0, &ld, None);
+        let shot = self.shoot(&n0, &m0, &ld, None, None);
         let mut f = DVector::zeros(x.len());
         for i in 0..6 {
             f[i] = shot.resid[i];
@@ -823,6 +1203,96 @@ impl Problem<'_> {
         match self.modes[c] {
             Mode::Length(d) => self.len0[c] - lam * d,
             _ => self.len0[c],
+        }
+    }
+
+    /// True when the variational equations give the exact Jacobian of this shooting pass:
+    /// fixed RK4 steps and no point load at an inner disk (a cable tied there, or disk
+    /// weights: their kink forces come from a fixed point that is not differentiated).
+    fn var_ok(&self, setup: &Setup, tau: &Buf, lam: f64) -> bool {
+        if self.set.adaptive.is_some() || self.disk_weight.norm() * lam > 0.0 {
+            return false;
+        }
+        let nsec = self.robot.sections();
+        self.robot.cables.iter().enumerate().all(|(c, cable)| {
+            cable.ends_at >= nsec || (tau[c] == 0.0 && !setup.unknown.contains(&c))
+        })
+    }
+
+    /// Residual, exact Jacobian (variational equations integrated with the state in the same
+    /// RK4 pass) and tip; `None` where [`Self::var_ok`] says no.
+    ///
+    /// Columns: `x = [n(0), m(0)/L, τ_unknown]`. The start tangents follow from
+    /// `v(0) = e3 + Kse⁻¹ n(0)`, `u(0) = Kbt⁻¹ m(0)` (`R(0) = I`; Kirchhoff: the state is `n`).
+    fn residual_jac(
+        &self,
+        x: &DVector<f64>,
+        setup: &Setup,
+        lam: f64,
+    ) -> Option<(DVector<f64>, DMatrix<f64>, Vector3<f64>)> {
+        let tau = self.tensions(x, setup, lam);
+        if !self.var_ok(setup, &tau, lam) {
+            return None;
+        }
+        let k = x.len();
+        let mut var = Box::new(Var {
+            nd: k,
+            tg: Tangents::new(),
+            hole: [[Vector3::zeros(); MAX_CABLES]; MAXD],
+            tcab: [usize::MAX; MAXD],
+            y: [State::zeros(); MAXD],
+            path: [[0.0; MAX_CABLES]; MAXD],
+            chord: [[0.0; MAX_CABLES]; MAXD],
+            resid: [Vector6::zeros(); MAXD],
+            len: [[0.0; MAX_CABLES]; MAXD],
+        });
+        var.tg.nd = k;
+        for (j, &c) in setup.unknown.iter().enumerate() {
+            var.tcab[6 + j] = c;
+            var.tg.tcab[6 + j] = c;
+        }
+        for i in 0..3 {
+            var.y[i][12 + i] = match self.set.model {
+                RodModel::Full => 1.0 / self.kse[i],
+                RodModel::Kirchhoff => 1.0,
+            };
+            var.y[3 + i][15 + i] = self.len_l / self.kbt[i];
+        }
+        let n0 = Vector3::new(x[0], x[1], x[2]);
+        let m0 = Vector3::new(x[3], x[4], x[5]) * self.len_l;
+        let ld = LoadCase { tau, lam };
+        let shot = self.shoot(&n0, &m0, &ld, None, Some(&mut var));
+        let mut f = DVector::zeros(k);
+        let mut jac = DMatrix::zeros(k, k);
+        for i in 0..6 {
+            f[i] = shot.resid[i];
+            for d in 0..k {
+                jac[(i, d)] = var.resid[d][i];
+            }
+        }
+        for (j, &c) in setup.unknown.iter().enumerate() {
+            f[6 + j] = self.kl[c] * (shot.len[c] - self.target(c, lam));
+            for d in 0..k {
+                jac[(6 + j, d)] = self.kl[c] * var.len[d][c];
+            }
+        }
+        if f.iter().chain(jac.iter()).any(|v| !v.is_finite()) {
+            f.fill(f64::NAN);
+        }
+        Some((f, jac, shot.tip))
+    }
+
+    /// A fresh Jacobian at `x`: variational where possible, else forward differences.
+    fn jacobian(
+        &self,
+        x: &DVector<f64>,
+        f: &DVector<f64>,
+        setup: &Setup,
+        lam: f64,
+    ) -> DMatrix<f64> {
+        match self.residual_jac(x, setup, lam) {
+            Some((_, j, _)) => j,
+            None => self.fd_jacobian(x, f, setup, lam),
         }
     }
 
@@ -855,7 +1325,14 @@ impl Problem<'_> {
     ) -> Result<(DVector<f64>, usize, f64), Fail> {
         let tol = self.set.tolerance;
         let mut x = x0.clone();
-        let (mut f, tip) = self.residual_tip(&x, setup, lam);
+        // Residual and exact (variational) Jacobian in one pass where available.
+        let (mut f, tip, var_jac) = match self.residual_jac(&x, setup, lam) {
+            Some((f, j, tip)) => (f, tip, Some(j)),
+            None => {
+                let (f, tip) = self.residual_tip(&x, setup, lam);
+                (f, tip, None)
+            }
+        };
         let norm_inf = |v: &DVector<f64>| v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         if !f[0].is_finite() {
             return Err(Fail {
@@ -867,10 +1344,11 @@ impl Problem<'_> {
         if norm_inf(&f) <= tol {
             return Ok((x, 0, norm_inf(&f)));
         }
-        // Force control: start Broyden from the rigid transport Jacobian (no extra
-        // integrations); otherwise (tension unknowns) from a difference Jacobian.
-        let (mut jac, mut fresh) = if setup.unknown.is_empty() && tip.iter().all(|v| v.is_finite())
-        {
+        // Start Broyden from the variational Jacobian; without it, in force control from the
+        // rigid transport Jacobian (no extra integrations), else from a difference Jacobian.
+        let (mut jac, mut fresh) = if let Some(j) = var_jac {
+            (j, true)
+        } else if setup.unknown.is_empty() && tip.iter().all(|v| v.is_finite()) {
             (self.transport_jacobian(&tip), false)
         } else {
             (self.fd_jacobian(&x, &f, setup, lam), true)
@@ -884,7 +1362,7 @@ impl Problem<'_> {
                         detail: "singular Jacobian".into(),
                     });
                 }
-                jac = self.fd_jacobian(&x, &f, setup, lam);
+                jac = self.jacobian(&x, &f, setup, lam);
                 fresh = true;
                 continue;
             };
@@ -925,7 +1403,7 @@ impl Problem<'_> {
                             detail: "line search failed".into(),
                         });
                     }
-                    jac = self.fd_jacobian(&x, &f, setup, lam);
+                    jac = self.jacobian(&x, &f, setup, lam);
                     fresh = true;
                 }
             }
@@ -1015,10 +1493,139 @@ impl Method for Cosserat {
                 reason: "obstacles are not handled by the rod model yet".into(),
             });
         }
+        let (prob, notes) = self.problem(robot, act)?;
+        let nc = robot.cables.len();
+        let len_l = prob.len_l;
+        let length_cables: Vec<usize> = (0..nc)
+            .filter(|&c| matches!(prob.modes[c], Mode::Length(_)))
+            .collect();
+        // Warm start.
+        let mut slack = vec![false; nc];
+        let mut warm_x: Option<(Vector3<f64>, Vector3<f64>, Vec<f64>)> = None;
+        if let Some(w) = warm {
+            if let Some(bw) = w.report.base_wrench {
+                if bw.iter().all(|v| v.is_finite()) && w.cables.len() == nc {
+                    let tens: Vec<f64> = w
+                        .cables
+                        .iter()
+                        .map(|c| c.tension.filter(|t| t.is_finite()).unwrap_or(0.0))
+                        .collect();
+                    for &c in &length_cables {
+                        slack[c] = w.cables[c].slack && tens[c] == 0.0;
+                    }
+                    warm_x = Some((
+                        Vector3::new(bw[0], bw[1], bw[2]),
+                        Vector3::new(bw[3], bw[4], bw[5]) / len_l,
+                        tens,
+                    ));
+                }
+            }
+        }
+        // Active set over slack cables.
+        let mut total_it = 0usize;
+        let max_rounds = 2 * nc + 3;
+        let mut x_prev: Option<DVector<f64>> = None;
+        let mut prev_setup: Option<Setup> = None;
+        for _round in 0..max_rounds {
+            let unknown: Vec<usize> = length_cables
+                .iter()
+                .copied()
+                .filter(|&c| !slack[c])
+                .collect();
+            let setup = Setup {
+                unknown,
+                slack: slack.clone(),
+            };
+            let mut x0 = DVector::zeros(6 + setup.unknown.len());
+            if let Some(xp) = &x_prev {
+                // Carry the base wrench and the tensions of cables still unknown.
+                for i in 0..6 {
+                    x0[i] = xp[i];
+                }
+                if let Some(ps) = &prev_setup {
+                    for (j, &c) in setup.unknown.iter().enumerate() {
+                        if let Some(pj) = ps.unknown.iter().position(|&q| q == c) {
+                            x0[6 + j] = xp[6 + pj].max(0.0);
+                        }
+                    }
+                }
+            } else if let Some((n0, m0s, tens)) = &warm_x {
+                for i in 0..3 {
+                    x0[i] = n0[i];
+                    x0[3 + i] = m0s[i];
+                }
+                for (j, &c) in setup.unknown.iter().enumerate() {
+                    x0[6 + j] = tens[c];
+                }
+                if prob.shape_free_loads() {
+                    prob.balance_guess(&mut x0, &setup, 1.0);
+                }
+            } else {
+                prob.balance_guess(&mut x0, &setup, 1.0);
+            }
+            let (x, it, res) = prob.solve_with_continuation(&x0, &setup).map_err(|e| {
+                SolveError::NotConverged {
+                    method: name.clone(),
+                    section: None,
+                    iterations: total_it + e.iterations,
+                    residual: e.residual,
+                    detail: e.detail,
+                }
+            })?;
+            total_it += it;
+            // Complementarity: negative tension → slack; slack but stretched → taut.
+            let tau = prob.tensions(&x, &setup, 1.0);
+            let mut changed = false;
+            let neg = setup
+                .unknown
+                .iter()
+                .copied()
+                .filter(|&c| tau[c] < 0.0)
+                .min_by(|&a, &b| tau[a].total_cmp(&tau[b]));
+            if let Some(c) = neg {
+                slack[c] = true;
+                changed = true;
+            } else if setup.slack.iter().any(|&b| b) {
+                let n0 = Vector3::new(x[0], x[1], x[2]);
+                let m0 = Vector3::new(x[3], x[4], x[5]) * len_l;
+                let shot = prob.shoot(&n0, &m0, &LoadCase { tau, lam: 1.0 }, None, None);
+                for &c in &length_cables {
+                    let tol_len = 10.0 * self.tolerance / prob.kl[c];
+                    if setup.slack[c] && shot.len[c] > prob.target(c, 1.0) + tol_len {
+                        slack[c] = false;
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                return Ok(self.build_shape(&prob, &x, &setup, total_it, res, start, notes));
+            }
+            x_prev = Some(x);
+            prev_setup = Some(setup);
+        }
+        Err(SolveError::NotConverged {
+            method: name,
+            section: None,
+            iterations: total_it,
+            residual: f64::NAN,
+            detail: "slack active set did not settle".into(),
+        })
+    }
+}
+
+impl Cosserat {
+    /// Everything fixed during a solve: validated settings and inputs, routes, step counts,
+    /// undeformed cable lengths. Also returns the report notes.
+    fn problem<'a>(
+        &'a self,
+        robot: &'a Robot,
+        act: &Actuation,
+    ) -> Result<(Problem<'a>, Vec<String>), SolveError> {
+        let name = self.name().to_string();
         let nc = robot.cables.len();
         if nc > MAX_CABLES {
             return Err(SolveError::Unsupported {
-                method: name,
+                method: name.clone(),
                 reason: format!("at most {MAX_CABLES} cables (got {nc})"),
             });
         }
@@ -1116,7 +1723,11 @@ impl Method for Cosserat {
             modes,
             len0: [0.0; MAX_CABLES],
             kl,
+            nsteps: vec![],
+            cubic: vec![],
         };
+        prob.nsteps = prob.steps_per_section();
+        prob.cubic = prob.route_cubics();
         // Undeformed lengths in the chosen measure: the unloaded, straight rod (exact at
         // zero load), integrated with the same quadrature as the loaded one.
         let zero = LoadCase {
@@ -1125,128 +1736,55 @@ impl Method for Cosserat {
         };
         if (0..nc).any(|c| matches!(prob.modes[c], Mode::Length(_))) {
             prob.len0 = prob
-                .shoot(&Vector3::zeros(), &Vector3::zeros(), &zero, None)
+                .shoot(&Vector3::zeros(), &Vector3::zeros(), &zero, None, None)
                 .len;
         }
 
-        let length_cables: Vec<usize> = (0..nc)
+        Ok((prob, notes))
+    }
+
+    /// Diagnostic for tests: at the cold start point of a solve (global-balance guess, every
+    /// length-controlled cable taut, its tension `tension_guess`), the shooting residual
+    /// `F(x)`, its Jacobian from the variational equations, and central differences of `F`
+    /// (step `1e-4·max(|x_j|, EI/L²)`: the full rod's `n = R Kse (v − e3)` cancels ~4 digits,
+    /// so smaller steps measure rounding). `Ok(None)` where the variational Jacobian is not
+    /// available (adaptive steps, point loads at inner disks).
+    #[doc(hidden)]
+    pub fn shooting_jacobians(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        tension_guess: f64,
+    ) -> Result<Option<(DVector<f64>, DMatrix<f64>, DMatrix<f64>)>, SolveError> {
+        let (prob, _) = self.problem(robot, act)?;
+        let unknown: Vec<usize> = (0..robot.cables.len())
             .filter(|&c| matches!(prob.modes[c], Mode::Length(_)))
             .collect();
-        // Warm start.
-        let mut slack = vec![false; nc];
-        let mut warm_x: Option<(Vector3<f64>, Vector3<f64>, Vec<f64>)> = None;
-        if let Some(w) = warm {
-            if let Some(bw) = w.report.base_wrench {
-                if bw.iter().all(|v| v.is_finite()) && w.cables.len() == nc {
-                    let tens: Vec<f64> = w
-                        .cables
-                        .iter()
-                        .map(|c| c.tension.filter(|t| t.is_finite()).unwrap_or(0.0))
-                        .collect();
-                    for &c in &length_cables {
-                        slack[c] = w.cables[c].slack && tens[c] == 0.0;
-                    }
-                    warm_x = Some((
-                        Vector3::new(bw[0], bw[1], bw[2]),
-                        Vector3::new(bw[3], bw[4], bw[5]) / len_l,
-                        tens,
-                    ));
-                }
-            }
+        let setup = Setup {
+            slack: vec![false; robot.cables.len()],
+            unknown,
+        };
+        let mut x = DVector::zeros(6 + setup.unknown.len());
+        for j in 0..setup.unknown.len() {
+            x[6 + j] = tension_guess;
         }
-        // Active set over slack cables.
-        let mut total_it = 0usize;
-        let max_rounds = 2 * nc + 3;
-        let mut x_prev: Option<DVector<f64>> = None;
-        let mut prev_setup: Option<Setup> = None;
-        for _round in 0..max_rounds {
-            let unknown: Vec<usize> = length_cables
-                .iter()
-                .copied()
-                .filter(|&c| !slack[c])
-                .collect();
-            let setup = Setup {
-                unknown,
-                slack: slack.clone(),
-            };
-            let mut x0 = DVector::zeros(6 + setup.unknown.len());
-            if let Some(xp) = &x_prev {
-                // Carry the base wrench and the tensions of cables still unknown.
-                for i in 0..6 {
-                    x0[i] = xp[i];
-                }
-                if let Some(ps) = &prev_setup {
-                    for (j, &c) in setup.unknown.iter().enumerate() {
-                        if let Some(pj) = ps.unknown.iter().position(|&q| q == c) {
-                            x0[6 + j] = xp[6 + pj].max(0.0);
-                        }
-                    }
-                }
-            } else if let Some((n0, m0s, tens)) = &warm_x {
-                for i in 0..3 {
-                    x0[i] = n0[i];
-                    x0[3 + i] = m0s[i];
-                }
-                for (j, &c) in setup.unknown.iter().enumerate() {
-                    x0[6 + j] = tens[c];
-                }
-                if prob.shape_free_loads() {
-                    prob.balance_guess(&mut x0, &setup, 1.0);
-                }
-            } else {
-                prob.balance_guess(&mut x0, &setup, 1.0);
-            }
-            let (x, it, res) = prob.solve_with_continuation(&x0, &setup).map_err(|e| {
-                SolveError::NotConverged {
-                    method: name.clone(),
-                    section: None,
-                    iterations: total_it + e.iterations,
-                    residual: e.residual,
-                    detail: e.detail,
-                }
-            })?;
-            total_it += it;
-            // Complementarity: negative tension → slack; slack but stretched → taut.
-            let tau = prob.tensions(&x, &setup, 1.0);
-            let mut changed = false;
-            let neg = setup
-                .unknown
-                .iter()
-                .copied()
-                .filter(|&c| tau[c] < 0.0)
-                .min_by(|&a, &b| tau[a].total_cmp(&tau[b]));
-            if let Some(c) = neg {
-                slack[c] = true;
-                changed = true;
-            } else if setup.slack.iter().any(|&b| b) {
-                let n0 = Vector3::new(x[0], x[1], x[2]);
-                let m0 = Vector3::new(x[3], x[4], x[5]) * len_l;
-                let shot = prob.shoot(&n0, &m0, &LoadCase { tau, lam: 1.0 }, None);
-                for &c in &length_cables {
-                    let tol_len = 10.0 * self.tolerance / prob.kl[c];
-                    if setup.slack[c] && shot.len[c] > prob.target(c, 1.0) + tol_len {
-                        slack[c] = false;
-                        changed = true;
-                    }
-                }
-            }
-            if !changed {
-                return Ok(self.build_shape(&prob, &x, &setup, total_it, res, start, notes));
-            }
-            x_prev = Some(x);
-            prev_setup = Some(setup);
+        prob.balance_guess(&mut x, &setup, 1.0);
+        let Some((f, jv, _)) = prob.residual_jac(&x, &setup, 1.0) else {
+            return Ok(None);
+        };
+        let mut jc = DMatrix::zeros(x.len(), x.len());
+        for col in 0..x.len() {
+            let h = 1e-4 * x[col].abs().max(prob.fscale);
+            let mut xp = x.clone();
+            xp[col] += h;
+            let fp = prob.residual(&xp, &setup, 1.0);
+            xp[col] -= 2.0 * h;
+            let fm = prob.residual(&xp, &setup, 1.0);
+            jc.set_column(col, &((fp - fm) / (2.0 * h)));
         }
-        Err(SolveError::NotConverged {
-            method: name,
-            section: None,
-            iterations: total_it,
-            residual: f64::NAN,
-            detail: "slack active set did not settle".into(),
-        })
+        Ok(Some((f, jv, jc)))
     }
-}
 
-impl Cosserat {
     #[allow(clippy::too_many_arguments)]
     fn build_shape(
         &self,
@@ -1263,7 +1801,13 @@ impl Cosserat {
         let m0 = Vector3::new(x[3], x[4], x[5]) * prob.len_l;
         let tau = prob.tensions(x, setup, 1.0);
         let mut trace = Trace::default();
-        prob.shoot(&n0, &m0, &LoadCase { tau, lam: 1.0 }, Some(&mut trace));
+        prob.shoot(
+            &n0,
+            &m0,
+            &LoadCase { tau, lam: 1.0 },
+            Some(&mut trace),
+            None,
+        );
         let disks: Vec<DiskFrame> = trace
             .disks
             .iter()
