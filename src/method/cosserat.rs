@@ -126,6 +126,9 @@ struct Var {
     chord: [Buf; MAXD],
     resid: [Vector6<f64>; MAXD],
     len: [Buf; MAXD],
+    /// RK4 stage scratch (tangents of the stage slopes and of `|ṗ_c|`).
+    kt: [[State; MAXD]; 4],
+    lt: [[Buf; MAXD]; 4],
 }
 
 /// Rod constitutive model.
@@ -184,6 +187,8 @@ pub struct Cosserat {
     pub max_iterations: usize,
     /// Residual tolerance [N] (moments divided by L, lengths times `EI/(r̄² L)`).
     pub tolerance: f64,
+    /// Try Newton at full load first (default); `false` goes straight to load stepping.
+    pub direct_start: bool,
 }
 
 impl Default for Cosserat {
@@ -198,6 +203,7 @@ impl Default for Cosserat {
             length: LengthMeasure::Path,
             max_iterations: 50,
             tolerance: 1e-9,
+            direct_start: true,
         }
     }
 }
@@ -290,11 +296,23 @@ struct Shot {
     tip: Vector3<f64>,
 }
 
-/// Recorded geometry of the final pass.
+/// Recorded geometry of a pass, with the inputs it was shot from.
 #[derive(Default)]
 struct Trace {
     disks: Vec<(Vector3<f64>, Matrix3<f64>)>,
     backbone: Vec<Vector3<f64>>,
+    key: Vec<f64>,
+}
+
+impl Trace {
+    /// Reset for a pass from `n0`, `m0` under `ld` (keeps the buffers' capacity).
+    fn start(&mut self, n0: &Vector3<f64>, m0: &Vector3<f64>, ld: &LoadCase) {
+        self.disks.clear();
+        self.backbone.clear();
+        self.key.clear();
+        self.key.extend(n0.iter().chain(m0.iter()).chain(&ld.tau));
+        self.key.push(ld.lam);
+    }
 }
 
 /// Everything fixed during one solve.
@@ -320,6 +338,8 @@ struct Problem<'a> {
     /// Spline routes as cubics in `σ = s − s_{k−1}` per section: `[c0, c1, c2, c3]` at
     /// index `(k − 1)·ncables + c` (empty for the Fourier fit).
     cubic: Vec<[Vector3<f64>; 4]>,
+    /// Geometry of the latest pass (so the converged one need not be integrated again).
+    last: std::cell::RefCell<Trace>,
 }
 
 const E3: Vector3<f64> = Vector3::new(0.0, 0.0, 1.0);
@@ -328,7 +348,7 @@ impl Problem<'_> {
     /// `y'` at `s` in section `sec` (1-based); `lr[c]` receives `|ṗ_c|`.
     #[inline]
     fn deriv(&self, s: f64, y: &State, sec: usize, ld: &LoadCase, lr: &mut Buf) -> State {
-        self.deriv_t(s, y, sec, ld, lr, None)
+        self.deriv_t::<false>(s, y, sec, ld, lr, None)
     }
 
     /// `y'` and, for every tangent direction `δy_d` in `tan` (with its tension direction
@@ -342,7 +362,7 @@ impl Problem<'_> {
     /// `δt = (δṗ − t δ|ṗ|)/|ṗ|`, `δṗ = δu × r + δv`, and
     /// `δ[v'; u'] = M⁻¹ (δ[d; c] − δM [v'; u'])` with the factors of `M` reused.
     #[inline]
-    fn deriv_t(
+    fn deriv_t<const TAN: bool>(
         &self,
         s: f64,
         y: &State,
@@ -380,11 +400,13 @@ impl Problem<'_> {
             lr[c] = nrm;
             let tt = pd / nrm;
             let q = u.cross(&pd) + u.cross(&rp.dr) + rp.ddr;
-            cr[c] = rp.r;
-            cdr[c] = rp.dr;
-            ct[c] = tt;
-            cq[c] = q;
-            cpd[c] = pd;
+            if TAN {
+                cr[c] = rp.r;
+                cdr[c] = rp.dr;
+                ct[c] = tt;
+                cq[c] = q;
+                cpd[c] = pd;
+            }
             let tau = ld.tau[c];
             if tau == 0.0 {
                 continue;
@@ -456,7 +478,7 @@ impl Problem<'_> {
             put3(&mut dy, 12, &(-f - r * (a + gm * du)));
             put3(&mut dy, 15, &du);
         }
-        let Some(tan) = tan else {
+        let Some(tan) = tan.filter(|_| TAN) else {
             return dy;
         };
         // z_i = v' − r_i × u' (so that δA v' + δG u' = Σ δA_i z_i, δB v' + δH u' = Σ r_i × δA_i z_i).
@@ -551,12 +573,12 @@ impl Problem<'_> {
         var: &mut Var,
     ) {
         let nd = var.nd;
-        let tg = &mut var.tg;
+        let Var {
+            tg, kt, lt, y: vy, path: vpath, ..
+        } = var;
         let nc = self.robot.cables.len();
         let mut ks = [State::zeros(); 4];
         let mut ls = [[0.0; MAX_CABLES]; 4];
-        let mut kt = [[State::zeros(); MAXD]; 4];
-        let mut lt = [[[0.0; MAX_CABLES]; MAXD]; 4];
         const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
         for st in 0..4 {
             let (ys, ss) = if st == 0 {
@@ -566,12 +588,12 @@ impl Problem<'_> {
             };
             for d in 0..nd {
                 tg.dy_in[d] = if st == 0 {
-                    var.y[d]
+                    vy[d]
                 } else {
-                    var.y[d] + kt[st - 1][d] * (C[st] * h)
+                    vy[d] + kt[st - 1][d] * (C[st] * h)
                 };
             }
-            ks[st] = self.deriv_t(ss, &ys, sec, ld, &mut ls[st], Some(tg));
+            ks[st] = self.deriv_t::<true>(ss, &ys, sec, ld, &mut ls[st], Some(tg));
             for d in 0..nd {
                 kt[st][d] = tg.dy_out[d];
                 lt[st][d] = tg.dlr[d];
@@ -582,9 +604,9 @@ impl Problem<'_> {
             len[c] += (ls[0][c] + 2.0 * (ls[1][c] + ls[2][c]) + ls[3][c]) * (h / 6.0);
         }
         for d in 0..nd {
-            var.y[d] += (kt[0][d] + (kt[1][d] + kt[2][d]) * 2.0 + kt[3][d]) * (h / 6.0);
+            vy[d] += (kt[0][d] + (kt[1][d] + kt[2][d]) * 2.0 + kt[3][d]) * (h / 6.0);
             for c in 0..nc {
-                var.path[d][c] +=
+                vpath[d][c] +=
                     (lt[0][d][c] + 2.0 * (lt[1][d][c] + lt[2][d][c]) + lt[3][d][c]) * (h / 6.0);
             }
         }
@@ -942,10 +964,17 @@ impl Problem<'_> {
         n0: &Vector3<f64>,
         m0: &Vector3<f64>,
         ld: &LoadCase,
-        mut trace: Option<&mut Trace>,
+        trace: Option<&mut Trace>,
         mut var: Option<&mut Var>,
     ) -> Shot {
         let robot = self.robot;
+        let mut last = self.last.borrow_mut();
+        let rec: &mut Trace = match trace {
+            Some(t) => t,
+            None => &mut last,
+        };
+        rec.start(n0, m0, ld);
+        let mut trace = Some(rec);
         let mut y = State::zeros();
         y.as_mut_slice()[3..12].copy_from_slice(Matrix3::<f64>::identity().as_slice());
         self.set_wrench(&mut y, n0, m0);
@@ -1079,6 +1108,14 @@ struct Setup {
     slack: Vec<bool>,
 }
 
+/// A converged Newton run: solution, iterations, residual, last Jacobian (for warm starts).
+struct Newton {
+    x: DVector<f64>,
+    iterations: usize,
+    residual: f64,
+    jac: Option<DMatrix<f64>>,
+}
+
 /// Failure of a Newton run (for continuation / error reporting).
 struct Fail {
     iterations: usize,
@@ -1115,6 +1152,15 @@ impl Problem<'_> {
     /// the weights use the straight rod (exact when there are none). Writes `x[0..6]`.
     fn balance_guess(&self, x: &mut DVector<f64>, setup: &Setup, lam: f64) {
         let tau = self.tensions(x, setup, lam);
+        let (n0, m0) = self.balance(&tau, lam);
+        for i in 0..3 {
+            x[i] = n0[i];
+            x[3 + i] = m0[i] / self.len_l;
+        }
+    }
+
+    /// The base wrench `(n(0), m(0))` of [`Self::balance_guess`] for tensions `tau`.
+    fn balance(&self, tau: &Buf, lam: f64) -> (Vector3<f64>, Vector3<f64>) {
         let robot = self.robot;
         let l = self.len_l;
         let tipf = self.tip_f * lam;
@@ -1129,14 +1175,15 @@ impl Problem<'_> {
         fext += g;
         mext += Vector3::new(0.0, 0.0, 0.5 * l).cross(&g);
         let (mut n0, mut m0) = (fext, mext);
-        for _ in 0..5 {
+        // Fixed point on t_i(0) (contraction ≈ τ r²/EI): iterate to rounding.
+        for _ in 0..30 {
             let v0 = match self.set.model {
                 RodModel::Full => E3 + n0.component_div(&self.kse),
                 RodModel::Kirchhoff => E3,
             };
             let u0 = m0.component_div(&self.kbt);
             let (mut n, mut m) = (fext, mext);
-            for (route, &t) in self.routes.iter().zip(&tau) {
+            for (route, &t) in self.routes.iter().zip(tau) {
                 if t == 0.0 {
                     continue;
                 }
@@ -1146,13 +1193,14 @@ impl Problem<'_> {
                 n -= f;
                 m -= rp.r.cross(&f);
             }
+            let change = (n - n0).norm() + (m - m0).norm() / l;
             n0 = n;
             m0 = m;
+            if change <= 1e-15 * (1.0 + n0.norm() + m0.norm() / l) {
+                break;
+            }
         }
-        for i in 0..3 {
-            x[i] = n0[i];
-            x[3 + i] = m0[i] / l;
-        }
+        (n0, m0)
     }
 
     fn residual(&self, x: &DVector<f64>, setup: &Setup, lam: f64) -> DVector<f64> {
@@ -1245,6 +1293,8 @@ impl Problem<'_> {
             chord: [[0.0; MAX_CABLES]; MAXD],
             resid: [Vector6::zeros(); MAXD],
             len: [[0.0; MAX_CABLES]; MAXD],
+            kt: [[State::zeros(); MAXD]; 4],
+            lt: [[[0.0; MAX_CABLES]; MAXD]; 4],
         });
         var.tg.nd = k;
         for (j, &c) in setup.unknown.iter().enumerate() {
@@ -1317,21 +1367,31 @@ impl Problem<'_> {
     }
 
     /// Newton with line search and Broyden updates at load factor `lam`.
+    ///
+    /// `jac0`: a Jacobian to start from (a warm start's, kept current by Broyden); without it
+    /// the residual and the exact variational Jacobian come from one pass.
     fn newton(
         &self,
         x0: &DVector<f64>,
         setup: &Setup,
         lam: f64,
-    ) -> Result<(DVector<f64>, usize, f64), Fail> {
+        jac0: Option<&DMatrix<f64>>,
+    ) -> Result<Newton, Fail> {
         let tol = self.set.tolerance;
         let mut x = x0.clone();
-        // Residual and exact (variational) Jacobian in one pass where available.
-        let (mut f, tip, var_jac) = match self.residual_jac(&x, setup, lam) {
-            Some((f, j, tip)) => (f, tip, Some(j)),
-            None => {
+        let jac0 = jac0.filter(|j| j.nrows() == x.len() && j.iter().all(|v| v.is_finite()));
+        let (mut f, tip, var_jac) = match jac0 {
+            Some(j) => {
                 let (f, tip) = self.residual_tip(&x, setup, lam);
-                (f, tip, None)
+                (f, tip, Some((j.clone(), false)))
             }
+            None => match self.residual_jac(&x, setup, lam) {
+                Some((f, j, tip)) => (f, tip, Some((j, true))),
+                None => {
+                    let (f, tip) = self.residual_tip(&x, setup, lam);
+                    (f, tip, None)
+                }
+            },
         };
         let norm_inf = |v: &DVector<f64>| v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         if !f[0].is_finite() {
@@ -1342,12 +1402,19 @@ impl Problem<'_> {
             });
         }
         if norm_inf(&f) <= tol {
-            return Ok((x, 0, norm_inf(&f)));
+            let residual = norm_inf(&f);
+            let jac = var_jac.map(|(j, _)| j);
+            return Ok(Newton {
+                x,
+                iterations: 0,
+                residual,
+                jac,
+            });
         }
         // Start Broyden from the variational Jacobian; without it, in force control from the
         // rigid transport Jacobian (no extra integrations), else from a difference Jacobian.
         let (mut jac, mut fresh) = if let Some(j) = var_jac {
-            (j, true)
+            j
         } else if setup.unknown.is_empty() && tip.iter().all(|v| v.is_finite()) {
             (self.transport_jacobian(&tip), false)
         } else {
@@ -1392,7 +1459,12 @@ impl Problem<'_> {
                     fresh = false;
                     let r = norm_inf(&f);
                     if r <= tol {
-                        return Ok((x, it, r));
+                        return Ok(Newton {
+                            x,
+                            iterations: it,
+                            residual: r,
+                            jac: Some(jac),
+                        });
                     }
                 }
                 None => {
@@ -1415,19 +1487,24 @@ impl Problem<'_> {
         })
     }
 
-    /// Newton from `x0`; if that fails, load stepping from zero load.
+    /// Newton from `x0` (unless `direct_start` is off); if that fails, load stepping from
+    /// zero load. Returns the solution and the number of load steps taken (0: direct).
     fn solve_with_continuation(
         &self,
         x0: &DVector<f64>,
         setup: &Setup,
-    ) -> Result<(DVector<f64>, usize, f64), Fail> {
+        jac0: Option<&DMatrix<f64>>,
+    ) -> Result<(Newton, usize), Fail> {
         let mut total = 0;
-        match self.newton(x0, setup, 1.0) {
-            Ok((x, it, r)) => return Ok((x, it, r)),
-            Err(e) => total += e.iterations,
+        if self.set.direct_start {
+            match self.newton(x0, setup, 1.0, jac0) {
+                Ok(n) => return Ok((n, 0)),
+                Err(e) => total += e.iterations,
+            }
         }
         let mut x = DVector::zeros(x0.len());
         let (mut lam, mut dl) = (0.0f64, 0.25f64);
+        let mut steps = 0;
         let mut last = Fail {
             iterations: total,
             residual: f64::NAN,
@@ -1439,14 +1516,16 @@ impl Problem<'_> {
             if self.shape_free_loads() {
                 self.balance_guess(&mut xs, setup, l1);
             }
-            match self.newton(&xs, setup, l1) {
-                Ok((xn, it, r)) => {
-                    total += it;
-                    x = xn;
+            match self.newton(&xs, setup, l1, None) {
+                Ok(mut n) => {
+                    total += n.iterations;
+                    steps += 1;
+                    x = n.x.clone();
                     lam = l1;
                     dl = (dl * 1.5).min(0.5);
                     if lam >= 1.0 {
-                        return Ok((x, total, r));
+                        n.iterations = total;
+                        return Ok((n, steps));
                     }
                 }
                 Err(e) => {
@@ -1493,7 +1572,7 @@ impl Method for Cosserat {
                 reason: "obstacles are not handled by the rod model yet".into(),
             });
         }
-        let (prob, notes) = self.problem(robot, act)?;
+        let (prob, mut notes) = self.problem(robot, act)?;
         let nc = robot.cables.len();
         let len_l = prob.len_l;
         let length_cables: Vec<usize> = (0..nc)
@@ -1502,6 +1581,14 @@ impl Method for Cosserat {
         // Warm start.
         let mut slack = vec![false; nc];
         let mut warm_x: Option<(Vector3<f64>, Vector3<f64>, Vec<f64>)> = None;
+        // A warm start from this method also carries its last Jacobian (`report.state`:
+        // `[k, J column-major]`) and the offset of its base wrench from the global balance.
+        let same = warm.is_some_and(|w| w.method == self.name());
+        let warm_jac = warm.filter(|_| same).and_then(|w| {
+            let st = w.report.state.as_ref()?;
+            let k = *st.first()? as usize;
+            (k >= 6 && st.len() == 1 + k * k).then(|| DMatrix::from_column_slice(k, k, &st[1..]))
+        });
         if let Some(w) = warm {
             if let Some(bw) = w.report.base_wrench {
                 if bw.iter().all(|v| v.is_finite()) && w.cables.len() == nc {
@@ -1558,12 +1645,31 @@ impl Method for Cosserat {
                     x0[6 + j] = tens[c];
                 }
                 if prob.shape_free_loads() {
-                    prob.balance_guess(&mut x0, &setup, 1.0);
+                    // The balance is exact for the rod but not for its discretization, which
+                    // misses it by the integration error; a warm start from this method has
+                    // measured that offset, and it changes little with the loads: keep it.
+                    let mut tw = [0.0; MAX_CABLES];
+                    tw[..nc].copy_from_slice(tens);
+                    let (nb, mb) = prob.balance(&prob.tensions(&x0, &setup, 1.0), 1.0);
+                    let (nw, mw) = if same {
+                        prob.balance(&tw, 1.0)
+                    } else {
+                        (*n0, m0s * len_l)
+                    };
+                    for i in 0..3 {
+                        x0[i] = nb[i] + (n0[i] - nw[i]);
+                        x0[3 + i] = (mb[i] + (m0s[i] * len_l - mw[i])) / len_l;
+                    }
                 }
             } else {
                 prob.balance_guess(&mut x0, &setup, 1.0);
             }
-            let (x, it, res) = prob.solve_with_continuation(&x0, &setup).map_err(|e| {
+            let jac0 = if x_prev.is_none() {
+                warm_jac.as_ref()
+            } else {
+                None
+            };
+            let (sol, load_steps) = prob.solve_with_continuation(&x0, &setup, jac0).map_err(|e| {
                 SolveError::NotConverged {
                     method: name.clone(),
                     section: None,
@@ -1572,6 +1678,15 @@ impl Method for Cosserat {
                     detail: e.detail,
                 }
             })?;
+            if load_steps > 0 {
+                notes.push(format!("continuation: {load_steps} load steps"));
+            }
+            let Newton {
+                x,
+                iterations: it,
+                residual: res,
+                jac,
+            } = sol;
             total_it += it;
             // Complementarity: negative tension → slack; slack but stretched → taut.
             let tau = prob.tensions(&x, &setup, 1.0);
@@ -1598,7 +1713,14 @@ impl Method for Cosserat {
                 }
             }
             if !changed {
-                return Ok(self.build_shape(&prob, &x, &setup, total_it, res, start, notes));
+                let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, start, notes);
+                if let Some(j) = jac {
+                    let mut st = Vec::with_capacity(1 + j.len());
+                    st.push(j.nrows() as f64);
+                    st.extend_from_slice(j.as_slice());
+                    shape.report.state = Some(st);
+                }
+                return Ok(shape);
             }
             x_prev = Some(x);
             prev_setup = Some(setup);
@@ -1725,6 +1847,7 @@ impl Cosserat {
             kl,
             nsteps: vec![],
             cubic: vec![],
+            last: Default::default(),
         };
         prob.nsteps = prob.steps_per_section();
         prob.cubic = prob.route_cubics();
@@ -1800,14 +1923,16 @@ impl Cosserat {
         let n0 = Vector3::new(x[0], x[1], x[2]);
         let m0 = Vector3::new(x[3], x[4], x[5]) * prob.len_l;
         let tau = prob.tensions(x, setup, 1.0);
-        let mut trace = Trace::default();
-        prob.shoot(
-            &n0,
-            &m0,
-            &LoadCase { tau, lam: 1.0 },
-            Some(&mut trace),
-            None,
-        );
+        let ld = LoadCase { tau, lam: 1.0 };
+        // The converged point was the last one integrated (Newton returns right after it):
+        // reuse its geometry; integrate again only if it was another point.
+        let mut trace = prob.last.take();
+        let mut probe = Trace::default();
+        probe.start(&n0, &m0, &ld);
+        if trace.key != probe.key || trace.disks.len() != robot.sections() + 1 {
+            prob.shoot(&n0, &m0, &ld, Some(&mut probe), None);
+            trace = probe;
+        }
         let disks: Vec<DiskFrame> = trace
             .disks
             .iter()
