@@ -76,7 +76,9 @@ fn full_rod_straight_tendon_is_the_stretched_arc() {
     // stays τ r / EI (the shear/extension correction is exactly this stretch).
     let tau = 2.0;
     let model = one_cable(&format!("tension = {tau}"), "");
-    let shape = solve(&tight(Cosserat::full()), &model);
+    // 12 RK4 steps per section: the closed form is checked to 1e-9 of the length, finer than
+    // the default resolution is made for (0.01 mm, see `default_resolution_...` below).
+    let shape = solve(&tight(Cosserat::full().with_steps(12)), &model);
     let bb = &model.robot.backbone;
     let kappa = tau * R_HOLE / bb.ei();
     let vz = 1.0 - tau / bb.ea();
@@ -298,10 +300,12 @@ fn non_convergence_is_an_error_not_a_shape() {
 
 /// Agreement of the variational (sensitivity-equation) Jacobian with central differences.
 const JAC_REL: f64 = 1e-6;
+/// Relative step of the central differences (their error is smallest there: ~1e-7 relative).
+const FD_STEP: f64 = 1e-4;
 
 fn check_jacobian(m: &Cosserat, model: &Model, tension_guess: f64) {
     let (f, jv, jc) = m
-        .shooting_jacobians(&model.robot, &model.actuation, tension_guess)
+        .shooting_jacobians(&model.robot, &model.actuation, tension_guess, FD_STEP)
         .expect("valid")
         .expect("variational Jacobian available");
     assert!(f.iter().all(|v| v.is_finite()));
@@ -309,9 +313,8 @@ fn check_jacobian(m: &Cosserat, model: &Model, tension_guess: f64) {
     let err = (&jv - &jc).abs().max();
     assert!(
         err <= JAC_REL * scale,
-        "{}: variational vs central differences: max error {err:e}, scale {scale:e}\ndiff {:.2e}",
-        m.name(),
-        &jv - &jc
+        "{}: variational vs central differences: max error {err:e}, scale {scale:e}",
+        m.name()
     );
 }
 
@@ -319,7 +322,7 @@ fn check_jacobian(m: &Cosserat, model: &Model, tension_guess: f64) {
 fn variational_jacobian_matches_central_differences() {
     for n in [1, 3] {
         let model = paper(n);
-        for m in [Cosserat::full(), Cosserat::kirchhoff()] {
+        for m in [Cosserat::full(), Cosserat::kirchhoff().with_steps(5)] {
             // Force control: the base wrench unknowns.
             check_jacobian(&m, &model, 0.0);
             // Displacement control: plus one tension per cable, both length measures.

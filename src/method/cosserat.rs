@@ -195,8 +195,8 @@ impl Default for Cosserat {
     fn default() -> Self {
         Cosserat {
             model: RodModel::Full,
-            steps_per_section: 12,
-            bend_refine: 1.0,
+            steps_per_section: 3,
+            bend_refine: 0.5,
             adaptive: None,
             routing: RoutingFit::Spline,
             control: Control::Force,
@@ -901,6 +901,23 @@ impl Problem<'_> {
                 vr.hole[d][c] = dh;
             }
             if !tip {
+                // No jump here (`var_ok`), but the state passes through `wrench` and
+                // `set_wrench`, which is the identity only for an orthonormal `R`; RK4 drifts
+                // from it by O(h⁴), so differentiate the round trip too:
+                // `v⁺ = e3 + Kse⁻¹ Rᵀ R Kse (v − e3)`, `u⁺ = Kbt⁻¹ Rᵀ R Kbt u` (Kirchhoff: `n`
+                // is the state itself).
+                let mb = self.kbt.component_mul(&u);
+                let mw = r * mb;
+                let dmw = dr_m * mb + r * self.kbt.component_mul(&du);
+                let du_new = (dr_m.tr_mul(&mw) + r.tr_mul(&dmw)).component_div(&self.kbt);
+                put3(&mut vr.y[d], 15, &du_new);
+                if full {
+                    let nb = self.kse.component_mul(&(w - E3));
+                    let nw = r * nb;
+                    let dnw = dr_m * nb + r * self.kse.component_mul(&dw);
+                    let dw_new = (dr_m.tr_mul(&nw) + r.tr_mul(&dnw)).component_div(&self.kse);
+                    put3(&mut vr.y[d], 12, &dw_new);
+                }
                 continue;
             }
             let mut dn = if full {
@@ -1878,6 +1895,7 @@ impl Cosserat {
         robot: &Robot,
         act: &Actuation,
         tension_guess: f64,
+        rel_step: f64,
     ) -> Result<Option<(DVector<f64>, DMatrix<f64>, DMatrix<f64>)>, SolveError> {
         let (prob, _) = self.problem(robot, act)?;
         let unknown: Vec<usize> = (0..robot.cables.len())
@@ -1897,7 +1915,7 @@ impl Cosserat {
         };
         let mut jc = DMatrix::zeros(x.len(), x.len());
         for col in 0..x.len() {
-            let h = 1e-4 * x[col].abs().max(prob.fscale);
+            let h = rel_step * x[col].abs().max(prob.fscale);
             let mut xp = x.clone();
             xp[col] += h;
             let fp = prob.residual(&xp, &setup, 1.0);
