@@ -386,9 +386,9 @@ impl Problem<'_> {
         let u = v3(y, 15);
         let full = self.set.model == RodModel::Full;
         let v = if full { w } else { E3 };
-        let mut am = Matrix3::zeros();
-        let mut gm = Matrix3::zeros();
-        let mut hm = Matrix3::zeros();
+        let mut sa = [0.0; 6];
+        let mut sg = [0.0; 9];
+        let mut sh = [0.0; 6];
         let mut a = Vector3::zeros();
         let mut b = Vector3::zeros();
         // Per-cable quantities the tangents need.
@@ -424,22 +424,54 @@ impl Problem<'_> {
             let al = tau / nrm;
             let ww = tt.cross(&rp.r);
             let rr = rp.r;
-            // A_i = α (I − t tᵀ)
-            let ai = (Matrix3::identity() - tt * tt.transpose()) * al;
+            let (tx, ty, tz) = (tt.x, tt.y, tt.z);
+            let (rx, ry, rz) = (rr.x, rr.y, rr.z);
+            let (wx, wy, wz) = (ww.x, ww.y, ww.z);
+            // A += A_i = α (I − t tᵀ)   (symmetric: upper triangle, row by row)
+            sa[0] += al * (1.0 - tx * tx);
+            sa[1] -= al * tx * ty;
+            sa[2] -= al * tx * tz;
+            sa[3] += al * (1.0 - ty * ty);
+            sa[4] -= al * ty * tz;
+            sa[5] += al * (1.0 - tz * tz);
             // G −= A_i r̂ = α (r̂ − t wᵀ)
-            gm -= (hat(&rr) - tt * ww.transpose()) * al;
-            // H −= r̂ A_i r̂ = α (r rᵀ − |r|² I + w wᵀ)
-            hm -= (rr * rr.transpose() - Matrix3::from_diagonal_element(rr.norm_squared())
-                + ww * ww.transpose())
-                * al;
-            am += ai;
+            sg[0] += al * tx * wx;
+            sg[1] += al * (rz + tx * wy);
+            sg[2] += al * (tx * wz - ry);
+            sg[3] += al * (ty * wx - rz);
+            sg[4] += al * ty * wy;
+            sg[5] += al * (rx + ty * wz);
+            sg[6] += al * (ry + tz * wx);
+            sg[7] += al * (tz * wy - rx);
+            sg[8] += al * tz * wz;
+            // H −= r̂ A_i r̂ = α (r rᵀ − |r|² I + w wᵀ)   (symmetric)
+            let rr2 = rx * rx + ry * ry + rz * rz;
+            sh[0] -= al * (rx * rx - rr2 + wx * wx);
+            sh[1] -= al * (rx * ry + wx * wy);
+            sh[2] -= al * (rx * rz + wx * wz);
+            sh[3] -= al * (ry * ry - rr2 + wy * wy);
+            sh[4] -= al * (ry * rz + wy * wz);
+            sh[5] -= al * (rz * rz - rr2 + wz * wz);
             let ai_vec = (q - tt * tt.dot(&q)) * al;
             a += ai_vec;
             b += rr.cross(&ai_vec);
         }
+        let am = Matrix3::new(
+            sa[0], sa[1], sa[2], sa[1], sa[3], sa[4], sa[2], sa[4], sa[5],
+        );
+        let gm = Matrix3::new(
+            sg[0], sg[1], sg[2], sg[3], sg[4], sg[5], sg[6], sg[7], sg[8],
+        );
+        let hm = Matrix3::new(
+            sh[0], sh[1], sh[2], sh[1], sh[3], sh[4], sh[2], sh[4], sh[5],
+        );
         let bm = gm.transpose();
         let f = self.f_dist * ld.lam;
-        let fb = r.tr_mul(&f);
+        let fb = if ld.lam == 0.0 || self.f_dist == Vector3::zeros() {
+            Vector3::zeros()
+        } else {
+            r.tr_mul(&f)
+        };
         let mut dy = State::zeros();
         let mb = self.kbt.component_mul(&u);
         let rd = r * hat(&u);
