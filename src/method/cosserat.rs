@@ -447,7 +447,8 @@ impl Problem<'_> {
             let pd = u.cross(&rp.r) + rp.dr + v;
             let nrm = pd.norm();
             lr[c] = nrm;
-            let tt = pd / nrm;
+            let inv = 1.0 / nrm;
+            let tt = pd * inv;
             let q = u.cross(&pd) + u.cross(&rp.dr) + rp.ddr;
             if TAN {
                 cr[c] = rp.r;
@@ -460,7 +461,7 @@ impl Problem<'_> {
             if tau == 0.0 {
                 continue;
             }
-            let al = tau / nrm;
+            let al = tau * inv;
             let ww = tt.cross(&rp.r);
             let rr = rp.r;
             let (tx, ty, tz) = (tt.x, tt.y, tt.z);
@@ -738,7 +739,7 @@ impl Problem<'_> {
     }
 
     /// Route of cable `c` at `s` in section `sec` (1-based).
-    #[inline]
+    #[inline(always)]
     fn eval_route(&self, c: usize, s: f64, sec: usize) -> RoutePoint {
         if self.cubic.is_empty() {
             return self.routes[c].eval(s, sec - 1);
