@@ -415,7 +415,11 @@ fn continuation_solves_a_tip_load_the_direct_start_cannot() {
     );
     for method in [Cosserat::full(), Cosserat::kirchhoff()] {
         let kirchhoff = method.name() == "kirchhoff";
-        let m = tight(method.with_steps(60));
+        // 1e-11 N: with 5 N loads, rounding keeps the residual near 1e-12.
+        let m = Cosserat {
+            tolerance: 1e-11,
+            ..method.with_steps(60)
+        };
         let shape = solve(&m, &model);
         assert!(used_continuation(&shape), "{}: direct start", m.name());
         assert!(shape.report.residual <= m.tolerance);
