@@ -303,6 +303,35 @@ fn orthonormal(r: &Matrix3<f64>) -> Matrix3<f64> {
     Matrix3::from_columns(&[x, y, z])
 }
 
+/// Inverse of a symmetric 3×3 matrix (upper triangle read) by cofactors; `None` if singular.
+#[inline]
+fn sym_inverse(m: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let (a, b, c) = (m[(0, 0)], m[(0, 1)], m[(0, 2)]);
+    let (d, e, f) = (m[(1, 1)], m[(1, 2)], m[(2, 2)]);
+    let c00 = d * f - e * e;
+    let c01 = c * e - b * f;
+    let c02 = b * e - c * d;
+    let det = a * c00 + b * c01 + c * c02;
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let c11 = a * f - c * c;
+    let c12 = b * c - a * e;
+    let c22 = a * d - b * b;
+    Some(Matrix3::new(
+        c00 * inv,
+        c01 * inv,
+        c02 * inv,
+        c01 * inv,
+        c11 * inv,
+        c12 * inv,
+        c02 * inv,
+        c12 * inv,
+        c22 * inv,
+    ))
+}
+
 #[inline]
 fn rot_of(y: &State) -> Matrix3<f64> {
     Matrix3::from_column_slice(&y.as_slice()[3..12])
@@ -529,13 +558,14 @@ impl Problem<'_> {
             // Block elimination (Schur complement on the bending block): two 3×3
             // inverses instead of a 6×6 LU.
             let k1 = Matrix3::from_diagonal(&self.kse) + am;
-            let Some(k1inv) = k1.try_inverse() else {
+            let Some(k1inv) = sym_inverse(&k1) else {
                 return State::from_element(f64::NAN);
             };
             k1g = k1inv * gm;
             let k1d = k1inv * dd;
+            // Kbt + H − Gᵀ K1⁻¹ G is symmetric.
             let schur = kbt_h - bm * k1g;
-            let Some(sinv) = schur.try_inverse() else {
+            let Some(sinv) = sym_inverse(&schur) else {
                 return State::from_element(f64::NAN);
             };
             du = sinv * (cc - bm * k1d);
