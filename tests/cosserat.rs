@@ -485,3 +485,30 @@ fn hopeless_load_is_not_converged_with_iterations_and_residual() {
         }
     }
 }
+
+#[test]
+fn warm_start_two_percent_away_needs_one_iteration() {
+    // The benchmark's warm start: the solution for tensions 2 % lower. The carried Jacobian
+    // and the load-scaled discretization offset make one Newton step enough.
+    for n in 1..=3 {
+        let model = paper(n);
+        let m = Cosserat::full();
+        let mut near = model.actuation.clone();
+        for d in &mut near.cables {
+            d.tension = d.tension.map(|t| 0.98 * t);
+        }
+        let scene = Scene::empty();
+        let from = m.solve(&model.robot, &near, &scene, None).expect("near");
+        let warm = m
+            .solve(&model.robot, &model.actuation, &scene, Some(&from))
+            .expect("warm");
+        let cold = solve(&m, &model);
+        assert!(
+            warm.report.iterations <= 1,
+            "case {n}: {}",
+            warm.report.iterations
+        );
+        assert!(warm.report.residual <= m.tolerance);
+        assert!(warm.tip_distance(&cold) < 1e-8, "case {n}");
+    }
+}
