@@ -2016,6 +2016,13 @@ impl Cosserat {
         };
         prob.nsteps = prob.steps_per_section();
         prob.cubic = prob.route_cubics();
+        if self.adaptive.is_none() {
+            let total: usize = prob.nsteps[1..].iter().sum();
+            notes[0].push_str(&format!(
+                " ({total} in all, bend refinement {})",
+                self.bend_refine
+            ));
+        }
         // Undeformed lengths in the chosen measure: the unloaded, straight rod (exact at
         // zero load), integrated with the same quadrature as the loaded one.
         let zero = LoadCase {
