@@ -185,9 +185,10 @@ struct RodArgs {
     /// `--method energy`; alias `--cable-length`).
     #[arg(long, visible_alias = "cable-length", default_value = "path")]
     length: String,
-    /// RK4 steps per section (12 keeps case III's tip within 0.01 mm of a converged run).
-    #[arg(long = "rk4-steps", default_value_t = 12)]
-    rk4_steps: usize,
+    /// RK4 steps per section before bend refinement (default: the library's, which keeps
+    /// every paper case's tip within 0.01 mm of a converged run).
+    #[arg(long = "rk4-steps")]
+    rk4_steps: Option<usize>,
     /// Adaptive RK45 tolerance instead of fixed RK4 steps.
     #[arg(long)]
     adaptive: Option<f64>,
@@ -215,12 +216,15 @@ impl RodArgs {
             "chord" => LengthMeasure::Chord,
             o => anyhow::bail!("unknown --length `{o}` (path, chord)"),
         };
-        Ok(base
+        let rod = base
             .with_control(control)
             .with_routing(routing)
             .with_length(length)
-            .with_steps(self.rk4_steps)
-            .with_adaptive(self.adaptive))
+            .with_adaptive(self.adaptive);
+        Ok(match self.rk4_steps {
+            Some(n) => rod.with_steps(n),
+            None => rod,
+        })
     }
 
     fn energy(&self) -> Result<ccrkit::method::energy::Energy> {

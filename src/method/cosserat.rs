@@ -96,13 +96,12 @@
 //!
 //! # Numbers (paper cases, force control, full model, spline routing)
 //!
-//! `ccrkit compare models/paper/caseN.toml` (12 RK4 steps per section), RMS of the disk
+//! `ccrkit compare models/paper/caseN.toml` (default resolution), RMS of the disk
 //! positions against `--method geometric`, paper's values in brackets:
 //! case I 3.94 mm (1.57), case II 2.89 mm (1.52), case III 4.81 mm (1.19); tip distances
 //! 9.2, 8.2, 13.1 mm. With Fourier8 routing case III gives 4.93 mm, and its Cosserat tip moves
 //! by 0.65 mm. Displacement control with the geometric method's chord lengths differs more
 //! (4.8, 8.9, 13.4 mm RMS): the file's tensions are not the ones those lengths need.
-//! RK4 with 12 steps per section keeps case III's tip within 0.005 mm of an 80-step run.
 //!
 //! **Default resolution.** 3 RK4 steps per section, and `⌈3 (β_k/0.5)^½⌉` in a section whose
 //! route bend `β_k = h² |r''| / r̄` exceeds 0.5 (`bend_refine`): case I and II (β ≤ 0.35) get 27

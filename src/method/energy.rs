@@ -1311,6 +1311,7 @@ impl Energy {
         let mut xi = vec![0.0; nv];
         let mut lam = vec![0.0; nc];
         let state = warm
+            .filter(|w| w.method == self.name())
             .and_then(|w| w.report.state.as_ref())
             .filter(|st| st.len() == nv + nc && st.iter().all(|v| v.is_finite()));
         if let Some(st) = state {
