@@ -4,6 +4,11 @@
 //!
 //! # Equations (Rucker & Webster 2011, §II–III; symbols as in the paper)
 //!
+//! The equation numbers below ("R&W eq. k") follow our reading of the paper and have not been
+//! checked against its text, which is not available here; every equation is written out in
+//! full, so each can be checked on its own, and the closed-form tests (arc, cantilever,
+//! global balance) check the implementation independently of the numbering.
+//!
 //! States along the undeformed arc length `s`: position `p`, orientation `R` (columns = body
 //! axes; `R(0) = I`, so the body x axis points at hole angle 0), and the strains `v`, `u`
 //! (body frame). Kinematics (R&W eq. 1): `p' = R v`, `R' = R û`.
