@@ -4,7 +4,7 @@
 mod common;
 use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
 use ccrkit::{Actuation, Method, Model, Scene, Shortening, SolveError};
-use common::{paper, solve};
+use common::{arc_point, paper, solve};
 use nalgebra::Vector3;
 
 /// Relative tolerance for "exact" closed forms (integration + shooting error only).
@@ -60,11 +60,7 @@ fn kirchhoff_straight_tendon_is_a_circular_arc() {
     let len = model.robot.length();
     for d in &shape.disks {
         let s = d.s;
-        let exact = Vector3::new(
-            (1.0 - (kappa * s).cos()) / kappa,
-            0.0,
-            (kappa * s).sin() / kappa,
-        );
+        let exact = arc_point(kappa, s);
         let err = (d.position - exact).norm();
         assert!(err <= EXACT_REL * len, "disk at s={s}: error {err:e} m");
     }
@@ -86,11 +82,7 @@ fn full_rod_straight_tendon_is_the_stretched_arc() {
     let kirch = solve(&tight(Cosserat::kirchhoff()), &model);
     for (d, k) in shape.disks.iter().zip(&kirch.disks) {
         let s = d.s;
-        let exact = Vector3::new(
-            (1.0 - (kappa * s).cos()) / kappa,
-            0.0,
-            (kappa * s).sin() / kappa,
-        ) * vz;
+        let exact = arc_point(kappa, s) * vz;
         assert!((d.position - exact).norm() <= EXACT_REL * len);
         // Full and Kirchhoff differ by no more than the extension correction.
         assert!((d.position - k.position).norm() <= 1.01 * (1.0 - vz) * s + 1e-12);
@@ -135,24 +127,9 @@ fn base_wrench_balances_tendon_and_tip_loads() {
         let kirchhoff = method.name() == "kirchhoff";
         let shape = solve(&method, &model);
         assert!(shape.report.residual <= 1e-8);
-        let bw = shape.report.base_wrench.expect("base wrench");
-        let (n0, m0) = (
-            Vector3::new(bw[0], bw[1], bw[2]),
-            Vector3::new(bw[3], bw[4], bw[5]),
-        );
-        let bb = &model.robot.backbone;
-        let v0 = if kirchhoff {
-            Vector3::z()
-        } else {
-            Vector3::z() + n0.component_div(&Vector3::new(bb.ga(), bb.ga(), bb.ea()))
-        };
-        let u0 = m0.component_div(&Vector3::new(bb.ei(), bb.ei(), bb.gj()));
-        let r0 = Vector3::new(R_HOLE, 0.0, 0.0);
-        let t0 = (v0 + u0.cross(&r0)).normalize();
-        let force = n0 + t0 * tau - ft;
-        let moment = m0 + r0.cross(&(t0 * tau)) - (mt + shape.tip().cross(&ft));
-        assert!(force.norm() <= 1e-8, "force imbalance {force}");
-        assert!(moment.norm() <= 1e-8, "moment imbalance {moment}");
+        let (force, moment) = imbalance(&shape, &model, tau, kirchhoff);
+        assert!(force <= 1e-8, "force imbalance {force}");
+        assert!(moment <= 1e-8, "moment imbalance {moment}");
     }
 }
 
@@ -368,8 +345,8 @@ fn default_resolution_keeps_the_tip_within_a_hundredth_of_a_millimetre() {
     }
 }
 
-/// Global static balance of rod + one tendon at angle 0 (see
-/// `base_wrench_balances_tendon_and_tip_loads`): force and moment imbalance.
+/// Global static balance of rod + one tendon at angle 0, as one body: base reaction + tendon
+/// pull at the base = tip load. Norms of the force and moment imbalance.
 fn imbalance(shape: &ccrkit::Shape, model: &Model, tau: f64, kirchhoff: bool) -> (f64, f64) {
     let bw = shape.report.base_wrench.expect("base wrench");
     let (n0, m0) = (
@@ -446,11 +423,7 @@ fn forced_continuation_reaches_the_closed_form_arc_past_half_a_turn() {
     assert!(used_continuation(&shape));
     for d in &shape.disks {
         let s = d.s;
-        let exact = Vector3::new(
-            (1.0 - (kappa * s).cos()) / kappa,
-            0.0,
-            (kappa * s).sin() / kappa,
-        );
+        let exact = arc_point(kappa, s);
         let err = (d.position - exact).norm();
         assert!(err <= EXACT_REL * len, "disk at s={s}: error {err:e} m");
     }

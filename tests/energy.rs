@@ -9,7 +9,7 @@ use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
 use ccrkit::method::energy::{CableLength, Energy};
 use ccrkit::routing::Route;
 use ccrkit::{Actuation, Method, Model, Robot, Scene, Shape, Shortening, SolveError};
-use common::{paper, solve};
+use common::{arc_point, paper, solve};
 use nalgebra::{Matrix4, Rotation3, Vector3, Vector4};
 
 const E: f64 = 1.1e9;
@@ -166,11 +166,7 @@ fn one_straight_cable_is_the_closed_form_arc() {
             // has radius (1 + ε) / κ.
             for d in &shape.disks {
                 let s = d.s;
-                let exact = Vector3::new(
-                    (1.0 - (kappa * s).cos()) / kappa,
-                    0.0,
-                    (kappa * s).sin() / kappa,
-                ) * (1.0 + eps);
+                let exact = arc_point(kappa, s) * (1.0 + eps);
                 assert!(
                     (d.position - exact).norm() <= EXACT_REL * len,
                     "disk at {}: {:?} vs {:?}",

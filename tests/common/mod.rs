@@ -17,3 +17,13 @@ pub fn solve(m: &dyn Method, model: &Model) -> Shape {
     m.solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("solves")
 }
+
+/// The point at arc length `s` of a planar arc of curvature `kappa` in the x–z plane that
+/// starts at the origin along z: `((1 − cos κs)/κ, 0, sin κs / κ)`.
+pub fn arc_point(kappa: f64, s: f64) -> nalgebra::Vector3<f64> {
+    nalgebra::Vector3::new(
+        (1.0 - (kappa * s).cos()) / kappa,
+        0.0,
+        (kappa * s).sin() / kappa,
+    )
+}
