@@ -135,7 +135,7 @@ use crate::robot::Robot;
 use crate::routing::{Route, RoutingFit};
 use crate::scene::Scene;
 use crate::shape::{Contact, DiskFrame, Shape, SolveReport};
-use contacts::{Feat, Pair, World};
+use contacts::{Feat, Kin, Pair, World};
 use nalgebra::{Matrix3, Vector3};
 use std::time::Instant;
 
@@ -572,12 +572,18 @@ impl Problem<'_> {
         0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>()
     }
 
-    /// Potential of the dead loads, `V = −Σ F_f · p_f` [J] (0 without loads).
-    fn load_potential(&self, xi: &[f64]) -> f64 {
-        if self.frame_forces.is_empty() {
+    /// Whether an iterate needs its frames (obstacles or dead loads); they are computed once
+    /// per point and shared by both.
+    fn needs_frames(&self) -> bool {
+        self.world.is_some() || !self.frame_forces.is_empty()
+    }
+
+    /// Potential of the dead loads, `V = −Σ F_f · p_f` [J] (0 without loads), at the frames
+    /// `kin` of the strains.
+    fn load_potential(&self, kin: Option<&Kin>) -> f64 {
+        let Some(kin) = kin.filter(|_| !self.frame_forces.is_empty()) else {
             return 0.0;
-        }
-        let kin = contacts::kinematics(xi, &self.ell, false);
+        };
         -self
             .frame_forces
             .iter()
@@ -590,11 +596,11 @@ impl Problem<'_> {
     /// `∂x/∂u_a = (M_j e_a) × x − N_{j,a}`, `∂x/∂ε = M_j e_z` (`energy/contacts.rs`), so with
     /// the suffix sums `S_j = Σ_{f>j} F_f`, `C_j = Σ_{f>j} p_f × F_f`:
     /// `∂V/∂u_a = −((M_j e_a) · C_j − N_{j,a} · S_j)`, `∂V/∂ε = −(M_j e_z) · S_j`.
-    fn add_load_gradient(&self, xi: &[f64], g: &mut [f64]) {
-        if self.frame_forces.is_empty() {
+    /// `kin` must carry the integrals.
+    fn add_load_gradient(&self, kin: Option<&Kin>, g: &mut [f64]) {
+        let Some(kin) = kin.filter(|_| !self.frame_forces.is_empty()) else {
             return;
-        }
-        let kin = contacts::kinematics(xi, &self.ell, true);
+        };
         let (mut sum, mut mom) = (Vector3::zeros(), Vector3::zeros());
         for j in (0..self.nsub).rev() {
             let f = &self.frame_forces[j + 1];
@@ -1363,7 +1369,9 @@ impl Energy {
                 })
                 .collect();
             prob.evaluate(&xi, &wgt, &mut w, exact);
-            let kin_now = world.map(|wd| wd.kinematics(&xi, &prob.ell, true));
+            let kin_now = prob
+                .needs_frames()
+                .then(|| contacts::kinematics(&xi, &prob.ell, true));
             let mut clear = f64::INFINITY;
             if let (Some(wd), Some(k)) = (world, &kin_now) {
                 (pairs, clear) = wd.pairs(k);
@@ -1388,7 +1396,7 @@ impl Energy {
                     }
                 }
             }
-            prob.add_load_gradient(&xi, &mut w.gobj);
+            prob.add_load_gradient(kin_now.as_ref(), &mut w.gobj);
             // Residuals: cable lengths (equal if taut, not longer if slack), contacts (no
             // penetration; touching where the reaction is positive), stationarity.
             let mut feas = 0.0f64;
@@ -1558,8 +1566,8 @@ impl Energy {
                 }
                 v
             };
-            let merit = |x: &[f64], len: &[f64], ps: &[Pair]| -> f64 {
-                let mut f = prob.energy(x) + prob.load_potential(x);
+            let merit = |x: &[f64], kin: Option<&Kin>, len: &[f64], ps: &[Pair]| -> f64 {
+                let mut f = prob.energy(x) + prob.load_potential(kin);
                 for c in 0..nc {
                     if let Drive::Tension(t) = prob.drives[c] {
                         f += t * len[c];
@@ -1567,7 +1575,7 @@ impl Energy {
                 }
                 f + pen * violation(len, ps)
             };
-            let phi0 = merit(&xi, &w.len, &pairs);
+            let phi0 = merit(&xi, kin_now.as_ref(), &w.len, &pairs);
             let dphi = dot(&w.gobj, &dxi) - pen * violation(&w.len, &pairs);
             // Near the solution the merit changes below round-off (or below the noise of
             // parry's distances, with contacts): take the full step.
@@ -1589,7 +1597,9 @@ impl Energy {
                 // by their linearized constraints, the others cannot reach one, so nothing
                 // passes through an obstacle between two iterates (distances to open meshes
                 // are unsigned: a jump through a wall would look clear).
-                let kin_trial = world.map(|wd| wd.kinematics(&trial, &prob.ell, false));
+                let kin_trial = prob
+                    .needs_frames()
+                    .then(|| contacts::kinematics(&trial, &prob.ell, false));
                 let near_enough = match (world, &kin_now, &kin_trial) {
                     (Some(wd), Some(k0), Some(k1)) => {
                         wd.max_move(k0, k1) <= clear.max(0.5 * wd.margin())
@@ -1602,7 +1612,7 @@ impl Energy {
                         (Some(wd), Some(k)) => wd.pairs(k).0,
                         _ => vec![],
                     };
-                    let phi = merit(&trial, &trial_len, &trial_pairs);
+                    let phi = merit(&trial, kin_trial.as_ref(), &trial_len, &trial_pairs);
                     if phi.is_finite()
                         && (tiny || phi <= phi0 + 1e-4 * alpha * dphi.min(0.0) + 1e-14 * phi0.abs())
                     {

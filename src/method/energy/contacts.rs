@@ -179,12 +179,6 @@ impl<'a> World<'a> {
         self.near.len()
     }
 
-    /// Forward kinematics of the strains `xi` (sub-arc lengths `ell`); with `integrals`, also
-    /// `M_j`, `N_j` for the gradients.
-    pub fn kinematics(&self, xi: &[f64], ell: &[f64], integrals: bool) -> Kin {
-        kinematics(xi, ell, integrals)
-    }
-
     /// How far any point of the robot moves between two states, bounded above: the largest
     /// move of a sub-arc end plus the disk radius times the largest change of its frame
     /// (`|ΔR|_F` bounds `|ΔR x|` for `|x| ≤ 1`) [m].
@@ -463,14 +457,14 @@ half_height = 0.03
                 _ => -2e-3,
             })
             .collect();
-        let (pairs, _) = world.pairs(&world.kinematics(&xi, &ell, true));
+        let (pairs, _) = world.pairs(&kinematics(&xi, &ell, true));
         let kinds: Vec<Feat> = pairs.iter().map(|p| p.feat).collect();
         assert!(kinds.iter().any(|f| matches!(f, Feat::Backbone(_))));
         assert!(kinds.iter().any(|f| matches!(f, Feat::Disk(_))));
         assert!(kinds.iter().any(|f| matches!(f, Feat::Cable(..))));
         let dist_at = |x: &[f64], key: (usize, Feat)| -> f64 {
             world
-                .pairs(&world.kinematics(x, &ell, false))
+                .pairs(&kinematics(x, &ell, false))
                 .0
                 .into_iter()
                 .find(|p| p.key() == key)
