@@ -3,7 +3,8 @@
 //!
 //! `cargo bench --bench energy`
 
-use ccrkit::method::energy::{CableLength, Energy};
+use ccrkit::actuation::LengthMeasure;
+use ccrkit::method::energy::Energy;
 use ccrkit::{Method, Model, Scene, Shortening};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
@@ -14,7 +15,7 @@ fn paper_cases(c: &mut Criterion) {
         ("path", Energy::default()),
         (
             "chord",
-            Energy::default().with_cable_length(CableLength::Chord),
+            Energy::default().with_cable_length(LengthMeasure::Chord),
         ),
     ] {
         for case in 1..=3 {

@@ -3,8 +3,9 @@
 //!
 //! `cargo run --release --example energy_sweep [MODEL.toml ...]`
 
-use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
-use ccrkit::method::energy::{CableLength, Energy};
+use ccrkit::actuation::{Input, LengthMeasure};
+use ccrkit::method::cosserat::Cosserat;
+use ccrkit::method::energy::Energy;
 use ccrkit::{Method, Model, Scene};
 use std::time::Instant;
 
@@ -19,19 +20,19 @@ fn main() -> anyhow::Result<()> {
     for f in &files {
         let model = Model::from_file(f)?;
         for (len, cl) in [
-            (LengthMeasure::Path, CableLength::Path),
-            (LengthMeasure::Chord, CableLength::Chord),
+            (LengthMeasure::Path, LengthMeasure::Path),
+            (LengthMeasure::Chord, LengthMeasure::Chord),
         ] {
             let rod = Cosserat {
                 tolerance: 1e-11,
                 ..Cosserat::full()
-                    .with_control(Control::Displacement)
+                    .with_control(Input::Shortening)
                     .with_length(len)
                     .with_steps(40)
             };
             let cos = rod.solve(&model.robot, &model.actuation, &scene, None)?;
             for sa in [1, 2, 3, 4, 6, 8] {
-                if cl == CableLength::Chord && sa > 4 {
+                if cl == LengthMeasure::Chord && sa > 4 {
                     continue;
                 }
                 let e = Energy::default().with_sub_arcs(sa).with_cable_length(cl);

@@ -19,9 +19,9 @@ fn main() -> anyhow::Result<()> {
         Energy::default()
             .with_sub_arcs(sa)
             .with_cable_length(if std::env::var("CHORD").is_ok() {
-                ccrkit::method::energy::CableLength::Chord
+                ccrkit::actuation::LengthMeasure::Chord
             } else {
-                ccrkit::method::energy::CableLength::Path
+                ccrkit::actuation::LengthMeasure::Path
             });
     let scene = Scene::empty();
     // WARM=1: start from the solution of a 10 % smaller actuation.

@@ -12,7 +12,8 @@
 //! `cargo run --release --example paper_cases [OUT_DIR]`
 
 use anyhow::Result;
-use ccrkit::method::cosserat::{Control, Cosserat};
+use ccrkit::actuation::Input;
+use ccrkit::method::cosserat::Cosserat;
 use ccrkit::plot::{plot_rows, Row};
 use ccrkit::{method_by_name, Method, Model, Scene, Shape};
 use std::path::PathBuf;
@@ -37,8 +38,8 @@ fn main() -> Result<()> {
     let scene = Scene::empty();
     let literal = method_by_name("geometric")?;
     let energy = method_by_name("energy")?;
-    let rod_force = Cosserat::full().with_control(Control::Force);
-    let rod_disp = Cosserat::full().with_control(Control::Displacement);
+    let rod_force = Cosserat::full().with_control(Input::Tension);
+    let rod_disp = Cosserat::full().with_control(Input::Shortening);
     let mut cases = vec![];
     for case in 1..=3 {
         let model = Model::from_file(root.join(format!("models/paper/case{case}.toml")))?;

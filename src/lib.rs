@@ -8,17 +8,13 @@
 
 #![warn(missing_docs)]
 
-pub mod actuation;
 pub mod error;
 pub mod export;
-pub mod mesh;
 pub mod method;
 pub mod model;
+pub use model::{actuation, mesh, robot, routing, scene};
 pub mod numeric;
 pub mod plot;
-pub mod robot;
-pub mod routing;
-pub mod scene;
 pub mod shape;
 pub mod study;
 

@@ -3,8 +3,8 @@
 //! Pure Rust (plotters with its SVG and bitmap backends); text uses the DejaVu Sans font shipped
 //! in `assets/` (Bitstream Vera licence, `assets/DejaVu-LICENSE.txt`). Lengths are drawn in mm.
 
-use crate::robot::Robot;
-use crate::scene::Scene;
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
 use crate::shape::Shape;
 use nalgebra::Vector3;
 use plotters::coord::Shift;
@@ -103,6 +103,21 @@ pub fn plot_scene(
     )
 }
 
+/// Check that a figure can be written to `path` (a `.svg` or `.png` extension), before any
+/// work is done for it.
+pub fn check_path(path: &Path) -> Result<(), PlotError> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("svg") | Some("png") => Ok(()),
+        other => Err(PlotError {
+            path: path.display().to_string(),
+            reason: format!(
+                "unknown image format {:?}: use .svg or .png",
+                other.unwrap_or("")
+            ),
+        }),
+    }
+}
+
 /// Draw a grid: one row per [`Row`], three views per row. The format follows the extension
 /// (`.svg` or `.png`).
 pub fn plot_rows(rows: &[Row], path: &Path) -> Result<(), PlotError> {
@@ -111,6 +126,7 @@ pub fn plot_rows(rows: &[Row], path: &Path) -> Result<(), PlotError> {
         path: path.display().to_string(),
         reason,
     };
+    check_path(path)?;
     let size = (1500u32, 480 * rows.len().max(1) as u32);
     match path.extension().and_then(|e| e.to_str()) {
         Some("svg") => {

@@ -2,15 +2,16 @@
 //!
 //! Every method returns a [`Shape`]; every export reads one. Positions in metres, base frame.
 
+use crate::method::warm::WarmState;
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
 /// Pose of one disk.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DiskFrame {
-    /// Arc length of the disk along the undeformed backbone [m].
+    /// Arc length of the disk along the undeformed backbone \[m\].
     pub s: f64,
-    /// Backbone point at the disk [m].
+    /// Backbone point at the disk \[m\].
     pub position: Vector3<f64>,
     /// Disk orientation: columns are the disk's x, y, z axes in the base frame; z is the disk
     /// normal, x points at angle 0 of the hole pattern.
@@ -22,13 +23,13 @@ pub struct DiskFrame {
 pub struct CablePath {
     /// Cable name.
     pub name: String,
-    /// Hole positions at disks `0..=ends_at` [m].
+    /// Hole positions at disks `0..=ends_at` \[m\].
     pub points: Vec<Vector3<f64>>,
     /// True when the cable is slack somewhere (its path is shorter than its length).
     pub slack: bool,
     /// Sections (1-based) where the cable is slack.
     pub slack_sections: Vec<usize>,
-    /// Tension [N], where the method computes one.
+    /// Tension \[N\], where the method computes one.
     pub tension: Option<f64>,
 }
 
@@ -45,13 +46,13 @@ pub struct Contact {
     /// Section index (1-based), for backbone and cable-chord features.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub section: Option<usize>,
-    /// Closest point on the robot [m].
+    /// Closest point on the robot \[m\].
     pub point_robot: [f64; 3],
-    /// Closest point on the obstacle [m].
+    /// Closest point on the obstacle \[m\].
     pub point_obstacle: [f64; 3],
     /// Contact normal, unit, from the obstacle towards the robot.
     pub normal: [f64; 3],
-    /// Signed distance between the two (≈ the clearance for an active contact) [m].
+    /// Signed distance between the two (≈ the clearance for an active contact) \[m\].
     pub distance: f64,
     /// Multiplier of the active distance constraint (≥ 0): a reaction in the units of the
     /// method's objective per metre (rad/m for the geometric methods, N for energy methods).
@@ -65,7 +66,7 @@ pub struct SectionReport {
     pub section: usize,
     /// Iterations spent (summed over every candidate examined).
     pub iterations: usize,
-    /// Largest constraint residual of the accepted solution [m].
+    /// Largest constraint residual of the accepted solution \[m\].
     pub residual: f64,
     /// Objective value of the accepted solution.
     pub objective: f64,
@@ -84,9 +85,9 @@ pub struct SolveReport {
     pub converged: bool,
     /// Total iterations.
     pub iterations: usize,
-    /// Largest residual (constraint residual [m] for geometric methods, shooting residual for rods).
+    /// Largest residual (constraint residual \[m\] for geometric methods, shooting residual for rods).
     pub residual: f64,
-    /// Wall time of the solve [s] (median over `--repeat` where the CLI sets it).
+    /// Wall time of the solve \[s\] (median over `--repeat` where the CLI sets it).
     pub solve_time_s: f64,
     /// Per-section details (section methods).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -97,10 +98,9 @@ pub struct SolveReport {
     /// Notes: choices made, inputs ignored.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
-    /// Method-specific solver state for warm starts (the energy method: sub-arc strains
-    /// followed by the cable multipliers).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub state: Option<Vec<f64>>,
+    /// Method-specific solver state for warm starts (not serialized).
+    #[serde(skip)]
+    pub warm: Option<WarmState>,
 }
 
 /// A solved shape.
@@ -110,7 +110,7 @@ pub struct Shape {
     pub method: String,
     /// Disk frames `0..=n`.
     pub disks: Vec<DiskFrame>,
-    /// Dense backbone samples (at least the disk positions) [m].
+    /// Dense backbone samples (at least the disk positions) \[m\].
     pub backbone: Vec<Vector3<f64>>,
     /// Cable paths, in robot order.
     pub cables: Vec<CablePath>,
@@ -126,7 +126,7 @@ impl Shape {
         self.disks[self.disks.len() - 1].position
     }
 
-    /// Root-mean-square distance between corresponding disk positions of two shapes [m].
+    /// Root-mean-square distance between corresponding disk positions of two shapes \[m\].
     /// Both must have the same number of disks (else `None`).
     pub fn rms_distance(&self, other: &Shape) -> Option<f64> {
         if self.disks.len() != other.disks.len() || self.disks.is_empty() {
@@ -141,7 +141,7 @@ impl Shape {
         Some((sum / self.disks.len() as f64).sqrt())
     }
 
-    /// Distance between the tips of two shapes [m].
+    /// Distance between the tips of two shapes \[m\].
     pub fn tip_distance(&self, other: &Shape) -> f64 {
         (self.tip() - other.tip()).norm()
     }
@@ -195,9 +195,9 @@ fn arr(v: &Vector3<f64>) -> [f64; 3] {
 /// JSON form of a disk frame: rotation is row-major 3×3.
 #[derive(Debug, Clone, Serialize)]
 pub struct DiskJson {
-    /// Arc length [m].
+    /// Arc length \[m\].
     pub s: f64,
-    /// Position [m].
+    /// Position \[m\].
     pub position: [f64; 3],
     /// Rotation, row-major.
     pub rotation: [[f64; 3]; 3],
@@ -208,13 +208,13 @@ pub struct DiskJson {
 pub struct CableJson {
     /// Cable name.
     pub name: String,
-    /// Hole positions per disk it passes [m].
+    /// Hole positions per disk it passes \[m\].
     pub points: Vec<[f64; 3]>,
     /// Slack anywhere.
     pub slack: bool,
     /// Sections where slack.
     pub slack_sections: Vec<usize>,
-    /// Tension [N] where computed.
+    /// Tension \[N\] where computed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tension: Option<f64>,
 }

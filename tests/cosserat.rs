@@ -2,7 +2,8 @@
 //! balance, force/displacement inversion, RK4 order, inner-disk terminations, slack cables.
 
 mod common;
-use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
+use ccrkit::actuation::{Input, LengthMeasure};
+use ccrkit::method::cosserat::Cosserat;
 use ccrkit::{Actuation, Method, Model, Scene, Shortening, SolveError};
 use common::{arc_point, paper, solve};
 use nalgebra::Vector3;
@@ -149,7 +150,7 @@ fn displacement_control_inverts_force_control() {
         act.cables[c].shorten = Some(Shortening::Length(d));
     }
     let disp = tight(Cosserat::full())
-        .with_control(Control::Displacement)
+        .with_control(Input::Shortening)
         .with_length(LengthMeasure::Chord);
     let back = disp
         .solve(&model.robot, &act, &Scene::empty(), None)
@@ -227,7 +228,7 @@ shorten = -0.002
     let model = Model::from_toml_str(&text).expect("parses");
     for length in [LengthMeasure::Chord, LengthMeasure::Path] {
         let m = Cosserat::full()
-            .with_control(Control::Displacement)
+            .with_control(Input::Shortening)
             .with_length(length);
         let shape = solve(&m, &model);
         let (a, b) = (&shape.cables[0], &shape.cables[1]);
@@ -309,7 +310,7 @@ fn variational_jacobian_matches_central_differences() {
             for length in [LengthMeasure::Path, LengthMeasure::Chord] {
                 let d = m
                     .clone()
-                    .with_control(Control::Displacement)
+                    .with_control(Input::Shortening)
                     .with_length(length);
                 check_jacobian(&d, &model, 2.0);
             }

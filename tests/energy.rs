@@ -5,8 +5,10 @@
 //! driven by the same cable lengths.
 
 mod common;
-use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
-use ccrkit::method::energy::{CableLength, Energy};
+use ccrkit::actuation::{Input, LengthMeasure};
+use ccrkit::method::cosserat::Cosserat;
+use ccrkit::method::energy::Energy;
+use ccrkit::method::WarmState;
 use ccrkit::routing::Route;
 use ccrkit::{Actuation, Method, Model, Robot, Scene, Shape, Shortening, SolveError};
 use common::{arc_point, paper, solve};
@@ -60,7 +62,7 @@ fn rod(length: LengthMeasure) -> Cosserat {
     Cosserat {
         tolerance: 1e-11,
         ..Cosserat::full()
-            .with_control(Control::Displacement)
+            .with_control(Input::Shortening)
             .with_length(length)
             .with_steps(20)
     }
@@ -126,12 +128,12 @@ fn chord_length(points: &[Vector3<f64>]) -> f64 {
     points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
 }
 
-fn state(shape: &Shape) -> &[f64] {
-    shape
-        .report
-        .state
-        .as_deref()
-        .expect("energy shapes carry their state")
+/// The energy model's warm state as one vector: strains, then cable multipliers.
+fn state(shape: &Shape) -> Vec<f64> {
+    match &shape.report.warm {
+        Some(WarmState::Energy(e)) => e.strains.iter().chain(&e.multipliers).copied().collect(),
+        other => panic!("energy shapes carry their state, got {other:?}"),
+    }
 }
 
 #[test]
@@ -146,10 +148,10 @@ fn one_straight_cable_is_the_closed_form_arc() {
     let lam = (delta / len) / (1.0 / ea() + R_HOLE * R_HOLE / ei());
     let kappa = lam * R_HOLE / ei();
     let eps = -lam / ea();
-    for length in [CableLength::Path, CableLength::Chord] {
+    for length in [LengthMeasure::Path, LengthMeasure::Chord] {
         let e = Energy::default().with_cable_length(length);
         let shape = solve(&e, &m);
-        if length == CableLength::Path {
+        if length == LengthMeasure::Path {
             let t = shape.cables[0].tension.expect("tension");
             assert!((t - lam).abs() <= EXACT_REL * lam, "tension {t} vs {lam}");
             // The multiplier is the tension: EI κ / r and −EA ε.
@@ -194,7 +196,7 @@ fn one_straight_cable_is_the_closed_form_arc() {
 fn cable_lengths_meet_their_targets() {
     for n in 1..=3 {
         let m = paper(n);
-        for length in [CableLength::Path, CableLength::Chord] {
+        for length in [LengthMeasure::Path, LengthMeasure::Chord] {
             let e = Energy::default().with_cable_length(length);
             let shape = solve(&e, &m);
             assert!(shape.report.converged);
@@ -207,16 +209,16 @@ fn cable_lengths_meet_their_targets() {
                 let short = m.actuation.shortening_length(&m.robot, c).expect("driven");
                 assert!(!shape.cables[c].slack);
                 let got = match length {
-                    CableLength::Path => {
+                    LengthMeasure::Path => {
                         let l0 = independent_path_length(
                             &m.robot,
                             e.sub_arcs,
                             &vec![0.0; 4 * e.sub_arcs * m.robot.sections()],
                             c,
                         );
-                        independent_path_length(&m.robot, e.sub_arcs, state(&shape), c) - l0
+                        independent_path_length(&m.robot, e.sub_arcs, &state(&shape), c) - l0
                     }
-                    CableLength::Chord => {
+                    LengthMeasure::Chord => {
                         chord_length(&shape.cables[c].points) - m.robot.undeformed_chord_length(c)
                     }
                 };
@@ -240,7 +242,7 @@ fn rotating_the_routing_rotates_the_shape() {
         }
     }
     let rz = Rotation3::from_axis_angle(&Vector3::z_axis(), phi);
-    for length in [CableLength::Path, CableLength::Chord] {
+    for length in [LengthMeasure::Path, LengthMeasure::Chord] {
         let e = Energy::default().with_cable_length(length);
         let a = solve(&e, &m);
         let b = solve(&e, &turned);
@@ -255,12 +257,8 @@ fn rotating_the_routing_rotates_the_shape() {
 }
 
 /// Energy vs rod: RMS over the disks and relative tension errors.
-fn agreement(m: &Model, length: CableLength) -> (f64, Vec<f64>) {
-    let lm = match length {
-        CableLength::Path => LengthMeasure::Path,
-        CableLength::Chord => LengthMeasure::Chord,
-    };
-    let cos = solve(&rod(lm), m);
+fn agreement(m: &Model, length: LengthMeasure) -> (f64, Vec<f64>) {
+    let cos = solve(&rod(length), m);
     let en = solve(&Energy::default().with_cable_length(length), m);
     let rms = en.rms_distance(&cos).expect("same disks");
     let errs = en
@@ -280,7 +278,7 @@ fn agreement(m: &Model, length: CableLength) -> (f64, Vec<f64>) {
 }
 
 fn assert_agrees(name: &str, m: &Model) {
-    let (rms, errs) = agreement(m, CableLength::Path);
+    let (rms, errs) = agreement(m, LengthMeasure::Path);
     eprintln!("{name}: RMS {:.4} mm, tension errors {:?}", rms * 1e3, errs);
     assert!(rms <= RMS_BOUND, "{name}: RMS {rms}");
     for (c, e) in errs.iter().enumerate() {
@@ -289,7 +287,7 @@ fn assert_agrees(name: &str, m: &Model) {
     // The chord measure, reported only: the rod's "chord" mode loads the rod along the routed
     // path and measures chords, while the energy model's chord cable runs straight between the
     // holes and loads only the disks, so tensions differ by construction (see ENERGY_NOTES.md).
-    let (rms, errs) = agreement(m, CableLength::Chord);
+    let (rms, errs) = agreement(m, LengthMeasure::Chord);
     eprintln!(
         "{name} (chord): RMS {:.4} mm, tension errors {:?}",
         rms * 1e3,
@@ -435,20 +433,20 @@ shorten = -0.01
     let one = model(&format!(
         "[[cables]]\nname = \"A\"\nradius = {R_HOLE}\nangles = {{ straight = 0.0 }}\nshorten_percent = 3.0"
     ));
-    for length in [CableLength::Path, CableLength::Chord] {
+    for length in [LengthMeasure::Path, LengthMeasure::Chord] {
         let e = Energy::default().with_cable_length(length);
         let s2 = solve(&e, &two);
         let s1 = solve(&e, &one);
         assert_eq!(s2.cables[1].tension, Some(0.0));
         assert!(s2.cables[1].slack && !s2.cables[0].slack);
         assert!(s2.rms_distance(&s1).expect("same disks") < 1e-12);
-        if length == CableLength::Chord {
+        if length == LengthMeasure::Chord {
             let allowed = two.robot.undeformed_chord_length(1) + 0.01;
             assert!(chord_length(&s2.cables[1].points) < allowed);
         }
     }
     // The rod agrees, slack included.
-    let (rms, errs) = agreement(&two, CableLength::Path);
+    let (rms, errs) = agreement(&two, LengthMeasure::Path);
     assert!(rms <= RMS_BOUND && errs.iter().all(|e| *e <= TENSION_REL));
 }
 
@@ -641,7 +639,7 @@ fn agrees_with_cosserat_under_gravity_and_a_tip_force() {
     );
     // A dense backbone (steel, 3 mm: 0.54 N/m) so its weight matters next to the disks'.
     let m = model_with_density(&text, 7800.0);
-    let (rms, errs) = agreement(&m, CableLength::Path);
+    let (rms, errs) = agreement(&m, LengthMeasure::Path);
     eprintln!(
         "gravity + tip force: RMS {:.4} mm, tension errors {errs:?}",
         rms * 1e3

@@ -2,7 +2,7 @@
 //! the constant-curvature method against the Kirchhoff rod's closed-form arc.
 
 use ccrkit::method::constant_curvature::ConstantCurvature;
-use ccrkit::method::cosserat::{Control, Cosserat};
+use ccrkit::method::cosserat::Cosserat;
 use ccrkit::study::{self, Input, Shard};
 use ccrkit::{method_by_name, Method, Model, Scene, SolveError};
 use nalgebra::Vector3;
@@ -305,7 +305,7 @@ fn constant_curvature_is_the_kirchhoff_arc() {
     let cc = ConstantCurvature::force()
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("cc solves");
-    let rod = tight(Cosserat::kirchhoff().with_control(Control::Force))
+    let rod = tight(Cosserat::kirchhoff().with_control(Input::Tension))
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("rod solves");
     assert!(max_disk_distance(&cc, &rod) < ARC_TOL);
@@ -326,7 +326,7 @@ fn constant_curvature_is_the_kirchhoff_arc() {
     let cc = ConstantCurvature::displacement()
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("cc solves");
-    let rod = tight(Cosserat::kirchhoff().with_control(Control::Displacement))
+    let rod = tight(Cosserat::kirchhoff().with_control(Input::Shortening))
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("rod solves");
     assert!(max_disk_distance(&cc, &rod) < ARC_TOL);
@@ -344,7 +344,7 @@ fn constant_curvature_two_cables_match_the_rod_and_the_geometric_method() {
     let cc = ConstantCurvature::force()
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("cc solves");
-    let rod = tight(Cosserat::kirchhoff().with_control(Control::Force))
+    let rod = tight(Cosserat::kirchhoff().with_control(Input::Tension))
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("rod solves");
     assert!(max_disk_distance(&cc, &rod) < ARC_TOL);
@@ -353,7 +353,7 @@ fn constant_curvature_two_cables_match_the_rod_and_the_geometric_method() {
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("cc solves");
     assert!(cc.cables.iter().all(|c| !c.slack));
-    let rod = tight(Cosserat::kirchhoff().with_control(Control::Displacement))
+    let rod = tight(Cosserat::kirchhoff().with_control(Input::Shortening))
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("rod solves");
     assert!(max_disk_distance(&cc, &rod) < ARC_TOL);

@@ -1,9 +1,8 @@
 //! `ccrkit`: the command line, a thin shell over the library.
 
-use anyhow::{bail, Context, Result};
-use ccrkit::method::cosserat::{Control, Cosserat, LengthMeasure};
-use ccrkit::method::{method_by_name, Method, METHOD_NAMES};
-use ccrkit::routing::RoutingFit;
+use anyhow::{Context, Result};
+use ccrkit::method::run::SolveRequest;
+use ccrkit::method::{MethodKind, Settings};
 use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -26,9 +25,8 @@ enum Command {
     Solve {
         /// Model file (TOML).
         file: PathBuf,
-        /// Method: see `ccrkit methods`.
-        #[arg(long, default_value = "geometric")]
-        method: String,
+        #[command(flatten)]
+        solve: SolveArgs,
         /// Write the shape as JSON to this path (`-` for standard output).
         #[arg(long)]
         json: Option<String>,
@@ -38,28 +36,24 @@ enum Command {
         /// Solve N times and report the median time.
         #[arg(long, default_value_t = 1)]
         repeat: usize,
-        /// A scene file with obstacles (added to the model file's own).
-        #[arg(long)]
-        scene: Option<PathBuf>,
-        /// Reach the actuation in K equal steps, each warm-started from the last.
-        #[arg(long, default_value_t = 1)]
-        steps: usize,
-        /// Start from the shape another method finds (e.g. `geometric`, whose sections never
-        /// cross an obstacle, for `energy` inside a tube); its time is not counted.
-        #[arg(long, value_name = "METHOD")]
-        warm_from: Option<String>,
-        #[command(flatten)]
-        rod: RodArgs,
     },
-    /// Compare the geometric method with the Cosserat rod (force control, as the paper did;
-    /// also displacement control with the geometric method's chord lengths).
+    /// Compare methods on one model: a table of tips and times, pairwise distances, and a
+    /// flag where two methods driven by the same input disagree.
     Compare {
         /// Model file (TOML).
         file: PathBuf,
-        #[command(flatten)]
-        rod: RodArgs,
+        /// Methods, comma-separated; each `NAME` or `NAME:SETTING=VALUE:...`
+        /// (default: geometric, energy, cosserat:control=displacement, cosserat).
+        #[arg(long, value_delimiter = ',')]
+        methods: Vec<String>,
+        /// A scene file with obstacles (added to the model file's own).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Tip distance \[m\] beyond which two same-input methods are flagged as disagreeing.
+        #[arg(long, default_value_t = study::compare::DISAGREE_TOL)]
+        tolerance: f64,
     },
-    /// List the available methods.
+    /// List the available methods, their inputs, obstacle and load support, and settings.
     Methods,
     /// Solve one model file and export the shape for other tools.
     #[command(subcommand)]
@@ -156,9 +150,8 @@ enum ExportCommand {
     Urdf {
         /// Model file (TOML).
         file: PathBuf,
-        /// Method: see `ccrkit methods`.
-        #[arg(long, default_value = "geometric")]
-        method: String,
+        #[command(flatten)]
+        solve: SolveArgs,
         /// `fixed`: one link per disk at the solved poses (a snapshot for collision checking);
         /// `articulated`: six joints per section, the shape as joint values (SRDF + JSON).
         #[arg(long, default_value = "articulated")]
@@ -172,85 +165,82 @@ enum ExportCommand {
     },
 }
 
-/// Settings of the rod methods (`cosserat`, `kirchhoff`); ignored by the others.
+/// What to solve and how: the method, its settings, obstacles, warm start, continuation. The
+/// same for every subcommand that solves, through the library's one solve path.
 #[derive(clap::Args, Clone)]
-struct RodArgs {
-    /// Cable input used when a file gives both: `force` or `displacement`.
-    #[arg(long, default_value = "force")]
-    control: String,
-    /// Cable routing fit: `spline` or `fourier8`.
-    #[arg(long, default_value = "spline")]
-    routing: String,
-    /// Cable length measure under displacement control: `path` or `chord` (also read by
-    /// `--method energy`; alias `--cable-length`).
-    #[arg(long, visible_alias = "cable-length", default_value = "path")]
-    length: String,
-    /// RK4 steps per section before bend refinement (default: the library's, which keeps
-    /// every paper case's tip within 0.01 mm of a converged run).
-    #[arg(long = "rk4-steps")]
-    rk4_steps: Option<usize>,
-    /// Adaptive RK45 tolerance instead of fixed RK4 steps.
+struct SolveArgs {
+    /// Method: see `ccrkit methods`.
+    #[arg(long, default_value = "geometric", value_parser = parse_method)]
+    method: MethodKind,
+    /// A scene file with obstacles (added to the model file's own).
     #[arg(long)]
-    adaptive: Option<f64>,
+    scene: Option<PathBuf>,
+    /// Reach the actuation in K equal steps, each warm-started from the last.
+    #[arg(long, default_value_t = 1)]
+    steps: usize,
+    /// Start from the shape another method finds (e.g. `geometric`, whose sections never
+    /// cross an obstacle, for `energy` inside a tube); its time is not counted.
+    #[arg(long, value_name = "METHOD", value_parser = parse_method)]
+    warm_from: Option<MethodKind>,
+    /// Method setting NAME=VALUE (repeatable; `ccrkit methods` lists each method's).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+    /// Input used where a cable gives both: `force` or `displacement` (setting `control`).
+    #[arg(long)]
+    control: Option<String>,
+    /// Cable routing fit: `spline` or `fourier8` (setting `routing`).
+    #[arg(long)]
+    routing: Option<String>,
+    /// Cable length measure: `path` or `chord` (setting `length`; alias `--cable-length`).
+    #[arg(long, visible_alias = "cable-length")]
+    length: Option<String>,
+    /// RK4 steps per section before bend refinement (setting `rk4-steps`).
+    #[arg(long = "rk4-steps")]
+    rk4_steps: Option<String>,
+    /// Adaptive RK45 tolerance instead of fixed RK4 steps (setting `adaptive`).
+    #[arg(long)]
+    adaptive: Option<String>,
 }
 
-impl RodArgs {
-    fn cosserat(&self, kirchhoff: bool) -> Result<Cosserat> {
-        let base = if kirchhoff {
-            Cosserat::kirchhoff()
-        } else {
-            Cosserat::full()
-        };
-        let control = match self.control.as_str() {
-            "force" => Control::Force,
-            "displacement" => Control::Displacement,
-            o => anyhow::bail!("unknown --control `{o}` (force, displacement)"),
-        };
-        let routing = match self.routing.as_str() {
-            "spline" => RoutingFit::Spline,
-            "fourier8" => RoutingFit::Fourier8,
-            o => anyhow::bail!("unknown --routing `{o}` (spline, fourier8)"),
-        };
-        let length = match self.length.as_str() {
-            "path" => LengthMeasure::Path,
-            "chord" => LengthMeasure::Chord,
-            o => anyhow::bail!("unknown --length `{o}` (path, chord)"),
-        };
-        let rod = base
-            .with_control(control)
-            .with_routing(routing)
-            .with_length(length)
-            .with_adaptive(self.adaptive);
-        Ok(match self.rk4_steps {
-            Some(n) => rod.with_steps(n),
-            None => rod,
-        })
+fn parse_method(s: &str) -> Result<MethodKind, String> {
+    s.parse::<MethodKind>().map_err(|e| e.to_string())
+}
+
+impl SolveArgs {
+    /// The settings given, named flags first, then `--set` in order.
+    fn settings(&self) -> Result<Settings> {
+        let mut s = Settings::new();
+        for (name, v) in [
+            ("control", &self.control),
+            ("routing", &self.routing),
+            ("length", &self.length),
+            ("rk4-steps", &self.rk4_steps),
+            ("adaptive", &self.adaptive),
+        ] {
+            if let Some(v) = v {
+                s.push(name, v);
+            }
+        }
+        for kv in &self.set {
+            let (k, v) = Settings::parse_pair(kv)?;
+            s.push(k, v);
+        }
+        Ok(s)
     }
 
-    fn energy(&self) -> Result<ccrkit::method::energy::Energy> {
-        use ccrkit::method::energy::{CableLength, Energy};
-        let length = match self.length.as_str() {
-            "path" => CableLength::Path,
-            "chord" => CableLength::Chord,
-            o => anyhow::bail!("unknown --cable-length `{o}` (path, chord)"),
+    /// The request, checked before anything is solved.
+    fn request(&self, repeat: usize) -> Result<SolveRequest> {
+        let scene = self.scene.as_ref().map(Scene::from_file).transpose()?;
+        let r = SolveRequest {
+            method: self.method,
+            settings: self.settings()?,
+            extra_scene: scene,
+            warm_from: self.warm_from,
+            steps: self.steps,
+            repeat,
         };
-        let routing = match self.routing.as_str() {
-            "spline" => RoutingFit::Spline,
-            "fourier8" => RoutingFit::Fourier8,
-            o => anyhow::bail!("unknown --routing `{o}` (spline, fourier8)"),
-        };
-        Ok(Energy::default()
-            .with_cable_length(length)
-            .with_routing(routing))
-    }
-
-    fn method(&self, name: &str) -> Result<Box<dyn ccrkit::Method>> {
-        Ok(match name {
-            "cosserat" => Box::new(self.cosserat(false)?),
-            "kirchhoff" => Box::new(self.cosserat(true)?),
-            "energy" => Box::new(self.energy()?),
-            other => method_by_name(other)?,
-        })
+        r.prepare()?;
+        Ok(r)
     }
 }
 
@@ -264,25 +254,29 @@ fn main() {
 fn run() -> Result<()> {
     match Cli::parse().command {
         Command::Study(cmd) => study(cmd),
-        Command::Compare { file, rod } => compare(&file, &rod),
+        Command::Compare {
+            file,
+            methods,
+            scene,
+            tolerance,
+        } => compare(&file, &methods, scene.as_ref(), tolerance),
         Command::Methods => {
-            for m in METHOD_NAMES {
-                println!("{m}");
-            }
+            print_methods();
             Ok(())
         }
         Command::Export(ExportCommand::Urdf {
             file,
-            method,
+            solve,
             mode,
             cables,
             out,
         }) => {
+            let mode = mode.parse()?;
+            let request = solve.request(1)?;
             let model = Model::from_file(&file)?;
-            let m = method_by_name(&method)?;
-            let shape = m.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
+            let shape = request.run(&model)?.shape;
             let opts = ccrkit::export::UrdfOptions {
-                mode: mode.parse()?,
+                mode,
                 cables,
                 name: None,
             };
@@ -294,39 +288,21 @@ fn run() -> Result<()> {
         }
         Command::Solve {
             file,
-            method,
+            solve,
             json,
             plot: plot_path,
             repeat,
-            scene,
-            steps,
-            warm_from,
-            rod,
         } => {
-            let model = Model::from_file(&file)?;
-            let m = rod.method(&method)?;
-            let mut sc = model.scene.clone();
-            if let Some(p) = scene {
-                sc.merge(Scene::from_file(&p)?);
+            if let Some(p) = &plot_path {
+                plot::check_path(p)?;
             }
-            let warm = match warm_from {
-                Some(name) if steps > 1 => {
-                    bail!("--warm-from {name} and --steps {steps} cannot be combined")
-                }
-                Some(name) => {
-                    let w = rod.method(&name)?;
-                    Some(
-                        w.solve(&model.robot, &model.actuation, &sc, None)
-                            .with_context(|| format!("the --warm-from method `{name}`"))?,
-                    )
-                }
-                None => None,
-            };
-            let (shape, median) =
-                solve_timed(&*m, &model, &sc, repeat.max(1), steps, warm.as_ref())?;
+            let request = solve.request(repeat)?;
+            let model = Model::from_file(&file)?;
+            let solved = request.run(&model)?;
+            let (shape, median) = (&solved.shape, solved.median_time_s);
             let quiet = json.as_deref() == Some("-");
             if !quiet {
-                print_summary(&model, &shape, median, repeat.max(1));
+                print_summary(&model, shape, median, repeat);
             }
             if let Some(j) = json {
                 let text = shape.to_json_string();
@@ -338,7 +314,7 @@ fn run() -> Result<()> {
                 }
             }
             if let Some(p) = plot_path {
-                plot::plot_scene(&shape, &model.robot, &sc, &p)?;
+                plot::plot_scene(shape, &model.robot, &solved.scene, &p)?;
                 if !quiet {
                     eprintln!("wrote {}", p.display());
                 }
@@ -348,151 +324,69 @@ fn run() -> Result<()> {
     }
 }
 
-fn compare(file: &PathBuf, rod: &RodArgs) -> Result<()> {
-    let model = Model::from_file(file)?;
-    let scene = Scene::empty();
-    let geo = method_by_name("geometric")?.solve(&model.robot, &model.actuation, &scene, None)?;
-    let force = rod.cosserat(false)?.with_control(Control::Force);
-    let t = Instant::now();
-    let cos = force.solve(&model.robot, &model.actuation, &scene, None)?;
-    let tcos = t.elapsed().as_secs_f64();
-    let mm = |v: f64| v * 1000.0;
-    println!("model {}", model.robot.name);
-    let tip = |s: &Shape| {
-        let t = s.tip() * 1000.0;
-        format!("[{:.3}, {:.3}, {:.3}] mm", t.x, t.y, t.z)
+fn print_methods() {
+    for k in MethodKind::ALL {
+        let i = k.info();
+        let inputs: Vec<&str> = i.inputs.iter().map(|x| x.name()).collect();
+        println!("{}", i.name);
+        println!("    {}", i.summary);
+        println!(
+            "    inputs: {} (default {}); obstacles: {}; loads: gravity {}, tip force {}, tip moment {}",
+            inputs.join(", "),
+            i.default_input.name(),
+            yes(i.obstacles),
+            yes(i.loads.gravity),
+            yes(i.loads.tip_force),
+            yes(i.loads.tip_moment)
+        );
+        for s in i.settings {
+            println!(
+                "    --set {}=<{}>   default {}: {}",
+                s.name, s.values, s.default, s.help
+            );
+        }
+    }
+}
+
+fn yes(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
+fn compare(
+    file: &PathBuf,
+    methods: &[String],
+    scene: Option<&PathBuf>,
+    tolerance: f64,
+) -> Result<()> {
+    let default = [
+        "geometric",
+        "energy",
+        "cosserat:control=displacement",
+        "cosserat",
+    ];
+    let entries: Vec<String> = if methods.is_empty() {
+        default.iter().map(|s| s.to_string()).collect()
+    } else {
+        methods.to_vec()
     };
-    println!("geometric          tip {}", tip(&geo));
-    println!(
-        "cosserat (force)   tip {}  ({} iterations, {:.0} µs)",
-        tip(&cos),
-        cos.report.iterations,
-        tcos * 1e6
-    );
-    let rms = geo.rms_distance(&cos).context("disk counts differ")?;
-    println!(
-        "geometric vs cosserat (force):  RMS {:.3} mm, tip distance {:.3} mm",
-        mm(rms),
-        mm(geo.tip_distance(&cos))
-    );
-    let disp = rod
-        .cosserat(false)?
-        .with_control(Control::Displacement)
-        .with_length(LengthMeasure::Chord);
-    match disp.solve(&model.robot, &model.actuation, &scene, Some(&cos)) {
-        Ok(d) => {
-            let tens: Vec<String> = d
-                .cables
-                .iter()
-                .map(|c| {
-                    format!(
-                        "{} {:.4} N{}",
-                        c.name,
-                        c.tension.unwrap_or(0.0),
-                        if c.slack { " (slack)" } else { "" }
-                    )
-                })
-                .collect();
-            println!(
-                "cosserat (displacement, chord lengths as geometric) tip {}, tensions [{}]",
-                tip(&d),
-                tens.join(", ")
-            );
-            if let Some(r) = geo.rms_distance(&d) {
-                println!(
-                    "geometric vs cosserat (displacement): RMS {:.3} mm, tip distance {:.3} mm",
-                    mm(r),
-                    mm(geo.tip_distance(&d))
-                );
-            }
-        }
-        Err(e) => println!("cosserat (displacement): {e}"),
-    }
-    compare_energy(&model, rod, &geo, &cos)
-}
-
-/// The energy model next to the literal geometric method, each against the rod driven by the
-/// same cable lengths (path or chord measure): an RMS table.
-fn compare_energy(model: &Model, rod: &RodArgs, geo: &Shape, cos_force: &Shape) -> Result<()> {
-    use ccrkit::method::energy::{CableLength, Energy};
-    let scene = Scene::empty();
-    let mm = |v: f64| v * 1000.0;
-    println!();
-    println!("| model | length | rod (displacement) | RMS [mm] | tip [mm] | tensions model / rod [N] | time [µs] |");
-    println!("|---|---|---|---|---|---|---|");
-    for (lm, cl, tag) in [
-        (LengthMeasure::Path, CableLength::Path, "path"),
-        (LengthMeasure::Chord, CableLength::Chord, "chord"),
-    ] {
-        let rod_d = rod
-            .cosserat(false)?
-            .with_control(Control::Displacement)
-            .with_length(lm);
-        let cos_d = match rod_d.solve(&model.robot, &model.actuation, &scene, Some(cos_force)) {
-            Ok(s) => s,
-            Err(e) => {
-                println!("| rod | {tag} | error: {e} | | | | |");
-                continue;
-            }
-        };
-        let energy = Energy::default()
-            .with_cable_length(cl)
-            .with_routing(rod_d.routing);
-        let t = Instant::now();
-        let en = energy.solve(&model.robot, &model.actuation, &scene, None)?;
-        let te = t.elapsed().as_secs_f64();
-        let mut rows = vec![("energy", &en, Some(te))];
-        if cl == CableLength::Chord {
-            rows.push(("geometric", geo, Some(geo.report.solve_time_s)));
-        }
-        for (name, s, time) in rows {
-            let rms = s.rms_distance(&cos_d).context("disk counts differ")?;
-            let tens: Vec<String> = s
-                .cables
-                .iter()
-                .zip(&cos_d.cables)
-                .map(|(a, b)| match a.tension {
-                    Some(t) => format!("{} {:.4}/{:.4}", a.name, t, b.tension.unwrap_or(0.0)),
-                    None => format!("{} –/{:.4}", a.name, b.tension.unwrap_or(0.0)),
-                })
-                .collect();
-            println!(
-                "| {name} | {tag} | cosserat, {tag} lengths | {:.3} | {:.3} | {} | {} |",
-                mm(rms),
-                mm(s.tip_distance(&cos_d)),
-                tens.join(", "),
-                time.map(|t| format!("{:.0}", t * 1e6)).unwrap_or_default()
-            );
-        }
-    }
+    let extra = scene.map(Scene::from_file).transpose()?;
+    let requests = entries
+        .iter()
+        .map(|e| {
+            let (kind, settings) = study::compare::parse_entry(e)?;
+            Ok(SolveRequest::new(kind)
+                .with_settings(settings)
+                .with_scene(extra.clone()))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let model = Model::from_file(file)?;
+    let cmp = study::compare(&model, &requests, tolerance)?;
+    print!("{cmp}");
     Ok(())
-}
-
-/// Solve `repeat` times; the shape's reported time is the median.
-fn solve_timed(
-    m: &dyn ccrkit::Method,
-    model: &Model,
-    scene: &Scene,
-    repeat: usize,
-    steps: usize,
-    warm: Option<&Shape>,
-) -> Result<(Shape, f64)> {
-    let mut times = Vec::with_capacity(repeat);
-    let mut shape = None;
-    for _ in 0..repeat {
-        let t = Instant::now();
-        let s = match warm {
-            Some(w) => m.solve(&model.robot, &model.actuation, scene, Some(w))?,
-            None => ccrkit::method::solve_stepped(m, &model.robot, &model.actuation, scene, steps)?,
-        };
-        times.push(t.elapsed().as_secs_f64());
-        shape = Some(s);
-    }
-    times.sort_by(f64::total_cmp);
-    let median = times[times.len() / 2];
-    let mut shape = shape.context("no solve ran")?;
-    shape.report.solve_time_s = median;
-    Ok((shape, median))
 }
 
 fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
@@ -564,7 +458,7 @@ fn parse_input(s: &str) -> Result<Option<study::Input>> {
 
 fn methods_or_all(m: Vec<String>) -> Vec<String> {
     if m.is_empty() {
-        METHOD_NAMES.iter().map(|s| s.to_string()).collect()
+        study::all_method_names()
     } else {
         m
     }
@@ -596,7 +490,7 @@ fn study(cmd: StudyCommand) -> Result<()> {
                 "method", "setting", "time [ms]", "tip err [mm]", "rms err [mm]", "pareto"
             );
             for (r, f) in rows.iter().zip(&front) {
-                if r.status == "ok" {
+                if r.status.is_ok() {
                     println!(
                         "{:<20} {:<20} {:>14.4} {:>14.6} {:>14.6} {:>6}",
                         r.method,
@@ -690,7 +584,7 @@ fn study(cmd: StudyCommand) -> Result<()> {
             };
             let csv = out.join(format!("{stem}.csv"));
             study::write_text(&csv, &study::workspace_csv(&ws))?;
-            let ok = ws.samples.iter().filter(|s| s.status == "ok").count();
+            let ok = ws.samples.iter().filter(|s| s.status.is_ok()).count();
             println!(
                 "{}: {} samples ({} ok) in {:.2} s: {:.1} solves/s on {} threads",
                 ws.method,

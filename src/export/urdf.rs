@@ -59,7 +59,7 @@
 //! `ccrkit_cable`.
 
 use super::ExportError;
-use crate::robot::Robot;
+use crate::model::robot::Robot;
 use crate::shape::{DiskFrame, Shape};
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use serde::Serialize;
@@ -73,11 +73,11 @@ pub const BASE_LINK: &str = "base_link";
 pub const GROUP_NAME: &str = "backbone";
 /// Cable chords are drawn with this fraction of the backbone diameter…
 const CABLE_DIAMETER_FRACTION: f64 = 0.25;
-/// …but at least this diameter [m].
+/// …but at least this diameter \[m\].
 const CABLE_MIN_DIAMETER: f64 = 2e-4;
 /// Largest accepted deviation of a disk rotation from orthonormality (‖RᵀR − I‖∞).
 const ORTHONORMAL_TOL: f64 = 1e-6;
-/// Cylinders shorter than this are not drawn [m].
+/// Cylinders shorter than this are not drawn \[m\].
 const MIN_CYLINDER_LENGTH: f64 = 1e-12;
 
 /// How the shape becomes a URDF.
@@ -139,24 +139,24 @@ impl Default for UrdfOptions {
 pub struct JointValue {
     /// Joint name in the URDF.
     pub name: String,
-    /// Value [rad] for revolute joints, [m] for prismatic ones.
+    /// Value \[rad\] for revolute joints, \[m\] for prismatic ones.
     pub value: f64,
 }
 
 /// The six joint values of one articulated section (see the module docs for the chain).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SectionJoints {
-    /// Chord bending about x [rad].
+    /// Chord bending about x \[rad\].
     pub bend_x: f64,
-    /// Chord bending about y [rad].
+    /// Chord bending about y \[rad\].
     pub bend_y: f64,
-    /// Chord length minus the nominal section length [m].
+    /// Chord length minus the nominal section length \[m\].
     pub extension: f64,
-    /// Disk tilt about the chord frame's x [rad].
+    /// Disk tilt about the chord frame's x \[rad\].
     pub tilt_x: f64,
-    /// Disk tilt about y [rad].
+    /// Disk tilt about y \[rad\].
     pub tilt_y: f64,
-    /// Disk twist about z [rad].
+    /// Disk twist about z \[rad\].
     pub twist: f64,
 }
 
@@ -393,7 +393,7 @@ struct JointSpec<'a> {
     child: &'a str,
     joint_type: urdf_rs::JointType,
     axis: [f64; 3],
-    /// Origin offset along the parent's z [m].
+    /// Origin offset along the parent's z \[m\].
     offset_z: f64,
     value: f64,
     limits: (f64, f64),

@@ -40,39 +40,39 @@
 //! **Force input** `τ_c`: moment balance `EI u = Σ τ_c r_c (cos φ_c, sin φ_c)` (Rucker &
 //! Webster's Kirchhoff rod with straight tendons reduces to exactly this arc); that is `u_f`.
 //! Mixed inputs combine as above. Which input a cable with both uses follows
-//! [`Control`] as for the rod (default: displacement, the kinematic mapping).
+//! [`Input`] (`control`) as for the rod (default: displacement, the kinematic mapping).
 //!
 //! # The shape
 //!
 //! Disks at their arc lengths on the arc, frames `R(s) = exp(s [κ b]×)` with the bending axis
 //! `b = (−sin φ, cos φ, 0)`: no twist, disk normals tangent to the arc.
 
-use crate::actuation::Actuation;
 use crate::error::SolveError;
-use crate::method::cosserat::Control;
-use crate::method::geometric::cable_paths;
-use crate::method::Method;
-use crate::numeric::rotation::exp_so3;
-use crate::robot::Robot;
-use crate::scene::Scene;
+use crate::method::output::cable_paths;
+use crate::method::settings::{parse_control, Configure};
+use crate::method::{Method, MethodKind};
+use crate::model::actuation::{Actuation, Drive, Input};
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
+use crate::numeric::so3::exp_so3;
 use crate::shape::{DiskFrame, Shape, SolveReport};
 use nalgebra::{Matrix2, Vector2, Vector3};
 use std::time::Instant;
 
-/// Largest hole-angle change [rad] (and relative radius change) still read as a straight cable.
+/// Largest hole-angle change \[rad\] (and relative radius change) still read as a straight cable.
 pub const STRAIGHT_TOL: f64 = 1e-9;
 
 /// Settings of the constant-curvature method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ConstantCurvature {
     /// Which input drives a cable that has both.
-    pub control: Control,
+    pub control: Input,
 }
 
 impl Default for ConstantCurvature {
     fn default() -> Self {
         ConstantCurvature {
-            control: Control::Displacement,
+            control: Input::Shortening,
         }
     }
 }
@@ -85,7 +85,7 @@ impl ConstantCurvature {
     /// Tension input first (moment balance).
     pub fn force() -> Self {
         ConstantCurvature {
-            control: Control::Force,
+            control: Input::Tension,
         }
     }
 }
@@ -113,9 +113,19 @@ fn arc_frame(u: &Vector2<f64>, s: f64) -> (Vector3<f64>, nalgebra::Matrix3<f64>)
     (p, exp_so3(&axis))
 }
 
+impl Configure for ConstantCurvature {
+    fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        match name {
+            "control" => self.control = parse_control(value)?,
+            _ => return self.kind().check_setting(name),
+        }
+        Ok(())
+    }
+}
+
 impl Method for ConstantCurvature {
-    fn name(&self) -> &str {
-        "constant-curvature"
+    fn kind(&self) -> MethodKind {
+        MethodKind::ConstantCurvature
     }
 
     fn solve(
@@ -131,11 +141,13 @@ impl Method for ConstantCurvature {
             method: name.clone(),
             reason,
         };
-        if !scene.is_empty() {
-            return Err(unsupported(
-                "obstacles are not handled by the closed form".into(),
-            ));
-        }
+        self.kind().check_support(robot, scene)?;
+        let drives = act.drives(
+            robot,
+            &name,
+            &[Input::Shortening, Input::Tension],
+            self.control,
+        )?;
         let n = robot.sections();
         let len = robot.length();
         let ei = robot.backbone.ei();
@@ -147,16 +159,11 @@ impl Method for ConstantCurvature {
         let mut rows: Vec<(usize, Vector2<f64>, f64)> = vec![];
         let mut u_f = Vector2::zeros();
         let mut tensions: Vec<Option<f64>> = vec![None; robot.cables.len()];
-        let mut any_force = false;
         for (c, cable) in robot.cables.iter().enumerate() {
-            let drive = act.cables.get(c).copied().unwrap_or_default();
-            if drive.is_free() {
+            let drive = drives[c];
+            if drive == Drive::Free {
                 continue;
             }
-            let use_force = match self.control {
-                Control::Force => drive.tension.is_some(),
-                Control::Displacement => drive.shorten.is_none(),
-            };
             if cable.ends_at != n {
                 return Err(unsupported(format!(
                     "cable `{}` is tied at inner disk {} (one constant-curvature section needs every driven cable tied at disk {n})",
@@ -181,20 +188,11 @@ impl Method for ConstantCurvature {
                 }
             }
             let dir = Vector2::new(a0.cos(), a0.sin());
-            if use_force {
-                let tau = drive.tension.unwrap_or(0.0);
-                if !(tau.is_finite() && tau >= 0.0) {
-                    return Err(SolveError::InvalidInput {
-                        field: format!("cables[{c}].tension"),
-                        reason: format!("tension must be finite and ≥ 0, got {tau}"),
-                    });
-                }
+            if let Drive::Tension(tau) = drive {
                 u_f += dir * (tau * r0 / ei);
                 tensions[c] = Some(tau);
-                any_force = true;
-            } else {
-                let d = act.shortening_length(robot, c).unwrap_or(0.0);
-                if !d.is_finite() || d >= len {
+            } else if let Drive::Shorten { length: d, .. } = drive {
+                if d >= len {
                     return Err(SolveError::InvalidInput {
                         field: format!("cables[{c}].shorten"),
                         reason: format!("shortening {d} m is not below the cable length"),
@@ -202,18 +200,6 @@ impl Method for ConstantCurvature {
                 }
                 rows.push((c, dir * (len * r0), d));
             }
-        }
-        let has_loads = robot.loads.gravity.norm() > 0.0 && robot.loads.disk_mass > 0.0
-            || robot.loads.gravity.norm() > 0.0 && robot.backbone.density > 0.0
-            || robot.loads.tip_force.norm() > 0.0
-            || robot.loads.tip_moment.norm() > 0.0;
-        if has_loads {
-            if any_force {
-                return Err(unsupported(
-                    "external loads (gravity, tip wrench) bend the backbone out of an arc".into(),
-                ));
-            }
-            notes.push("external loads ignored (kinematic mapping)".into());
         }
         let (u, active) = least_bending(&u_f, &rows).map_err(|c| SolveError::Infeasible {
             cable: robot.cables[c].name.clone(),
@@ -289,7 +275,7 @@ impl Method for ConstantCurvature {
                 sections: vec![],
                 base_wrench: None,
                 notes,
-                state: None,
+                warm: None,
             },
         })
     }

@@ -7,17 +7,17 @@
 //! normal is local z, hence [`y_to_z`]) and cable chords are segments.
 
 use crate::error::SolveError;
-use crate::robot::Robot;
-use crate::scene::Scene;
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
 use nalgebra::{Matrix3, Vector3};
 use parry3d::math::{Pose as PPose, Vector as PVec};
 use parry3d::query::Contact as PContact;
 use parry3d::shape::{Cylinder, Shape as PShape};
 
-/// Robot features within this of an obstacle are queried again moved this far away [m].
+/// Robot features within this of an obstacle are queried again moved this far away \[m\].
 pub(crate) const SEPARATION_SHIFT: f64 = 1e-3;
 
-/// Two candidates closer than this to the clearance count as touching [m].
+/// Two candidates closer than this to the clearance count as touching \[m\].
 pub(crate) const CONTACT_TOL: f64 = 1e-9;
 
 /// Rotation taking parry's cylinder axis (local y) to the disk normal (local z).
@@ -117,7 +117,7 @@ pub(crate) struct Witness {
     pub obstacle: Vector3<f64>,
     /// Unit normal from the obstacle towards the robot.
     pub normal: Vector3<f64>,
-    /// Signed distance [m].
+    /// Signed distance \[m\].
     pub dist: f64,
 }
 

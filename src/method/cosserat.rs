@@ -17,7 +17,7 @@
 //! Rod equilibrium (R&W eq. 2–3): `n' + f + f_t = 0`, `m' + p' × n + l + l_t = 0`, with
 //! `f = ρ A g` (gravity) and `l = 0`.
 //!
-//! Tendon `i` runs at `p_i = p + R r_i(s)` (R&W eq. 6), with `r_i` from [`crate::routing`].
+//! Tendon `i` runs at `p_i = p + R r_i(s)` (R&W eq. 6), with `r_i` from [`crate::model::routing`].
 //! In the body frame `ṗ_i = û r_i + r_i' + v` and, frictionless with constant tension `τ_i`,
 //! it loads the rod per unit length with `f_t = Σ A_i p̈_i`, `l_t = Σ r̂_i A_i p̈_i`
 //! (R&W eq. 9–12), `A_i = −τ_i ṗ̂_i² / |ṗ_i|³`. Writing `p̈_i = û ṗ_i + û r_i' + r_i'' + v' − r̂_i u'`
@@ -46,7 +46,7 @@
 //! # Shooting
 //!
 //! Unknowns: the base wrench `n(0)`, `m(0)/L` and, for displacement-controlled taut cables, the
-//! tension. Residual: `[n(L⁺), m(L⁺)/L]` [N] and, per length-controlled cable,
+//! tension. Residual: `[n(L⁺), m(L⁺)/L]` \[N\] and, per length-controlled cable,
 //! `k_ℓ (ℓ − ℓ_target)` with `k_ℓ = EI/(r̄² L)` (≈ the tension change that moves the length by
 //! that much), so one tolerance in newtons serves all. Newton with a backtracking line
 //! search.
@@ -69,7 +69,7 @@
 //! inner disks (a tendon tied there, disk weights), whose kink forces come from a fixed point.
 //!
 //! **Warm starts** read `report.base_wrench`, the cable tensions and, from a shape of this
-//! method, `report.state = [k, J]` (the last Jacobian, `k × k` column-major): Newton then
+//! method, `report.warm` ([`WarmState::Rod`]: the last Jacobian): Newton then
 //! needs no Jacobian pass. With no shape-dependent external load the base wrench of the
 //! continuous rod follows from global balance (below); the discrete rod misses it by its
 //! integration error, which the warm solution has measured. That offset, and the tendon part
@@ -116,12 +116,17 @@
 //! `default_resolution_keeps_the_tip_within_a_hundredth_of_a_millimetre`). Uniform steps would
 //! need 11 per section (99 steps) for case III.
 
-use crate::actuation::Actuation;
 use crate::error::SolveError;
-use crate::method::Method;
-use crate::robot::Robot;
-use crate::routing::{Route, RoutePoint, RoutingFit};
-use crate::scene::Scene;
+use crate::method::settings::{
+    parse_control, parse_count, parse_in, parse_length, parse_routing, Configure, MAX_ITERATIONS,
+};
+use crate::method::warm::WarmState;
+use crate::method::{Method, MethodKind};
+use crate::model::actuation::{Actuation, Drive, Input, LengthMeasure};
+use crate::model::robot::Robot;
+use crate::model::routing::{Route, RoutePoint, RoutingFit};
+use crate::model::scene::Scene;
+use crate::numeric::so3::{gram_schmidt, hat};
 use crate::shape::{CablePath, DiskFrame, Shape, SolveReport};
 use nalgebra::{DMatrix, DVector, Matrix3, SVector, Vector3, Vector6};
 use std::time::Instant;
@@ -191,26 +196,6 @@ pub enum RodModel {
     Kirchhoff,
 }
 
-/// Which input drives a cable that has both a tension and a displacement.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Control {
-    /// Tension if given, else displacement, else free.
-    #[default]
-    Force,
-    /// Displacement if given, else tension, else free.
-    Displacement,
-}
-
-/// How a cable's length is measured under displacement control.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum LengthMeasure {
-    /// Along the routed path `∫|ṗ_i| ds`.
-    #[default]
-    Path,
-    /// Straight chords between the holes at consecutive disks (the geometric model's).
-    Chord,
-}
-
 /// Settings of the Cosserat rod solver.
 #[derive(Debug, Clone)]
 pub struct Cosserat {
@@ -229,13 +214,13 @@ pub struct Cosserat {
     pub adaptive: Option<f64>,
     /// Cable routing fit.
     pub routing: RoutingFit,
-    /// Force or displacement control.
-    pub control: Control,
+    /// Which input drives a cable that gives both (force control: tension).
+    pub control: Input,
     /// Cable length measure for displacement control.
     pub length: LengthMeasure,
     /// Newton iterations per solve (per continuation step).
     pub max_iterations: usize,
-    /// Residual tolerance [N] (moments divided by L, lengths times `EI/(r̄² L)`).
+    /// Residual tolerance \[N\] (moments divided by L, lengths times `EI/(r̄² L)`).
     pub tolerance: f64,
     /// Try Newton at full load first (default); `false` goes straight to load stepping.
     pub direct_start: bool,
@@ -249,7 +234,7 @@ impl Default for Cosserat {
             bend_refine: 0.5,
             adaptive: None,
             routing: RoutingFit::Spline,
-            control: Control::Force,
+            control: Input::Tension,
             length: LengthMeasure::Path,
             max_iterations: 50,
             tolerance: 1e-9,
@@ -271,7 +256,7 @@ impl Cosserat {
         }
     }
     /// Builder: control mode.
-    pub fn with_control(mut self, control: Control) -> Self {
+    pub fn with_control(mut self, control: Input) -> Self {
         self.control = control;
         self
     }
@@ -295,21 +280,6 @@ impl Cosserat {
         self.adaptive = tol;
         self
     }
-}
-
-#[inline]
-fn hat(v: &Vector3<f64>) -> Matrix3<f64> {
-    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
-}
-
-/// The nearest rotation to an RK4-integrated `R` (off by O(h⁴) from orthonormal), by
-/// Gram–Schmidt on its columns: for a drift ε it differs from the polar factor by O(ε), and
-/// costs a tenth of it.
-fn orthonormal(r: &Matrix3<f64>) -> Matrix3<f64> {
-    let x = r.column(0).normalize();
-    let y = (r.column(1) - x * x.dot(&r.column(1))).normalize();
-    let z = x.cross(&y);
-    Matrix3::from_columns(&[x, y, z])
 }
 
 /// Inverse of a symmetric 3×3 matrix (upper triangle read) by cofactors; `None` if singular.
@@ -369,17 +339,6 @@ fn put3(y: &mut State, i: usize, v: &Vector3<f64>) {
     y[i + 2] = v.z;
 }
 
-/// What drives one cable in a solve.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Mode {
-    /// Fixed tension [N] (scaled by the load factor).
-    Tension(f64),
-    /// Length control: shortening [m] (scaled by the load factor).
-    Length(f64),
-    /// Free: no tension.
-    Free,
-}
-
 /// Loads of one shooting pass.
 struct LoadCase {
     tau: Buf,
@@ -428,7 +387,7 @@ struct Problem<'a> {
     tip_m: Vector3<f64>,
     len_l: f64,
     fscale: f64,
-    modes: Vec<Mode>,
+    modes: Vec<Drive>,
     /// Undeformed lengths in the chosen measure.
     len0: Buf,
     /// Residual scale of each cable's length equation.
@@ -1283,7 +1242,7 @@ impl Problem<'_> {
     fn tensions(&self, x: &DVector<f64>, setup: &Setup, lam: f64) -> Buf {
         let mut tau = [0.0; MAX_CABLES];
         for (c, mode) in self.modes.iter().enumerate() {
-            if let Mode::Tension(t) = mode {
+            if let Drive::Tension(t) = mode {
                 tau[c] = t * lam;
             }
         }
@@ -1405,7 +1364,7 @@ impl Problem<'_> {
 
     fn target(&self, c: usize, lam: f64) -> f64 {
         match self.modes[c] {
-            Mode::Length(d) => self.len0[c] - lam * d,
+            Drive::Shorten { length: d, .. } => self.len0[c] - lam * d,
             _ => self.len0[c],
         }
     }
@@ -1705,11 +1664,38 @@ impl Problem<'_> {
     }
 }
 
+impl Configure for Cosserat {
+    fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        match name {
+            "control" => self.control = parse_control(value)?,
+            "routing" => self.routing = parse_routing(value)?,
+            "length" => self.length = parse_length(value)?,
+            "rk4-steps" => self.steps_per_section = parse_count(name, value, 1, 1000)?,
+            "adaptive" => {
+                self.adaptive = match value.trim() {
+                    "off" | "none" => None,
+                    v => Some(parse_in(name, v, 1e-14, 1.0)?),
+                }
+            }
+            "bend-refine" => {
+                self.bend_refine = match value.trim() {
+                    "inf" | "off" => f64::INFINITY,
+                    v => parse_in(name, v, 0.0, 1e6)?,
+                }
+            }
+            "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
+            "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
+            _ => return self.kind().check_setting(name),
+        }
+        Ok(())
+    }
+}
+
 impl Method for Cosserat {
-    fn name(&self) -> &str {
+    fn kind(&self) -> MethodKind {
         match self.model {
-            RodModel::Full => "cosserat",
-            RodModel::Kirchhoff => "kirchhoff",
+            RodModel::Full => MethodKind::Cosserat,
+            RodModel::Kirchhoff => MethodKind::Kirchhoff,
         }
     }
 
@@ -1722,28 +1708,24 @@ impl Method for Cosserat {
     ) -> Result<Shape, SolveError> {
         let start = Instant::now();
         let name = self.name().to_string();
-        if !scene.is_empty() {
-            return Err(SolveError::Unsupported {
-                method: name,
-                reason: "obstacles are not handled by the rod model yet".into(),
-            });
-        }
+        self.kind().check_support(robot, scene)?;
         let (prob, mut notes) = self.problem(robot, act)?;
         let nc = robot.cables.len();
         let len_l = prob.len_l;
         let length_cables: Vec<usize> = (0..nc)
-            .filter(|&c| matches!(prob.modes[c], Mode::Length(_)))
+            .filter(|&c| matches!(prob.modes[c], Drive::Shorten { .. }))
             .collect();
         // Warm start.
         let mut slack = vec![false; nc];
         let mut warm_x: Option<(Vector3<f64>, Vector3<f64>, Vec<f64>)> = None;
-        // A warm start from this method also carries its last Jacobian (`report.state`:
-        // `[k, J column-major]`) and the offset of its base wrench from the global balance.
+        // A warm start from this method also carries its last Jacobian (`report.warm`) and
+        // the offset of its base wrench from the global balance.
         let same = warm.is_some_and(|w| w.method == self.name());
-        let mut warm_jac = warm.filter(|_| same).and_then(|w| {
-            let st = w.report.state.as_ref()?;
-            let k = *st.first()? as usize;
-            (k >= 6 && st.len() == 1 + k * k).then(|| DMatrix::from_column_slice(k, k, &st[1..]))
+        let mut warm_jac = warm.filter(|_| same).and_then(|w| match &w.report.warm {
+            Some(WarmState::Rod { jacobian }) if jacobian.nrows() >= 6 && jacobian.is_square() => {
+                Some(jacobian.clone())
+            }
+            _ => None,
         });
         if let Some(w) = warm {
             if let Some(bw) = w.report.base_wrench {
@@ -1883,12 +1865,7 @@ impl Method for Cosserat {
             }
             if !changed {
                 let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, start, notes);
-                if let Some(j) = jac {
-                    let mut st = Vec::with_capacity(1 + j.len());
-                    st.push(j.nrows() as f64);
-                    st.extend_from_slice(j.as_slice());
-                    shape.report.state = Some(st);
-                }
+                shape.report.warm = jac.map(|jacobian| WarmState::Rod { jacobian });
                 return Ok(shape);
             }
             x_prev = Some(x);
@@ -1948,43 +1925,28 @@ impl Cosserat {
             .collect::<Result<Vec<_>, _>>()?;
         let mut modes = Vec::with_capacity(nc);
         let mut notes = vec![format!(
-            "rod {:?}, routing {:?}, control {:?}, length {:?}, {}",
+            "rod {:?}, routing {:?}, control {}, length {:?}, {}",
             self.model,
             self.routing,
-            self.control,
+            match self.control {
+                Input::Tension => "Force",
+                Input::Shortening => "Displacement",
+            },
             self.length,
             match self.adaptive {
                 Some(t) => format!("adaptive RK45 tol {t:e}"),
                 None => format!("RK4 {} steps/section", self.steps_per_section),
             }
         )];
+        let drives = act.drives(
+            robot,
+            &name,
+            &[Input::Shortening, Input::Tension],
+            self.control,
+        )?;
         for (c, cable) in robot.cables.iter().enumerate() {
-            let tension = act.tension(c);
-            let short = act.shortening_length(robot, c);
-            if let Some(t) = tension {
-                if !(t.is_finite() && t >= 0.0) {
-                    return Err(SolveError::InvalidInput {
-                        field: format!("cables[{c}].tension"),
-                        reason: format!("must be finite and ≥ 0, got {t}"),
-                    });
-                }
-            }
-            if let Some(d) = short {
-                if !d.is_finite() {
-                    return Err(SolveError::InvalidInput {
-                        field: format!("cables[{c}].shorten"),
-                        reason: "must be finite".into(),
-                    });
-                }
-            }
-            let mode = match (self.control, tension, short) {
-                (Control::Force, Some(t), _) => Mode::Tension(t),
-                (Control::Force, None, Some(d)) => Mode::Length(d),
-                (Control::Displacement, _, Some(d)) => Mode::Length(d),
-                (Control::Displacement, Some(t), None) => Mode::Tension(t),
-                (_, None, None) => Mode::Free,
-            };
-            if mode == Mode::Free {
+            let mode = drives[c];
+            if mode == Drive::Free {
                 notes.push(format!(
                     "cable `{}` is free (no tension, no displacement)",
                     cable.name
@@ -2033,7 +1995,7 @@ impl Cosserat {
             tau: [0.0; MAX_CABLES],
             lam: 0.0,
         };
-        if (0..nc).any(|c| matches!(prob.modes[c], Mode::Length(_))) {
+        if (0..nc).any(|c| matches!(prob.modes[c], Drive::Shorten { .. })) {
             prob.len0 = prob
                 .shoot(&Vector3::zeros(), &Vector3::zeros(), &zero, None, None)
                 .len;
@@ -2058,7 +2020,7 @@ impl Cosserat {
     ) -> Result<Option<JacobianCheck>, SolveError> {
         let (prob, _) = self.problem(robot, act)?;
         let unknown: Vec<usize> = (0..robot.cables.len())
-            .filter(|&c| matches!(prob.modes[c], Mode::Length(_)))
+            .filter(|&c| matches!(prob.modes[c], Drive::Shorten { .. }))
             .collect();
         let setup = Setup {
             slack: vec![false; robot.cables.len()],
@@ -2117,7 +2079,7 @@ impl Cosserat {
             .map(|(k, (p, r))| DiskFrame {
                 s: robot.disk_s[k],
                 position: *p,
-                rotation: orthonormal(r),
+                rotation: gram_schmidt(r),
             })
             .collect();
         let cables = robot
@@ -2128,7 +2090,8 @@ impl Cosserat {
                 let points = (0..=cable.ends_at)
                     .map(|k| disks[k].position + disks[k].rotation * cable.hole(k))
                     .collect();
-                let slack = setup.slack[c] || matches!(prob.modes[c], Mode::Tension(t) if t == 0.0);
+                let slack =
+                    setup.slack[c] || matches!(prob.modes[c], Drive::Tension(t) if t == 0.0);
                 CablePath {
                     name: cable.name.clone(),
                     points,
@@ -2157,7 +2120,7 @@ impl Cosserat {
                 sections: vec![],
                 base_wrench: Some([n0.x, n0.y, n0.z, m0.x, m0.y, m0.z]),
                 notes,
-                state: None,
+                warm: None,
             },
         }
     }

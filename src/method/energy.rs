@@ -31,12 +31,12 @@
 //! cable with neither is free: its path is reported and it constrains nothing.
 //!
 //! The Lagrangian is `E + Σ λ_c (L_c − L_c⁰ + δ_c)`; at the optimum `∂E/∂L_c = −λ_c`, so the
-//! multiplier is the energy released per metre of cable paid out: the cable tension [N]
+//! multiplier is the energy released per metre of cable paid out: the cable tension \[N\]
 //! (reported in `cables[c].tension`).
 //!
-//! Cable length, [`CableLength`]:
+//! Cable length, [`LengthMeasure`]:
 //! * **Path** (default, the rod's measure): the cable runs at `p(s) + R(s) r(s)` with `r(s)` the
-//!   C² routing curve of [`crate::routing`]. In the body frame its tangent is
+//!   C² routing curve of [`crate::model::routing`]. In the body frame its tangent is
 //!   `w = v + u × r + r'` (R&W eq. 6–7), so `L_c = Σ_j ∫ |w_j(s)| ds`. `w` is *affine* in the
 //!   sub-arc's own strains, `w = w₀(s) + B(s) ξ_j`, hence each `L_c` is a sum of convex,
 //!   separable terms with exact derivatives `∇ = Bᵀ ŵ`, `∇² = Bᵀ (I − ŵŵᵀ) B / |w|`. The
@@ -82,11 +82,11 @@
 //! problem, primal active set in `nonneg_qp`) and the step is `−z − Σ λ_r y_r`. A cable
 //! whose multiplier is zero is slack; a contact whose multiplier is positive presses. Line
 //! search on the ℓ1 merit `E + Σ T L + μ Σ max(0, c_r)`, with every pair re-queried at the
-//! trial point. Converged when the length residual is ≤ [`Energy::tolerance`] [m] and the
+//! trial point. Converged when the length residual is ≤ [`Energy::tolerance`] \[m\] and the
 //! stationarity residual, expressed as a length (`r̄ |∇ℒ|∞ / (EI ℓ)`, a curvature error
 //! times the hole radius), is below the same tolerance (with active contacts, see
 //! `energy/contacts.rs` and `CONTACT_STEP`). Cost per iteration is linear in the number of
-//! sub-arcs without obstacles. Warm starts read `report.state = [ξ…, λ…]` of a previous
+//! sub-arcs without obstacles. Warm starts read `report.warm` ([`WarmState::Energy`]: ξ and λ) of a previous
 //! shape of the same robot and settings, or fit strains to the disk frames of any other shape
 //! (e.g. the geometric method's, to start inside a tube).
 //!
@@ -103,7 +103,7 @@
 //!
 //! Distance constraints for backbone sub-arcs, disks and cable chords, with exact gradients
 //! in the strains (derivation in `energy/contacts.rs`); the multiplier of a contact is its normal
-//! reaction [N] (energy J over distance m). A step never moves any point of the robot farther
+//! reaction \[N\] (energy J over distance m). A step never moves any point of the robot farther
 //! than its distance to the obstacles (or half the pair margin when closer), so no feature
 //! passes through an obstacle between iterates — distances to open meshes are unsigned. A
 //! start that already crosses an obstacle (the straight robot through a bent tube) ends in
@@ -124,43 +124,39 @@
 
 mod contacts;
 
-use crate::actuation::Actuation;
 use crate::error::SolveError;
 use crate::method::contact::check_base;
-use crate::method::geometric::cable_paths;
-use crate::method::Method;
+use crate::method::output::cable_paths;
+use crate::method::settings::{
+    parse_control, parse_count, parse_in, parse_length, parse_routing, Configure, MAX_ITERATIONS,
+};
+use crate::method::warm::{EnergyWarm, WarmState};
+use crate::method::{Method, MethodKind};
+use crate::model::actuation::{Actuation, Drive, Input, LengthMeasure};
+use crate::model::robot::Robot;
+use crate::model::routing::{Route, RoutingFit};
+use crate::model::scene::Scene;
 use crate::numeric::ad::{Real, D2};
-use crate::numeric::rotation::log_so3;
-use crate::robot::Robot;
-use crate::routing::{Route, RoutingFit};
-use crate::scene::Scene;
+use crate::numeric::so3::{hat, log_so3};
 use crate::shape::{Contact, DiskFrame, Shape, SolveReport};
 use contacts::{Feat, Kin, Pair, World};
 use nalgebra::{Matrix3, Vector3};
 use std::time::Instant;
 
-/// How a cable's length is measured.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum CableLength {
-    /// Along the routed C² curve `p + R r(s)` (the Cosserat rod's measure; default).
-    #[default]
-    Path,
-    /// Straight chords between the holes at consecutive disks.
-    Chord,
-}
-
 /// Settings of the whole-robot energy method.
 #[derive(Debug, Clone)]
 pub struct Energy {
-    /// Constant-strain sub-arcs per section (≥ 1; ≤ 4 with [`CableLength::Chord`]).
+    /// Which input drives a cable that gives both a shortening and a tension.
+    pub control: Input,
+    /// Constant-strain sub-arcs per section (≥ 1; ≤ 4 with [`LengthMeasure::Chord`]).
     pub sub_arcs: usize,
     /// Cable length measure.
-    pub cable_length: CableLength,
+    pub cable_length: LengthMeasure,
     /// Routing curve of the path measure.
     pub routing: RoutingFit,
     /// Newton iterations.
     pub max_iterations: usize,
-    /// Length and stationarity tolerance [m] (see module docs).
+    /// Length and stationarity tolerance \[m\] (see module docs).
     pub tolerance: f64,
     /// Smallest acceptable stretch `1 + ε`: a solution that needs more axial compression means
     /// the shortening cannot be reached by bending ([`SolveError::Infeasible`]).
@@ -172,8 +168,9 @@ pub struct Energy {
 impl Default for Energy {
     fn default() -> Self {
         Energy {
+            control: Input::Shortening,
             sub_arcs: 4,
-            cable_length: CableLength::Path,
+            cable_length: LengthMeasure::Path,
             routing: RoutingFit::Spline,
             max_iterations: 60,
             tolerance: 1e-10,
@@ -190,7 +187,7 @@ impl Energy {
         self
     }
     /// Builder: cable length measure.
-    pub fn with_cable_length(mut self, l: CableLength) -> Self {
+    pub fn with_cable_length(mut self, l: LengthMeasure) -> Self {
         self.cable_length = l;
         self
     }
@@ -290,11 +287,6 @@ fn sub_arc_exp(xi: &[f64], ell: f64) -> (Matrix3<f64>, Vector3<f64>) {
     let v = Vector3::new(0.0, 0.0, ell * (1.0 + xi[3]));
     let p = v + wh * v * b + wh2 * v * c;
     (rot, p)
-}
-
-#[inline]
-fn hat(v: &Vector3<f64>) -> Matrix3<f64> {
-    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
 #[inline]
@@ -486,12 +478,13 @@ fn chord_value(xi: &[f64], ell: f64, m: usize, h_prev: &Vector3<f64>, h: &Vector
 /// Routing samples of one cable at the Gauss nodes of one sub-arc: `(rx, ry, rx', ry', ds)`.
 type Node = [f64; 5];
 
-/// What drives a cable in this method.
+/// What a cable imposes in this method, from its resolved [`Drive`]: a length constraint
+/// (its target length in the chosen measure), a constant tension, or nothing.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Drive {
-    /// Length constraint with this target [m].
+enum Target {
+    /// Length constraint with this target \[m\].
     Length(f64),
-    /// Constant tension [N] (potential `T L`).
+    /// Constant tension \[N\] (potential `T L`).
     Tension(f64),
     /// Nothing.
     Free,
@@ -511,7 +504,7 @@ struct Problem<'a> {
     k: Vec<f64>,
     /// Gauss samples `[c][j][q]` (path measure; empty for sub-arcs the cable does not reach).
     nodes: Vec<Vec<[Node; GL_NODES]>>,
-    drives: Vec<Drive>,
+    targets: Vec<Target>,
     /// Block size (4 for paths, 4m for chords) and count.
     nb: usize,
     nblocks: usize,
@@ -527,23 +520,23 @@ struct Problem<'a> {
 /// What [`Energy::newton`] found.
 struct Solution {
     xi: Vec<f64>,
-    /// Cable multipliers (tensions) [N].
+    /// Cable multipliers (tensions) \[N\].
     lam: Vec<f64>,
-    /// Active contacts with their reactions [N].
+    /// Active contacts with their reactions \[N\].
     contacts: Vec<Contact>,
     iterations: usize,
     residual: f64,
 }
 
-/// Residual [m] at which a solution with active contacts has converged: parry's distances and
+/// Residual \[m\] at which a solution with active contacts has converged: parry's distances and
 /// normals on smooth pairs (a disk rim against a cylinder or a tube) carry ~1e-9 m of noise.
 const CONTACT_RESIDUAL: f64 = 1e-8;
 
-/// A full Newton step that moves no point of the robot by more than this [m] ends a solve
+/// A full Newton step that moves no point of the robot by more than this \[m\] ends a solve
 /// with active contacts (see [`Energy::newton`]).
 const CONTACT_STEP: f64 = 1e-7;
 
-/// Noise of parry's signed distances near touching [m]: a merit decrease predicted below
+/// Noise of parry's signed distances near touching \[m\]: a merit decrease predicted below
 /// `penalty × CONTACT_NOISE` cannot be checked, so the full step is taken.
 const CONTACT_NOISE: f64 = 1e-9;
 
@@ -578,7 +571,7 @@ impl Problem<'_> {
         self.world.is_some() || !self.frame_forces.is_empty()
     }
 
-    /// Potential of the dead loads, `V = −Σ F_f · p_f` [J] (0 without loads), at the frames
+    /// Potential of the dead loads, `V = −Σ F_f · p_f` \[J\] (0 without loads), at the frames
     /// `kin` of the strains.
     fn load_potential(&self, kin: Option<&Kin>) -> f64 {
         let Some(kin) = kin.filter(|_| !self.frame_forces.is_empty()) else {
@@ -622,7 +615,7 @@ impl Problem<'_> {
         for (c, cable) in self.robot.cables.iter().enumerate() {
             let mut total = 0.0;
             match self.set.cable_length {
-                CableLength::Path => {
+                LengthMeasure::Path => {
                     for j in 0..cable.ends_at * self.m {
                         let x = &xi[4 * j..4 * j + 4];
                         for nd in &self.nodes[c][j] {
@@ -630,7 +623,7 @@ impl Problem<'_> {
                         }
                     }
                 }
-                CableLength::Chord => {
+                LengthMeasure::Chord => {
                     for i in 1..=cable.ends_at {
                         let j0 = (i - 1) * self.m;
                         total += chord_value(
@@ -651,20 +644,20 @@ impl Problem<'_> {
     /// with cable weights `wgt` (they come out of the same pass).
     fn evaluate(&self, xi: &[f64], wgt: &[f64], w: &mut Work, exact: bool) {
         let nb = self.nb;
-        if self.set.cable_length == CableLength::Chord {
+        if self.set.cable_length == LengthMeasure::Chord {
             self.energy_hessian(w);
         }
         for (c, cable) in self.robot.cables.iter().enumerate() {
             let g = &mut w.grad[c];
             g.fill(0.0);
-            if self.drives[c] == Drive::Free {
+            if self.targets[c] == Target::Free {
                 w.len[c] = 0.0;
                 continue;
             }
             let mut total = 0.0;
             let wc = wgt[c];
             match self.set.cable_length {
-                CableLength::Path => {
+                LengthMeasure::Path => {
                     for j in 0..cable.ends_at * self.m {
                         let x = &xi[4 * j..4 * j + 4];
                         let mut gj = [0.0; 4];
@@ -683,7 +676,7 @@ impl Problem<'_> {
                         g[4 * j..4 * j + 4].copy_from_slice(&gj);
                     }
                 }
-                CableLength::Chord => {
+                LengthMeasure::Chord => {
                     for i in 1..=cable.ends_at {
                         let j0 = (i - 1) * self.m;
                         let xs = &xi[4 * j0..4 * (j0 + self.m)];
@@ -842,7 +835,7 @@ impl Problem<'_> {
         }
     }
 
-    /// Upper bound on how far a change `d` of the strains moves any point of the robot [m]:
+    /// Upper bound on how far a change `d` of the strains moves any point of the robot \[m\]:
     /// turning sub-arc `j` by `ℓ_j |δu_j|` moves what lies beyond it by at most that angle
     /// times the length beyond, stretching it by `ℓ_j |δε_j|`.
     fn move_bound(&self, d: &[f64]) -> f64 {
@@ -1089,9 +1082,26 @@ fn nonneg_qp(s: &[f64], q: &[f64], n: usize, lam: &mut [f64]) -> bool {
     false
 }
 
+impl Configure for Energy {
+    fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        match name {
+            "control" => self.control = parse_control(value)?,
+            "sub-arcs" => self.sub_arcs = parse_count(name, value, 1, 64)?,
+            "length" => self.cable_length = parse_length(value)?,
+            "routing" => self.routing = parse_routing(value)?,
+            "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
+            "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
+            "min-stretch" => self.min_stretch = parse_in(name, value, 0.0, 1.0)?,
+            "samples-per-sub-arc" => self.samples_per_sub_arc = parse_count(name, value, 1, 64)?,
+            _ => return self.kind().check_setting(name),
+        }
+        Ok(())
+    }
+}
+
 impl Method for Energy {
-    fn name(&self) -> &str {
-        "energy"
+    fn kind(&self) -> MethodKind {
+        MethodKind::Energy
     }
 
     fn solve(
@@ -1108,7 +1118,7 @@ impl Method for Energy {
                 reason: "must be ≥ 1".into(),
             });
         }
-        if self.cable_length == CableLength::Chord && self.sub_arcs > 4 {
+        if self.cable_length == LengthMeasure::Chord && self.sub_arcs > 4 {
             return Err(SolveError::InvalidInput {
                 field: "sub_arcs".into(),
                 reason: "the chord measure supports at most 4 sub-arcs per section".into(),
@@ -1127,6 +1137,7 @@ impl Method for Energy {
             });
         }
         let prob = self.setup(robot, act, scene)?;
+        self.kind().check_support(robot, scene)?;
         let mut notes = vec![format!(
             "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
             self.sub_arcs, self.cable_length, self.routing
@@ -1138,11 +1149,15 @@ impl Method for Energy {
                     .into(),
             );
         }
-        for (c, d) in prob.drives.iter().enumerate() {
+        for (c, d) in prob.targets.iter().enumerate() {
             match d {
-                Drive::Free => notes.push(format!("cable `{}` is free", robot.cables[c].name)),
-                Drive::Length(_) if act.tension(c).is_some() => notes.push(format!(
+                Target::Free => notes.push(format!("cable `{}` is free", robot.cables[c].name)),
+                Target::Length(_) if act.tension(c).is_some() => notes.push(format!(
                     "cable `{}`: displacement used, tension input ignored",
+                    robot.cables[c].name
+                )),
+                Target::Tension(_) if act.cables[c].shorten.is_some() => notes.push(format!(
+                    "cable `{}`: tension used (control = force), displacement input ignored",
                     robot.cables[c].name
                 )),
                 _ => {}
@@ -1183,7 +1198,7 @@ impl Energy {
         }
         let nc = robot.cables.len();
         let mut nodes = Vec::with_capacity(nc);
-        if self.cable_length == CableLength::Path {
+        if self.cable_length == LengthMeasure::Path {
             for (c, cable) in robot.cables.iter().enumerate() {
                 let route = Route::new(robot, c, self.routing)?;
                 let mut per = Vec::with_capacity(cable.ends_at * m);
@@ -1202,8 +1217,8 @@ impl Energy {
             }
         }
         let (nb, nblocks) = match self.cable_length {
-            CableLength::Path => (4, nsub),
-            CableLength::Chord => (4 * m, n),
+            LengthMeasure::Path => (4, nsub),
+            LengthMeasure::Chord => (4 * m, n),
         };
         let rbar = robot
             .cables
@@ -1220,7 +1235,7 @@ impl Energy {
             ell,
             k,
             nodes,
-            drives: vec![Drive::Free; nc],
+            targets: vec![Target::Free; nc],
             nb,
             nblocks,
             stat_scale: rbar / (ei * lmin),
@@ -1266,18 +1281,15 @@ impl Energy {
         // Undeformed lengths in the chosen measure (straight backbone, ξ = 0).
         let mut len0 = vec![0.0; nc];
         prob.lengths(&vec![0.0; 4 * nsub], &mut len0);
+        let drives = act.drives(
+            robot,
+            self.name(),
+            &[Input::Shortening, Input::Tension],
+            self.control,
+        )?;
         for (c, cable) in robot.cables.iter().enumerate() {
-            let field = format!("cables[{c}]");
-            let short = act.shortening_length(robot, c);
-            let tension = act.tension(c);
-            prob.drives[c] = match (short, tension) {
-                (Some(d), _) => {
-                    if !d.is_finite() {
-                        return Err(SolveError::InvalidInput {
-                            field: format!("{field}.shorten"),
-                            reason: "must be finite".into(),
-                        });
-                    }
+            prob.targets[c] = match drives[c] {
+                Drive::Shorten { length: d, .. } => {
                     let target = len0[c] - d;
                     if target <= 0.0 {
                         return Err(SolveError::Infeasible {
@@ -1290,18 +1302,10 @@ impl Energy {
                             ),
                         });
                     }
-                    Drive::Length(target)
+                    Target::Length(target)
                 }
-                (None, Some(t)) => {
-                    if !(t.is_finite() && t >= 0.0) {
-                        return Err(SolveError::InvalidInput {
-                            field: format!("{field}.tension"),
-                            reason: format!("must be finite and ≥ 0, got {t}"),
-                        });
-                    }
-                    Drive::Tension(t)
-                }
-                (None, None) => Drive::Free,
+                Drive::Tension(t) => Target::Tension(t),
+                Drive::Free => Target::Free,
             };
         }
         Ok(prob)
@@ -1318,21 +1322,31 @@ impl Energy {
         let mut lam = vec![0.0; nc];
         let state = warm
             .filter(|w| w.method == self.name())
-            .and_then(|w| w.report.state.as_ref())
-            .filter(|st| st.len() == nv + nc && st.iter().all(|v| v.is_finite()));
+            .and_then(|w| match &w.report.warm {
+                Some(WarmState::Energy(e)) => Some(e),
+                _ => None,
+            })
+            .filter(|e| {
+                e.strains.len() == nv
+                    && e.multipliers.len() == nc
+                    && e.strains
+                        .iter()
+                        .chain(&e.multipliers)
+                        .all(|v| v.is_finite())
+            });
         if let Some(st) = state {
-            xi.copy_from_slice(&st[..nv]);
+            xi.copy_from_slice(&st.strains);
             for c in 0..nc {
-                if matches!(prob.drives[c], Drive::Length(_)) {
-                    lam[c] = st[nv + c].max(0.0);
+                if matches!(prob.targets[c], Target::Length(_)) {
+                    lam[c] = st.multipliers[c].max(0.0);
                 }
             }
         } else if let Some(w) = warm.filter(|w| w.disks.len() == robot.sections() + 1) {
             // Another method's shape (or another discretization): its disk frames.
             prob.strains_from_disks(&w.disks, &mut xi);
         }
-        let target = |c: usize| match prob.drives[c] {
-            Drive::Length(t) => Some(t),
+        let target = |c: usize| match prob.targets[c] {
+            Target::Length(t) => Some(t),
             _ => None,
         };
         // Rows of the constraint set that never changes: the displacement-driven cables.
@@ -1362,10 +1376,10 @@ impl Energy {
         for it in 0..=self.max_iterations {
             // Weights of the constraint Hessians: multipliers of taut cables, input tensions.
             let wgt: Vec<f64> = (0..nc)
-                .map(|c| match prob.drives[c] {
-                    Drive::Length(_) => lam[c],
-                    Drive::Tension(t) => t,
-                    Drive::Free => 0.0,
+                .map(|c| match prob.targets[c] {
+                    Target::Length(_) => lam[c],
+                    Target::Tension(t) => t,
+                    Target::Free => 0.0,
                 })
                 .collect();
             prob.evaluate(&xi, &wgt, &mut w, exact);
@@ -1390,7 +1404,7 @@ impl Energy {
                 w.gobj[i] = prob.k[i] * xi[i];
             }
             for c in 0..nc {
-                if let Drive::Tension(t) = prob.drives[c] {
+                if let Target::Tension(t) = prob.targets[c] {
                     for i in 0..nv {
                         w.gobj[i] += t * w.grad[c][i];
                     }
@@ -1423,7 +1437,7 @@ impl Energy {
             let stat = stat * prob.stat_scale;
             // Chords: Gauss–Newton while it contracts fast, the exact Hessian once it slows.
             let now = feas.max(stat);
-            if prob.set.cable_length == CableLength::Chord
+            if prob.set.cable_length == LengthMeasure::Chord
                 && !exact
                 && now > tol
                 && (stalled || (it >= 4 && now > 0.3 * resid))
@@ -1466,7 +1480,7 @@ impl Energy {
             if it == self.max_iterations {
                 break;
             }
-            if prob.set.cable_length == CableLength::Path {
+            if prob.set.cable_length == LengthMeasure::Path {
                 prob.path_hessian(&xi, &wgt, &mut w);
             }
             // Factor the Hessian blocks (shifted towards the energy block if not PD).
@@ -1569,7 +1583,7 @@ impl Energy {
             let merit = |x: &[f64], kin: Option<&Kin>, len: &[f64], ps: &[Pair]| -> f64 {
                 let mut f = prob.energy(x) + prob.load_potential(kin);
                 for c in 0..nc {
-                    if let Drive::Tension(t) = prob.drives[c] {
+                    if let Target::Tension(t) = prob.targets[c] {
                         f += t * len[c];
                     }
                 }
@@ -1756,8 +1770,8 @@ impl Energy {
         let mut len = vec![0.0; nc];
         prob.lengths(xi, &mut len);
         let slack_sections: Vec<Vec<usize>> = (0..nc)
-            .map(|c| match prob.drives[c] {
-                Drive::Length(t) if lam[c] == 0.0 && len[c] < t - self.tolerance => {
+            .map(|c| match prob.targets[c] {
+                Target::Length(t) if lam[c] == 0.0 && len[c] < t - self.tolerance => {
                     (1..=robot.cables[c].ends_at).collect()
                 }
                 _ => vec![],
@@ -1765,14 +1779,18 @@ impl Energy {
             .collect();
         let mut cables = cable_paths(robot, &disks, &slack_sections);
         for (c, path) in cables.iter_mut().enumerate() {
-            path.tension = match prob.drives[c] {
-                Drive::Length(_) => Some(lam[c]),
-                Drive::Tension(t) => Some(t),
-                Drive::Free => None,
+            path.tension = match prob.targets[c] {
+                Target::Length(_) => Some(lam[c]),
+                Target::Tension(t) => Some(t),
+                Target::Free => None,
             };
         }
-        let mut state = xi.to_vec();
-        state.extend_from_slice(lam);
+        let state = WarmState::Energy(EnergyWarm {
+            sub_arcs: self.sub_arcs,
+            length: self.cable_length,
+            strains: xi.to_vec(),
+            multipliers: lam.to_vec(),
+        });
         Shape {
             method: self.name().into(),
             disks,
@@ -1787,7 +1805,7 @@ impl Energy {
                 sections: vec![],
                 base_wrench: None,
                 notes,
-                state: Some(state),
+                warm: Some(state),
             },
         }
     }
@@ -1827,7 +1845,7 @@ pub fn cable_lengths(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<Vec<f64>
     })
 }
 
-/// Elastic energy `Σ ½ ℓ (EI κ² + GJ τ² + EA ε²)` [J] of the strains `xi` (layout as in
+/// Elastic energy `Σ ½ ℓ (EI κ² + GJ τ² + EA ε²)` \[J\] of the strains `xi` (layout as in
 /// [`cable_lengths`]), the objective the method minimizes when every cable is
 /// displacement-driven: exposed for checks (e.g. that a contact multiplier is the price of
 /// the clearance, `∂E*/∂clearance`).
@@ -1868,7 +1886,7 @@ mod tests {
         total
     }
 
-    /// Quadrature error allowed on a strongly bent and twisted state [m] (issue 4 asks for
+    /// Quadrature error allowed on a strongly bent and twisted state \[m\] (issue 4 asks for
     /// ≤ 1e-9 m; measured 5e-12 m worst, on case III's jumping cable B).
     const QUAD_TOL: f64 = 1e-10;
 

@@ -54,19 +54,21 @@
 //! Same sections and constraints, objective `Σ ang²` — a discrete bending energy, smooth, so one
 //! face suffices. Not the paper's method; offered as a named option.
 
-use crate::actuation::Actuation;
 use crate::error::SolveError;
 use crate::method::contact::{
     check_base, nvec, polish, ppose, pvec, query, y_to_z, Witness, CONTACT_TOL,
 };
-use crate::method::Method;
+use crate::method::output::cable_paths;
+use crate::method::settings::{parse_count, parse_in, Configure, MAX_ITERATIONS};
+use crate::method::{Method, MethodKind};
+use crate::model::actuation::{Actuation, Drive, Input};
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
 use crate::numeric::ad::{Real, D2, V3};
 use crate::numeric::kkt::{kkt_step, kkt_step6, multipliers};
 use crate::numeric::qp::qp_step6;
-use crate::numeric::rotation::{exp_so3, orthonormalize};
-use crate::robot::Robot;
-use crate::scene::Scene;
-use crate::shape::{CablePath, Contact, DiskFrame, SectionReport, Shape, SolveReport};
+use crate::numeric::so3::{exp_so3, gram_schmidt, orthonormalize};
+use crate::shape::{Contact, DiskFrame, SectionReport, Shape, SolveReport};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 use parry3d::math::Pose as PPose;
 use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
@@ -88,9 +90,9 @@ pub struct Geometric {
     pub objective: Objective,
     /// Newton iterations per candidate.
     pub max_iterations: usize,
-    /// Constraint residual a candidate must reach [m].
+    /// Constraint residual a candidate must reach \[m\].
     pub tolerance: f64,
-    /// An angle at or below this is "zero" (on a kink) [rad].
+    /// An angle at or below this is "zero" (on a kink) \[rad\].
     pub zero_angle: f64,
 }
 
@@ -113,11 +115,23 @@ impl Geometric {
     }
 }
 
+impl Configure for Geometric {
+    fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        match name {
+            "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
+            "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
+            "zero-angle" => self.zero_angle = parse_in(name, value, 0.0, 1e-3)?,
+            _ => return self.kind().check_setting(name),
+        }
+        Ok(())
+    }
+}
+
 impl Method for Geometric {
-    fn name(&self) -> &str {
+    fn kind(&self) -> MethodKind {
         match self.objective {
-            Objective::Literal => "geometric",
-            Objective::Squared => "geometric-squared",
+            Objective::Literal => MethodKind::Geometric,
+            Objective::Squared => MethodKind::GeometricSquared,
         }
     }
 
@@ -130,29 +144,19 @@ impl Method for Geometric {
     ) -> Result<Shape, SolveError> {
         let start = Instant::now();
         let n = robot.sections();
-        let mut notes = vec![
+        self.kind().check_support(robot, scene)?;
+        let notes = vec![
             "cable segment length after actuation = (1 - shortening) x undeformed straight chord between holes".to_string(),
         ];
-        // Displacement fraction per cable (None: not displacement-driven → free here).
-        let mut frac = Vec::with_capacity(robot.cables.len());
-        for (c, cable) in robot.cables.iter().enumerate() {
-            let f = act.shortening_fraction(robot, c);
-            if f.is_none() && act.tension(c).is_some() {
-                notes.push(format!(
-                    "cable `{}` has a tension but no displacement: free in the geometric method",
-                    cable.name
-                ));
-            }
-            if let Some(f) = f {
-                if !f.is_finite() || f >= 1.0 {
-                    return Err(SolveError::InvalidInput {
-                        field: format!("cables[{c}].shorten"),
-                        reason: format!("shortening fraction {f} is not below 1"),
-                    });
-                }
-            }
-            frac.push(f);
-        }
+        // Displacement fraction per cable (None: free).
+        let drives = act.drives(robot, self.name(), &[Input::Shortening], Input::Shortening)?;
+        let frac: Vec<Option<f64>> = drives
+            .iter()
+            .map(|d| match d {
+                Drive::Shorten { fraction, .. } => Some(*fraction),
+                _ => None,
+            })
+            .collect();
 
         let mut rot = Matrix3::identity();
         let mut pos = Vector3::zeros();
@@ -208,32 +212,10 @@ impl Method for Geometric {
                 sections,
                 base_wrench: None,
                 notes,
-                state: None,
+                warm: None,
             },
         })
     }
-}
-
-/// Hole positions of every cable at the solved disks (base frame).
-pub fn cable_paths(
-    robot: &Robot,
-    disks: &[DiskFrame],
-    slack_sections: &[Vec<usize>],
-) -> Vec<CablePath> {
-    robot
-        .cables
-        .iter()
-        .enumerate()
-        .map(|(c, cable)| CablePath {
-            name: cable.name.clone(),
-            points: (0..=cable.ends_at)
-                .map(|k| disks[k].position + disks[k].rotation * cable.hole(k))
-                .collect(),
-            slack: !slack_sections[c].is_empty(),
-            slack_sections: slack_sections[c].clone(),
-            tension: None,
-        })
-        .collect()
 }
 
 /// Relative pose of disk i in the frame of disk i−1.
@@ -1198,15 +1180,6 @@ impl Geometric {
     }
 }
 
-/// Re-orthonormalize a rotation that has drifted by rounding (Gram–Schmidt on the columns;
-/// cheap, and exact to first order for the ~1e-16 drift of a product of rotations).
-fn gram_schmidt(q: &Matrix3<f64>) -> Matrix3<f64> {
-    let x = q.column(0).normalize();
-    let y = (q.column(1) - x * x.dot(&q.column(1))).normalize();
-    let z = x.cross(&y);
-    Matrix3::from_columns(&[x, y, z])
-}
-
 /// A start moved slightly off every kink (deterministic).
 fn nudge(p: &Pose, l0: f64) -> Pose {
     Pose {
@@ -1238,7 +1211,7 @@ enum Feature {
 struct Pair {
     obstacle: usize,
     feature: Feature,
-    /// Signed distance [m].
+    /// Signed distance \[m\].
     dist: f64,
     /// ∂dist/∂(dp, dω) in the section's variables.
     grad: Vector6<f64>,
@@ -1291,7 +1264,7 @@ struct SectionWorld {
     disk_radius: f64,
     half_thickness: f64,
     clearance: f64,
-    /// Pairs farther apart than this are left out of the step [m].
+    /// Pairs farther apart than this are left out of the step \[m\].
     margin: f64,
 }
 

@@ -1,31 +1,51 @@
-//! Shape methods, all behind one trait.
+//! Shape methods, all behind one trait, and the one registry of them ([`MethodKind`]).
 //!
-//! | name | file | input | what it is |
+//! | name | module | input | what it is |
 //! |---|---|---|---|
-//! | `geometric` | [`geometric`] | displacement | the paper's section solver, literal (sum of angles) |
-//! | `geometric-squared` | [`geometric`] | displacement | same sections, squared angles (a discrete bending energy) |
-//! | `energy` | [`energy`] | displacement | whole robot: constant-strain sub-arcs, elastic energy, total cable lengths |
-//! | `cosserat` | [`cosserat`] | tension (or displacement) | Rucker–Webster rod with shear and extension, shooting |
-//! | `kirchhoff` | [`cosserat`] | tension (or displacement) | the same rod, inextensible and unshearable |
-//! | `constant-curvature` | [`constant_curvature`] | displacement (or tension) | closed-form arc for straight, parallel cables |
+//! | `geometric` | [`geometric`] | shortening | the paper's section solver, literal (sum of angles) |
+//! | `geometric-squared` | [`geometric`] | shortening | same sections, squared angles (a discrete bending energy) |
+//! | `energy` | [`energy`] | shortening (or tension) | whole robot: constant-strain sub-arcs, elastic energy, total cable lengths |
+//! | `cosserat` | [`cosserat`] | tension (or shortening) | Rucker–Webster rod with shear and extension, shooting |
+//! | `kirchhoff` | [`cosserat`] | tension (or shortening) | the same rod, inextensible and unshearable |
+//! | `constant-curvature` | [`constant_curvature`] | shortening (or tension) | closed-form arc for straight, parallel cables |
+//!
+//! Everything the rest of ccrkit (command line, studies, Python, reach and plan) needs to know
+//! about a method — its name, the inputs it takes, whether it handles obstacles and loads, its
+//! settings and their resolution ladder — is read from [`MethodKind::info`]; a method is built
+//! from its kind and [`Settings`] by [`MethodKind::build`]. Adding a method is one module plus
+//! one arm in each `match` of this file (see `CONTRIBUTING.md`).
 
 pub mod constant_curvature;
 pub(crate) mod contact;
 pub mod cosserat;
 pub mod energy;
 pub mod geometric;
+pub mod output;
+mod registry;
+pub mod run;
+pub mod settings;
+pub mod warm;
 
-use crate::actuation::Actuation;
 use crate::error::SolveError;
-use crate::robot::Robot;
-use crate::scene::Scene;
+use crate::model::actuation::Actuation;
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
 use crate::shape::Shape;
+
+pub use registry::{LoadSupport, MethodInfo, MethodKind};
+pub use settings::{Configure, SettingInfo, Settings};
+pub use warm::WarmState;
 
 /// A way to compute a robot's shape.
 pub trait Method: Send + Sync {
+    /// Which registered method this is.
+    fn kind(&self) -> MethodKind;
     /// The name used on the command line and in outputs.
-    fn name(&self) -> &str;
-    /// Solve for the shape. `warm` is a previous shape of the same robot to start from.
+    fn name(&self) -> &str {
+        self.kind().name()
+    }
+    /// Solve for the shape. `warm` is a previous shape of the same robot to start from (any
+    /// method's: its disk frames; the same method's also carries [`WarmState`]).
     fn solve(
         &self,
         robot: &Robot,
@@ -63,33 +83,10 @@ pub fn solve_stepped(
     Ok(s)
 }
 
-/// Names accepted by [`method_by_name`].
-pub const METHOD_NAMES: &[&str] = &[
-    "geometric",
-    "geometric-squared",
-    "cosserat",
-    "kirchhoff",
-    "energy",
-    "constant-curvature",
-];
+/// Names of every registered method, in registry order.
+pub const METHOD_NAMES: &[&str] = &registry::NAMES;
 
 /// Build a method with default settings from its command-line name.
 pub fn method_by_name(name: &str) -> Result<Box<dyn Method>, SolveError> {
-    match name {
-        "geometric" => Ok(Box::new(geometric::Geometric::literal())),
-        "geometric-squared" => Ok(Box::new(geometric::Geometric::squared())),
-        "energy" => Ok(Box::new(energy::Energy::default())),
-        "cosserat" => Ok(Box::new(cosserat::Cosserat::full())),
-        "kirchhoff" => Ok(Box::new(cosserat::Cosserat::kirchhoff())),
-        "constant-curvature" => Ok(Box::new(
-            constant_curvature::ConstantCurvature::displacement(),
-        )),
-        other => Err(SolveError::InvalidInput {
-            field: "method".into(),
-            reason: format!(
-                "unknown method `{other}`; known: {}",
-                METHOD_NAMES.join(", ")
-            ),
-        }),
-    }
+    name.parse::<MethodKind>()?.build(&Settings::new())
 }

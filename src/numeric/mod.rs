@@ -3,4 +3,4 @@
 pub mod ad;
 pub mod kkt;
 pub mod qp;
-pub mod rotation;
+pub mod so3;

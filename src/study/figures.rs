@@ -239,13 +239,13 @@ where
             let (x, y) = (p.a * scale, p.b * scale);
             Rectangle::new(
                 [(x - da / 2.0, y - db / 2.0), (x + da / 2.0, y + db / 2.0)],
-                status_color(&p.status).filled(),
+                status_color(p.status.as_str()).filled(),
             )
         }))?;
         let mut kinds: Vec<&str> = vec![];
         for p in &pts {
             if !kinds.contains(&p.status.as_str()) {
-                kinds.push(&p.status);
+                kinds.push(p.status.as_str());
             }
         }
         for kind in kinds {

@@ -15,7 +15,7 @@
 //!
 //! Each feature–obstacle pair closer than a margin gives one constraint
 //! `c = clearance − d(ξ) ≤ 0` on the signed distance `d` from parry3d. The energy is in J and
-//! `d` in m, so the multiplier of the constraint is a force [N]: the normal reaction the
+//! `d` in m, so the multiplier of the constraint is a force \[N\]: the normal reaction the
 //! obstacle puts on the robot (reported in [`crate::shape::Contact::multiplier`]).
 //!
 //! # Derivative of a point with respect to the strains
@@ -45,8 +45,8 @@
 
 use super::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use crate::method::contact::{nvec, polish, ppose, pvec, query, y_to_z, Witness};
-use crate::robot::Robot;
-use crate::scene::Scene;
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3};
 use parry3d::math::Pose as PPose;
@@ -68,7 +68,7 @@ pub(super) struct Pair {
     /// Obstacle index in the scene.
     pub obstacle: usize,
     pub feat: Feat,
-    /// Signed distance [m].
+    /// Signed distance \[m\].
     pub dist: f64,
     /// `∂d/∂ξ` (empty when only distances were asked for).
     pub grad: Vec<f64>,
@@ -139,7 +139,7 @@ pub(super) struct World<'a> {
     robot: &'a Robot,
     /// Scene indices kept by the robot-level broad phase.
     near: Vec<usize>,
-    /// Pairs farther apart than this are left out of the step [m].
+    /// Pairs farther apart than this are left out of the step \[m\].
     margin: f64,
     /// Sub-arcs per section.
     m: usize,
@@ -164,12 +164,12 @@ impl<'a> World<'a> {
         })
     }
 
-    /// The scene's clearance [m].
+    /// The scene's clearance \[m\].
     pub fn clearance(&self) -> f64 {
         self.scene.clearance
     }
 
-    /// Pairs farther apart than this are left out of a step [m].
+    /// Pairs farther apart than this are left out of a step \[m\].
     pub fn margin(&self) -> f64 {
         self.margin
     }
@@ -181,7 +181,7 @@ impl<'a> World<'a> {
 
     /// How far any point of the robot moves between two states, bounded above: the largest
     /// move of a sub-arc end plus the disk radius times the largest change of its frame
-    /// (`|ΔR|_F` bounds `|ΔR x|` for `|x| ≤ 1`) [m].
+    /// (`|ΔR|_F` bounds `|ΔR x|` for `|x| ≤ 1`) \[m\].
     pub fn max_move(&self, a: &Kin, b: &Kin) -> f64 {
         let r = self.robot.disk_radius.max(self.robot.backbone.radius());
         a.pos
@@ -368,7 +368,7 @@ impl<'a> World<'a> {
         (out, clear)
     }
 
-    /// The pair as a reported contact with multiplier `mu` [N].
+    /// The pair as a reported contact with multiplier `mu` \[N\].
     pub fn contact(&self, p: &Pair, mu: f64) -> Contact {
         let arr = |v: &Vector3<f64>| [v.x, v.y, v.z];
         let (feature, disk, section) = match p.feat {

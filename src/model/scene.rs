@@ -1,7 +1,7 @@
 //! Obstacles around the robot: parry3d shapes with poses, read from model or scene files.
 //!
 //! ```toml
-//! clearance = 0.0005            # every robot feature keeps this distance [m] (default 0)
+//! clearance = 0.0005            # every robot feature keeps this distance \[m\] (default 0)
 //! [[obstacles]]
 //! name = "wall"                 # optional (default: obstacle<k>)
 //! shape = "box"                 # sphere | box | capsule | cylinder | mesh
@@ -30,33 +30,33 @@ use std::path::{Path, PathBuf};
 pub enum ObstacleKind {
     /// A ball.
     Sphere {
-        /// Radius [m].
+        /// Radius \[m\].
         radius: f64,
     },
     /// A box.
     Box {
-        /// Half extents [m].
+        /// Half extents \[m\].
         half_extents: Vector3<f64>,
     },
     /// A capsule along local z.
     Capsule {
-        /// Radius [m].
+        /// Radius \[m\].
         radius: f64,
-        /// Half length of the axis segment [m].
+        /// Half length of the axis segment \[m\].
         half_height: f64,
     },
     /// A cylinder along local z.
     Cylinder {
-        /// Radius [m].
+        /// Radius \[m\].
         radius: f64,
-        /// Half height [m].
+        /// Half height \[m\].
         half_height: f64,
     },
     /// A triangle mesh (vertices already scaled, in the obstacle frame).
     Mesh {
         /// Source file.
         path: PathBuf,
-        /// Vertices [m].
+        /// Vertices \[m\].
         vertices: Vec<Vector3<f64>>,
         /// Triangles.
         triangles: Vec<[u32; 3]>,
@@ -93,7 +93,7 @@ impl std::fmt::Debug for Obstacle {
 /// Obstacles near the robot.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
-    /// Minimum distance every robot feature keeps from every obstacle [m].
+    /// Minimum distance every robot feature keeps from every obstacle \[m\].
     pub clearance: f64,
     /// The obstacles.
     pub obstacles: Vec<Obstacle>,
@@ -399,7 +399,7 @@ impl FileObstacle {
                 if scale.iter().any(|x| !x.is_finite() || *x <= 0.0) {
                     return Err(ModelError::invalid(f("scale"), "must be > 0 and finite"));
                 }
-                let (verts, tris) = crate::mesh::load(&full).map_err(|reason| {
+                let (verts, tris) = crate::model::mesh::load(&full).map_err(|reason| {
                     ModelError::invalid(
                         f("path"),
                         format!("cannot load mesh `{}`: {reason}", full.display()),

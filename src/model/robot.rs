@@ -14,26 +14,26 @@ use std::f64::consts::PI;
 /// Elastic backbone (a rod of circular cross-section).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Backbone {
-    /// Young's modulus E [Pa].
+    /// Young's modulus E \[Pa\].
     pub youngs_modulus: f64,
     /// Poisson's ratio ν [-].
     pub poisson_ratio: f64,
-    /// Rod diameter d [m].
+    /// Rod diameter d \[m\].
     pub diameter: f64,
     /// Density [kg/m³] (0 when the file gives none: weightless backbone).
     pub density: f64,
 }
 
 impl Backbone {
-    /// Shear modulus G = E / (2(1 + ν)) [Pa].
+    /// Shear modulus G = E / (2(1 + ν)) \[Pa\].
     pub fn shear_modulus(&self) -> f64 {
         self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
     }
-    /// Cross-section area A = π d² / 4 [m²].
+    /// Cross-section area A = π d² / 4 \[m²\].
     pub fn area(&self) -> f64 {
         PI * self.diameter * self.diameter / 4.0
     }
-    /// Second moment of area I = π d⁴ / 64 [m⁴].
+    /// Second moment of area I = π d⁴ / 64 \[m⁴\].
     pub fn second_moment(&self) -> f64 {
         PI * self.diameter.powi(4) / 64.0
     }
@@ -45,15 +45,15 @@ impl Backbone {
     pub fn gj(&self) -> f64 {
         self.shear_modulus() * 2.0 * self.second_moment()
     }
-    /// Axial stiffness EA [N].
+    /// Axial stiffness EA \[N\].
     pub fn ea(&self) -> f64 {
         self.youngs_modulus * self.area()
     }
-    /// Shear stiffness GA [N] (no shear correction factor, as in Rucker & Webster 2011).
+    /// Shear stiffness GA \[N\] (no shear correction factor, as in Rucker & Webster 2011).
     pub fn ga(&self) -> f64 {
         self.shear_modulus() * self.area()
     }
-    /// Backbone radius [m].
+    /// Backbone radius \[m\].
     pub fn radius(&self) -> f64 {
         self.diameter / 2.0
     }
@@ -66,9 +66,9 @@ pub struct Cable {
     pub name: String,
     /// Disk where the cable is tied (1..=n). It passes disks `0..=ends_at`.
     pub ends_at: usize,
-    /// Hole radius at disks `0..=ends_at` [m].
+    /// Hole radius at disks `0..=ends_at` \[m\].
     pub radius: Vec<f64>,
-    /// Hole angle at disks `0..=ends_at` [rad], unwrapped as given.
+    /// Hole angle at disks `0..=ends_at` \[rad\], unwrapped as given.
     pub angle: Vec<f64>,
 }
 
@@ -90,9 +90,9 @@ impl Cable {
 pub struct Loads {
     /// Gravity vector in the base frame [m/s²] (zero: no gravity).
     pub gravity: Vector3<f64>,
-    /// Mass of each disk except the base [kg].
+    /// Mass of each disk except the base \[kg\].
     pub disk_mass: f64,
-    /// External force at the tip, base frame [N].
+    /// External force at the tip, base frame \[N\].
     pub tip_force: Vector3<f64>,
     /// External moment at the tip, base frame [N m].
     pub tip_moment: Vector3<f64>,
@@ -116,9 +116,9 @@ pub struct Robot {
     pub name: String,
     /// Arc length of each disk along the undeformed backbone, `disk_s[0] = 0`, `n + 1` values.
     pub disk_s: Vec<f64>,
-    /// Disk radius [m].
+    /// Disk radius \[m\].
     pub disk_radius: f64,
-    /// Disk thickness [m].
+    /// Disk thickness \[m\].
     pub disk_thickness: f64,
     /// Backbone rod.
     pub backbone: Backbone,
@@ -133,11 +133,11 @@ impl Robot {
     pub fn sections(&self) -> usize {
         self.disk_s.len() - 1
     }
-    /// Backbone length L [m].
+    /// Backbone length L \[m\].
     pub fn length(&self) -> f64 {
         self.disk_s[self.disk_s.len() - 1]
     }
-    /// Length of section `i` (1-based) [m].
+    /// Length of section `i` (1-based) \[m\].
     pub fn section_length(&self, i: usize) -> f64 {
         self.disk_s[i] - self.disk_s[i - 1]
     }
@@ -146,12 +146,12 @@ impl Robot {
         self.cables[c].hole(k) + Vector3::new(0.0, 0.0, self.disk_s[k])
     }
     /// Undeformed straight chord of cable `c` in section `i` (between its holes at disks
-    /// `i-1` and `i`) [m]. For a hole that turns by π/6 per disk this is longer than l0.
+    /// `i-1` and `i`) \[m\]. For a hole that turns by π/6 per disk this is longer than l0.
     pub fn undeformed_chord(&self, c: usize, i: usize) -> f64 {
         (self.undeformed_hole(c, i) - self.undeformed_hole(c, i - 1)).norm()
     }
     /// Undeformed length of cable `c` from the base to the disk where it ends, measured as
-    /// straight chords between consecutive holes [m].
+    /// straight chords between consecutive holes \[m\].
     pub fn undeformed_chord_length(&self, c: usize) -> f64 {
         (1..=self.cables[c].ends_at)
             .map(|i| self.undeformed_chord(c, i))

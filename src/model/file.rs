@@ -1,52 +1,18 @@
-//! Model files (TOML): robot + actuation (+ scene), parsed and validated at the boundary.
-//!
-//! ```toml
-//! name = "paper-case-1"
-//! [robot]
-//! sections = 9                  # n; disks are numbered 0..=n
-//! section_length = 0.020        # l0 [m] (or section_lengths = [...])
-//! disk_radius = 0.012           # [m]
-//! disk_thickness = 0.002        # [m]
-//! backbone = { youngs_modulus = 1.1e9, poisson_ratio = 0.3, diameter = 0.003 }
-//! [[cables]]
-//! name = "A"
-//! radius = 0.008                # hole radius [m]: one number, or one per disk it passes
-//! angles = { straight = 0.0 }   # or { helix = { start, per_disk } } or [a0, ..., a_end]
-//! ends_at = 9                   # disk where the cable is tied (default: last)
-//! shorten_percent = 4.0         # or shorten = 0.0072 [m]
-//! tension = 4.16925             # [N]
-//! ```
-//!
-//! Every rule is checked with an error naming the field ([`ModelError::Invalid`]); unknown
-//! fields are rejected by the parser ([`ModelError::Parse`], whose message names them).
+//! The TOML form of a model file and its validation into a [`Model`]: every rule is checked
+//! here, once, with an error naming the field.
 
-use crate::actuation::{Actuation, CableDrive, Shortening};
+use super::actuation::{Actuation, CableDrive, Shortening};
+use super::robot::{Backbone, Cable, Loads, Robot};
+use super::scene::{FileObstacle, Scene};
+use super::{Model, MAX_SECTIONS};
 use crate::error::ModelError;
-use crate::robot::{Backbone, Cable, Loads, Robot};
-use crate::scene::{FileObstacle, Scene};
 use nalgebra::Vector3;
 use serde::Deserialize;
-use std::path::{Path, PathBuf};
-
-/// Largest number of sections accepted (guards against absurd allocations).
-pub const MAX_SECTIONS: usize = 10_000;
-
-/// A parsed, validated model file.
-#[derive(Debug, Clone)]
-pub struct Model {
-    /// The robot.
-    pub robot: Robot,
-    /// Cable inputs from the file.
-    pub actuation: Actuation,
-    /// Obstacles (from `[[obstacles]]` and a referenced `scene` file).
-    pub scene: Scene,
-    /// Where the file was read from (for resolving relative paths).
-    pub source: Option<PathBuf>,
-}
+use std::path::Path;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct FileModel {
+pub(super) struct FileModel {
     name: String,
     #[serde(default)]
     description: Option<String>,
@@ -55,7 +21,7 @@ struct FileModel {
     cables: Vec<FileCable>,
     #[serde(default)]
     loads: Option<FileLoads>,
-    /// Distance every robot feature keeps from every obstacle [m].
+    /// Distance every robot feature keeps from every obstacle \[m\].
     #[serde(default)]
     clearance: Option<f64>,
     /// A scene file, relative to this file.
@@ -169,37 +135,8 @@ fn vec3(field: &str, v: Option<[f64; 3]>) -> Result<Vector3<f64>, ModelError> {
     Ok(Vector3::new(v[0], v[1], v[2]))
 }
 
-impl Model {
-    /// Read and validate a model file.
-    pub fn from_file(path: impl AsRef<Path>) -> Result<Model, ModelError> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
-        let dir = path.parent().unwrap_or(Path::new("."));
-        let mut m = Self::from_toml_named(&text, &path.display().to_string(), dir)?;
-        m.source = Some(path.to_path_buf());
-        Ok(m)
-    }
-
-    /// Parse and validate model text (relative mesh and scene paths resolve against the
-    /// current directory).
-    pub fn from_toml_str(text: &str) -> Result<Model, ModelError> {
-        Self::from_toml_named(text, "<string>", Path::new("."))
-    }
-
-    fn from_toml_named(text: &str, path: &str, dir: &Path) -> Result<Model, ModelError> {
-        let file: FileModel = toml::from_str(text).map_err(|e| ModelError::Parse {
-            path: path.to_string(),
-            reason: e.to_string().trim().replace('\n', " "),
-        })?;
-        file.validate(dir)
-    }
-}
-
 impl FileModel {
-    fn validate(self, dir: &Path) -> Result<Model, ModelError> {
+    pub(super) fn validate(self, dir: &Path) -> Result<Model, ModelError> {
         if self.name.trim().is_empty() {
             return Err(ModelError::invalid("name", "must not be empty"));
         }

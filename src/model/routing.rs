@@ -28,7 +28,7 @@
 //! but larger than the 0.01 mm integration accuracy, so the routing is part of the model.
 
 use crate::error::SolveError;
-use crate::robot::Robot;
+use crate::model::robot::Robot;
 use nalgebra::{DMatrix, DVector, Vector3};
 
 /// Which C² curve runs a cable through its holes.
@@ -44,7 +44,7 @@ pub enum RoutingFit {
 /// Position and arc-length derivatives of a cable in the body frame at one `s`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RoutePoint {
-    /// `r(s)` [m].
+    /// `r(s)` \[m\].
     pub r: Vector3<f64>,
     /// `r'(s)` [-].
     pub dr: Vector3<f64>,

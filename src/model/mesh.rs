@@ -150,7 +150,7 @@ pub fn to_obj(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> String {
 /// A bent tube (a section of a torus surface, open at both ends) as a triangle mesh: the
 /// centreline is the arc `c(θ) = (R (1 − cos θ), 0, R sin θ)` in the x–z plane, starting at the
 /// origin along +z and bending towards +x with radius `bend_radius` (R), for θ from `theta0` to
-/// `theta1` [rad]; the wall is the circle of radius `tube_radius` around it, with `rings`
+/// `theta1` \[rad\]; the wall is the circle of radius `tube_radius` around it, with `rings`
 /// circles along the arc and `segments` vertices on each. Deterministic, so the file it writes
 /// through [`to_obj`] can be regenerated bit for bit.
 pub fn bent_tube(

@@ -1,0 +1,449 @@
+//! The registry: every method's identity, capabilities and settings, in one place.
+
+use super::constant_curvature::ConstantCurvature;
+use super::cosserat::Cosserat;
+use super::energy::Energy;
+use super::geometric::Geometric;
+use super::settings::{canonical, common, Configure, SettingInfo, Settings};
+use super::Method;
+use crate::error::SolveError;
+use crate::model::actuation::Input;
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
+use std::fmt;
+use std::str::FromStr;
+
+/// Every method ccrkit has. The only place a method's name is spelled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum MethodKind {
+    /// The paper's section solver, read literally (sum of angles).
+    Geometric,
+    /// The same sections minimizing squared angles.
+    GeometricSquared,
+    /// The whole-robot energy model.
+    Energy,
+    /// The Cosserat rod with shear and extension.
+    Cosserat,
+    /// The Kirchhoff rod (inextensible, unshearable).
+    Kirchhoff,
+    /// The constant-curvature closed form.
+    ConstantCurvature,
+}
+
+/// Which external loads a method models (a load it does not model is refused, not ignored).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LoadSupport {
+    /// Gravity on the backbone and disks.
+    pub gravity: bool,
+    /// A force at the tip.
+    pub tip_force: bool,
+    /// A moment at the tip.
+    pub tip_moment: bool,
+}
+
+/// What the rest of ccrkit needs to know about a method.
+#[derive(Debug, Clone, Copy)]
+pub struct MethodInfo {
+    /// The method.
+    pub kind: MethodKind,
+    /// Command-line name.
+    pub name: &'static str,
+    /// One line: what it is.
+    pub summary: &'static str,
+    /// Inputs it can be driven by.
+    pub inputs: &'static [Input],
+    /// The input it uses where a cable gives both (its default `control`).
+    pub default_input: Input,
+    /// Whether it keeps the robot clear of obstacles.
+    pub obstacles: bool,
+    /// Which loads it models.
+    pub loads: LoadSupport,
+    /// Settings it takes (by name).
+    pub settings: &'static [SettingInfo],
+    /// Its resolution ladder for the speed–accuracy study: (label, settings as `name=value`).
+    pub resolutions: &'static [(&'static str, &'static [(&'static str, &'static str)])],
+}
+
+const NO_LOADS: LoadSupport = LoadSupport {
+    gravity: false,
+    tip_force: false,
+    tip_moment: false,
+};
+
+const GEOMETRIC_SETTINGS: &[SettingInfo] = &[
+    common::max_iterations("40"),
+    common::tolerance("1e-12", "constraint residual a candidate must reach [m]"),
+    SettingInfo {
+        name: "zero-angle",
+        values: "(0, 1e-3]",
+        default: "1e-7",
+        help: "an angle at or below this is zero (on a kink) [rad]",
+    },
+];
+
+const ENERGY_SETTINGS: &[SettingInfo] = &[
+    common::control("displacement"),
+    SettingInfo {
+        name: "sub-arcs",
+        values: "1..=64 (≤ 4 with length = chord)",
+        default: "4",
+        help: "constant-strain sub-arcs per section",
+    },
+    common::LENGTH,
+    common::ROUTING,
+    common::max_iterations("60"),
+    common::tolerance("1e-10", "length and stationarity tolerance [m]"),
+    SettingInfo {
+        name: "min-stretch",
+        values: "(0, 1]",
+        default: "0.5",
+        help: "smallest backbone stretch 1 + ε accepted before Infeasible",
+    },
+    SettingInfo {
+        name: "samples-per-sub-arc",
+        values: "1..=64",
+        default: "1",
+        help: "backbone samples per sub-arc in the output shape",
+    },
+];
+
+const ROD_SETTINGS: &[SettingInfo] = &[
+    common::control("force"),
+    common::ROUTING,
+    common::LENGTH,
+    SettingInfo {
+        name: "rk4-steps",
+        values: "1..=1000",
+        default: "3",
+        help: "RK4 steps per section before bend refinement",
+    },
+    SettingInfo {
+        name: "adaptive",
+        values: "(1e-14, 1]",
+        default: "off",
+        help: "adaptive Dormand–Prince RK45 with this tolerance instead of fixed RK4",
+    },
+    SettingInfo {
+        name: "bend-refine",
+        values: "(0, inf] (inf: off)",
+        default: "0.5",
+        help: "route bend above which a section gets more RK4 steps",
+    },
+    common::max_iterations("50"),
+    common::tolerance("1e-9", "shooting residual [N]"),
+];
+
+const CC_SETTINGS: &[SettingInfo] = &[common::control("displacement")];
+
+const ROD_RESOLUTIONS: &[(&str, &[(&str, &str)])] = &[
+    ("rk4 2/section", &[("rk4-steps", "2"), ("control", "force")]),
+    ("rk4 3/section", &[("rk4-steps", "3"), ("control", "force")]),
+    ("rk4 4/section", &[("rk4-steps", "4"), ("control", "force")]),
+    ("rk4 6/section", &[("rk4-steps", "6"), ("control", "force")]),
+    ("rk4 8/section", &[("rk4-steps", "8"), ("control", "force")]),
+    (
+        "rk4 12/section",
+        &[("rk4-steps", "12"), ("control", "force")],
+    ),
+    (
+        "rk4 20/section",
+        &[("rk4-steps", "20"), ("control", "force")],
+    ),
+    (
+        "adaptive 1e-3",
+        &[("adaptive", "1e-3"), ("control", "force")],
+    ),
+    (
+        "adaptive 1e-5",
+        &[("adaptive", "1e-5"), ("control", "force")],
+    ),
+    (
+        "adaptive 1e-7",
+        &[("adaptive", "1e-7"), ("control", "force")],
+    ),
+];
+
+const DEFAULT_RESOLUTION: &[(&str, &[(&str, &str)])] = &[("default", &[])];
+
+const BOTH: &[Input] = &[Input::Shortening, Input::Tension];
+const SHORTENING: &[Input] = &[Input::Shortening];
+
+const INFO: [MethodInfo; 6] = [
+    MethodInfo {
+        kind: MethodKind::Geometric,
+        name: "geometric",
+        summary: "the paper's section solver, read literally (sum of angles), certified",
+        inputs: SHORTENING,
+        default_input: Input::Shortening,
+        obstacles: true,
+        loads: NO_LOADS,
+        settings: GEOMETRIC_SETTINGS,
+        resolutions: DEFAULT_RESOLUTION,
+    },
+    MethodInfo {
+        kind: MethodKind::GeometricSquared,
+        name: "geometric-squared",
+        summary: "the same sections minimizing squared angles (a discrete bending energy)",
+        inputs: SHORTENING,
+        default_input: Input::Shortening,
+        obstacles: true,
+        loads: NO_LOADS,
+        settings: GEOMETRIC_SETTINGS,
+        resolutions: DEFAULT_RESOLUTION,
+    },
+    MethodInfo {
+        kind: MethodKind::Energy,
+        name: "energy",
+        summary: "whole robot: constant-strain sub-arcs, elastic energy, pull-only cable lengths",
+        inputs: BOTH,
+        default_input: Input::Shortening,
+        obstacles: true,
+        loads: LoadSupport {
+            gravity: true,
+            tip_force: true,
+            tip_moment: false,
+        },
+        settings: ENERGY_SETTINGS,
+        resolutions: DEFAULT_RESOLUTION,
+    },
+    MethodInfo {
+        kind: MethodKind::Cosserat,
+        name: "cosserat",
+        summary: "Rucker–Webster Cosserat rod with shear and extension, shooting (the reference)",
+        inputs: BOTH,
+        default_input: Input::Tension,
+        obstacles: false,
+        loads: LoadSupport {
+            gravity: true,
+            tip_force: true,
+            tip_moment: true,
+        },
+        settings: ROD_SETTINGS,
+        resolutions: ROD_RESOLUTIONS,
+    },
+    MethodInfo {
+        kind: MethodKind::Kirchhoff,
+        name: "kirchhoff",
+        summary: "the same rod, inextensible and unshearable",
+        inputs: BOTH,
+        default_input: Input::Tension,
+        obstacles: false,
+        loads: LoadSupport {
+            gravity: true,
+            tip_force: true,
+            tip_moment: true,
+        },
+        settings: ROD_SETTINGS,
+        resolutions: ROD_RESOLUTIONS,
+    },
+    MethodInfo {
+        kind: MethodKind::ConstantCurvature,
+        name: "constant-curvature",
+        summary: "closed-form arc for straight, parallel cables tied at the tip",
+        inputs: BOTH,
+        default_input: Input::Shortening,
+        obstacles: false,
+        loads: NO_LOADS,
+        settings: CC_SETTINGS,
+        resolutions: &[
+            ("displacement", &[("control", "displacement")]),
+            ("force", &[("control", "force")]),
+        ],
+    },
+];
+
+/// Names in registry order.
+pub(super) const NAMES: [&str; 6] = [
+    INFO[0].name,
+    INFO[1].name,
+    INFO[2].name,
+    INFO[3].name,
+    INFO[4].name,
+    INFO[5].name,
+];
+
+impl MethodKind {
+    /// Every method, in registry order.
+    pub const ALL: [MethodKind; 6] = [
+        MethodKind::Geometric,
+        MethodKind::GeometricSquared,
+        MethodKind::Energy,
+        MethodKind::Cosserat,
+        MethodKind::Kirchhoff,
+        MethodKind::ConstantCurvature,
+    ];
+
+    /// What the method is and takes.
+    pub fn info(self) -> &'static MethodInfo {
+        &INFO[self as usize]
+    }
+
+    /// Command-line name.
+    pub fn name(self) -> &'static str {
+        self.info().name
+    }
+
+    /// Whether the method can be driven by `input`.
+    pub fn accepts(self, input: Input) -> bool {
+        self.info().inputs.contains(&input)
+    }
+
+    /// Build the method with its defaults, then `settings` applied in order. A setting the
+    /// method does not take is an error naming the methods that do.
+    pub fn build(self, settings: &Settings) -> Result<Box<dyn Method>, SolveError> {
+        fn apply<M: Configure + Method + 'static>(
+            kind: MethodKind,
+            mut m: M,
+            settings: &Settings,
+        ) -> Result<Box<dyn Method>, SolveError> {
+            for (name, value) in settings.iter() {
+                let name = canonical(name);
+                kind.check_setting(&name)?;
+                m.set(&name, value)?;
+            }
+            Ok(Box::new(m))
+        }
+        match self {
+            MethodKind::Geometric => apply(self, Geometric::literal(), settings),
+            MethodKind::GeometricSquared => apply(self, Geometric::squared(), settings),
+            MethodKind::Energy => apply(self, Energy::default(), settings),
+            MethodKind::Cosserat => apply(self, Cosserat::full(), settings),
+            MethodKind::Kirchhoff => apply(self, Cosserat::kirchhoff(), settings),
+            MethodKind::ConstantCurvature => apply(self, ConstantCurvature::default(), settings),
+        }
+    }
+
+    /// The method driven by `input` where a cable gives both (its `control`), when it accepts
+    /// both; otherwise its defaults.
+    pub fn driven_by(self, input: Input) -> Result<Box<dyn Method>, SolveError> {
+        let s = if self.accepts(Input::Shortening) && self.accepts(Input::Tension) {
+            Settings::new().with("control", super::settings::control_name(input))
+        } else {
+            Settings::new()
+        };
+        self.build(&s)
+    }
+
+    /// Refuse a setting this method does not take, naming the methods that take it.
+    pub fn check_setting(self, name: &str) -> Result<(), SolveError> {
+        let name = canonical(name);
+        if self.info().settings.iter().any(|s| s.name == name) {
+            return Ok(());
+        }
+        let takers: Vec<&str> = Self::ALL
+            .iter()
+            .filter(|k| k.info().settings.iter().any(|s| s.name == name))
+            .map(|k| k.name())
+            .collect();
+        let own: Vec<&str> = self.info().settings.iter().map(|s| s.name).collect();
+        Err(SolveError::InvalidInput {
+            field: name.clone(),
+            reason: if takers.is_empty() {
+                format!(
+                    "no method takes a setting `{name}`; {} takes: {}",
+                    self.name(),
+                    own.join(", ")
+                )
+            } else {
+                format!(
+                    "applies to {}, not to {} (which takes: {})",
+                    takers.join(", "),
+                    self.name(),
+                    own.join(", ")
+                )
+            },
+        })
+    }
+
+    /// Refuse obstacles or external loads this method does not model, naming them: a load or
+    /// an obstacle is never silently left out of a shape.
+    pub fn check_support(self, robot: &Robot, scene: &Scene) -> Result<(), SolveError> {
+        let info = self.info();
+        let refuse = |reason: String| {
+            Err(SolveError::Unsupported {
+                method: info.name.into(),
+                reason,
+            })
+        };
+        if !info.obstacles && !scene.is_empty() {
+            return refuse(format!(
+                "obstacles are not modelled by {} (scene has {}); methods that keep the robot \
+                 clear of obstacles: {}",
+                info.name,
+                scene.obstacles.len(),
+                Self::ALL
+                    .iter()
+                    .filter(|k| k.info().obstacles)
+                    .map(|k| k.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        let l = &robot.loads;
+        let weight = l.gravity.norm() > 0.0 && (l.disk_mass > 0.0 || robot.backbone.density > 0.0);
+        let loads = [
+            ("gravity", weight, info.loads.gravity),
+            (
+                "loads.tip_force",
+                l.tip_force.norm() > 0.0,
+                info.loads.tip_force,
+            ),
+            (
+                "loads.tip_moment",
+                l.tip_moment.norm() > 0.0,
+                info.loads.tip_moment,
+            ),
+        ];
+        for (name, present, modelled) in loads {
+            if present && !modelled {
+                let by: Vec<&str> = Self::ALL
+                    .iter()
+                    .filter(|k| {
+                        let s = k.info().loads;
+                        match name {
+                            "gravity" => s.gravity,
+                            "loads.tip_force" => s.tip_force,
+                            _ => s.tip_moment,
+                        }
+                    })
+                    .map(|k| k.name())
+                    .collect();
+                return refuse(format!(
+                    "the model's `{name}` is not modelled by {} (it would be ignored); use {}",
+                    info.name,
+                    by.join(" or ")
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The input a configured variant of this method is driven by (its `control` setting,
+    /// else its default).
+    pub fn input_with(self, settings: &Settings) -> Input {
+        settings
+            .get("control")
+            .and_then(|v| super::settings::parse_control(v).ok())
+            .filter(|&i| self.accepts(i))
+            .unwrap_or(self.info().default_input)
+    }
+}
+
+impl fmt::Display for MethodKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for MethodKind {
+    type Err = SolveError;
+    fn from_str(s: &str) -> Result<Self, SolveError> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == s.trim())
+            .ok_or_else(|| SolveError::InvalidInput {
+                field: "method".into(),
+                reason: format!("unknown method `{s}`; known: {}", NAMES.join(", ")),
+            })
+    }
+}

@@ -1,0 +1,158 @@
+//! The one solve path: every command that solves a model (`solve`, `compare`, `export`,
+//! `view`, studies, and what is built on them) goes through [`SolveRequest::run`], so a scene,
+//! a setting, a warm start or a step count means the same thing everywhere.
+
+use super::{solve_stepped, Method, MethodKind, Settings};
+use crate::error::SolveError;
+use crate::model::scene::Scene;
+use crate::model::Model;
+use crate::shape::Shape;
+use std::time::Instant;
+
+/// Most repeated solves one request may ask for (timing medians).
+pub const MAX_REPEAT: usize = 100_000;
+/// Most continuation steps one request may ask for.
+pub const MAX_STEPS: usize = 10_000;
+
+/// What to solve: a method with its settings, the obstacles added to the model's own, an
+/// optional start from another method's shape, continuation steps and timing repeats.
+#[derive(Debug, Clone)]
+pub struct SolveRequest {
+    /// The method.
+    pub method: MethodKind,
+    /// Its settings (refused by name when it does not take one).
+    pub settings: Settings,
+    /// Obstacles added to the model's scene.
+    pub extra_scene: Option<Scene>,
+    /// Start from the shape this method finds (solved with the settings it takes).
+    pub warm_from: Option<MethodKind>,
+    /// Reach the actuation in this many warm-started steps (≥ 1).
+    pub steps: usize,
+    /// Solve this many times and report the median time (≥ 1).
+    pub repeat: usize,
+}
+
+/// A solved request.
+#[derive(Debug, Clone)]
+pub struct Solved {
+    /// The shape; `report.solve_time_s` is the median over the repeats.
+    pub shape: Shape,
+    /// The obstacles it was solved with (the model's and the request's).
+    pub scene: Scene,
+    /// Median wall time of one solve \[s\] (the warm-start solve excluded).
+    pub median_time_s: f64,
+}
+
+impl SolveRequest {
+    /// One solve of `method` with its defaults.
+    pub fn new(method: MethodKind) -> Self {
+        SolveRequest {
+            method,
+            settings: Settings::new(),
+            extra_scene: None,
+            warm_from: None,
+            steps: 1,
+            repeat: 1,
+        }
+    }
+
+    /// Builder: settings.
+    pub fn with_settings(mut self, settings: Settings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// Builder: obstacles added to the model's scene.
+    pub fn with_scene(mut self, scene: Option<Scene>) -> Self {
+        self.extra_scene = scene;
+        self
+    }
+
+    /// The scene of a solve of `model`: its own obstacles and the request's.
+    pub fn scene_for(&self, model: &Model) -> Scene {
+        let mut sc = model.scene.clone();
+        if let Some(extra) = &self.extra_scene {
+            sc.merge(extra.clone());
+        }
+        sc
+    }
+
+    /// Check everything that can be checked before solving: bounds of `steps` and `repeat`,
+    /// the combination of options, and the settings (each taken by the method, or refused).
+    /// Returns the configured method.
+    pub fn prepare(&self) -> Result<Box<dyn Method>, SolveError> {
+        if !(1..=MAX_STEPS).contains(&self.steps) {
+            return Err(SolveError::InvalidInput {
+                field: "steps".into(),
+                reason: format!("must be from 1 to {MAX_STEPS}, got {}", self.steps),
+            });
+        }
+        if !(1..=MAX_REPEAT).contains(&self.repeat) {
+            return Err(SolveError::InvalidInput {
+                field: "repeat".into(),
+                reason: format!("must be from 1 to {MAX_REPEAT}, got {}", self.repeat),
+            });
+        }
+        if let (Some(w), true) = (self.warm_from, self.steps > 1) {
+            return Err(SolveError::InvalidInput {
+                field: "warm_from".into(),
+                reason: format!(
+                    "--warm-from {w} and --steps {} cannot be combined",
+                    self.steps
+                ),
+            });
+        }
+        self.method.build(&self.settings)
+    }
+
+    /// The warm-start method: `warm_from` with those of the request's settings it takes.
+    fn warm_method(&self, kind: MethodKind) -> Result<Box<dyn Method>, SolveError> {
+        let mut s = Settings::new();
+        for (k, v) in self.settings.iter() {
+            if kind.check_setting(k).is_ok() {
+                s.push(k, v);
+            }
+        }
+        kind.build(&s)
+    }
+
+    /// Solve `model`.
+    pub fn run(&self, model: &Model) -> Result<Solved, SolveError> {
+        let method = self.prepare()?;
+        let scene = self.scene_for(model);
+        let warm = match self.warm_from {
+            Some(kind) => {
+                Some(
+                    self.warm_method(kind)?
+                        .solve(&model.robot, &model.actuation, &scene, None)?,
+                )
+            }
+            None => None,
+        };
+        let mut times = Vec::with_capacity(self.repeat);
+        let mut shape = None;
+        for _ in 0..self.repeat {
+            let t = Instant::now();
+            let s = match &warm {
+                Some(w) => method.solve(&model.robot, &model.actuation, &scene, Some(w))?,
+                None => {
+                    solve_stepped(&*method, &model.robot, &model.actuation, &scene, self.steps)?
+                }
+            };
+            times.push(t.elapsed().as_secs_f64());
+            shape = Some(s);
+        }
+        times.sort_by(f64::total_cmp);
+        let median_time_s = times[times.len() / 2];
+        let mut shape = shape.ok_or_else(|| SolveError::InvalidInput {
+            field: "repeat".into(),
+            reason: "no solve ran".into(),
+        })?;
+        shape.report.solve_time_s = median_time_s;
+        Ok(Solved {
+            shape,
+            scene,
+            median_time_s,
+        })
+    }
+}

@@ -1,0 +1,42 @@
+//! Typed warm starts: what a method keeps in a shape's report so that its next solve of a
+//! nearby actuation starts where this one ended. Any shape also warm-starts any method through
+//! its disk frames; this is the extra a method can only read from its own shapes.
+
+use crate::model::actuation::LengthMeasure;
+use nalgebra::DMatrix;
+
+/// Solver state carried by a shape for warm starts (never serialized).
+#[derive(Debug, Clone, PartialEq)]
+pub enum WarmState {
+    /// The energy model's solution.
+    Energy(EnergyWarm),
+    /// The rod's last shooting Jacobian (`k × k`, unknowns: base wrench `n(0)`, `m(0)/L`, then
+    /// the tensions of the length-controlled taut cables).
+    Rod {
+        /// The Jacobian.
+        jacobian: DMatrix<f64>,
+    },
+}
+
+/// The energy model's solution, for warm starts and for the inverse problems built on it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnergyWarm {
+    /// Sub-arcs per section of the discretization the strains belong to.
+    pub sub_arcs: usize,
+    /// Cable length measure of the solve.
+    pub length: LengthMeasure,
+    /// Strains `(κx, κy, τ, ε)` per sub-arc, base to tip.
+    pub strains: Vec<f64>,
+    /// Cable multipliers (tensions \[N\]) in robot order.
+    pub multipliers: Vec<f64>,
+}
+
+impl WarmState {
+    /// The energy model's strains, if this is its state.
+    pub fn strains(&self) -> Option<&[f64]> {
+        match self {
+            WarmState::Energy(e) => Some(&e.strains),
+            WarmState::Rod { .. } => None,
+        }
+    }
+}

@@ -1,0 +1,246 @@
+//! Studies: speed against accuracy, stability maps over an actuation plane, and workspace
+//! sweeps at scale (sharded, mergeable). The engine behind `ccrkit study` and the examples.
+//!
+//! * [`speed_accuracy`]: every registered method ([`MethodKind::ALL`]) at each of its resolution
+//!   settings ([`MethodInfo::resolutions`](crate::method::MethodInfo)) — median solve time over a few repeats and the error against a converged
+//!   Cosserat reference driven by the same kind of input: [`reference()`] (full rod, 80 RK4 steps
+//!   per section, force control with the file's tensions) for force-driven methods, and
+//!   [`reference_displacement`] (the same rod driven by the file's cable displacements, lengths
+//!   along the routed path) for displacement-driven ones — the paper's cases give both inputs,
+//!   and they do not describe the same shape, so each model is judged on its own input.
+//! * [`stability`]: a grid over the inputs of two cables, each method solved cold and with
+//!   continuation along the rows (warm start from the previous grid point of the row);
+//!   every point is `ok` or a named failure ([`crate::SolveError::kind`], or `nan` when a
+//!   method returned a shape with a non-finite coordinate — a bug to report).
+//! * [`workspace`]: low-discrepancy (Halton) samples of the cables' inputs, solved in parallel
+//!   in fixed chunks (warm-started from the nearest solved sample of the chunk), shardable with
+//!   [`Shard`]; [`merge_csv`] joins shards into the CSV of the unsharded run, byte for byte.
+//!
+//! All outputs are SI: shortening as a fraction of the cable's length, tension in N,
+//! positions in m, times in s.
+//!
+//!
+//! Measured numbers live in `README.md` (with the commands that regenerate them), not here.
+
+pub mod compare;
+pub mod figures;
+mod speed_accuracy;
+mod stability;
+mod workspace;
+
+pub use crate::model::actuation::Input;
+pub use compare::{compare, Comparison, ComparisonRow};
+pub use speed_accuracy::*;
+pub use stability::*;
+pub use workspace::*;
+
+use crate::error::SolveError;
+use crate::method::cosserat::Cosserat;
+use crate::method::{Method, MethodKind, Settings};
+use crate::shape::Shape;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::fmt;
+use std::io::IsTerminal;
+
+/// A study failure (a solve that the study cannot do without, a file, a figure).
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// A solve the study needs (the reference) failed.
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+    /// Reading or writing a file.
+    #[error("`{path}`: {reason}")]
+    Io {
+        /// Path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+    /// A figure could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] crate::plot::PlotError),
+    /// A CSV that cannot be merged, or bad study options.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Write a text file, naming the path on failure.
+pub fn write_text(path: &std::path::Path, text: &str) -> Result<(), StudyError> {
+    std::fs::write(path, text).map_err(|e| StudyError::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })
+}
+
+/// The registered methods named in study options (an unknown name is an error).
+pub fn method_kinds(names: &[String]) -> Result<Vec<MethodKind>, StudyError> {
+    names
+        .iter()
+        .map(|n| n.parse::<MethodKind>().map_err(StudyError::from))
+        .collect()
+}
+
+/// Every registered method's name (the default method list of the studies).
+pub fn all_method_names() -> Vec<String> {
+    MethodKind::ALL
+        .iter()
+        .map(|k| k.name().to_string())
+        .collect()
+}
+
+/// The input a method reads naturally (its default `control`): tension for the rods,
+/// shortening for the others.
+pub fn natural_input(method: MethodKind) -> Input {
+    method.info().default_input
+}
+
+/// A method in its default settings, driven by `input` where it accepts both inputs.
+pub fn study_method(method: MethodKind, input: Input) -> Result<Box<dyn Method>, SolveError> {
+    method.driven_by(input)
+}
+
+/// The converged reference of the speed–accuracy study: full Cosserat rod, 80 RK4 steps per
+/// section, force control, shooting tolerance 1e-11 N.
+pub fn reference() -> Cosserat {
+    Cosserat {
+        tolerance: 1e-11,
+        ..Cosserat::full().with_steps(80).with_control(Input::Tension)
+    }
+}
+
+/// The converged reference for displacement-driven methods: the same rod as [`reference()`]
+/// driven by the model's cable displacements (lengths along the routed path).
+pub fn reference_displacement() -> Cosserat {
+    Cosserat {
+        tolerance: 1e-11,
+        ..Cosserat::full()
+            .with_steps(80)
+            .with_control(Input::Shortening)
+    }
+}
+
+/// True when every coordinate of a shape is finite.
+pub fn shape_is_finite(s: &Shape) -> bool {
+    s.disks.iter().all(|d| {
+        d.position.iter().all(|x| x.is_finite()) && d.rotation.iter().all(|x| x.is_finite())
+    }) && s.backbone.iter().all(|p| p.iter().all(|x| x.is_finite()))
+}
+
+/// How one solve of a study ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Status {
+    /// A finite shape.
+    Ok,
+    /// A shape with a non-finite coordinate (a bug to report).
+    NonFinite,
+    /// A named failure ([`SolveError::kind`]).
+    Failed(&'static str),
+}
+
+impl Status {
+    /// `ok`, `nan` or the failure kind, as written to CSV files.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::NonFinite => "nan",
+            Status::Failed(k) => k,
+        }
+    }
+    /// True for [`Status::Ok`].
+    pub fn is_ok(&self) -> bool {
+        *self == Status::Ok
+    }
+}
+
+impl fmt::Display for Status {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl PartialEq<&str> for Status {
+    fn eq(&self, other: &&str) -> bool {
+        self.as_str() == *other
+    }
+}
+
+/// Outcome of one solve in a study.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// How it ended.
+    pub status: Status,
+    /// Iterations (of the shape, or of a `NotConverged` error; 0 otherwise).
+    pub iterations: usize,
+    /// Residual (of the shape, or of a `NotConverged` error; NaN when unknown).
+    pub residual: f64,
+    /// The shape, when `ok`.
+    pub shape: Option<Shape>,
+}
+
+/// Classify a solve result.
+pub fn outcome(r: Result<Shape, SolveError>) -> Outcome {
+    match r {
+        Ok(s) if !shape_is_finite(&s) => Outcome {
+            status: Status::NonFinite,
+            iterations: s.report.iterations,
+            residual: s.report.residual,
+            shape: None,
+        },
+        Ok(s) => Outcome {
+            status: Status::Ok,
+            iterations: s.report.iterations,
+            residual: s.report.residual,
+            shape: Some(s),
+        },
+        Err(e) => {
+            let (iterations, residual) = match &e {
+                SolveError::NotConverged {
+                    iterations,
+                    residual,
+                    ..
+                } => (*iterations, *residual),
+                _ => (0, f64::NAN),
+            };
+            Outcome {
+                status: Status::Failed(e.kind()),
+                iterations,
+                residual,
+                shape: None,
+            }
+        }
+    }
+}
+
+/// A number for CSV: shortest round-trip form, empty when not finite.
+fn num(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:e}")
+    } else {
+        String::new()
+    }
+}
+
+/// A progress bar on standard error, hidden when `show` is false or stderr is not a terminal.
+pub fn progress_bar(len: u64, show: bool, msg: &str) -> ProgressBar {
+    let bar = if show && std::io::stderr().is_terminal() {
+        ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr())
+    } else {
+        ProgressBar::hidden()
+    };
+    if let Ok(style) =
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({per_sec}, eta {eta})")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_message(msg.to_string());
+    bar
+}
+
+/// Settings of a registered method's resolution entry.
+fn resolution_settings(pairs: &[(&str, &str)]) -> Settings {
+    let mut s = Settings::new();
+    for (k, v) in pairs {
+        s.push(*k, *v);
+    }
+    s
+}

@@ -1,0 +1,197 @@
+//! Speed against accuracy: every method at each of its resolution settings, timed and
+//! measured against a converged rod driven by the same kind of input.
+
+use super::{
+    all_method_names, method_kinds, num, outcome, reference, reference_displacement,
+    resolution_settings, Input, Status, StudyError,
+};
+use crate::error::SolveError;
+use crate::method::{Method, MethodKind};
+use crate::model::scene::Scene;
+use crate::model::Model;
+use std::time::Instant;
+
+/// One method at one resolution setting.
+pub struct Variant {
+    /// Method name.
+    pub method: String,
+    /// Setting label (e.g. `rk4 12/section`, `adaptive 1e-5`, `default`).
+    pub setting: String,
+    /// The input that drives it.
+    pub input: Input,
+    /// The configured solver.
+    pub solver: Box<dyn Method>,
+}
+
+/// RK4 steps per section examined for the rods (their registered resolution ladder).
+pub const RK4_STEPS: &[usize] = &[2, 3, 4, 6, 8, 12, 20];
+
+/// The resolution settings of a method for [`speed_accuracy`], from the registry.
+pub fn variants(kind: MethodKind) -> Result<Vec<Variant>, SolveError> {
+    kind.info()
+        .resolutions
+        .iter()
+        .map(|(label, pairs)| {
+            let s = resolution_settings(pairs);
+            Ok(Variant {
+                method: kind.name().to_string(),
+                setting: label.to_string(),
+                input: kind.input_with(&s),
+                solver: kind.build(&s)?,
+            })
+        })
+        .collect()
+}
+
+/// One row of the speed–accuracy study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpeedAccuracyRow {
+    /// Method name.
+    pub method: String,
+    /// Setting label.
+    pub setting: String,
+    /// How the solve ended.
+    pub status: Status,
+    /// Median wall time of one solve \[s\] (NaN on failure).
+    pub median_time_s: f64,
+    /// Tip distance to the reference \[m\] (NaN on failure).
+    pub tip_error_m: f64,
+    /// RMS distance of the disk positions to the reference \[m\] (NaN on failure).
+    pub rms_error_m: f64,
+    /// Iterations of one solve.
+    pub iterations: usize,
+    /// Which reference the errors are measured against: `force` ([`reference()`]) or
+    /// `displacement` ([`reference_displacement`]).
+    pub reference: String,
+}
+
+/// Options of [`speed_accuracy`].
+#[derive(Debug, Clone)]
+pub struct SpeedAccuracyOptions {
+    /// Solves per setting; the median time is reported.
+    pub repeats: usize,
+    /// Methods to study (default: every registered method).
+    pub methods: Vec<String>,
+}
+
+impl Default for SpeedAccuracyOptions {
+    fn default() -> Self {
+        SpeedAccuracyOptions {
+            repeats: 5,
+            methods: all_method_names(),
+        }
+    }
+}
+
+/// Time every variant of every method on the model's actuation and measure its error against
+/// [`reference()`]. Methods that cannot solve the model get a row with the failure kind. The
+/// solves run one at a time (timings are not disturbed by parallel work of the study itself).
+pub fn speed_accuracy(
+    model: &Model,
+    opts: &SpeedAccuracyOptions,
+) -> Result<Vec<SpeedAccuracyRow>, StudyError> {
+    let scene = Scene::empty();
+    let reference = reference().solve(&model.robot, &model.actuation, &scene, None)?;
+    // Without displacement inputs the displacement-driven methods fail anyway.
+    let reference_disp = reference_displacement()
+        .solve(&model.robot, &model.actuation, &scene, None)
+        .ok();
+    let mut rows = vec![];
+    for kind in method_kinds(&opts.methods)? {
+        for v in variants(kind)? {
+            let mut times = vec![];
+            let mut last = None;
+            for _ in 0..opts.repeats.max(1) {
+                let t = Instant::now();
+                let r = v.solver.solve(&model.robot, &model.actuation, &scene, None);
+                times.push(t.elapsed().as_secs_f64());
+                let failed = r.is_err();
+                last = Some(r);
+                if failed {
+                    break;
+                }
+            }
+            times.sort_by(f64::total_cmp);
+            let o = outcome(last.unwrap_or_else(|| {
+                Err(SolveError::InvalidInput {
+                    field: "repeats".into(),
+                    reason: "no solve ran".into(),
+                })
+            }));
+            let by_disp = v.input == Input::Shortening;
+            let refer = if by_disp {
+                reference_disp.as_ref()
+            } else {
+                Some(&reference)
+            };
+            let (tip, rms) = match (&o.shape, refer) {
+                (Some(s), Some(r)) => (s.tip_distance(r), s.rms_distance(r).unwrap_or(f64::NAN)),
+                _ => (f64::NAN, f64::NAN),
+            };
+            rows.push(SpeedAccuracyRow {
+                method: v.method.clone(),
+                setting: v.setting.clone(),
+                median_time_s: if o.shape.is_some() {
+                    times[times.len() / 2]
+                } else {
+                    f64::NAN
+                },
+                tip_error_m: tip,
+                rms_error_m: rms,
+                iterations: o.iterations,
+                status: o.status,
+                reference: if by_disp { "displacement" } else { "force" }.into(),
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// Which points are on the Pareto front when both coordinates are minimized: a point is on
+/// the front when no other point is at least as good in both and strictly better in one.
+/// Points with a non-finite coordinate are never on it.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
+    points
+        .iter()
+        .map(|&(x, y)| {
+            x.is_finite()
+                && y.is_finite()
+                && !points.iter().any(|&(a, b)| {
+                    a.is_finite() && b.is_finite() && a <= x && b <= y && (a < x || b < y)
+                })
+        })
+        .collect()
+}
+
+/// Pareto flags of speed–accuracy rows (time against RMS error).
+pub fn speed_accuracy_front(rows: &[SpeedAccuracyRow]) -> Vec<bool> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.median_time_s, r.rms_error_m))
+        .collect();
+    pareto_front(&pts)
+}
+
+/// CSV of the speed–accuracy rows:
+/// `method,setting,status,median_time_s,tip_error_m,rms_error_m,iterations,pareto`.
+pub fn speed_accuracy_csv(rows: &[SpeedAccuracyRow]) -> String {
+    let front = speed_accuracy_front(rows);
+    let mut s = String::from(
+        "method,setting,status,median_time_s,tip_error_m,rms_error_m,iterations,pareto,reference\n",
+    );
+    for (r, f) in rows.iter().zip(front) {
+        s += &format!(
+            "{},{},{},{},{},{},{},{},{}\n",
+            r.method,
+            r.setting,
+            r.status,
+            num(r.median_time_s),
+            num(r.tip_error_m),
+            num(r.rms_error_m),
+            r.iterations,
+            f,
+            r.reference
+        );
+    }
+    s
+}

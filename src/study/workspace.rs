@@ -1,0 +1,289 @@
+//! Workspace sweeps: Halton samples of the driven cables' inputs, solved in parallel blocks,
+//! shardable and mergeable.
+
+use super::stability::{actuation_for, max_input};
+use super::{natural_input, num, outcome, progress_bar, study_method, Input, Status, StudyError};
+use crate::method::MethodKind;
+use crate::model::scene::Scene;
+use crate::model::Model;
+use crate::shape::Shape;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// A share of a sweep: blocks of [`WorkspaceOptions::chunk`] consecutive samples, block `j`
+/// belonging to shard `j % count`. Every block is solved the same way in every sharding, so
+/// merged shards equal the unsharded run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard (0-based).
+    pub index: usize,
+    /// Number of shards.
+    pub count: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = StudyError;
+    /// Parse `k/N` (0 ≤ k < N).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || StudyError::Invalid(format!("shard `{s}`: expected k/N with 0 <= k < N"));
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let index: usize = k.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+/// Options of [`workspace`].
+#[derive(Debug, Clone)]
+pub struct WorkspaceOptions {
+    /// Samples in the whole sweep (all shards).
+    pub samples: usize,
+    /// Method name.
+    pub method: String,
+    /// Input sampled (`None`: the method's [`natural_input`](super::natural_input)).
+    pub input: Option<Input>,
+    /// Largest shortening sampled (fraction).
+    pub max_fraction: f64,
+    /// Largest tension sampled, as a multiple of the file's (1 N when it gives none).
+    pub tension_factor: f64,
+    /// This run's share.
+    pub shard: Option<Shard>,
+    /// Samples per block (warm starts stay inside a block).
+    pub chunk: usize,
+    /// Progress bar on a terminal.
+    pub progress: bool,
+}
+
+impl Default for WorkspaceOptions {
+    fn default() -> Self {
+        WorkspaceOptions {
+            samples: 1000,
+            method: "geometric".into(),
+            input: None,
+            max_fraction: 0.10,
+            tension_factor: 3.0,
+            shard: None,
+            chunk: 32,
+            progress: false,
+        }
+    }
+}
+
+/// One solved sample.
+#[derive(Debug, Clone)]
+pub struct WorkspaceSample {
+    /// Index in the whole sweep.
+    pub index: usize,
+    /// Input of every sampled cable (fraction or N).
+    pub inputs: Vec<f64>,
+    /// Outcome status.
+    pub status: Status,
+    /// Iterations.
+    pub iterations: usize,
+    /// Tip \[m\] when `ok`.
+    pub tip: Option<Vector3<f64>>,
+}
+
+/// Result of [`workspace`].
+#[derive(Debug, Clone)]
+pub struct Workspace {
+    /// Method.
+    pub method: String,
+    /// Input sampled.
+    pub input: Input,
+    /// Names of the sampled cables.
+    pub cables: Vec<String>,
+    /// The samples of this shard, by index.
+    pub samples: Vec<WorkspaceSample>,
+    /// Wall time of the sweep \[s\].
+    pub elapsed_s: f64,
+}
+
+impl Workspace {
+    /// Solves per second of wall time.
+    pub fn throughput(&self) -> f64 {
+        self.samples.len() as f64 / self.elapsed_s.max(1e-12)
+    }
+}
+
+/// Radical inverse of `i` in base `b` (van der Corput), the Halton sequence's coordinate.
+pub fn radical_inverse(mut i: usize, b: usize) -> f64 {
+    let (mut f, mut r) = (1.0, 0.0);
+    while i > 0 {
+        f /= b as f64;
+        r += f * (i % b) as f64;
+        i /= b;
+    }
+    r
+}
+
+const PRIMES: [usize; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
+
+/// Solve `samples` Halton points of the driven cables' inputs (every cable with an input in
+/// the file; others free), this shard's blocks only, blocks in parallel.
+pub fn workspace(model: &Model, opts: &WorkspaceOptions) -> Result<Workspace, StudyError> {
+    let kind: MethodKind = opts.method.parse()?;
+    let input = opts.input.unwrap_or_else(|| natural_input(kind));
+    let solver = study_method(kind, input)?;
+    let cables: Vec<usize> = (0..model.robot.cables.len())
+        .filter(|&c| model.actuation.cables.get(c).is_some_and(|d| !d.is_free()))
+        .collect();
+    if cables.is_empty() || cables.len() > PRIMES.len() {
+        return Err(StudyError::Invalid(format!(
+            "workspace sampling needs 1 to {} cables with inputs, `{}` has {}",
+            PRIMES.len(),
+            model.robot.name,
+            cables.len()
+        )));
+    }
+    let maxes: Vec<f64> = cables
+        .iter()
+        .map(|&c| max_input(model, c, input, opts.max_fraction, opts.tension_factor))
+        .collect();
+    let chunk = opts.chunk.max(1);
+    let blocks: Vec<usize> = (0..opts.samples.div_ceil(chunk))
+        .filter(|j| opts.shard.is_none_or(|s| j % s.count == s.index))
+        .collect();
+    let count: usize = blocks
+        .iter()
+        .map(|j| chunk.min(opts.samples - j * chunk))
+        .sum();
+    let bar = progress_bar(count as u64, opts.progress, &opts.method);
+    let scene = Scene::empty();
+    let start = Instant::now();
+    let solved: Vec<Vec<WorkspaceSample>> = blocks
+        .par_iter()
+        .map(|&j| {
+            let mut done: Vec<(Vec<f64>, Shape)> = vec![];
+            let mut out = vec![];
+            for i in j * chunk..((j + 1) * chunk).min(opts.samples) {
+                let inputs: Vec<f64> = (0..cables.len())
+                    .map(|k| maxes[k] * radical_inverse(i, PRIMES[k]))
+                    .collect();
+                let values: Vec<(usize, f64)> =
+                    cables.iter().copied().zip(inputs.iter().copied()).collect();
+                let act = actuation_for(model, input, &values);
+                // Warm start: the nearest solved sample of this block (relative input distance).
+                let warm = done
+                    .iter()
+                    .min_by(|(x, _), (y, _)| {
+                        let d = |v: &Vec<f64>| {
+                            v.iter()
+                                .zip(&inputs)
+                                .zip(&maxes)
+                                .map(|((p, q), m)| ((p - q) / m.max(1e-300)).powi(2))
+                                .sum::<f64>()
+                        };
+                        d(x).total_cmp(&d(y))
+                    })
+                    .map(|(_, s)| s);
+                let o = outcome(solver.solve(&model.robot, &act, &scene, warm));
+                bar.inc(1);
+                let tip = o.shape.as_ref().map(|s| s.tip());
+                if let Some(s) = o.shape {
+                    done.push((inputs.clone(), s));
+                }
+                out.push(WorkspaceSample {
+                    index: i,
+                    inputs,
+                    status: o.status,
+                    iterations: o.iterations,
+                    tip,
+                });
+            }
+            out
+        })
+        .collect();
+    bar.finish_and_clear();
+    Ok(Workspace {
+        method: solver.name().to_string(),
+        input,
+        cables: cables
+            .iter()
+            .map(|&c| model.robot.cables[c].name.clone())
+            .collect(),
+        samples: solved.into_iter().flatten().collect(),
+        elapsed_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// CSV of a workspace sweep: `sample,<cable>_<input>...,tip_x_m,tip_y_m,tip_z_m,status,iterations`,
+/// rows by sample index. Deterministic: the same samples give the same bytes.
+pub fn workspace_csv(ws: &Workspace) -> String {
+    let mut s = String::from("sample");
+    for c in &ws.cables {
+        s += &format!(",{c}_{}", ws.input.csv_name());
+    }
+    s += ",tip_x_m,tip_y_m,tip_z_m,status,iterations\n";
+    let mut samples: Vec<&WorkspaceSample> = ws.samples.iter().collect();
+    samples.sort_by_key(|x| x.index);
+    for x in samples {
+        s += &x.index.to_string();
+        for v in &x.inputs {
+            s += &format!(",{}", num(*v));
+        }
+        let t = x.tip.unwrap_or(Vector3::repeat(f64::NAN));
+        s += &format!(
+            ",{},{},{},{},{}\n",
+            num(t.x),
+            num(t.y),
+            num(t.z),
+            x.status,
+            x.iterations
+        );
+    }
+    s
+}
+
+/// Merge workspace CSVs (shards of one sweep): same header required, rows sorted by sample
+/// index, a sample present twice is an error.
+pub fn merge_csv(texts: &[String]) -> Result<String, StudyError> {
+    let mut header: Option<&str> = None;
+    let mut rows: Vec<(usize, &str)> = vec![];
+    for (f, t) in texts.iter().enumerate() {
+        let mut lines = t.lines();
+        let h = lines
+            .next()
+            .ok_or_else(|| StudyError::Invalid(format!("input {} is empty", f + 1)))?;
+        match header {
+            None => header = Some(h),
+            Some(h0) if h0 != h => {
+                return Err(StudyError::Invalid(format!(
+                    "input {} has header `{h}`, expected `{h0}`",
+                    f + 1
+                )))
+            }
+            _ => {}
+        }
+        for (ln, l) in lines.enumerate() {
+            if l.is_empty() {
+                continue;
+            }
+            let idx = l
+                .split(',')
+                .next()
+                .and_then(|x| x.parse::<usize>().ok())
+                .ok_or_else(|| {
+                    StudyError::Invalid(format!("input {} line {}: no sample index", f + 1, ln + 2))
+                })?;
+            rows.push((idx, l));
+        }
+    }
+    rows.sort_by_key(|r| r.0);
+    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(StudyError::Invalid(format!(
+            "sample {} appears in more than one input",
+            w[0].0
+        )));
+    }
+    let mut out = format!("{}\n", header.unwrap_or("sample"));
+    for (_, l) in rows {
+        out += l;
+        out.push('\n');
+    }
+    Ok(out)
+}
