@@ -98,9 +98,32 @@ pub struct SolveReport {
     /// Notes: choices made, inputs ignored.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
+    /// Whether the answer is a stable equilibrium: `Some(true)` when the method verified it
+    /// (energy: the reduced Hessian on the active constraints is positive definite),
+    /// `Some(false)` when it found the answer unstable (a saddle: the robot would not stay
+    /// there), `None` when the method cannot tell. See each method's docs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stable: Option<bool>,
+    /// Sensitivities of the tip to the inputs, where the method computes them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jacobian: Option<TipJacobian>,
     /// Method-specific solver state for warm starts (not serialized).
     #[serde(skip)]
     pub warm: Option<WarmState>,
+}
+
+/// Sensitivities of the tip to the driven cables' inputs at a solved shape: one column per
+/// driven cable (in robot order), `position[j] = ∂p_tip/∂u_j` [m per input unit] and
+/// `tangent[j] = ∂t_tip/∂u_j` (t: the tip disk's normal), where `u_j` is the cable's shortening
+/// \[m\] or tension \[N\] as `inputs[j]` says.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TipJacobian {
+    /// The column's cable and input: `(cable name, "shortening" | "tension")`.
+    pub inputs: Vec<(String, String)>,
+    /// `∂p_tip/∂u_j`, one 3-vector per column, base frame.
+    pub position: Vec<[f64; 3]>,
+    /// `∂t_tip/∂u_j`, one 3-vector per column, base frame.
+    pub tangent: Vec<[f64; 3]>,
 }
 
 /// A solved shape.

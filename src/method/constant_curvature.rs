@@ -275,6 +275,8 @@ impl Method for ConstantCurvature {
                 sections: vec![],
                 base_wrench: None,
                 notes,
+                stable: None,
+                jacobian: None,
                 warm: None,
             },
         })

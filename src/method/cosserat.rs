@@ -2120,6 +2120,8 @@ impl Cosserat {
                 sections: vec![],
                 base_wrench: Some([n0.x, n0.y, n0.z, m0.x, m0.y, m0.z]),
                 notes,
+                stable: None,
+                jacobian: None,
                 warm: None,
             },
         }

@@ -1805,6 +1805,8 @@ impl Energy {
                 sections: vec![],
                 base_wrench: None,
                 notes,
+                stable: None,
+                jacobian: None,
                 warm: Some(state),
             },
         }

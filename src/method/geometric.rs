@@ -212,6 +212,8 @@ impl Method for Geometric {
                 sections,
                 base_wrench: None,
                 notes,
+                stable: None,
+                jacobian: None,
                 warm: None,
             },
         })
