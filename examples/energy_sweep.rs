@@ -1,7 +1,10 @@
 //! Energy model against the Cosserat rod (displacement control, same lengths): RMS over the
 //! disks, tension errors and solve time, per sub-arc count and cable-length measure.
 //!
-//! `cargo run --release --example energy_sweep [MODEL.toml ...]`
+//! `cargo run --release --example energy_sweep [OUT_DIR] [--model MODEL.toml ...]`
+//!
+//! Like every example, the first argument is the output folder (default `target`); it writes
+//! `OUT_DIR/energy_sweep.csv`. Models default to the three paper cases.
 
 use ccrkit::actuation::{Input, LengthMeasure};
 use ccrkit::method::cosserat::Cosserat;
@@ -10,12 +13,27 @@ use ccrkit::{Method, Model, Scene};
 use std::time::Instant;
 
 fn main() -> anyhow::Result<()> {
-    let mut files: Vec<String> = std::env::args().skip(1).collect();
+    let mut args = std::env::args().skip(1).peekable();
+    let out = match args.peek() {
+        Some(a) if !a.starts_with("--") => {
+            std::path::PathBuf::from(args.next().unwrap_or_default())
+        }
+        _ => std::path::PathBuf::from("target"),
+    };
+    let mut files: Vec<String> = vec![];
+    while let Some(a) = args.next() {
+        match (a.as_str(), args.next()) {
+            ("--model", Some(f)) => files.push(f),
+            _ => anyhow::bail!("usage: energy_sweep [OUT_DIR] [--model MODEL.toml ...]"),
+        }
+    }
     if files.is_empty() {
         files = (1..=3)
             .map(|n| format!("models/paper/case{n}.toml"))
             .collect();
     }
+    std::fs::create_dir_all(&out)?;
+    let mut csv = String::from("model,length,sub_arcs,rms_m,iterations,time_s\n");
     let scene = Scene::empty();
     for f in &files {
         let model = Model::from_file(f)?;
@@ -60,6 +78,7 @@ fn main() -> anyhow::Result<()> {
                         )
                     })
                     .collect();
+                csv += &format!("{f},{len:?},{sa},{rms:e},{},{dt:e}\n", s.report.iterations);
                 println!(
                     "{f} {len:?} sub_arcs {sa}: RMS {:.4} mm, {} it, {:.1} µs, [{}]",
                     rms * 1e3,
@@ -70,5 +89,8 @@ fn main() -> anyhow::Result<()> {
             }
         }
     }
+    let path = out.join("energy_sweep.csv");
+    std::fs::write(&path, csv)?;
+    println!("wrote {}", path.display());
     Ok(())
 }

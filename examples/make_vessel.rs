@@ -1,7 +1,8 @@
-//! Regenerate `models/meshes/vessel.obj`: a bent tube (torus section) standing in for a blood
-//! vessel, used by `models/scenes/vessel.toml` and the `anatomy` example.
+//! Generate the vessel mesh: a bent tube (torus section) standing in for a blood vessel, used
+//! by `models/scenes/vessel.toml` and the `anatomy` example.
 //!
-//! `cargo run --release --example make_vessel [OUT_FILE]`
+//! `cargo run --release --example make_vessel [OUT_DIR]` writes `OUT_DIR/vessel.obj` (default
+//! `target/`); the committed copy is regenerated with `… make_vessel models/meshes`.
 //!
 //! Bend radius 0.11 m, inner radius 20 mm (the paper robot's disks have 12 mm), the arc from
 //! θ = −0.1 rad (a little below the robot's base) to 1.8 rad, 61 rings of 32 vertices. A test
@@ -15,11 +16,9 @@ use std::path::PathBuf;
 pub const VESSEL: (f64, f64, f64, f64, usize, usize) = (0.11, 0.02, -0.1, 1.8, 61, 32);
 
 fn main() -> Result<()> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let out = std::env::args()
-        .nth(1)
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("models/meshes/vessel.obj"));
+    let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "target".into()));
+    std::fs::create_dir_all(&dir)?;
+    let out = dir.join("vessel.obj");
     let (r, a, t0, t1, rings, segs) = VESSEL;
     let (v, t) = bent_tube(r, a, t0, t1, rings, segs);
     let text = format!(

@@ -71,6 +71,13 @@ impl View {
             View::Xy => (p.x * m, p.y * m),
         }
     }
+    fn name(self) -> &'static str {
+        match self {
+            View::Xz => "front (x–z)",
+            View::Yz => "side (y–z)",
+            View::Xy => "top (x–y)",
+        }
+    }
     fn labels(self) -> (&'static str, &'static str) {
         match self {
             View::Xz => ("x [mm]", "z [mm]"),
@@ -204,14 +211,52 @@ fn disk_outline(shape: &Shape, k: usize, radius: f64) -> Vec<Vector3<f64>> {
         .collect()
 }
 
-fn draw_view<'a, DB: DrawingBackend + 'a>(
-    area: &'a DrawingArea<DB, Shift>,
-    row: &Row,
-    view: View,
-    with_title: bool,
-) -> Result<(), Box<dyn std::error::Error + 'a>> {
+/// A smooth curve through `pts` for drawing (centripetal-free uniform Catmull–Rom, `k`
+/// points per span): the backbone samples of a method can be sparse (the energy model gives
+/// one per sub-arc), and a thick polyline through them looks beaded. Drawing only.
+fn smooth(pts: &[(f64, f64)], k: usize) -> Vec<(f64, f64)> {
+    if pts.len() < 3 {
+        return pts.to_vec();
+    }
+    let at = |i: isize| pts[i.clamp(0, pts.len() as isize - 1) as usize];
+    let mut out = Vec::with_capacity(pts.len() * k);
+    for i in 0..pts.len() as isize - 1 {
+        let (p0, p1, p2, p3) = (at(i - 1), at(i), at(i + 1), at(i + 2));
+        for j in 0..k {
+            let t = j as f64 / k as f64;
+            let (t2, t3) = (t * t, t * t * t);
+            let f = |a: f64, b: f64, c: f64, d: f64| {
+                0.5 * (2.0 * b
+                    + (-a + c) * t
+                    + (2.0 * a - 5.0 * b + 4.0 * c - d) * t2
+                    + (-a + 3.0 * b - 3.0 * c + d) * t3)
+            };
+            out.push((f(p0.0, p1.0, p2.0, p3.0), f(p0.1, p1.1, p2.1, p3.1)));
+        }
+    }
+    out.push(pts[pts.len() - 1]);
+    out
+}
+
+/// The corner of a square window `(center, span)` whose quarter holds the fewest points: where
+/// the legend hides the least.
+fn emptiest_corner(pts: &[(f64, f64)], center: (f64, f64)) -> SeriesLabelPosition {
+    let mut count = [0usize; 4];
+    for &(x, y) in pts {
+        let k = usize::from(x > center.0) + 2 * usize::from(y < center.1);
+        count[k] += 1;
+    }
+    match (0..4).min_by_key(|&k| (count[k], k)).unwrap_or(0) {
+        0 => SeriesLabelPosition::UpperLeft,
+        1 => SeriesLabelPosition::UpperRight,
+        2 => SeriesLabelPosition::LowerLeft,
+        _ => SeriesLabelPosition::LowerRight,
+    }
+}
+
+/// Bounds of everything drawn in one view: a square window (center, span) in mm.
+fn view_window(row: &Row, view: View) -> ((f64, f64), f64, Vec<(f64, f64)>) {
     let rad = row.robot.disk_radius;
-    // Square bounds over everything drawn.
     let mut pts: Vec<(f64, f64)> = vec![];
     for (s, _) in &row.shapes {
         for k in 0..s.disks.len() {
@@ -229,8 +274,19 @@ fn draw_view<'a, DB: DrawingBackend + 'a>(
         y0 = y0.min(*y);
         y1 = y1.max(*y);
     }
-    let span = (x1 - x0).max(y1 - y0).max(1.0) * 1.08;
-    let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    // Room for the legend: the window is a quarter larger than the robot.
+    let span = (x1 - x0).max(y1 - y0).max(1.0) * 1.25;
+    (((x0 + x1) / 2.0, (y0 + y1) / 2.0), span, pts)
+}
+
+fn draw_view<'a, DB: DrawingBackend + 'a>(
+    area: &'a DrawingArea<DB, Shift>,
+    row: &Row,
+    view: View,
+    with_legend: bool,
+) -> Result<(), Box<dyn std::error::Error + 'a>> {
+    let rad = row.robot.disk_radius;
+    let (center, span, pts) = view_window(row, view);
     // Obstacles near the robot enlarge the view a little, not to their full extent.
     let wires: Vec<Vec<(f64, f64)>> = row
         .scene
@@ -242,27 +298,33 @@ fn draw_view<'a, DB: DrawingBackend + 'a>(
                 .collect()
         })
         .unwrap_or_default();
-    let (xl, yl) = view.labels();
-    let caption = if with_title {
-        row.title.clone()
-    } else {
-        String::new()
-    };
-    let mut chart = square_chart(area, caption, 18, (cx, cy), span, (xl, yl))?;
-    for w in wires {
-        chart.draw_series(LineSeries::new(
-            w,
-            RGBColor(120, 120, 120).mix(0.6).stroke_width(1),
-        ))?;
+    let caption = format!("{} — {}", row.title, view.name());
+    let mut chart = square_chart(area, caption, 16, center, span, view.labels())?;
+    let grey = RGBColor(120, 120, 120);
+    for (k, w) in wires.into_iter().enumerate() {
+        let s = chart.draw_series(LineSeries::new(w, grey.mix(0.6).stroke_width(1)))?;
+        if k == 0 {
+            s.label("obstacles").legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 16, y)], grey.stroke_width(1))
+            });
+        }
     }
+    let mut contact_legend = false;
     for (si, (shape, label)) in row.shapes.iter().enumerate() {
         let color = PALETTE[si % PALETTE.len()];
         let bb: Vec<(f64, f64)> = shape.backbone.iter().map(|p| view.project(p)).collect();
-        let series = chart.draw_series(LineSeries::new(bb, color.stroke_width(3)))?;
+        // With several shapes the first is a wide translucent band (the reference), so a
+        // shape lying on it stays visible on top.
+        let style = if si == 0 && row.shapes.len() > 1 {
+            color.mix(0.45).stroke_width(7)
+        } else {
+            color.stroke_width(2)
+        };
+        let series = chart.draw_series(LineSeries::new(smooth(&bb, 6), style))?;
         if !label.is_empty() {
-            series.label(label.clone()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(3))
-            });
+            series
+                .label(label.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], style));
         }
         for k in 0..shape.disks.len() {
             let o: Vec<(f64, f64)> = disk_outline(shape, k, rad)
@@ -271,15 +333,27 @@ fn draw_view<'a, DB: DrawingBackend + 'a>(
                 .collect();
             chart.draw_series(LineSeries::new(o, color.mix(0.5).stroke_width(1)))?;
         }
-        for cable in &shape.cables {
+        for (ci, cable) in shape.cables.iter().enumerate() {
             let c: Vec<(f64, f64)> = cable.points.iter().map(|p| view.project(p)).collect();
             let style = if cable.slack {
                 color.mix(0.35).stroke_width(1)
             } else {
                 color.mix(0.8).stroke_width(1)
             };
-            chart.draw_series(LineSeries::new(c, style))?;
+            let s = chart.draw_series(LineSeries::new(c, style))?;
+            if si == 0 && ci == 0 {
+                s.label("cables (faint: slack), disks")
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 16, y)], color.mix(0.6).stroke_width(1))
+                    });
+            }
         }
+        if si == 0 {
+            draw_disk_numbers(&mut chart, shape, view)?;
+        }
+        let unit = crate::method::MethodKind::from_name(&shape.method)
+            .map(|k| k.info().contact_unit)
+            .unwrap_or("");
         for c in &shape.contacts {
             let p = view.project(&Vector3::from(c.point_robot));
             let q = view.project(&Vector3::from(c.point_obstacle));
@@ -287,17 +361,52 @@ fn draw_view<'a, DB: DrawingBackend + 'a>(
                 vec![p, q],
                 RED.stroke_width(2),
             )))?;
-            chart.draw_series(std::iter::once(Circle::new(p, 4, RED.filled())))?;
+            let dot = chart.draw_series(std::iter::once(Circle::new(p, 4, RED.filled())))?;
+            if !contact_legend {
+                contact_legend = true;
+                dot.label("contacts (reaction)")
+                    .legend(|(x, y)| Circle::new((x + 8, y), 4, RED.filled()));
+            }
+            let text = format!("{:.3} {unit}", c.multiplier);
+            let style = ("sans-serif", 11).into_font().color(&RED);
+            chart.draw_series(std::iter::once(
+                EmptyElement::at(p) + Text::new(text, (6, 4), style),
+            ))?;
         }
     }
-    if with_title && row.shapes.iter().any(|(_, l)| !l.is_empty()) {
+    if with_legend && row.shapes.iter().any(|(_, l)| !l.is_empty()) {
         chart
             .configure_series_labels()
-            .label_font(("sans-serif", 13))
-            .background_style(WHITE.mix(0.8))
+            .label_font(("sans-serif", 12))
+            .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperLeft)
+            .position(emptiest_corner(&pts, center))
             .draw()?;
+    }
+    Ok(())
+}
+
+/// Disk numbers next to the disks of a shape (base, tip and about four in between).
+fn draw_disk_numbers<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    shape: &Shape,
+    view: View,
+) -> Result<(), Box<dyn std::error::Error + 'a>> {
+    let n = shape.disks.len().saturating_sub(1);
+    let every = n.div_ceil(5).max(1);
+    let style = ("sans-serif", 11).into_font().color(&RGBColor(80, 80, 80));
+    for (k, d) in shape.disks.iter().enumerate() {
+        if k % every != 0 && k != n {
+            continue;
+        }
+        let p = view.project(&d.position);
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(p) + Text::new(format!("{k}"), (-14, -6), style.clone()),
+        ))?;
     }
     Ok(())
 }

@@ -45,6 +45,32 @@ fn finite(x: &str) -> bool {
 }
 
 #[test]
+fn each_reference_has_its_own_pareto_front() {
+    // Errors against the force-driven and the displacement-driven rod are different
+    // quantities: a displacement-driven row is not dominated by a force-driven one.
+    let row = |method: &str, time: f64, err: f64, reference: &str| study::SpeedAccuracyRow {
+        method: method.into(),
+        setting: "default".into(),
+        status: study::Status::Ok,
+        median_time_s: time,
+        tip_error_m: err,
+        rms_error_m: err,
+        iterations: 1,
+        reference: reference.into(),
+    };
+    let rows = [
+        row("fast-force", 1e-5, 1e-9, "force"),
+        row("slow-force", 1e-3, 1e-6, "force"),
+        row("disp", 1e-4, 1e-5, "displacement"),
+        row("disp-slow", 1e-3, 1e-4, "displacement"),
+    ];
+    assert_eq!(
+        study::speed_accuracy_front(&rows),
+        vec![true, false, true, false]
+    );
+}
+
+#[test]
 fn pareto_front_is_non_dominated() {
     let pts = [
         (1.0, 5.0),

@@ -408,25 +408,23 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
             }
         );
     }
+    let unit = MethodKind::from_name(&shape.method)
+        .map(|k| k.info().contact_unit)
+        .unwrap_or("");
     for c in &shape.contacts {
         let p = [
             c.point_robot[0] * 1e3,
             c.point_robot[1] * 1e3,
             c.point_robot[2] * 1e3,
         ];
+        let feature = match (c.disk, c.section) {
+            (Some(d), _) => format!("disk {d}"),
+            (None, Some(s)) => format!("{} in section {s}", c.feature),
+            (None, None) => c.feature.clone(),
+        };
         println!(
-            "contact {} {}{}: at [{:.3}, {:.3}, {:.3}] mm, distance {:.2e} m, multiplier {:.4}",
-            c.obstacle,
-            c.feature,
-            c.disk
-                .map(|d| format!(" disk {d}"))
-                .or(c.section.map(|s| format!(" section {s}")))
-                .unwrap_or_default(),
-            p[0],
-            p[1],
-            p[2],
-            c.distance,
-            c.multiplier
+            "contact `{}` – {feature}: at [{:.3}, {:.3}, {:.3}] mm, distance {:.2e} m, reaction {:.4} {unit}",
+            c.obstacle, p[0], p[1], p[2], c.distance, c.multiplier
         );
     }
     for c in &shape.cables {
@@ -486,18 +484,19 @@ fn study(cmd: StudyCommand) -> Result<()> {
             let rows = study::speed_accuracy(&model, &opts)?;
             let front = study::speed_accuracy_front(&rows);
             println!(
-                "{:<20} {:<20} {:>14} {:>14} {:>14} {:>6}",
-                "method", "setting", "time [ms]", "tip err [mm]", "rms err [mm]", "pareto"
+                "{:<20} {:<20} {:<13} {:>12} {:>13} {:>13} {:>6}",
+                "method", "setting", "input", "time [ms]", "tip err [m]", "rms err [m]", "pareto"
             );
             for (r, f) in rows.iter().zip(&front) {
                 if r.status.is_ok() {
                     println!(
-                        "{:<20} {:<20} {:>14.4} {:>14.6} {:>14.6} {:>6}",
+                        "{:<20} {:<20} {:<13} {:>12.4} {:>13.3e} {:>13.3e} {:>6}",
                         r.method,
                         r.setting,
+                        r.reference,
                         r.median_time_s * 1e3,
-                        r.tip_error_m * 1e3,
-                        r.rms_error_m * 1e3,
+                        r.tip_error_m,
+                        r.rms_error_m,
                         if *f { "*" } else { "" }
                     );
                 } else {
@@ -639,7 +638,19 @@ fn print_stability_summary(st: &study::Stability) {
                 format!(", failed: {}", fails.join(", "))
             },
             s.first_failure
-                .map(|(a, b)| format!(", first failure at ({a:.4}, {b:.4})"))
+                .map(|(a, b)| {
+                    let v = |x: f64| match s.input {
+                        study::Input::Shortening => format!("{:.2} %", 100.0 * x),
+                        study::Input::Tension => format!("{x:.3} N"),
+                    };
+                    format!(
+                        ", first failure at {} {}, {} {}",
+                        st.cables[0],
+                        v(a),
+                        st.cables[1],
+                        v(b)
+                    )
+                })
                 .unwrap_or_default()
         );
     }

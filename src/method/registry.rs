@@ -60,6 +60,9 @@ pub struct MethodInfo {
     pub loads: LoadSupport,
     /// Settings it takes (by name).
     pub settings: &'static [SettingInfo],
+    /// Unit of its contact multipliers (`N` where they are reactions, `rad/m` for the
+    /// geometric methods' angle objective; empty without obstacle support).
+    pub contact_unit: &'static str,
     /// Its resolution ladder for the speed–accuracy study: (label, settings as `name=value`).
     pub resolutions: &'static [(&'static str, &'static [(&'static str, &'static str)])],
 }
@@ -178,6 +181,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: true,
         loads: NO_LOADS,
         settings: GEOMETRIC_SETTINGS,
+        contact_unit: "rad/m",
         resolutions: DEFAULT_RESOLUTION,
     },
     MethodInfo {
@@ -189,6 +193,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: true,
         loads: NO_LOADS,
         settings: GEOMETRIC_SETTINGS,
+        contact_unit: "rad²/m",
         resolutions: DEFAULT_RESOLUTION,
     },
     MethodInfo {
@@ -204,6 +209,7 @@ const INFO: [MethodInfo; 6] = [
             tip_moment: false,
         },
         settings: ENERGY_SETTINGS,
+        contact_unit: "N",
         resolutions: DEFAULT_RESOLUTION,
     },
     MethodInfo {
@@ -219,6 +225,7 @@ const INFO: [MethodInfo; 6] = [
             tip_moment: true,
         },
         settings: ROD_SETTINGS,
+        contact_unit: "",
         resolutions: ROD_RESOLUTIONS,
     },
     MethodInfo {
@@ -234,6 +241,7 @@ const INFO: [MethodInfo; 6] = [
             tip_moment: true,
         },
         settings: ROD_SETTINGS,
+        contact_unit: "",
         resolutions: ROD_RESOLUTIONS,
     },
     MethodInfo {
@@ -245,6 +253,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: false,
         loads: NO_LOADS,
         settings: CC_SETTINGS,
+        contact_unit: "",
         resolutions: &[
             ("displacement", &[("control", "displacement")]),
             ("force", &[("control", "force")]),
@@ -426,6 +435,13 @@ impl MethodKind {
             .and_then(|v| super::settings::parse_control(v).ok())
             .filter(|&i| self.accepts(i))
             .unwrap_or(self.info().default_input)
+    }
+}
+
+impl MethodKind {
+    /// The method with this command-line name, if any.
+    pub fn from_name(name: &str) -> Option<MethodKind> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
     }
 }
 

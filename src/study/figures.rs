@@ -101,18 +101,31 @@ where
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
     let front = speed_accuracy_front(rows);
-    let mut fp: Vec<(f64, f64)> = rows
-        .iter()
-        .zip(&front)
-        .filter(|(_, f)| **f)
-        .map(|(r, _)| (r.median_time_s, err(r)))
-        .collect();
-    fp.sort_by(|a, b| a.0.total_cmp(&b.0));
-    chart
-        .draw_series(LineSeries::new(fp.clone(), BLACK.stroke_width(2)))?
-        .label("Pareto front")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(2)));
-    chart.draw_series(fp.iter().map(|&p| Circle::new(p, 9, BLACK.stroke_width(2))))?;
+    // One front per reference (force- and displacement-driven errors are not comparable).
+    for (reference, style) in [
+        ("force", BLACK.stroke_width(2)),
+        ("displacement", RGBColor(110, 110, 110).stroke_width(2)),
+    ] {
+        let mut fp: Vec<(f64, f64)> = rows
+            .iter()
+            .zip(&front)
+            .filter(|(r, f)| **f && r.reference == reference)
+            .map(|(r, _)| (r.median_time_s, err(r)))
+            .collect();
+        if fp.is_empty() {
+            continue;
+        }
+        fp.sort_by(|a, b| a.0.total_cmp(&b.0));
+        chart
+            .draw_series(LineSeries::new(fp.clone(), style))?
+            .label(format!(
+                "Pareto front, {reference}-driven (vs the rod driven alike)"
+            ))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], style));
+        chart.draw_series(fp.iter().map(|&p| Circle::new(p, 9, style)))?;
+    }
+    // Labels are placed where no earlier label sits (in decades of the log axes).
+    let mut placed: Vec<(f64, f64)> = vec![];
     let mut methods: Vec<&str> = vec![];
     for r in &ok {
         if !methods.contains(&r.method.as_str()) {
@@ -139,6 +152,14 @@ where
             .into_iter()
             .filter(|r| r.setting == "default" || on_front(r))
         {
+            let at = (r.median_time_s.log10(), err(r).log10());
+            if placed
+                .iter()
+                .any(|p| (p.0 - at.0).abs() < 0.35 && (p.1 - at.1).abs() < 0.25)
+            {
+                continue;
+            }
+            placed.push(at);
             let label = if r.setting == "default" {
                 r.method.clone()
             } else {

@@ -163,13 +163,27 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
         .collect()
 }
 
-/// Pareto flags of speed–accuracy rows (time against RMS error).
+/// Pareto flags of speed–accuracy rows (time against RMS error), one front per reference:
+/// errors measured against the force-driven and the displacement-driven rod are different
+/// quantities, so a row is on the front of the rows judged against the same reference.
 pub fn speed_accuracy_front(rows: &[SpeedAccuracyRow]) -> Vec<bool> {
-    let pts: Vec<(f64, f64)> = rows
-        .iter()
-        .map(|r| (r.median_time_s, r.rms_error_m))
-        .collect();
-    pareto_front(&pts)
+    let mut flags = vec![false; rows.len()];
+    let mut refs: Vec<&str> = rows.iter().map(|r| r.reference.as_str()).collect();
+    refs.sort_unstable();
+    refs.dedup();
+    for reference in refs {
+        let idx: Vec<usize> = (0..rows.len())
+            .filter(|&i| rows[i].reference == reference)
+            .collect();
+        let pts: Vec<(f64, f64)> = idx
+            .iter()
+            .map(|&i| (rows[i].median_time_s, rows[i].rms_error_m))
+            .collect();
+        for (k, on) in pareto_front(&pts).into_iter().enumerate() {
+            flags[idx[k]] = on;
+        }
+    }
+    flags
 }
 
 /// CSV of the speed–accuracy rows:

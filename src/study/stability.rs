@@ -222,6 +222,8 @@ pub struct StabilitySummary {
     pub method: String,
     /// Continuation or cold.
     pub continuation: bool,
+    /// The input swept.
+    pub input: Input,
     /// Points that converged.
     pub ok: usize,
     /// Points in all.
@@ -247,6 +249,7 @@ pub fn stability_summary(st: &Stability) -> Vec<StabilitySummary> {
                 out.push(StabilitySummary {
                     method: p.method.clone(),
                     continuation: p.continuation,
+                    input: p.input,
                     ok: 0,
                     total: 0,
                     failures: vec![],
