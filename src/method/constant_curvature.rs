@@ -137,10 +137,6 @@ impl Method for ConstantCurvature {
     ) -> Result<Shape, SolveError> {
         let start = Instant::now();
         let name = self.name().to_string();
-        let unsupported = |reason: String| SolveError::Unsupported {
-            method: name.clone(),
-            reason,
-        };
         self.kind().check_support(robot, scene)?;
         let drives = act.drives(
             robot,
@@ -159,34 +155,11 @@ impl Method for ConstantCurvature {
         let mut rows: Vec<(usize, Vector2<f64>, f64)> = vec![];
         let mut u_f = Vector2::zeros();
         let mut tensions: Vec<Option<f64>> = vec![None; robot.cables.len()];
-        for (c, cable) in robot.cables.iter().enumerate() {
-            let drive = drives[c];
+        for (c, &drive) in drives.iter().enumerate() {
             if drive == Drive::Free {
                 continue;
             }
-            if cable.ends_at != n {
-                return Err(unsupported(format!(
-                    "cable `{}` is tied at inner disk {} (one constant-curvature section needs every driven cable tied at disk {n})",
-                    cable.name, cable.ends_at
-                )));
-            }
-            let (r0, a0) = (cable.radius[0], cable.angle[0]);
-            for k in 1..=cable.ends_at {
-                let da = cable.angle[k] - a0;
-                let wrapped = da.sin().atan2(da.cos());
-                if wrapped.abs() > STRAIGHT_TOL {
-                    return Err(unsupported(format!(
-                        "cable `{}` is not straight: its hole angle changes by {:.4} rad between disks 0 and {k}",
-                        cable.name, wrapped
-                    )));
-                }
-                if (cable.radius[k] - r0).abs() > STRAIGHT_TOL * r0.abs().max(1e-3) {
-                    return Err(unsupported(format!(
-                        "cable `{}` changes its hole radius ({} m at disk 0, {} m at disk {k})",
-                        cable.name, r0, cable.radius[k]
-                    )));
-                }
-            }
+            let (r0, a0) = straight_cable(&name, robot, c)?;
             let dir = Vector2::new(a0.cos(), a0.sin());
             if let Drive::Tension(tau) = drive {
                 u_f += dir * (tau * r0 / ei);
@@ -209,49 +182,18 @@ impl Method for ConstantCurvature {
         // Tensions of the taut displacement cables: EI (u − u_f) = Σ μ_c r_c ĉ_c.
         let mus = multipliers(&(ei * (u - u_f)), &active, &rows, len);
         let mut residual = 0.0f64;
-        let mut slack = vec![false; robot.cables.len()];
+        let mut slack_sections: Vec<Vec<usize>> = vec![vec![]; robot.cables.len()];
         for (j, (c, a, d)) in rows.iter().enumerate() {
             let g = a.dot(&u);
             if let Some(k) = active.iter().position(|&x| x == j) {
                 residual = residual.max((g - d).abs());
                 tensions[*c] = Some(mus[k].max(0.0));
             } else {
-                slack[*c] = true;
+                slack_sections[*c] = (1..=robot.cables[*c].ends_at).collect();
                 tensions[*c] = Some(0.0);
             }
         }
-        let disks: Vec<DiskFrame> = robot
-            .disk_s
-            .iter()
-            .map(|&s| {
-                let (position, rotation) = arc_frame(&u, s);
-                DiskFrame {
-                    s,
-                    position,
-                    rotation,
-                }
-            })
-            .collect();
-        let mut backbone = Vec::with_capacity(8 * n + 1);
-        for i in 1..=n {
-            let (s0, s1) = (robot.disk_s[i - 1], robot.disk_s[i]);
-            for j in 0..8 {
-                backbone.push(arc_frame(&u, s0 + (s1 - s0) * j as f64 / 8.0).0);
-            }
-        }
-        backbone.push(arc_frame(&u, len).0);
-        let slack_sections: Vec<Vec<usize>> = robot
-            .cables
-            .iter()
-            .enumerate()
-            .map(|(c, cable)| {
-                if slack[c] {
-                    (1..=cable.ends_at).collect()
-                } else {
-                    vec![]
-                }
-            })
-            .collect();
+        let (disks, backbone) = arc_shape(robot, &u);
         let mut cables = cable_paths(robot, &disks, &slack_sections);
         for (path, t) in cables.iter_mut().zip(&tensions) {
             path.tension = *t;
@@ -281,6 +223,68 @@ impl Method for ConstantCurvature {
             },
         })
     }
+}
+
+/// Hole radius and angle of a driven cable that one constant-curvature section can carry:
+/// tied at the last disk, same angle and radius at every disk; otherwise `Unsupported`.
+fn straight_cable(method: &str, robot: &Robot, c: usize) -> Result<(f64, f64), SolveError> {
+    let cable = &robot.cables[c];
+    let n = robot.sections();
+    let unsupported = |reason: String| SolveError::Unsupported {
+        method: method.into(),
+        reason,
+    };
+    if cable.ends_at != n {
+        return Err(unsupported(format!(
+            "cable `{}` is tied at inner disk {} (one constant-curvature section needs every driven cable tied at disk {n})",
+            cable.name, cable.ends_at
+        )));
+    }
+    let (r0, a0) = (cable.radius[0], cable.angle[0]);
+    for k in 1..=cable.ends_at {
+        let da = cable.angle[k] - a0;
+        let wrapped = da.sin().atan2(da.cos());
+        if wrapped.abs() > STRAIGHT_TOL {
+            return Err(unsupported(format!(
+                "cable `{}` is not straight: its hole angle changes by {:.4} rad between disks 0 and {k}",
+                cable.name, wrapped
+            )));
+        }
+        if (cable.radius[k] - r0).abs() > STRAIGHT_TOL * r0.abs().max(1e-3) {
+            return Err(unsupported(format!(
+                "cable `{}` changes its hole radius ({} m at disk 0, {} m at disk {k})",
+                cable.name, r0, cable.radius[k]
+            )));
+        }
+    }
+    Ok((r0, a0))
+}
+
+/// Disk frames at their arc lengths and 8 backbone samples per section on the arc of bending
+/// vector `u`.
+fn arc_shape(robot: &Robot, u: &Vector2<f64>) -> (Vec<DiskFrame>, Vec<Vector3<f64>>) {
+    let n = robot.sections();
+    let disks = robot
+        .disk_s
+        .iter()
+        .map(|&s| {
+            let (position, rotation) = arc_frame(u, s);
+            DiskFrame {
+                s,
+                position,
+                rotation,
+            }
+        })
+        .collect();
+    let mut backbone = Vec::with_capacity(8 * n + 1);
+    for i in 1..=n {
+        let (s0, s1) = (robot.disk_s[i - 1], robot.disk_s[i]);
+        for j in 0..8 {
+            backbone.push(arc_frame(u, s0 + (s1 - s0) * j as f64 / 8.0).0);
+        }
+    }
+    backbone.push(arc_frame(u, robot.length()).0);
+    (disks, backbone)
 }
 
 /// `min |u − u0|²` subject to `a_j · u ≥ d_j`, by enumerating the active sets of at most two

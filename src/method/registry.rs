@@ -171,6 +171,26 @@ const DEFAULT_RESOLUTION: &[(&str, &[(&str, &str)])] = &[("default", &[])];
 const BOTH: &[Input] = &[Input::Shortening, Input::Tension];
 const SHORTENING: &[Input] = &[Input::Shortening];
 
+/// The two rods share everything but their constitutive law.
+const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> MethodInfo {
+    MethodInfo {
+        kind,
+        name,
+        summary,
+        inputs: BOTH,
+        default_input: Input::Tension,
+        obstacles: false,
+        loads: LoadSupport {
+            gravity: true,
+            tip_force: true,
+            tip_moment: true,
+        },
+        settings: ROD_SETTINGS,
+        contact_unit: "",
+        resolutions: ROD_RESOLUTIONS,
+    }
+}
+
 const INFO: [MethodInfo; 6] = [
     MethodInfo {
         kind: MethodKind::Geometric,
@@ -212,38 +232,16 @@ const INFO: [MethodInfo; 6] = [
         contact_unit: "N",
         resolutions: DEFAULT_RESOLUTION,
     },
-    MethodInfo {
-        kind: MethodKind::Cosserat,
-        name: "cosserat",
-        summary: "Rucker–Webster Cosserat rod with shear and extension, shooting (the reference)",
-        inputs: BOTH,
-        default_input: Input::Tension,
-        obstacles: false,
-        loads: LoadSupport {
-            gravity: true,
-            tip_force: true,
-            tip_moment: true,
-        },
-        settings: ROD_SETTINGS,
-        contact_unit: "",
-        resolutions: ROD_RESOLUTIONS,
-    },
-    MethodInfo {
-        kind: MethodKind::Kirchhoff,
-        name: "kirchhoff",
-        summary: "the same rod, inextensible and unshearable",
-        inputs: BOTH,
-        default_input: Input::Tension,
-        obstacles: false,
-        loads: LoadSupport {
-            gravity: true,
-            tip_force: true,
-            tip_moment: true,
-        },
-        settings: ROD_SETTINGS,
-        contact_unit: "",
-        resolutions: ROD_RESOLUTIONS,
-    },
+    rod(
+        MethodKind::Cosserat,
+        "cosserat",
+        "Rucker–Webster Cosserat rod with shear and extension, shooting (the reference)",
+    ),
+    rod(
+        MethodKind::Kirchhoff,
+        "kirchhoff",
+        "the same rod, inextensible and unshearable",
+    ),
     MethodInfo {
         kind: MethodKind::ConstantCurvature,
         name: "constant-curvature",
