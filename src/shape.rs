@@ -4,7 +4,7 @@
 
 use crate::method::warm::WarmState;
 use nalgebra::{Matrix3, Vector3};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Pose of one disk.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,7 +34,7 @@ pub struct CablePath {
 }
 
 /// A contact between the robot and an obstacle (filled by obstacle-aware methods).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Contact {
     /// Obstacle name.
     pub obstacle: String,
@@ -60,7 +60,7 @@ pub struct Contact {
 }
 
 /// What happened in one section of a section-by-section method.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SectionReport {
     /// Section index (1-based).
     pub section: usize,
@@ -79,7 +79,7 @@ pub struct SectionReport {
 }
 
 /// How a solve went.
-#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct SolveReport {
     /// True when every tolerance was met.
     pub converged: bool,
@@ -90,13 +90,13 @@ pub struct SolveReport {
     /// Wall time of the solve \[s\] (median over `--repeat` where the CLI sets it).
     pub solve_time_s: f64,
     /// Per-section details (section methods).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sections: Vec<SectionReport>,
     /// Internal force and moment at the base, base frame [N, N m] (rod methods).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub base_wrench: Option<[f64; 6]>,
     /// Notes: choices made, inputs ignored.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
     /// Whether the answer is a stable equilibrium: `Some(true)` when the method verified it
     /// (energy: the reduced Hessian on the active constraints is positive definite),
@@ -116,7 +116,7 @@ pub struct SolveReport {
 /// driven cable (in robot order), `position[j] = ∂p_tip/∂u_j` [m per input unit] and
 /// `tangent[j] = ∂t_tip/∂u_j` (t: the tip disk's normal), where `u_j` is the cable's shortening
 /// \[m\] or tension \[N\] as `inputs[j]` says.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TipJacobian {
     /// The column's cable and input: `(cable name, "shortening" | "tension")`.
     pub inputs: Vec<(String, String)>,
@@ -203,6 +203,44 @@ impl Shape {
         }
     }
 
+    /// The shape a [`ShapeJson`] describes (the inverse of [`Shape::to_json`]; solver
+    /// warm-start state is not part of the JSON and comes back empty).
+    pub fn from_json(j: ShapeJson) -> Shape {
+        let v = |p: [f64; 3]| Vector3::new(p[0], p[1], p[2]);
+        Shape {
+            method: j.method,
+            disks: j
+                .disks
+                .into_iter()
+                .map(|d| {
+                    let r = d.rotation;
+                    DiskFrame {
+                        s: d.s,
+                        position: v(d.position),
+                        rotation: Matrix3::new(
+                            r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1],
+                            r[2][2],
+                        ),
+                    }
+                })
+                .collect(),
+            backbone: j.backbone.into_iter().map(v).collect(),
+            cables: j
+                .cables
+                .into_iter()
+                .map(|c| CablePath {
+                    name: c.name,
+                    points: c.points.into_iter().map(v).collect(),
+                    slack: c.slack,
+                    slack_sections: c.slack_sections,
+                    tension: c.tension,
+                })
+                .collect(),
+            contacts: j.contacts,
+            report: j.report,
+        }
+    }
+
     /// JSON text (pretty-printed).
     pub fn to_json_string(&self) -> String {
         // Serializing plain structs of numbers and strings cannot fail.
@@ -216,7 +254,7 @@ fn arr(v: &Vector3<f64>) -> [f64; 3] {
 }
 
 /// JSON form of a disk frame: rotation is row-major 3×3.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct DiskJson {
     /// Arc length \[m\].
     pub s: f64,
@@ -227,7 +265,7 @@ pub struct DiskJson {
 }
 
 /// JSON form of a cable path.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CableJson {
     /// Cable name.
     pub name: String,
@@ -243,7 +281,7 @@ pub struct CableJson {
 }
 
 /// JSON form of a [`Shape`].
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ShapeJson {
     /// Method name.
     pub method: String,
