@@ -29,6 +29,9 @@ pub(super) struct FileModel {
     scene: Option<String>,
     #[serde(default)]
     obstacles: Vec<FileObstacle>,
+    /// Actuation limits per cable (`src/model/limits.rs`).
+    #[serde(default)]
+    limits: std::collections::BTreeMap<String, super::limits::FileLimit>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -400,17 +403,20 @@ impl FileModel {
                 ));
             }
         }
+        let robot = Robot {
+            name: self.name,
+            disk_s,
+            disk_radius,
+            disk_thickness,
+            backbone,
+            cables,
+            loads,
+        };
+        let limits = super::limits::validate(&self.limits, &robot)?;
         Ok(Model {
             scene,
-            robot: Robot {
-                name: self.name,
-                disk_s,
-                disk_radius,
-                disk_thickness,
-                backbone,
-                cables,
-                loads,
-            },
+            robot,
+            limits,
             actuation: Actuation { cables: drives },
             source: None,
         })

@@ -22,6 +22,7 @@
 
 pub mod actuation;
 mod file;
+pub mod limits;
 pub mod mesh;
 pub mod robot;
 pub mod routing;
@@ -46,6 +47,8 @@ pub struct Model {
     pub actuation: Actuation,
     /// Obstacles (from `[[obstacles]]` and a referenced `scene` file).
     pub scene: Scene,
+    /// Actuation limits per cable (`[limits.NAME]`; documented defaults otherwise).
+    pub limits: limits::Limits,
     /// Where the file was read from (for resolving relative paths).
     pub source: Option<PathBuf>,
 }

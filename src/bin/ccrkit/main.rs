@@ -7,6 +7,7 @@ use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
+mod reach;
 mod study_cmd;
 use study_cmd::StudyCommand;
 
@@ -63,6 +64,8 @@ enum Command {
     /// Studies: speed against accuracy, stability maps, workspace sweeps.
     #[command(subcommand)]
     Study(StudyCommand),
+    /// The least-effort actuation within the limits that puts the tip on a target.
+    Reach(reach::ReachArgs),
 }
 
 #[derive(Subcommand)]
@@ -175,6 +178,7 @@ fn main() {
 fn run() -> Result<()> {
     match Cli::parse().command {
         Command::Study(cmd) => study_cmd::run(cmd),
+        Command::Reach(a) => reach::run(a),
         Command::Compare {
             file,
             methods,
