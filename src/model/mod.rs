@@ -73,6 +73,12 @@ impl Model {
         Self::from_toml_named(text, "<string>", Path::new("."))
     }
 
+    /// Parse and validate model text whose relative mesh and scene paths resolve against
+    /// `dir` (a model kept as text, e.g. sent to another process, that was read from `dir`).
+    pub fn from_toml_in(text: &str, dir: &Path) -> Result<Model, ModelError> {
+        Self::from_toml_named(text, "<string>", dir)
+    }
+
     fn from_toml_named(text: &str, path: &str, dir: &Path) -> Result<Model, ModelError> {
         let file: FileModel = toml::from_str(text).map_err(|e| ModelError::Parse {
             path: path.to_string(),
