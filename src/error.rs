@@ -119,6 +119,15 @@ pub enum SolveError {
         /// Why the search stopped (limits, obstacles, tension bound, tangent).
         reason: String,
     },
+    /// No collision-free path of actuations was found (planner budget spent, or start and
+    /// goal in different free regions).
+    #[error("no path found after {samples} samples: {reason}")]
+    NoPath {
+        /// Samples drawn.
+        samples: usize,
+        /// What stopped the search.
+        reason: String,
+    },
     /// The method cannot represent this robot or actuation.
     #[error("{method} cannot solve this: {reason}")]
     Unsupported {
@@ -139,6 +148,7 @@ impl SolveError {
             SolveError::Obstructed { .. } => "obstructed",
             SolveError::Unsupported { .. } => "unsupported",
             SolveError::Unreachable { .. } => "unreachable",
+            SolveError::NoPath { .. } => "no_path",
         }
     }
 }

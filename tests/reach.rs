@@ -275,7 +275,7 @@ fn limits_in_the_model_file() {
     let text = std::fs::read_to_string(format!("{ROOT}/models/paper/case1.toml")).unwrap();
     let m = common::paper(1);
     let chord = m.robot.undeformed_chord_length(0);
-    assert_eq!(m.limits.cables[0].shorten, [0.0, 0.1 * chord]);
+    assert_eq!(m.limits.cables[0].shorten, [-0.1 * chord, 0.1 * chord]);
     assert_eq!(m.limits.cables[0].tension, [0.0, f64::INFINITY]);
     let m = Model::from_toml_str(&format!(
         "{text}\n[limits.B]\nshorten = [-0.001, 0.005]\ntension = [0.0, 3.0]\n"

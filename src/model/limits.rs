@@ -8,9 +8,10 @@
 //! ```
 //!
 //! Defaults, for a cable without a table or a table without the field:
-//! * **shortening**: from 0 (the cable never pays out) to [`DEFAULT_MAX_SHORTEN_FRACTION`]
-//!   (10 %) of the cable's undeformed straight-chord length
-//!   ([`crate::robot::Robot::undeformed_chord_length`]);
+//! * **shortening**: ± [`DEFAULT_MAX_SHORTEN_FRACTION`] (10 %) of the cable's undeformed
+//!   straight-chord length ([`crate::robot::Robot::undeformed_chord_length`]): a negative
+//!   shortening pays the cable out, which a cable on the outside of a bend needs (it gets
+//!   longer; a pull-only cable held at its length would fight the bend);
 //! * **tension**: from 0 to unbounded (cables pull; the motor is assumed strong enough).
 //!
 //! Checked here, once, naming the field: the cable exists; both ends finite; `min ≤ max`;
@@ -50,7 +51,7 @@ impl Limits {
             cables: (0..robot.cables.len())
                 .map(|c| CableLimits {
                     shorten: [
-                        0.0,
+                        -DEFAULT_MAX_SHORTEN_FRACTION * robot.undeformed_chord_length(c),
                         DEFAULT_MAX_SHORTEN_FRACTION * robot.undeformed_chord_length(c),
                     ],
                     tension: [0.0, f64::INFINITY],

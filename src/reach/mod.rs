@@ -26,7 +26,7 @@ mod sens;
 mod solve;
 
 pub use sens::{sensitivity, TipSens, FD_STEP};
-pub use solve::{reach, CableActuation, Reach, ReachOptions, Target};
+pub use solve::{reach, reach_in, CableActuation, Reach, ReachOptions, Target};
 
 use crate::error::SolveError;
 use crate::method::contact::{ppose, pvec, y_to_z};
@@ -165,11 +165,20 @@ impl Space {
     }
 
     /// The shape at `u` solved exactly as `ccrkit solve` does (cold, through
-    /// [`SolveRequest::run`], with every obstacle): what a reported actuation must reproduce.
+    /// [`SolveRequest::run`]): what a reported actuation must reproduce. With contact allowed
+    /// it is solved with every obstacle (`ccrkit solve FILE --scene S`); keeping clear, without
+    /// them (`ccrkit solve FILE` on the model without its obstacles) — a clear robot touches
+    /// nothing, so the obstacle-aware solve finds the same shape where it can start at all (a
+    /// cold obstacle-aware solve starts from the straight robot, which may cross a bent tube).
     pub fn solve_as_cli(&self, model: &Model, u: &[f64]) -> Result<Shape, SolveError> {
         let mut m = model.clone();
         m.actuation = self.actuation(u);
-        Ok(self.request.run(&m)?.shape)
+        if self.allow_contact {
+            Ok(self.request.run(&m)?.shape)
+        } else {
+            m.scene = Scene::empty();
+            Ok(self.request.clone().with_scene(None).run(&m)?.shape)
+        }
     }
 
     /// Clearance of `shape` from the obstacles (`None` without obstacles).

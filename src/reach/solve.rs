@@ -30,8 +30,8 @@
 //! ([`ReachOptions::starts`]: the middle of the box, then a Kronecker sequence through it)
 //! guard against local minima; the first that reaches wins.
 //!
-//! The answer is finally solved again exactly as `ccrkit solve` does (cold, with every
-//! obstacle: [`Space::solve_as_cli`]), and `tip_error_m`, the clearance and the tensions are
+//! The answer is finally solved again exactly as `ccrkit solve` does (cold, through the one
+//! solve path: [`Space::solve_as_cli`]), and `tip_error_m`, the clearance and the tensions are
 //! measured on *that* shape: a reported actuation reproduces the reported tip.
 
 use super::sens::tip_tangent;
