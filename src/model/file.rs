@@ -34,6 +34,9 @@ pub(super) struct FileModel {
     /// Gains, offsets, frames of a real robot (`model/hardware.rs`).
     #[serde(default)]
     hardware: Option<FileHardware>,
+    /// Actuation limits per cable (`src/model/limits.rs`).
+    #[serde(default)]
+    limits: std::collections::BTreeMap<String, super::limits::FileLimit>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -443,6 +446,7 @@ impl FileModel {
             loads,
         };
         let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
+        let limits = super::limits::validate(&self.limits, &robot)?;
         let mut actuation = Actuation { cables: drives };
         hardware.fold(&robot, &mut actuation)?;
         Ok(Model {
@@ -450,6 +454,7 @@ impl FileModel {
             robot,
             actuation,
             hardware,
+            limits,
             source: None,
         })
     }
