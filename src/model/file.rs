@@ -3,6 +3,7 @@
 
 use super::actuation::{Actuation, CableDrive, Shortening};
 use super::bounds;
+use super::hardware::{FileHardware, Hardware};
 use super::robot::{Backbone, Cable, Loads, Robot};
 use super::scene::{FileObstacle, Scene};
 use super::{Model, MAX_SECTIONS};
@@ -30,6 +31,9 @@ pub(super) struct FileModel {
     scene: Option<String>,
     #[serde(default)]
     obstacles: Vec<FileObstacle>,
+    /// Gains, offsets, frames of a real robot (`model/hardware.rs`).
+    #[serde(default)]
+    hardware: Option<FileHardware>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -429,18 +433,23 @@ impl FileModel {
                 ));
             }
         }
+        let robot = Robot {
+            name: self.name,
+            disk_s,
+            disk_radius,
+            disk_thickness,
+            backbone,
+            cables,
+            loads,
+        };
+        let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
+        let mut actuation = Actuation { cables: drives };
+        hardware.fold(&robot, &mut actuation)?;
         Ok(Model {
             scene,
-            robot: Robot {
-                name: self.name,
-                disk_s,
-                disk_radius,
-                disk_thickness,
-                backbone,
-                cables,
-                loads,
-            },
-            actuation: Actuation { cables: drives },
+            robot,
+            actuation,
+            hardware,
             source: None,
         })
     }
