@@ -71,6 +71,24 @@ pub(super) struct Problem<'a> {
     pub(super) cubic: Vec<[Vector3<f64>; 4]>,
     /// Geometry of the latest pass (so the converged one need not be integrated again).
     pub(super) last: std::cell::RefCell<Trace>,
+    /// Step mesh of the adaptive integrator (see [`Mesh`]).
+    pub(super) mesh: std::cell::RefCell<Mesh>,
+}
+
+/// The adaptive integrator's steps: recorded by a pass that adapts, replayed by the passes
+/// of one Newton solve (frozen), so that the shooting residual is a smooth function of the
+/// unknowns there (a step sequence that changes with them makes it jump by the integration
+/// error, which stalls line searches and difference Jacobians at tight tolerances).
+#[derive(Default)]
+pub(super) struct Mesh {
+    /// Replay `ends` instead of adapting.
+    pub(super) frozen: bool,
+    /// Accepted step ends of the last adapting pass, in order.
+    pub(super) ends: Vec<f64>,
+    /// Next end to replay.
+    pub(super) cursor: usize,
+    /// Largest scaled error estimate (error / TOL) of the steps of the last pass.
+    pub(super) worst: f64,
 }
 
 impl Problem<'_> {
@@ -322,6 +340,7 @@ impl Cosserat {
             nsteps: vec![],
             cubic: vec![],
             last: Default::default(),
+            mesh: Default::default(),
         };
         prob.nsteps = prob.steps_per_section();
         prob.cubic = prob.route_cubics();
