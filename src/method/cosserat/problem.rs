@@ -67,7 +67,8 @@ pub(super) struct Problem<'a> {
     /// RK4 steps of each section (index = section, 1-based; entry 0 unused).
     pub(super) nsteps: Vec<usize>,
     /// Spline routes as cubics in `σ = s − s_{k−1}` per section: `[c0, c1, c2, c3]` at
-    /// index `(k − 1)·ncables + c` (empty for the Fourier fit).
+    /// index `(k − 1)·ncables + c` (empty for the Fourier fit; closed-form routes — declared
+    /// helices and straight cables — are evaluated exactly instead).
     pub(super) cubic: Vec<[Vector3<f64>; 4]>,
     /// Geometry of the latest pass (so the converged one need not be integrated again).
     pub(super) last: std::cell::RefCell<Trace>,
@@ -115,7 +116,7 @@ impl Problem<'_> {
     /// Route of cable `c` at `s` in section `sec` (1-based).
     #[inline(always)]
     pub(super) fn eval_route(&self, c: usize, s: f64, sec: usize) -> RoutePoint {
-        if self.cubic.is_empty() {
+        if self.cubic.is_empty() || self.routes[c].is_closed_form() {
             return self.routes[c].eval(s, sec - 1);
         }
         let [c0, c1, c2, c3] = &self.cubic[(sec - 1) * self.robot.cables.len() + c];
