@@ -204,44 +204,6 @@ impl Shape {
         }
     }
 
-    /// The shape a [`ShapeJson`] describes (the inverse of [`Shape::to_json`]; solver
-    /// warm-start state is not part of the JSON and comes back empty).
-    pub fn from_json(j: ShapeJson) -> Shape {
-        let v = |p: [f64; 3]| Vector3::new(p[0], p[1], p[2]);
-        Shape {
-            method: j.method,
-            disks: j
-                .disks
-                .into_iter()
-                .map(|d| {
-                    let r = d.rotation;
-                    DiskFrame {
-                        s: d.s,
-                        position: v(d.position),
-                        rotation: Matrix3::new(
-                            r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1],
-                            r[2][2],
-                        ),
-                    }
-                })
-                .collect(),
-            backbone: j.backbone.into_iter().map(v).collect(),
-            cables: j
-                .cables
-                .into_iter()
-                .map(|c| CablePath {
-                    name: c.name,
-                    points: c.points.into_iter().map(v).collect(),
-                    slack: c.slack,
-                    slack_sections: c.slack_sections,
-                    tension: c.tension,
-                })
-                .collect(),
-            contacts: j.contacts,
-            report: j.report,
-        }
-    }
-
     /// JSON text (pretty-printed).
     pub fn to_json_string(&self) -> String {
         // Serializing plain structs of numbers and strings cannot fail.

@@ -90,3 +90,119 @@ fn hardware_models_load_and_solve_a_tendon_pull() {
         }
     }
 }
+
+const ONE_CABLE: &str = r#"
+name = "one"
+[robot]
+sections = 4
+section_length = 0.02
+disk_radius = 0.01
+disk_thickness = 0.002
+backbone = { youngs_modulus = 5e9, poisson_ratio = 0.3, diameter = 0.002 }
+[[cables]]
+name = "A"
+radius = 0.006
+angles = { straight = 0.0 }
+"#;
+
+/// Gain and offset reach every displacement-driven method exactly as `δ = g·u − o`: the
+/// hardware model with command `u` gives the same shape as the plain model with shortening δ.
+#[test]
+fn gain_and_offset_drive_the_model_by_their_definition() {
+    let (u, g, o) = (0.004, 0.83, 0.0007);
+    let hw = Model::from_toml_str(&format!(
+        "{ONE_CABLE}shorten = {u}\n[hardware]\ngain = {g}\noffset = {o}\n"
+    ))
+    .expect("hardware model");
+    let plain =
+        Model::from_toml_str(&format!("{ONE_CABLE}shorten = {}\n", g * u - o)).expect("plain");
+    for m in [
+        Box::new(Energy::default()) as Box<dyn Method>,
+        ccrkit::method_by_name("geometric").expect("geometric"),
+    ] {
+        let a = m
+            .solve(&hw.robot, &hw.actuation, &Scene::empty(), None)
+            .expect("hw");
+        let b = m
+            .solve(&plain.robot, &plain.actuation, &Scene::empty(), None)
+            .expect("plain");
+        assert!(
+            a.tip_distance(&b) < 1e-12,
+            "{}: {}",
+            m.name(),
+            a.tip_distance(&b)
+        );
+        // And the shape really moved: the gain is not ignored.
+        assert!(a.tip().x.abs() > 1e-3, "{}", m.name());
+    }
+    // Through `Hardware::actuation` (what predict uses) too.
+    let act = hw.hardware.actuation(&[u]);
+    let s = Energy::default()
+        .solve(&hw.robot, &act, &Scene::empty(), None)
+        .expect("act");
+    let p = Energy::default()
+        .solve(&plain.robot, &plain.actuation, &Scene::empty(), None)
+        .expect("p");
+    assert!(s.tip_distance(&p) < 1e-12);
+}
+
+/// The measured tip of a straight robot under a base pose and marker, in closed form:
+/// base turned +90° about x maps z to −y.
+#[test]
+fn measured_tip_applies_base_pose_and_marker() {
+    let m = Model::from_toml_str(&format!(
+        "{ONE_CABLE}shorten = 0.0\n[hardware]\nbase_position = [0.1, 0.2, 0.3]\n\
+         base_rotation = [{}, 0.0, 0.0]\nmarker = [0.0, 0.001, 0.01]\n",
+        PI / 2.0
+    ))
+    .expect("model");
+    let s = Energy::default()
+        .solve(&m.robot, &m.actuation, &Scene::empty(), None)
+        .expect("solves");
+    let t = m.hardware.measured_tip(&s);
+    // Tip + marker in the base frame: (0, 0.001, 0.08 + 0.01); rotated: (0, −0.09, 0.001).
+    let want = nalgebra::Vector3::new(0.1, 0.2 - 0.09, 0.3 + 0.001);
+    assert!((t - want).norm() < 1e-12, "{t:?} vs {want:?}");
+}
+
+/// Bad `[hardware]` values are refused naming the field.
+#[test]
+fn bad_hardware_is_refused_by_name() {
+    let cases = [
+        (
+            "shorten = 0.0\n[hardware]\ngain = 0.0\n",
+            "hardware.gain[0]",
+        ),
+        (
+            "shorten = 0.0\n[hardware]\ngain = [1.0, 1.0]\n",
+            "hardware.gain",
+        ),
+        (
+            "shorten = 0.0\n[hardware]\noffset = 1.0\n",
+            "hardware.offset[0]",
+        ),
+        (
+            "shorten = 0.0\n[hardware]\nmarker = [0.0, nan, 0.0]\n",
+            "hardware.marker[1]",
+        ),
+        (
+            "shorten = 0.0\n[hardware]\nbase_position = [inf, 0.0, 0.0]\n",
+            "hardware.base_position[0]",
+        ),
+        (
+            "tension = 1.0\n[hardware]\ngain = 0.9\n",
+            "hardware.gain[0] / hardware.offset[0]",
+        ),
+        (
+            "\n[hardware]\noffset = 0.001\n",
+            "hardware.gain[0] / hardware.offset[0]",
+        ),
+    ];
+    for (extra, field) in cases {
+        let e = Model::from_toml_str(&format!("{ONE_CABLE}{extra}")).expect_err(extra);
+        assert_eq!(e.field(), Some(field), "{extra}: {e}");
+    }
+    let e = Model::from_toml_str(&format!("{ONE_CABLE}\n[hardware]\nspool = 1.0\n"))
+        .expect_err("unknown");
+    assert!(e.to_string().contains("spool"), "{e}");
+}

@@ -1,15 +1,13 @@
-//! `Shape::from_json` inverts `Shape::to_json`: a shape read back from the command line's
+//! `Shape::from_json_str` inverts `Shape::to_json`: a shape read back from the command line's
 //! JSON has the same disks, backbone, cables, contacts and report (warm-start state aside).
 
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::MethodKind;
-use ccrkit::shape::ShapeJson;
 use ccrkit::{Model, Scene, Shape};
 
 fn round_trip(shape: &Shape) -> Shape {
     let text = shape.to_json_string();
-    let json: ShapeJson = serde_json::from_str(&text).expect("parses");
-    Shape::from_json(json)
+    Shape::from_json_str(&text).expect("reads back")
 }
 
 /// Equal to the last bit (serde_json's `float_roundtrip` parser reads back exactly the

@@ -194,9 +194,9 @@ impl Shape {
     /// A shape from `to_json()` text (warm-start state is not kept).
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Shape> {
-        let json: ccrkit::shape::ShapeJson = serde_json::from_str(text)
-            .map_err(|e| crate::errors::invalid(py, "json", e.to_string()))?;
-        Ok(Shape::new(ccrkit::Shape::from_json(json)))
+        let shape = ccrkit::Shape::from_json_str(text)
+            .map_err(|e| crate::errors::model_error(py, &e))?;
+        Ok(Shape::new(shape))
     }
 
     fn __repr__(&self) -> String {
