@@ -301,7 +301,7 @@ mod tests {
             (x[0] - 0.2).abs() < 1e-9 && (x[1] - 0.8).abs() < 1e-9,
             "{x:?}"
         );
-}
+    }
 
     /// The active set's answer satisfies the KKT conditions of `min ½ λᵀSλ − qᵀλ, λ ≥ 0`:
     /// λ ≥ 0, gradient `Sλ − q` ≥ 0, zero where λ > 0.
