@@ -38,6 +38,7 @@ use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::shape::Shape;
 use nalgebra::Vector3;
+use parry3d::query::ClosestPoints;
 use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
 
 /// The actuation space of a robot: its cables' shortenings within their limits, a method that
@@ -290,8 +291,21 @@ pub fn clearance(robot: &Robot, shape: &Shape, scene: &Scene) -> Option<Clearanc
             if scene.bounds_gap(k, &lo, &hi) >= best.distance {
                 continue;
             }
-            let mut d = parry3d::query::distance(&gp, &*g, &o.parry_pose, &*o.shape)
-                .map_or(0.0, |d| d.distance);
+            // Closest points within the best distance so far: parry prunes the rest of a
+            // mesh's BVH against it, so only pairs that can lower the minimum cost much.
+            let bound = if best.distance.is_finite() {
+                best.distance
+            } else {
+                f64::MAX
+            };
+            let mut d =
+                match parry3d::query::closest_points(&gp, &*g, &o.parry_pose, &*o.shape, bound) {
+                    Ok(ClosestPoints::Disjoint) => continue,
+                    Ok(ClosestPoints::WithinMargin(a, b)) => (a - b).length(),
+                    Ok(ClosestPoints::Intersecting) => 0.0,
+                    Err(_) => parry3d::query::distance(&gp, &*g, &o.parry_pose, &*o.shape)
+                        .map_or(0.0, |d| d.distance),
+                };
             if d <= 0.0 {
                 if let Ok(Some(ct)) =
                     parry3d::query::contact(&gp, &*g, &o.parry_pose, &*o.shape, 0.0)
