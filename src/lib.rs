@@ -8,6 +8,7 @@
 
 #![warn(missing_docs)]
 
+pub mod calibrate;
 pub mod error;
 pub mod export;
 pub mod method;

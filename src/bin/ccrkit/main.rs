@@ -7,6 +7,8 @@ use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
+mod calibrate;
+mod predict;
 mod study_cmd;
 use study_cmd::StudyCommand;
 
@@ -63,6 +65,10 @@ enum Command {
     /// Studies: speed against accuracy, stability maps, workspace sweeps.
     #[command(subcommand)]
     Study(StudyCommand),
+    /// Predict the measured tip for every row of a data CSV (in-process, warm-started, parallel).
+    Predict(predict::PredictArgs),
+    /// Fit a model's hardware parameters to measured tips (Levenberg–Marquardt).
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 #[derive(Subcommand)]
@@ -175,6 +181,8 @@ fn main() {
 fn run() -> Result<()> {
     match Cli::parse().command {
         Command::Study(cmd) => study_cmd::run(cmd),
+        Command::Predict(a) => predict::run(a),
+        Command::Calibrate(a) => calibrate::run(a),
         Command::Compare {
             file,
             methods,
