@@ -15,7 +15,7 @@ use std::hint::black_box;
 fn ftdcr(c: &mut Criterion) {
     let model = Model::from_file("models/hardware/ftdcr_v4.toml").expect("model");
     let data = Dataset::from_file(
-        "data/opencr-ftdcr/v4/tdcr_sysid_20260511-183002_train.csv",
+        "models/hardware/data/v4/tdcr_sysid_20260511-183002_train.csv",
         &DataOptions::default(),
     )
     .expect("data");

@@ -1,4 +1,4 @@
-//! The OpenCR FTDCR benchmark (data README §8, `data/opencr-ftdcr/`): for v4 and v6, predict
+//! The OpenCR FTDCR benchmark (data README §8, `models/hardware/data/`): for v4 and v6, predict
 //! train and val with the nominal model, calibrate the default parameters on train only,
 //! predict val with the fitted model, print the protocol's table (mean-offset-aligned
 //! Euclidean tip RMSE in mm on train, val and val by pattern family), and draw predicted
@@ -85,7 +85,7 @@ fn main() -> Result<()> {
         let nominal = Model::from_file(&file)?;
         let read = |p: &str| {
             Dataset::from_file(
-                format!("{root}/data/opencr-ftdcr/{v}/{stem}_{p}.csv"),
+                format!("{root}/models/hardware/data/{v}/{stem}_{p}.csv"),
                 &DataOptions::default(),
             )
         };

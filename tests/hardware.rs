@@ -1,5 +1,5 @@
 //! The FTDCR hardware models (`models/hardware/`) and the hardware features, against the
-//! measured data in `data/opencr-ftdcr/` and closed forms.
+//! measured data in `models/hardware/data/` and closed forms.
 
 use ccrkit::actuation::Shortening;
 use ccrkit::method::energy::Energy;
@@ -40,11 +40,11 @@ fn hardware_models_load_and_solve_a_tendon_pull() {
     for (v, file) in [
         (
             "v4",
-            "data/opencr-ftdcr/v4/tdcr_sysid_20260511-183002_train.csv",
+            "models/hardware/data/v4/tdcr_sysid_20260511-183002_train.csv",
         ),
         (
             "v6",
-            "data/opencr-ftdcr/v6/tdcrv6_sysid_20260406-181730_train.csv",
+            "models/hardware/data/v6/tdcrv6_sysid_20260406-181730_train.csv",
         ),
     ] {
         let m = model(v);
@@ -217,7 +217,7 @@ mod batch {
     use ccrkit::method::{MethodKind, Settings};
     use nalgebra::Vector3;
 
-    const V4_TRAIN: &str = "data/opencr-ftdcr/v4/tdcr_sysid_20260511-183002_train.csv";
+    const V4_TRAIN: &str = "models/hardware/data/v4/tdcr_sysid_20260511-183002_train.csv";
 
     fn opts(chunk: usize) -> PredictOptions {
         let mut s = Settings::new();
