@@ -10,6 +10,8 @@ use std::path::PathBuf;
 mod plan;
 mod reach;
 mod roadmap;
+mod calibrate;
+mod predict;
 mod study_cmd;
 use study_cmd::StudyCommand;
 
@@ -73,6 +75,10 @@ enum Command {
     /// Roadmaps for repeated `plan` queries.
     #[command(subcommand)]
     Roadmap(roadmap::RoadmapCommand),
+    /// Predict the measured tip for every row of a data CSV (in-process, warm-started, parallel).
+    Predict(predict::PredictArgs),
+    /// Fit a model's hardware parameters to measured tips (Levenberg–Marquardt).
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 #[derive(Subcommand)]
@@ -188,6 +194,8 @@ fn run() -> Result<()> {
         Command::Reach(a) => reach::run(a),
         Command::Plan(a) => plan::run(a),
         Command::Roadmap(c) => roadmap::run(c),
+        Command::Predict(a) => predict::run(a),
+        Command::Calibrate(a) => calibrate::run(a),
         Command::Compare {
             file,
             methods,
