@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
 mod study_cmd;
+mod view;
 use study_cmd::StudyCommand;
 
 #[derive(Parser)]
@@ -63,6 +64,9 @@ enum Command {
     /// Studies: speed against accuracy, stability maps, workspace sweeps.
     #[command(subcommand)]
     Study(StudyCommand),
+    /// Write one self-contained HTML page showing the robot in 3-D (methods overlaid, a plan's
+    /// waypoints, a sweep's tips), to turn in any browser, offline.
+    View(view::ViewArgs),
 }
 
 #[derive(Subcommand)]
@@ -175,6 +179,7 @@ fn main() {
 fn run() -> Result<()> {
     match Cli::parse().command {
         Command::Study(cmd) => study_cmd::run(cmd),
+        Command::View(args) => view::run(args),
         Command::Compare {
             file,
             methods,
