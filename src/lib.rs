@@ -8,6 +8,7 @@
 
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod error;
 pub mod export;
 pub mod method;

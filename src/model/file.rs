@@ -2,6 +2,7 @@
 //! here, once, with an error naming the field.
 
 use super::actuation::{Actuation, CableDrive, Shortening};
+use super::hardware::{FileHardware, Hardware};
 use super::robot::{Backbone, Cable, Loads, Robot};
 use super::scene::{FileObstacle, Scene};
 use super::{Model, MAX_SECTIONS};
@@ -29,6 +30,9 @@ pub(super) struct FileModel {
     scene: Option<String>,
     #[serde(default)]
     obstacles: Vec<FileObstacle>,
+    /// Gains, offsets, frames of a real robot (`model/hardware.rs`).
+    #[serde(default)]
+    hardware: Option<FileHardware>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -400,18 +404,23 @@ impl FileModel {
                 ));
             }
         }
+        let robot = Robot {
+            name: self.name,
+            disk_s,
+            disk_radius,
+            disk_thickness,
+            backbone,
+            cables,
+            loads,
+        };
+        let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
+        let mut actuation = Actuation { cables: drives };
+        hardware.fold(&robot, &mut actuation)?;
         Ok(Model {
             scene,
-            robot: Robot {
-                name: self.name,
-                disk_s,
-                disk_radius,
-                disk_thickness,
-                backbone,
-                cables,
-                loads,
-            },
-            actuation: Actuation { cables: drives },
+            robot,
+            actuation,
+            hardware,
             source: None,
         })
     }

@@ -15,6 +15,8 @@
 //! ends_at = 9                   # disk where the cable is tied (default: last)
 //! shorten_percent = 4.0         # or shorten = 0.0072 \[m\]
 //! tension = 4.16925             # \[N\]
+//! [hardware]                    # optional: a real robot's gains, offsets and frames
+//! gain = 1.0                    # see [`hardware`] for every field
 //! ```
 //!
 //! Every rule is checked with an error naming the field ([`ModelError::Invalid`]); unknown
@@ -22,6 +24,7 @@
 
 pub mod actuation;
 mod file;
+pub mod hardware;
 pub mod mesh;
 pub mod robot;
 pub mod routing;
@@ -46,6 +49,8 @@ pub struct Model {
     pub actuation: Actuation,
     /// Obstacles (from `[[obstacles]]` and a referenced `scene` file).
     pub scene: Scene,
+    /// Gains, offsets and frames of a real robot (identity when the file has no `[hardware]`).
+    pub hardware: hardware::Hardware,
     /// Where the file was read from (for resolving relative paths).
     pub source: Option<PathBuf>,
 }
@@ -68,6 +73,12 @@ impl Model {
     /// current directory).
     pub fn from_toml_str(text: &str) -> Result<Model, ModelError> {
         Self::from_toml_named(text, "<string>", Path::new("."))
+    }
+
+    /// Parse and validate model text whose relative mesh and scene paths resolve against
+    /// `dir` (a model kept as text, e.g. sent to another process, that was read from `dir`).
+    pub fn from_toml_in(text: &str, dir: &Path) -> Result<Model, ModelError> {
+        Self::from_toml_named(text, "<string>", dir)
     }
 
     fn from_toml_named(text: &str, path: &str, dir: &Path) -> Result<Model, ModelError> {

@@ -1,0 +1,462 @@
+//! Faces and certification: the taut-set search (cables pull, they do not push), the faces
+//! (sets of angle terms that vanish) on each taut set, and the certificate a candidate must
+//! carry to be accepted.
+
+use super::problem::{Pose, SectionData};
+use super::{Geometric, Objective};
+use crate::error::SolveError;
+use crate::method::contact::CONTACT_TOL;
+use crate::method::Method;
+use crate::numeric::so3::{exp_so3, orthonormalize};
+use crate::shape::{Contact, SectionReport};
+use nalgebra::{Vector3, Vector6};
+
+/// The accepted solution of one section.
+pub(super) struct SectionSolution {
+    pub(super) pose: Pose,
+    pub(super) slack: Vec<usize>,
+    pub(super) report: SectionReport,
+    pub(super) contacts: Vec<Contact>,
+}
+
+/// A converged, certified candidate.
+#[derive(Clone)]
+pub(super) struct Candidate {
+    pub(super) pose: Pose,
+    pub(super) objective: f64,
+    pub(super) residual: f64,
+    /// Multipliers of the active cable constraints (≥ 0 when the cable pulls).
+    pub(super) cable_lambda: Vec<f64>,
+    pub(super) face: u32,
+    /// Active contacts with their multipliers.
+    pub(super) contacts: Vec<Contact>,
+}
+
+/// A Newton–KKT step.
+pub(super) struct Step {
+    pub(super) dx: Vector6<f64>,
+    pub(super) lambda: Vec<f64>,
+    pub(super) min_reduced_eigenvalue: f64,
+}
+
+/// What the pull-only check says of a candidate.
+pub(super) enum TautMove {
+    Accept,
+    Drop(usize),
+    Add(usize),
+}
+
+/// Why a Newton run on one face was not accepted.
+pub(super) struct Rejected {
+    pub(super) iterations: usize,
+    pub(super) residual: f64,
+}
+
+/// What a section's search has spent and seen so far.
+pub(super) struct Tally {
+    /// Newton iterations over every start and face.
+    pub(super) iterations: usize,
+    /// Certified candidates.
+    pub(super) count: usize,
+    /// Smallest residual of a rejected Newton run.
+    pub(super) closest: f64,
+}
+
+impl Geometric {
+    /// Solve section `i`: the lowest certified pose over the taut sets and faces.
+    pub(super) fn solve_section(
+        &self,
+        data: &SectionData,
+        i: usize,
+        prev: Option<&Pose>,
+        warm: Option<&Pose>,
+    ) -> Result<SectionSolution, SolveError> {
+        if data.cons.is_empty() {
+            return unloaded_section(data, i);
+        }
+        let squared = self.objective == Objective::Squared;
+        let mut tally = Tally {
+            iterations: 0,
+            count: 0,
+            closest: f64::INFINITY,
+        };
+        let mut starts = self.starts(data, prev, &mut tally.iterations);
+        if let Some(w) = warm {
+            starts.insert(0, nudge(w, data.l0));
+        }
+        let Some((best, taut)) = self.search_taut_sets(data, &starts, squared, &mut tally) else {
+            return Err(self.section_failure(data, i, &tally));
+        };
+        let angles = data.term_angles(&best.pose);
+        let zero_terms = data
+            .terms
+            .iter()
+            .enumerate()
+            .filter(|(t, _)| best.face & (1 << t) != 0 || angles[*t] <= self.zero_angle)
+            .map(|(_, t)| t.label.clone())
+            .collect();
+        let mut slack: Vec<usize> = data.always_slack.clone();
+        for j in 0..data.cons.len() {
+            if !taut.contains(&j) {
+                slack.extend(data.cons[j].cables.iter().copied());
+            }
+        }
+        slack.sort_unstable();
+        Ok(SectionSolution {
+            contacts: best.contacts.clone(),
+            pose: best.pose,
+            report: SectionReport {
+                section: i,
+                iterations: tally.iterations,
+                residual: best.residual,
+                objective: best.objective,
+                zero_terms,
+                slack: slack.iter().map(|&c| data.names[c].clone()).collect(),
+                candidates: tally.count,
+            },
+            slack,
+        })
+    }
+
+    /// Cables pull, they do not push: the taut set T must give a certified pose whose taut
+    /// multipliers are ≥ 0 and where no other cable's chord exceeds its length. Fast path: a
+    /// primal active set from the cables the straight pose violates; if it cycles or fails,
+    /// every taut set (small: cables reaching one section), lowest valid.
+    fn search_taut_sets(
+        &self,
+        data: &SectionData,
+        starts: &[Pose],
+        squared: bool,
+        tally: &mut Tally,
+    ) -> Option<(Candidate, Vec<usize>)> {
+        let straight = Pose::straight(data.l0);
+        let max_taut = 5 - usize::from(data.gauge.is_some());
+        let mut taut: Vec<usize> = (0..data.cons.len())
+            .filter(|&j| data.chord(&straight, j) > data.cons[j].length)
+            .collect();
+        let mut seen: Vec<Vec<usize>> = vec![];
+        while taut.len() <= max_taut && !seen.contains(&taut) {
+            seen.push(taut.clone());
+            let Some(best) = self.best_on_taut_set(data, &taut, starts, squared, tally) else {
+                break;
+            };
+            match self.taut_set_move(data, &taut, &best) {
+                TautMove::Accept => return Some((best, taut)),
+                TautMove::Drop(k) => {
+                    taut.remove(k);
+                }
+                TautMove::Add(j) => {
+                    taut.push(j);
+                    taut.sort_unstable();
+                }
+            }
+        }
+        let mut accepted: Option<(Candidate, Vec<usize>)> = None;
+        let m = data.cons.len();
+        for mask in 0u32..(1 << m) {
+            let set: Vec<usize> = (0..m).filter(|j| mask & (1 << j) != 0).collect();
+            if set.len() > max_taut || seen.contains(&set) {
+                continue;
+            }
+            let Some(best) = self.best_on_taut_set(data, &set, starts, squared, tally) else {
+                continue;
+            };
+            if matches!(self.taut_set_move(data, &set, &best), TautMove::Accept)
+                && accepted
+                    .as_ref()
+                    .is_none_or(|(a, _)| best.objective < a.objective)
+            {
+                accepted = Some((best, set));
+            }
+        }
+        accepted
+    }
+
+    /// The error when no taut set gave an accepted pose: certified poses existed, yet in each
+    /// some cable would push or be overstretched, or Newton runs stalled at a positive
+    /// residual — the lengths cannot all be met; otherwise not converged.
+    fn section_failure(&self, data: &SectionData, i: usize, tally: &Tally) -> SolveError {
+        let (l0, count) = (data.l0, tally.count);
+        let straight = Pose::straight(l0);
+        if (count > 0 || tally.closest > 1e-8) && !data.cons.is_empty() {
+            let worst = (0..data.cons.len())
+                .max_by(|&a, &b| {
+                    let va = data.chord(&straight, a) - data.cons[a].length;
+                    let vb = data.chord(&straight, b) - data.cons[b].length;
+                    va.total_cmp(&vb)
+                })
+                .unwrap_or(0);
+            let near = data
+                .world
+                .as_ref()
+                .map(|w| {
+                    format!(
+                        " and keeps clear of the obstacles near this section ({})",
+                        w.names.join(", ")
+                    )
+                })
+                .unwrap_or_default();
+            return SolveError::Infeasible {
+                cable: data.names[data.cons[worst].cables[0]].clone(),
+                section: i,
+                reason: format!(
+                    "no set of taut cables meets every cable length (each certified pose leaves a cable pushing or overstretched) while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible){near}; {count} poses examined"
+                ),
+            };
+        }
+        SolveError::NotConverged {
+            method: self.name().into(),
+            section: Some(i),
+            iterations: tally.iterations,
+            residual: tally.closest,
+            detail: "no face of the section problem gave a certified minimum".into(),
+        }
+    }
+
+    /// Starting poses: the smooth squared-angle solution (angles off their kinks), the previous
+    /// section's relative pose, and the straight pose, both nudged off the kinks.
+    pub(super) fn starts(
+        &self,
+        data: &SectionData,
+        prev: Option<&Pose>,
+        it: &mut usize,
+    ) -> Vec<Pose> {
+        let straight = Pose::straight(data.l0);
+        let mut starts = vec![];
+        if self.objective == Objective::Squared {
+            starts.push(straight);
+            if let Some(p) = prev {
+                starts.push(*p);
+            }
+            return starts;
+        }
+        let all: Vec<usize> = (0..data.cons.len())
+            .filter(|&j| data.chord(&straight, j) > data.cons[j].length)
+            .take(5 - usize::from(data.gauge.is_some()))
+            .collect();
+        if let Some(c) = self.smooth_start(data, &all, it) {
+            starts.push(c);
+        }
+        if let Some(p) = prev {
+            starts.push(nudge(p, data.l0));
+        }
+        starts.push(nudge(&straight, data.l0));
+        starts
+    }
+
+    /// Lowest certified candidate over every face with this taut set (the straight pose, the
+    /// exact minimum F = 0, when no cable is taut).
+    pub(super) fn best_on_taut_set(
+        &self,
+        data: &SectionData,
+        taut: &[usize],
+        starts: &[Pose],
+        squared: bool,
+        tally: &mut Tally,
+    ) -> Option<Candidate> {
+        let n_terms = data.terms.len();
+        // All cables slack: the straight pose, unless an obstacle is in its way — then the
+        // angles are minimized against the obstacles alone, like any other taut set (was:
+        // give up, so a robot pushed off its minimal bend by an obstacle was "infeasible").
+        let straight_blocked = data.world.as_ref().is_some_and(|w| {
+            w.pairs(&Pose::straight(data.l0))
+                .iter()
+                .any(|p| p.dist < w.clearance - CONTACT_TOL)
+        });
+        if taut.is_empty() && !straight_blocked {
+            tally.count += 1;
+            return Some(Candidate {
+                pose: Pose::straight(data.l0),
+                objective: 0.0,
+                residual: 0.0,
+                cable_lambda: vec![],
+                face: (1 << n_terms) - 1,
+                contacts: vec![],
+            });
+        }
+        let fixed = 1 + taut.len() + usize::from(data.gauge.is_some());
+        let faces: Vec<u32> = if squared {
+            vec![0]
+        } else {
+            (0u32..(1 << n_terms))
+                .filter(|f| fixed + 2 * f.count_ones() as usize <= 6)
+                .collect()
+        };
+        let mut best: Option<Candidate> = None;
+        for &face in &faces {
+            for s in starts {
+                match self.newton(data, s, face, taut, squared) {
+                    Ok((cand, it)) => {
+                        tally.iterations += it;
+                        tally.count += 1;
+                        if best
+                            .as_ref()
+                            .is_none_or(|b| cand.objective < b.objective - 1e-12)
+                        {
+                            best = Some(cand);
+                        }
+                    }
+                    Err(r) => {
+                        tally.iterations += r.iterations;
+                        tally.closest = tally.closest.min(r.residual);
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    /// Pull-only check of a candidate: drop the taut cable that would push most, or add the
+    /// slack cable whose chord exceeds its length most, or accept.
+    pub(super) fn taut_set_move(
+        &self,
+        data: &SectionData,
+        taut: &[usize],
+        best: &Candidate,
+    ) -> TautMove {
+        let neg = best
+            .cable_lambda
+            .iter()
+            .enumerate()
+            .filter(|(_, &l)| l < -1e-9)
+            .min_by(|a, b| a.1.total_cmp(b.1));
+        if let Some((k, _)) = neg {
+            return TautMove::Drop(k);
+        }
+        let over = (0..data.cons.len())
+            .filter(|j| !taut.contains(j))
+            .map(|j| (j, data.chord(&best.pose, j) - data.cons[j].length))
+            .filter(|&(_, e)| e > 1e-10)
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        match over {
+            Some((j, _)) => TautMove::Add(j),
+            None => TautMove::Accept,
+        }
+    }
+
+    /// Solve the smooth squared-angle problem from the straight pose, as a start for the
+    /// literal faces (its angles are generically non-zero).
+    pub(super) fn smooth_start(
+        &self,
+        data: &SectionData,
+        active: &[usize],
+        it: &mut usize,
+    ) -> Option<Pose> {
+        let r = self.newton(data, &Pose::straight(data.l0), 0, active, true);
+        match r {
+            Ok((c, k)) => {
+                *it += k;
+                Some(c.pose)
+            }
+            Err(e) => {
+                *it += e.iterations;
+                None
+            }
+        }
+    }
+}
+
+impl Geometric {
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn certify(
+        &self,
+        data: &SectionData,
+        pose: Pose,
+        face: u32,
+        active: &[usize],
+        squared: bool,
+        lambda: &[f64],
+        (stationarity, stat_tol): (f64, f64),
+        min_eig: f64,
+        residual: f64,
+        it: usize,
+        contacts: Vec<Contact>,
+    ) -> Result<(Candidate, usize), Rejected> {
+        let reject = Err(Rejected {
+            iterations: it,
+            residual,
+        });
+        if stationarity > stat_tol || min_eig < -1e-8 || min_eig.is_nan() {
+            return reject;
+        }
+        let angles = data.term_angles(&pose);
+        let mut row = 1 + active.len();
+        let mut objective = 0.0;
+        for (t, term) in data.terms.iter().enumerate() {
+            if face & (1 << t) != 0 {
+                let mu = (lambda[row].powi(2) + lambda[row + 1].powi(2)).sqrt();
+                if mu > term.weight * (1.0 + 1e-9) {
+                    return reject;
+                }
+                row += 2;
+            } else {
+                if !squared && angles[t] <= self.zero_angle {
+                    return reject;
+                }
+                objective += term.weight
+                    * if squared {
+                        angles[t] * angles[t]
+                    } else {
+                        angles[t]
+                    };
+            }
+        }
+        let cable_lambda = (0..active.len()).map(|k| lambda[1 + k]).collect();
+        Ok((
+            Candidate {
+                pose,
+                objective,
+                residual,
+                cable_lambda,
+                face,
+                contacts,
+            },
+            it,
+        ))
+    }
+}
+
+/// A start moved slightly off every kink (deterministic).
+pub(super) fn nudge(p: &Pose, l0: f64) -> Pose {
+    Pose {
+        p: p.p + l0 * Vector3::new(1.3e-3, -0.7e-3, 0.0),
+        q: orthonormalize(&(p.q * exp_so3(&Vector3::new(0.9e-3, 1.1e-3, -0.8e-3)))),
+    }
+}
+
+/// A section no driven cable reaches carries no load and continues straight (an error if an
+/// obstacle is in the way).
+fn unloaded_section(data: &SectionData, i: usize) -> Result<SectionSolution, SolveError> {
+    let l0 = data.l0;
+    if let Some(w) = &data.world {
+        if let Some(pair) = w
+            .pairs(&Pose::straight(l0))
+            .into_iter()
+            .find(|p| p.dist < w.clearance - CONTACT_TOL)
+        {
+            return Err(SolveError::Obstructed {
+                obstacle: w.name(pair.obstacle),
+                section: i,
+                reason: "a section without driven cables continues straight, and straight runs into this obstacle".into(),
+            });
+        }
+    }
+    Ok(SectionSolution {
+        contacts: vec![],
+        pose: Pose::straight(l0),
+        slack: data.always_slack.clone(),
+        report: SectionReport {
+            section: i,
+            iterations: 0,
+            residual: 0.0,
+            objective: 0.0,
+            zero_terms: data.terms.iter().map(|t| t.label.clone()).collect(),
+            slack: data
+                .always_slack
+                .iter()
+                .map(|&c| data.names[c].clone())
+                .collect(),
+            candidates: 1,
+        },
+    })
+}

@@ -1,0 +1,240 @@
+//! The paper's geometric section solver (Mahapatra & Ghosal), generalized to N cables.
+//!
+//! # The literal method (`geometric`)
+//!
+//! The robot is solved one section at a time, base to tip (paper §2, steps 1–4, read as in
+//! `paper/INTERPRETATION.md`). Section `i` lies between disks `i−1` and `i`. Everything is
+//! written in the frame of the **solved** disk `i−1` (origin at its backbone point, z along its
+//! normal, x at hole angle 0). In that frame the unknown is the rigid pose of disk `i`:
+//! backbone point `p` and rotation `Q`, so hole `c` of disk `i` sits at `p + Q h_c(i)` with
+//! `h_c(k) = r_c(k) (cos φ_c(k), sin φ_c(k), 0)`. A rigid disk keeps `|x_c − x_0| = r` and the
+//! angle θ between holes (the last three constraints of eq. 2) by construction, and the paper's
+//! frame `T` (steps 1–3, with `sign(θ)`) is the same rigid frame, so crossed-over cables need no
+//! special case.
+//!
+//! The "undeformed" disk `i` (step 4) is disk `i` in its undeformed pose relative to disk
+//! `i−1`: `p = l0 ẑ`, `Q = I`. Eq. 1, one coupler angle per displacement-driven cable plus the
+//! tangent angle, is then
+//!
+//! ```text
+//! F(p, Q) = Σ_c ang(h_c(i), Q h_c(i)) + ang(ẑ, p),    ang(a, b) = atan2(|a × b|, a · b)
+//! ```
+//!
+//! subject to (eq. 2) `|p| = l0` and, for each cable, `|p + Q h_c(i) − h_c(i−1)| ≤ l_c^i` where
+//! `l_c^i = (1 − Δ_c) |H_c(i) − H_c(i−1)|` is a uniform fraction of the cable's **undeformed
+//! straight chord** between its two holes (INTERPRETATION item 1). The paper writes the cable
+//! constraint as an equality; cables pull but cannot push, so ccrkit treats it as `≤`: a cable
+//! whose chord comes out shorter than its length is reported slack.
+//!
+//! ## The kink
+//!
+//! Each angle is a cone at 0 (like a norm), and at the optimum one or more angles are exactly
+//! zero. A smooth NLP solver stalls there. This solver enumerates **faces**: for each set `Z`
+//! of terms that may vanish, it minimizes the other terms with the zero terms as equalities
+//! `w_t = 0` (`w_t`: the two components of the solved direction orthogonal to the undeformed one,
+//! so `|w_t| = sin ang_t`), by Newton–KKT with exact second derivatives ([`crate::numeric::ad`])
+//! from several starts. A candidate is **certified** when it is feasible, stationary, has a
+//! positive semi-definite reduced Hessian, every zero term's multiplier lies inside that term's
+//! subgradient ball (`|μ_t| ≤ weight_t`), every other term is non-zero, and every taut cable's
+//! multiplier is ≥ 0 (it pulls). The lowest certified candidate is returned, and the report
+//! says which terms are zero in each section.
+//!
+//! ## Degenerate hole patterns
+//!
+//! When all driven holes of a disk are collinear with its centre (one cable, two cables with
+//! coinciding holes as in case III at disks 7–9, or two opposite holes), the rotation of the disk
+//! about that line changes neither the objective nor a constraint. It is fixed as INTERPRETATION
+//! item 7 says: the disk normal is the incoming backbone chord made orthogonal to the hole
+//! direction. Cables sharing a hole on both disks of a section share one segment constraint with
+//! the tighter length; the other is slack there. Sections past every driven cable's end carry no
+//! load and continue straight.
+//!
+//! # The squared variant (`geometric-squared`)
+//!
+//! Same sections and constraints, objective `Σ ang²` — a discrete bending energy, smooth, so one
+//! face suffices. Not the paper's method; offered as a named option.
+
+//!
+//! # Files
+//!
+//! `mod.rs` the settings and the section loop (base to tip) · `problem.rs` the eq. 1–2 section
+//! problem and its derivatives · `faces.rs` the taut-set and face search and the certificate ·
+//! `newton.rs` Newton–KKT on one face · `obstacles.rs` the obstacles one section sees.
+
+mod faces;
+mod newton;
+mod obstacles;
+mod problem;
+
+use crate::error::SolveError;
+use crate::method::contact::check_base;
+use crate::method::output::cable_paths;
+use crate::method::settings::{parse_count, parse_in, Configure, MAX_ITERATIONS};
+use crate::method::{Method, MethodKind};
+use crate::model::actuation::{Actuation, Drive, Input};
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
+use crate::numeric::so3::orthonormalize;
+use crate::shape::{DiskFrame, Shape, SolveReport};
+use nalgebra::{Matrix3, Vector3};
+use obstacles::SectionWorld;
+use problem::{Pose, SectionData};
+use std::time::Instant;
+
+/// Which objective the sections minimize.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Objective {
+    /// The paper's: sum of the coupler angles and the tangent angle (eq. 1).
+    Literal,
+    /// Sum of squared angles (a discrete bending energy).
+    Squared,
+}
+
+/// Settings of the geometric section solver.
+#[derive(Debug, Clone)]
+pub struct Geometric {
+    /// Objective.
+    pub objective: Objective,
+    /// Newton iterations per candidate.
+    pub max_iterations: usize,
+    /// Constraint residual a candidate must reach \[m\].
+    pub tolerance: f64,
+    /// An angle at or below this is "zero" (on a kink) \[rad\].
+    pub zero_angle: f64,
+}
+
+impl Geometric {
+    /// The paper's literal method.
+    pub fn literal() -> Self {
+        Geometric {
+            objective: Objective::Literal,
+            max_iterations: 40,
+            tolerance: 1e-12,
+            zero_angle: 1e-7,
+        }
+    }
+    /// The squared-angle variant.
+    pub fn squared() -> Self {
+        Geometric {
+            objective: Objective::Squared,
+            ..Self::literal()
+        }
+    }
+}
+
+impl Configure for Geometric {
+    fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        match name {
+            "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
+            "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
+            "zero-angle" => self.zero_angle = parse_in(name, value, 0.0, 1e-3)?,
+            _ => return self.kind().check_setting(name),
+        }
+        Ok(())
+    }
+}
+
+impl Method for Geometric {
+    fn kind(&self) -> MethodKind {
+        match self.objective {
+            Objective::Literal => MethodKind::Geometric,
+            Objective::Squared => MethodKind::GeometricSquared,
+        }
+    }
+
+    fn solve(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError> {
+        let start = Instant::now();
+        let n = robot.sections();
+        self.kind().check_support(robot, scene)?;
+        let notes = vec![
+            "cable segment length after actuation = (1 - shortening) x undeformed straight chord between holes".to_string(),
+        ];
+        // Displacement fraction per cable (None: free).
+        let drives = act.drives(robot, self.name(), &[Input::Shortening], Input::Shortening)?;
+        let frac: Vec<Option<f64>> = drives
+            .iter()
+            .map(|d| match d {
+                Drive::Shorten { fraction, .. } => Some(*fraction),
+                _ => None,
+            })
+            .collect();
+
+        let mut rot = Matrix3::identity();
+        let mut pos = Vector3::zeros();
+        let mut disks = vec![DiskFrame {
+            s: 0.0,
+            position: pos,
+            rotation: rot,
+        }];
+        let mut sections = Vec::with_capacity(n);
+        let mut slack_sections: Vec<Vec<usize>> = vec![vec![]; robot.cables.len()];
+        let mut prev_rel: Option<Pose> = None;
+        let (mut total_it, mut worst) = (0usize, 0.0f64);
+        // Broad phase, robot level: only obstacles within reach of the base take part.
+        let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
+        let relevant = scene.near(&Vector3::zeros(), reach);
+        check_base(robot, scene, &relevant)?;
+        let warm_rel = warm.filter(|w| w.disks.len() == n + 1).map(relative_poses);
+        let mut contacts = vec![];
+        for i in 1..=n {
+            let mut data = SectionData::new(robot, &frac, i)?;
+            data.world = SectionWorld::new(robot, scene, &relevant, i, &rot, &pos);
+            let warm_i = warm_rel.as_ref().map(|w| w[i - 1]);
+            let sol = self.solve_section(&data, i, prev_rel.as_ref(), warm_i.as_ref())?;
+            contacts.extend(sol.contacts.iter().cloned());
+            total_it += sol.report.iterations;
+            worst = worst.max(sol.report.residual);
+            for &c in &sol.slack {
+                slack_sections[c].push(i);
+            }
+            pos += rot * sol.pose.p;
+            rot = orthonormalize(&(rot * sol.pose.q));
+            disks.push(DiskFrame {
+                s: robot.disk_s[i],
+                position: pos,
+                rotation: rot,
+            });
+            prev_rel = Some(sol.pose);
+            sections.push(sol.report);
+        }
+        let cables = cable_paths(robot, &disks, &slack_sections);
+        let backbone = disks.iter().map(|d| d.position).collect();
+        Ok(Shape {
+            method: self.name().into(),
+            disks,
+            backbone,
+            cables,
+            contacts,
+            report: SolveReport {
+                converged: true,
+                iterations: total_it,
+                residual: worst,
+                solve_time_s: start.elapsed().as_secs_f64(),
+                sections,
+                base_wrench: None,
+                notes,
+                stable: None,
+                jacobian: None,
+                warm: None,
+            },
+        })
+    }
+}
+
+/// Relative poses (disk i in the frame of disk i−1) of a solved shape, as warm starts.
+fn relative_poses(shape: &Shape) -> Vec<Pose> {
+    shape
+        .disks
+        .windows(2)
+        .map(|w| Pose {
+            p: w[0].rotation.transpose() * (w[1].position - w[0].position),
+            q: w[0].rotation.transpose() * w[1].rotation,
+        })
+        .collect()
+}

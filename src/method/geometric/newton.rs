@@ -1,0 +1,306 @@
+//! Newton–KKT on one face from one start (an SQP with clarabel's QP when obstacles are near),
+//! with an ℓ1-merit line search.
+
+use super::faces::{Candidate, Rejected, Step};
+use super::obstacles::Pair;
+use super::problem::{Pose, SectionData};
+use super::Geometric;
+use crate::method::contact::CONTACT_TOL;
+use crate::numeric::ad::D2;
+use crate::numeric::kkt::{kkt_step, kkt_step6, multipliers};
+use crate::numeric::qp::qp_step6;
+use crate::shape::Contact;
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+
+/// Newton step size at which a candidate with active contacts has converged [m or rad]: parry's
+/// GJK on smooth–smooth pairs (disk rim against a cylinder or a tube) leaves ~1e-8 of noise.
+pub(super) const CONTACT_STEP_TOL: f64 = 1e-7;
+
+/// Stationarity a candidate with active contacts must meet, relative to (1 + largest contact
+/// multiplier): the contact normals carry the same noise.
+pub(super) const CONTACT_STAT_TOL: f64 = 1e-6;
+
+impl Geometric {
+    /// Newton–KKT (SQP when obstacles are near) on one face from one start; returns a
+    /// certified candidate or why not.
+    ///
+    /// Obstacle pairs within the margin enter each step as linearized inequalities
+    /// `d_j + ∇d_j·dx ≥ clearance`; such steps are convex QPs solved by clarabel, steps without
+    /// near pairs are the dense equality-only Newton–KKT step. The line search uses the ℓ1
+    /// merit `F + ρ (Σ|c| + Σ max(0, clearance − d_j))`.
+    pub(super) fn newton(
+        &self,
+        data: &SectionData,
+        start: &Pose,
+        face: u32,
+        active: &[usize],
+        squared: bool,
+    ) -> Result<(Candidate, usize), Rejected> {
+        let mut pose = *start;
+        let world = data.world.as_ref();
+        let penetration = |pose: &Pose| world.map_or(0.0, |w| w.penetration(pose));
+        let eval_f64 = |pose: &Pose| data.eval::<f64>(pose, face, active, squared);
+        let mut lambda: Option<Vec<f64>> = None;
+        let mut last_res = f64::INFINITY;
+        let mut short_steps = 0;
+        let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
+        for it in 1..=self.max_iterations {
+            let reject = |residual: f64| {
+                Err(Rejected {
+                    iterations: it,
+                    residual,
+                })
+            };
+            let (f, c) = data.eval::<D2<6>>(&pose, face, active, squared);
+            if !f.v.is_finite() || c.iter().any(|x| !x.v.is_finite()) {
+                return reject(last_res);
+            }
+            let g = Vector6::from_row_slice(&f.g);
+            rows.clear();
+            rows.extend(c.iter().map(|cj| Vector6::from_row_slice(&cj.g)));
+            let cv: Vec<f64> = c.iter().map(|cj| cj.v).collect();
+            let (h, lam) = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref());
+            if h.iter().any(|x| !x.is_finite()) {
+                return reject(last_res);
+            }
+            if !squared && it > 1 && self.runs_into_kink(data, &pose, face) {
+                // This candidate belongs to a face where that term is zero.
+                return reject(cv.iter().fold(0.0f64, |m, x| m.max(x.abs())));
+            }
+            let pairs = world.map(|w| w.pairs(&pose)).unwrap_or_default();
+            let clearance = world.map_or(0.0, |w| w.clearance);
+            let (step, mu) = if pairs.is_empty() {
+                (self.step(&h, &g, &rows, &cv), vec![])
+            } else {
+                match self.contact_step(&h, &g, &rows, &cv, &pairs, clearance) {
+                    Some(s) => s,
+                    None => return reject(last_res),
+                }
+            };
+            let res = cv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let worst_gap = pairs
+                .iter()
+                .map(|p| clearance - p.dist)
+                .fold(0.0f64, f64::max);
+            last_res = res.max(worst_gap);
+            let stat = stationarity(&g, &rows, &step.lambda, &pairs, &mu);
+            // With active contacts the step carries the ~1e-8 m noise of parry's iterative
+            // distance queries on smooth shapes: converge at CONTACT_STEP_TOL there.
+            let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
+            let in_contact = mu_max > 1e-10;
+            let step_tol = if in_contact { CONTACT_STEP_TOL } else { 1e-11 };
+            if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= step_tol {
+                // Active contacts join the equalities for the second-order check.
+                let contacts: Vec<Contact> = (0..pairs.len())
+                    .filter(|&j| mu.get(j).copied().unwrap_or(0.0) > 1e-10)
+                    .map(|j| pairs[j].to_contact(world, data.section, mu[j]))
+                    .collect();
+                if mu.iter().any(|m| *m < -1e-9) {
+                    return reject(last_res);
+                }
+                let stat_tol = if in_contact {
+                    CONTACT_STAT_TOL * (1.0 + mu_max)
+                } else {
+                    1e-7
+                };
+                return self.certify(
+                    data,
+                    pose,
+                    face,
+                    active,
+                    squared,
+                    &step.lambda,
+                    (stat, stat_tol),
+                    step.min_reduced_eigenvalue,
+                    res,
+                    it,
+                    contacts,
+                );
+            }
+            // Line search on the ℓ1 merit F + ρ (Σ|c| + Σ penetration).
+            let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let rho = 2.0 * amax(&step.lambda).max(amax(&lam)).max(amax(&mu)) + 1.0;
+            let merit = |f: f64, c: &[f64], pen: f64| {
+                f + rho * (c.iter().map(|x| x.abs()).sum::<f64>() + pen)
+            };
+            let m0 = merit(f.v, &cv, penetration(&pose));
+            let (next, alpha) = line_search(&pose, &step.dx, m0, |trial| {
+                let (ft, ct) = eval_f64(trial);
+                merit(ft, &ct, penetration(trial))
+            });
+            if alpha < 1e-3 {
+                short_steps += 1;
+            } else {
+                short_steps = 0;
+            }
+            match next {
+                Some(p) if short_steps < 3 => pose = p,
+                _ => return reject(last_res),
+            }
+            lambda = Some(step.lambda);
+        }
+        Err(Rejected {
+            iterations: self.max_iterations,
+            residual: last_res,
+        })
+    }
+
+    /// Whether Newton ran a term that this face keeps non-zero into its kink.
+    fn runs_into_kink(&self, data: &SectionData, pose: &Pose, face: u32) -> bool {
+        let angles = data.term_angles(pose);
+        data.terms
+            .iter()
+            .enumerate()
+            .any(|(t, _)| face & (1 << t) == 0 && angles[t] < 10.0 * self.zero_angle)
+    }
+
+    /// One step with obstacle pairs near: a convex QP with the pairs as linearized
+    /// inequalities, then, once feasible to 1e-8, an exact Newton–KKT polish with the active
+    /// contacts as equalities. Returns the step and the pairs' multipliers (≥ 0 when pressing).
+    fn contact_step(
+        &self,
+        h: &Matrix6<f64>,
+        g: &Vector6<f64>,
+        rows: &[Vector6<f64>],
+        cv: &[f64],
+        pairs: &[Pair],
+        clearance: f64,
+    ) -> Option<(Step, Vec<f64>)> {
+        let in_rows: Vec<Vector6<f64>> = pairs.iter().map(|p| -p.grad).collect();
+        let in_rhs: Vec<f64> = pairs.iter().map(|p| p.dist - clearance).collect();
+        let eq_rhs: Vec<f64> = cv.iter().map(|x| -x).collect();
+        let q = qp_step6(h, g, rows, &eq_rhs, &in_rows, &in_rhs, 1e-10)?;
+        let res0 = cv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let gap0 = pairs
+            .iter()
+            .map(|p| clearance - p.dist)
+            .fold(0.0f64, f64::max);
+        if res0 <= 1e-8 && gap0 <= 1e-8 {
+            // Polish: the interior-point step is accurate to ~1e-7 only; with the
+            // active contacts identified, an exact Newton–KKT step on them as
+            // equalities converges quadratically (multiplier of dist ≥ c is −λ).
+            let mu_max = q.mu.iter().fold(1.0f64, |m, x| m.max(*x));
+            let act: Vec<usize> = (0..pairs.len())
+                .filter(|&j| q.mu[j] > 1e-9 * mu_max)
+                .collect();
+            let mut all = rows.to_vec();
+            let mut cc = cv.to_vec();
+            for &j in &act {
+                all.push(pairs[j].grad);
+                cc.push(pairs[j].dist - clearance);
+            }
+            let st = self.step(h, g, &all, &cc);
+            let mut mu = vec![0.0; pairs.len()];
+            for (k, &j) in act.iter().enumerate() {
+                mu[j] = -st.lambda[rows.len() + k];
+            }
+            Some((
+                Step {
+                    dx: st.dx,
+                    lambda: st.lambda[..rows.len()].to_vec(),
+                    min_reduced_eigenvalue: st.min_reduced_eigenvalue,
+                },
+                mu,
+            ))
+        } else {
+            Some((
+                Step {
+                    dx: q.x,
+                    lambda: q.lambda_eq,
+                    min_reduced_eigenvalue: f64::NAN,
+                },
+                q.mu,
+            ))
+        }
+    }
+
+    /// One Newton–KKT step: the allocation-free 6×6 kernel, or the general one when the
+    /// constraint rows are redundant (its multiplier system is singular).
+    pub(super) fn step(
+        &self,
+        h: &Matrix6<f64>,
+        g: &Vector6<f64>,
+        rows: &[Vector6<f64>],
+        c: &[f64],
+    ) -> Step {
+        if let Some(s) = kkt_step6(h, g, rows, c, 1e-10) {
+            return Step {
+                dx: s.dx,
+                lambda: s.lambda[..rows.len()].to_vec(),
+                min_reduced_eigenvalue: s.min_reduced_eigenvalue,
+            };
+        }
+        let hd = DMatrix::from_fn(6, 6, |r, col| h[(r, col)]);
+        let gd = DVector::from_row_slice(g.as_slice());
+        let ad = DMatrix::from_fn(rows.len(), 6, |r, col| rows[r][col]);
+        let s = kkt_step(&hd, &gd, &ad, &DVector::from_row_slice(c), 1e-10);
+        Step {
+            dx: Vector6::from_row_slice(s.dx.as_slice()),
+            lambda: s.lambda.as_slice().to_vec(),
+            min_reduced_eigenvalue: s.min_reduced_eigenvalue,
+        }
+    }
+}
+
+/// Hessian of the Lagrangian `∇²F + Σ λ_j ∇²c_j` with the previous step's multipliers, or, on
+/// the first iteration, the least-squares multipliers of `∇F + Aᵀλ = 0`; returns both.
+fn lagrangian_hessian(
+    f: &D2<6>,
+    c: &[D2<6>],
+    g: &Vector6<f64>,
+    rows: &[Vector6<f64>],
+    lambda: Option<&[f64]>,
+) -> (Matrix6<f64>, Vec<f64>) {
+    let lam = match lambda {
+        Some(l) => l.to_vec(),
+        None => {
+            let a = DMatrix::from_fn(c.len(), 6, |r, col| rows[r][col]);
+            multipliers(&DVector::from_row_slice(g.as_slice()), &a)
+                .as_slice()
+                .to_vec()
+        }
+    };
+    let mut h = Matrix6::from_fn(|r, col| f.h[r][col]);
+    for (j, cj) in c.iter().enumerate() {
+        h += Matrix6::from_fn(|r, col| cj.h[r][col]) * lam[j];
+    }
+    (h, lam)
+}
+
+/// Backtracking from the full step: the first of 20 halvings whose merit is finite and below
+/// `m0` (or whose step is below 1e-8); returns it (None if none) and the last step length.
+fn line_search(
+    pose: &Pose,
+    dx: &Vector6<f64>,
+    m0: f64,
+    merit_at: impl Fn(&Pose) -> f64,
+) -> (Option<Pose>, f64) {
+    let mut alpha = 1.0;
+    for _ in 0..20 {
+        let trial = pose.retract(dx, alpha);
+        let mt = merit_at(&trial);
+        if mt.is_finite() && (mt < m0 || dx.amax() * alpha < 1e-8) {
+            return (Some(trial), alpha);
+        }
+        alpha *= 0.5;
+    }
+    (None, alpha)
+}
+
+/// `|∇F + Σ λ_j ∇c_j − Σ μ_k ∇d_k|_∞`, the stationarity of the Lagrangian.
+fn stationarity(
+    g: &Vector6<f64>,
+    rows: &[Vector6<f64>],
+    lambda: &[f64],
+    pairs: &[Pair],
+    mu: &[f64],
+) -> f64 {
+    let mut kkt_res = *g;
+    for (r, l) in rows.iter().zip(lambda) {
+        kkt_res += r * *l;
+    }
+    for (p, m) in pairs.iter().zip(mu) {
+        kkt_res -= p.grad * *m;
+    }
+    kkt_res.amax()
+}

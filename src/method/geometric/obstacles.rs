@@ -1,0 +1,263 @@
+//! Obstacles seen by one section: the robot features (backbone capsule, disk cylinder, cable
+//! chords), their pairs with nearby obstacles, and each pair's distance linearized in the
+//! section's variables.
+
+use super::problem::Pose;
+use crate::method::contact::{nvec, polish, ppose, pvec, query, y_to_z, Witness};
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
+use crate::shape::Contact;
+use nalgebra::{Matrix3, Vector3, Vector6};
+use parry3d::math::Pose as PPose;
+use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
+
+/// A robot feature of one section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Feature {
+    /// The backbone segment of the section, a capsule of the backbone radius.
+    Backbone,
+    /// The disk at the section's end, a thin cylinder.
+    Disk,
+    /// The straight chord of a cable (its index) in the section.
+    Cable(usize),
+}
+
+/// One robot feature near one obstacle, linearized at the current pose.
+pub(super) struct Pair {
+    pub(super) obstacle: usize,
+    pub(super) feature: Feature,
+    /// Signed distance \[m\].
+    pub(super) dist: f64,
+    /// ∂dist/∂(dp, dω) in the section's variables.
+    pub(super) grad: Vector6<f64>,
+    pub(super) point_robot: Vector3<f64>,
+    pub(super) point_obstacle: Vector3<f64>,
+    /// Unit normal from the obstacle towards the robot.
+    pub(super) normal: Vector3<f64>,
+}
+
+impl Pair {
+    pub(super) fn to_contact(
+        &self,
+        world: Option<&SectionWorld>,
+        section: usize,
+        mu: f64,
+    ) -> Contact {
+        let arr = |v: &Vector3<f64>| [v.x, v.y, v.z];
+        let (feature, disk, sec) = match self.feature {
+            Feature::Backbone => ("backbone".to_string(), None, Some(section)),
+            Feature::Disk => ("disk".to_string(), Some(section), None),
+            Feature::Cable(c) => (
+                format!(
+                    "cable:{}",
+                    world.map_or(String::new(), |w| w.cable_names[c].clone())
+                ),
+                None,
+                Some(section),
+            ),
+        };
+        Contact {
+            obstacle: world.map_or(String::new(), |w| w.name(self.obstacle)),
+            feature,
+            disk,
+            section: sec,
+            point_robot: arr(&self.point_robot),
+            point_obstacle: arr(&self.point_obstacle),
+            normal: arr(&self.normal),
+            distance: self.dist,
+            multiplier: mu,
+        }
+    }
+}
+
+/// What section `i` sees of the scene: the obstacles the broad phase kept, and the fixed
+/// geometry of disk `i−1` in the base frame.
+pub(super) struct SectionWorld {
+    pub(super) names: Vec<String>,
+    pub(super) shapes: Vec<(parry3d::shape::SharedShape, PPose)>,
+    pub(super) cable_names: Vec<String>,
+    pub(super) r_prev: Matrix3<f64>,
+    pub(super) x_prev: Vector3<f64>,
+    /// (cable, hole at disk i−1 in the base frame, hole at disk i in its disk frame).
+    pub(super) holes: Vec<(usize, Vector3<f64>, Vector3<f64>)>,
+    pub(super) backbone_radius: f64,
+    pub(super) disk_radius: f64,
+    pub(super) half_thickness: f64,
+    pub(super) clearance: f64,
+    /// Pairs farther apart than this are left out of the step \[m\].
+    pub(super) margin: f64,
+}
+
+impl SectionWorld {
+    pub(super) fn new(
+        robot: &Robot,
+        scene: &Scene,
+        relevant: &[usize],
+        i: usize,
+        r_prev: &Matrix3<f64>,
+        x_prev: &Vector3<f64>,
+    ) -> Option<SectionWorld> {
+        if relevant.is_empty() {
+            return None;
+        }
+        let l = robot.section_length(i);
+        let margin = 0.5 * l + scene.clearance;
+        let reach = l + robot.disk_radius + robot.disk_thickness + scene.clearance + margin;
+        // Only the robot-level survivors are tested again (was: every obstacle of the scene
+        // tested, then a quadratic `relevant.contains` filter).
+        let near = scene.near_among(relevant, x_prev, reach);
+        if near.is_empty() {
+            return None;
+        }
+        Some(SectionWorld {
+            names: near
+                .iter()
+                .map(|&k| scene.obstacles[k].name.clone())
+                .collect(),
+            shapes: near
+                .iter()
+                .map(|&k| {
+                    (
+                        scene.obstacles[k].shape.clone(),
+                        scene.obstacles[k].parry_pose,
+                    )
+                })
+                .collect(),
+            cable_names: robot.cables.iter().map(|c| c.name.clone()).collect(),
+            r_prev: *r_prev,
+            x_prev: *x_prev,
+            holes: robot
+                .cables
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.reaches_section(i))
+                .map(|(k, c)| (k, x_prev + r_prev * c.hole(i - 1), c.hole(i)))
+                .collect(),
+            backbone_radius: robot.backbone.radius(),
+            disk_radius: robot.disk_radius,
+            half_thickness: robot.disk_thickness / 2.0,
+            clearance: scene.clearance,
+            margin,
+        })
+    }
+
+    pub(super) fn name(&self, k: usize) -> String {
+        self.names[k].clone()
+    }
+
+    /// Total penetration below the clearance over the pairs at this pose \[m\].
+    pub(super) fn penetration(&self, pose: &Pose) -> f64 {
+        self.pairs(pose)
+            .iter()
+            .map(|p| (self.clearance - p.dist).max(0.0))
+            .sum()
+    }
+
+    /// Every feature–obstacle pair within the margin at this pose, linearized.
+    ///
+    /// With `n` the unit normal from the robot point `a` towards the obstacle, moving `a` by
+    /// `δa` changes the distance by `−n·δa`. Points carried by the new disk move as
+    /// `δa = R δp − R Q [ℓ]× δω` (ℓ: the point in the disk frame), points on a segment from a
+    /// fixed end to a moving end by the fraction `t` of that.
+    pub(super) fn pairs(&self, pose: &Pose) -> Vec<Pair> {
+        let r = &self.r_prev;
+        let x0 = self.x_prev + r * pose.p;
+        let ri = r * pose.q;
+        let identity = PPose::IDENTITY;
+        let mut out = vec![];
+        let backbone = Capsule::new(pvec(&self.x_prev), pvec(&x0), self.backbone_radius);
+        let disk = Cylinder::new(self.half_thickness, self.disk_radius);
+        let disk_pose = ppose(&(ri * y_to_z()), &x0);
+        // (cable, hole at disk i−1, hole at disk i, that hole in disk i's frame)
+        type Chord = (usize, Vector3<f64>, Vector3<f64>, Vector3<f64>);
+        let chords: Vec<Chord> = self
+            .holes
+            .iter()
+            .map(|(c, hp, h)| (*c, *hp, x0 + ri * h, *h))
+            .collect();
+        for (k, (shape, opose)) in self.shapes.iter().enumerate() {
+            let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
+                let Some(ct) = query(gpose, g, opose, &**shape, self.margin) else {
+                    return;
+                };
+                let mut a = nvec(ct.point1);
+                let mut n = nvec(ct.normal1);
+                let mut po = nvec(ct.point2);
+                let mut dist = ct.dist;
+                let rough = Witness {
+                    robot: a,
+                    obstacle: po,
+                    normal: -n,
+                    dist,
+                };
+                if let Some(w) = polish(g, gpose, &**shape, opose, &rough) {
+                    (a, po, n, dist) = (w.robot, w.obstacle, -w.normal, w.dist);
+                }
+                if feature == Feature::Disk {
+                    // The iterative query places the witness on the rim to ~1e-6 only; for a
+                    // convex feature it is exactly the support point along the normal.
+                    let u = ri.transpose() * n;
+                    let uxy = (u.x * u.x + u.y * u.y).sqrt();
+                    if uxy > 1e-6 {
+                        let l = Vector3::new(
+                            self.disk_radius * u.x / uxy,
+                            self.disk_radius * u.y / uxy,
+                            self.half_thickness * u.z.signum(),
+                        );
+                        a = x0 + ri * l;
+                    }
+                }
+                let rn = r.transpose() * n;
+                let qrn = pose.q.transpose() * rn;
+                let (gp, gw) = match feature {
+                    Feature::Backbone => {
+                        let d = x0 - self.x_prev;
+                        let t = ((a - self.x_prev).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+                        (-t * rn, Vector3::zeros())
+                    }
+                    Feature::Disk => {
+                        let l = ri.transpose() * (a - x0);
+                        (-rn, qrn.cross(&l))
+                    }
+                    Feature::Cable(j) => {
+                        let (_, hp, hc, h) = chords[j];
+                        let d = hc - hp;
+                        let t = if d.norm_squared() > 0.0 {
+                            ((a - hp).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+                        } else {
+                            1.0
+                        };
+                        (-t * rn, t * qrn.cross(&h))
+                    }
+                };
+                out.push(Pair {
+                    obstacle: k,
+                    feature,
+                    dist,
+                    grad: Vector6::new(gp.x, gp.y, gp.z, gw.x, gw.y, gw.z),
+                    point_robot: a,
+                    point_obstacle: po,
+                    normal: -n,
+                });
+            };
+            push(Feature::Backbone, &backbone, &identity);
+            push(Feature::Disk, &disk, &disk_pose);
+            for (j, (_, hp, hc, _)) in chords.iter().enumerate() {
+                if (hc - hp).norm() > 0.0 {
+                    push(
+                        Feature::Cable(j),
+                        &Segment::new(pvec(hp), pvec(hc)),
+                        &identity,
+                    );
+                }
+            }
+        }
+        // Feature::Cable holds the index into `chords`; report the cable's own index.
+        for p in &mut out {
+            if let Feature::Cable(j) = p.feature {
+                p.feature = Feature::Cable(chords[j].0);
+            }
+        }
+        out
+    }
+}

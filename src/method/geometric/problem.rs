@@ -1,0 +1,345 @@
+//! The section problem (paper eq. 1–2, `INTERPRETATION.md` items 1–7) in the frame of the solved
+//! disk i−1: the relative pose, the objective terms, the cable constraints, and their values and
+//! exact derivatives.
+
+use super::obstacles::SectionWorld;
+use crate::error::SolveError;
+use crate::model::robot::Robot;
+use crate::numeric::ad::{Real, D2, V3};
+use crate::numeric::so3::{exp_so3, gram_schmidt};
+use nalgebra::{Matrix3, Vector3, Vector6};
+
+/// Relative pose of disk i in the frame of disk i−1.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Pose {
+    pub(super) p: Vector3<f64>,
+    pub(super) q: Matrix3<f64>,
+}
+
+impl Pose {
+    pub(super) fn straight(l0: f64) -> Self {
+        Pose {
+            p: Vector3::new(0.0, 0.0, l0),
+            q: Matrix3::identity(),
+        }
+    }
+    /// Right-perturbation retraction: p + dp, Q exp(dω).
+    pub(super) fn retract(&self, dx: &Vector6<f64>, alpha: f64) -> Self {
+        Pose {
+            p: self.p + alpha * Vector3::new(dx[0], dx[1], dx[2]),
+            q: gram_schmidt(&(self.q * exp_so3(&(alpha * Vector3::new(dx[3], dx[4], dx[5]))))),
+        }
+    }
+}
+
+/// One objective term: an angle between an undeformed direction and its solved image.
+#[derive(Debug, Clone)]
+pub(super) struct Term {
+    /// Unit undeformed direction (ẑ for the tangent, ĥ for a coupler) in disk i−1's frame.
+    pub(super) dir: Vector3<f64>,
+    /// Orthonormal basis of the plane normal to `dir` (for the zero-face equations).
+    pub(super) e1: Vector3<f64>,
+    pub(super) e2: Vector3<f64>,
+    /// How many cables share this coupler (1 for the tangent).
+    pub(super) weight: f64,
+    /// `tangent` or the cable names joined with `+`.
+    pub(super) label: String,
+    pub(super) tangent: bool,
+}
+
+impl Term {
+    pub(super) fn new(dir: Vector3<f64>, weight: f64, label: String, tangent: bool) -> Self {
+        let d = dir.normalize();
+        let helper = if d.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let e1 = (helper - d * d.dot(&helper)).normalize();
+        let e2 = d.cross(&e1);
+        Term {
+            dir: d,
+            e1,
+            e2,
+            weight,
+            label,
+            tangent,
+        }
+    }
+}
+
+/// A cable segment constraint `|p + Q h − h_prev| ≤ length`.
+#[derive(Debug, Clone)]
+pub(super) struct CableCon {
+    pub(super) cables: Vec<usize>,
+    pub(super) h_prev: Vector3<f64>,
+    pub(super) h: Vector3<f64>,
+    pub(super) length: f64,
+}
+
+/// Everything one section problem needs, in disk i−1's frame.
+pub(super) struct SectionData {
+    /// Section index (1-based).
+    pub(super) section: usize,
+    pub(super) l0: f64,
+    pub(super) terms: Vec<Term>,
+    pub(super) cons: Vec<CableCon>,
+    /// Cables that reach the section but whose shared segment is tighter for another cable.
+    pub(super) always_slack: Vec<usize>,
+    /// Names, for errors.
+    pub(super) names: Vec<String>,
+    /// Unit hole direction when all driven holes of disk i are collinear with its centre.
+    pub(super) gauge: Option<Vector3<f64>>,
+    /// Obstacles this section can touch (None: none near).
+    pub(super) world: Option<SectionWorld>,
+}
+
+pub(super) const SAME_POINT: f64 = 1e-12;
+
+impl SectionData {
+    pub(super) fn new(robot: &Robot, frac: &[Option<f64>], i: usize) -> Result<Self, SolveError> {
+        let l0 = robot.section_length(i);
+        let mut terms = vec![Term::new(Vector3::z(), 1.0, "tangent".into(), true)];
+        let mut cons: Vec<CableCon> = vec![];
+        let mut always_slack = vec![];
+        let mut coupler_members: Vec<(Vector3<f64>, Vec<usize>)> = vec![];
+        for (c, cable) in robot.cables.iter().enumerate() {
+            let Some(f) = frac[c] else { continue };
+            if !cable.reaches_section(i) {
+                continue;
+            }
+            let (hp, h) = (cable.hole(i - 1), cable.hole(i));
+            let length = (1.0 - f) * robot.undeformed_chord(c, i);
+            // Shortest chord any pose allows: l0 − |h| − |h_prev|.
+            let reach = l0 - h.norm() - hp.norm();
+            if length < reach {
+                return Err(SolveError::Infeasible {
+                    cable: cable.name.clone(),
+                    section: i,
+                    reason: format!(
+                        "segment length {length:.6} m is shorter than any pose allows ({reach:.6} m): shortening {:.2} % is out of reach",
+                        f * 100.0
+                    ),
+                });
+            }
+            // ang(h, Qh) = ang(−h, −Qh): holes on one line through the centre give one term.
+            match coupler_members
+                .iter_mut()
+                .find(|(hh, _)| hh.normalize().cross(&h.normalize()).norm() < 1e-9)
+            {
+                Some((_, m)) => m.push(c),
+                None => coupler_members.push((h, vec![c])),
+            }
+            match cons
+                .iter_mut()
+                .find(|k| (k.h - h).norm() < SAME_POINT && (k.h_prev - hp).norm() < SAME_POINT)
+            {
+                Some(k) => {
+                    if length < k.length {
+                        always_slack.extend(k.cables.iter().copied());
+                        k.cables = vec![c];
+                        k.length = length;
+                    } else {
+                        always_slack.push(c);
+                    }
+                }
+                None => cons.push(CableCon {
+                    cables: vec![c],
+                    h_prev: hp,
+                    h,
+                    length,
+                }),
+            }
+        }
+        for (h, members) in &coupler_members {
+            let label = members
+                .iter()
+                .map(|&c| robot.cables[c].name.as_str())
+                .collect::<Vec<_>>()
+                .join("+");
+            terms.push(Term::new(*h, members.len() as f64, label, false));
+        }
+        // Rank of the driven hole directions: a gauge is needed when they span one line.
+        let gauge = match coupler_members.first() {
+            None => None,
+            Some((h0, _)) => {
+                let u = h0.normalize();
+                if coupler_members
+                    .iter()
+                    .all(|(h, _)| h.normalize().cross(&u).norm() < 1e-9)
+                {
+                    Some(u)
+                } else {
+                    None
+                }
+            }
+        };
+        Ok(SectionData {
+            section: i,
+            l0,
+            terms,
+            cons,
+            always_slack,
+            names: robot.cables.iter().map(|c| c.name.clone()).collect(),
+            gauge,
+            world: None,
+        })
+    }
+
+    /// Objective and constraints at pose ⊕ δ (δ = (dp, dω)) evaluated at δ = 0, generic over
+    /// the scalar: `f64` for values, [`D2`] for exact first and second derivatives in δ.
+    pub(super) fn eval<T: SectionScalar>(
+        &self,
+        pose: &Pose,
+        face: u32,
+        active: &[usize],
+        squared: bool,
+    ) -> (T, Vec<T>) {
+        let p = T::position(&pose.p);
+        let q = &pose.q;
+        let rot = |h: &Vector3<f64>| -> V3<T> { T::rotated(q, h) };
+        let mut obj = T::cst(0.0);
+        let mut cons = Vec::with_capacity(1 + active.len() + 2 * self.terms.len() + 1);
+        cons.push(p.norm() + (-self.l0));
+        for &j in active {
+            let k = &self.cons[j];
+            let chord = p.add(&rot(&k.h)).add(&V3::cst(&(-k.h_prev)));
+            cons.push(chord.norm() + (-k.length));
+        }
+        for (t, term) in self.terms.iter().enumerate() {
+            let v = if term.tangent { p } else { rot(&term.dir) };
+            if face & (1 << t) != 0 {
+                let inv = T::cst(1.0) / v.norm();
+                cons.push(v.dot_c(&term.e1) * inv);
+                cons.push(v.dot_c(&term.e2) * inv);
+            } else {
+                let u = V3::<T>::cst(&term.dir);
+                let a = if squared {
+                    squared_angle(&u, &v)
+                } else {
+                    u.angle(&v)
+                };
+                obj = obj + a * term.weight;
+            }
+        }
+        if let Some(u) = &self.gauge {
+            // Disk normal in the plane of the hole direction and the incoming chord.
+            let n = rot(&Vector3::z());
+            cons.push(n.dot(&rot(u).cross(&p)) * T::cst(1.0 / (self.l0 * u.norm())));
+        }
+        (obj, cons)
+    }
+
+    pub(super) fn term_angles(&self, pose: &Pose) -> Vec<f64> {
+        self.terms
+            .iter()
+            .map(|t| {
+                let v = if t.tangent { pose.p } else { pose.q * t.dir };
+                let c = t.dir.cross(&v).norm();
+                c.atan2(t.dir.dot(&v))
+            })
+            .collect()
+    }
+
+    pub(super) fn chord(&self, pose: &Pose, j: usize) -> f64 {
+        let k = &self.cons[j];
+        (pose.p + pose.q * k.h - k.h_prev).norm()
+    }
+}
+
+/// The scalars a section problem is evaluated in, at δ = 0 of the perturbation
+/// `p + δp`, `Q exp([δω]×)`: plain values, or values with derivatives in δ.
+pub(super) trait SectionScalar: Real {
+    /// `p + δp`.
+    fn position(p: &Vector3<f64>) -> V3<Self>;
+    /// `Q exp([δω]×) h`.
+    fn rotated(q: &Matrix3<f64>, h: &Vector3<f64>) -> V3<Self>;
+}
+
+impl SectionScalar for f64 {
+    fn position(p: &Vector3<f64>) -> V3<f64> {
+        V3([p.x, p.y, p.z])
+    }
+    fn rotated(q: &Matrix3<f64>, h: &Vector3<f64>) -> V3<f64> {
+        let v = q * h;
+        V3([v.x, v.y, v.z])
+    }
+}
+
+impl SectionScalar for D2<6> {
+    fn position(p: &Vector3<f64>) -> V3<Self> {
+        V3([D2::var(p.x, 0), D2::var(p.y, 1), D2::var(p.z, 2)])
+    }
+    /// Closed form at δω = 0, from `exp([w]×) h = h + w × h + ½ w × (w × h) + O(|w|³)`:
+    /// value `Q h`; gradient `∂/∂w = −Q [h]×`; and, since
+    /// `½ w × (w × h) = ½ (w (w·h) − h |w|²)`, the constant Hessian of component r
+    /// `∂²/∂w_i∂w_j = ½ (Q_ri h_j + Q_rj h_i) − (Q h)_r δ_ij`. No dual arithmetic needed.
+    fn rotated(q: &Matrix3<f64>, h: &Vector3<f64>) -> V3<Self> {
+        let qh = q * h;
+        let hx = Matrix3::new(0.0, -h.z, h.y, h.z, 0.0, -h.x, -h.y, h.x, 0.0);
+        let g = -(q * hx);
+        V3(std::array::from_fn(|r| {
+            let mut d = D2::<6>::cst(qh[r]);
+            for j in 0..3 {
+                d.g[3 + j] = g[(r, j)];
+                for i in 0..3 {
+                    let mut v = 0.5 * (q[(r, i)] * h[j] + q[(r, j)] * h[i]);
+                    if i == j {
+                        v -= qh[r];
+                    }
+                    d.h[3 + i][3 + j] = v;
+                }
+            }
+            d
+        }))
+    }
+}
+
+/// ang² evaluated smoothly through ang = 0 (ang² ≈ |u×v|²/(u·v)² there, exact to O(ang⁴)).
+pub(super) fn squared_angle<T: Real>(u: &V3<T>, v: &V3<T>) -> T {
+    let cr = u.cross(v);
+    let s2 = cr.dot(&cr);
+    let c = u.dot(v);
+    if s2.val() < 1e-16 * c.val() * c.val() {
+        s2 / (c * c)
+    } else {
+        let a = s2.sqrt().atan2(c);
+        a * a
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form derivatives of `Q exp([w]×) h` at w = 0 match central finite
+    /// differences of the exact exponential map.
+    #[test]
+    fn rotated_derivatives_match_finite_differences() {
+        let q = exp_so3(&Vector3::new(0.3, -0.5, 0.8));
+        let h = Vector3::new(0.008, -0.003, 0.001);
+        let d = <D2<6> as SectionScalar>::rotated(&q, &h);
+        let f = |w: &Vector3<f64>| q * exp_so3(w) * h;
+        let e = 1e-5;
+        for r in 0..3 {
+            assert!((d.0[r].v - (q * h)[r]).abs() < 1e-15);
+            for i in 0..3 {
+                let mut wp = Vector3::zeros();
+                wp[i] = e;
+                let fd = (f(&wp)[r] - f(&-wp)[r]) / (2.0 * e);
+                assert!((fd - d.0[r].g[3 + i]).abs() < 1e-12, "gradient {r} {i}");
+                for j in 0..3 {
+                    let mut wj = Vector3::zeros();
+                    wj[j] = e;
+                    let fd2 = (f(&(wp + wj))[r] - f(&(wp - wj))[r] - f(&(wj - wp))[r]
+                        + f(&(-wp - wj))[r])
+                        / (4.0 * e * e);
+                    assert!(
+                        (fd2 - d.0[r].h[3 + i][3 + j]).abs() < 1e-7,
+                        "hessian {r} {i} {j}"
+                    );
+                }
+            }
+        }
+    }
+}
