@@ -224,14 +224,18 @@ fn run() -> Result<()> {
             }
             let request = solve.request(repeat)?;
             let model = Model::from_file(&file)?;
-            let solved = request.run(&model)?;
+            let bar = study::spinner(&format!("solving with {}", request.method));
+            let solved = request.run(&model);
+            bar.finish_and_clear();
+            let solved = solved?;
             let (shape, median) = (&solved.shape, solved.median_time_s);
             let quiet = json.as_deref() == Some("-");
             if !quiet {
                 print_summary(&model, shape, median, repeat);
             }
             if let Some(j) = json {
-                let text = shape.to_json_string();
+                // Model name and driving input included (the library's `SolveRequest::json`).
+                let text = serde_json::to_string_pretty(&request.json(&model, shape))?;
                 if j == "-" {
                     println!("{text}");
                 } else {

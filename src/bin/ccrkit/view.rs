@@ -19,6 +19,10 @@ pub struct ViewArgs {
     /// (default: geometric, or none with --plan / --sweep).
     #[arg(long, value_delimiter = ',')]
     method: Vec<String>,
+    /// Start every method from the shape this one finds (e.g. `geometric` for `energy` inside
+    /// a tube, as with `solve --warm-from`).
+    #[arg(long, value_name = "METHOD")]
+    warm_from: Option<String>,
     /// A plan (JSON of `ccrkit plan`: `waypoints[*].shape`), shown with a slider.
     #[arg(long)]
     plan: Option<PathBuf>,
@@ -41,13 +45,19 @@ pub fn run(a: ViewArgs) -> Result<()> {
     } else {
         a.method.clone()
     };
+    let warm_from = a
+        .warm_from
+        .as_deref()
+        .map(str::parse::<ccrkit::method::MethodKind>)
+        .transpose()?;
     let requests = entries
         .iter()
         .map(|e| {
             let (kind, settings) = study::compare::parse_entry(e)?;
-            let r = SolveRequest::new(kind)
+            let mut r = SolveRequest::new(kind)
                 .with_settings(settings)
                 .with_scene(extra.clone());
+            r.warm_from = warm_from;
             r.prepare()?;
             Ok((e.clone(), r))
         })
