@@ -113,3 +113,33 @@ fn view_writes_pages_for_methods_plans_and_sweeps() {
         assert!(!dir.join("bad.html").exists());
     }
 }
+
+#[test]
+fn compare_draws_the_methods_overlaid() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-compare");
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("cmp.svg").display().to_string();
+    let out = ccrkit(&[
+        "compare",
+        "models/paper/case1.toml",
+        "--methods",
+        "geometric,energy",
+        "--scene",
+        "models/scenes/wall.toml",
+        "--plot",
+        &svg,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for label in ["geometric", "energy", "obstacles", "contacts (reaction)"] {
+        assert!(text.contains(label), "`{label}` not in the figure");
+    }
+    // A figure format it cannot write is refused before anything is solved.
+    let out = ccrkit(&["compare", "models/paper/case1.toml", "--plot", "x.gif"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("gif"), "{err}");
+}

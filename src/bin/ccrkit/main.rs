@@ -55,6 +55,9 @@ enum Command {
         /// Tip distance \[m\] beyond which two same-input methods are flagged as disagreeing.
         #[arg(long, default_value_t = study::compare::DISAGREE_TOL)]
         tolerance: f64,
+        /// Write the solved shapes overlaid in three views (.svg or .png).
+        #[arg(long)]
+        plot: Option<PathBuf>,
     },
     /// List the available methods, their inputs, obstacle and load support, and settings.
     Methods,
@@ -185,7 +188,14 @@ fn run() -> Result<()> {
             methods,
             scene,
             tolerance,
-        } => compare(&file, &methods, scene.as_ref(), tolerance),
+            plot: plot_path,
+        } => compare(
+            &file,
+            &methods,
+            scene.as_ref(),
+            tolerance,
+            plot_path.as_ref(),
+        ),
         Command::Methods => {
             print_methods();
             Ok(())
@@ -291,7 +301,11 @@ fn compare(
     methods: &[String],
     scene: Option<&PathBuf>,
     tolerance: f64,
+    plot_path: Option<&PathBuf>,
 ) -> Result<()> {
+    if let Some(p) = plot_path {
+        plot::check_path(p)?;
+    }
     let default = [
         "geometric",
         "energy",
@@ -316,6 +330,24 @@ fn compare(
     let model = Model::from_file(file)?;
     let cmp = study::compare(&model, &requests, tolerance)?;
     print!("{cmp}");
+    if let Some(p) = plot_path {
+        let mut all = model.scene.clone();
+        if let Some(x) = extra {
+            all.merge(x);
+        }
+        let row = plot::Row {
+            title: format!("{}: methods compared", model.robot.name),
+            robot: &model.robot,
+            shapes: cmp
+                .rows
+                .iter()
+                .filter_map(|r| r.shape.as_ref().map(|s| (s, r.label.clone())))
+                .collect(),
+            scene: Some(&all),
+        };
+        plot::plot_rows(&[row], p)?;
+        eprintln!("wrote {}", p.display());
+    }
     Ok(())
 }
 
