@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod check;
 pub mod error;
 pub mod export;
 pub mod method;
