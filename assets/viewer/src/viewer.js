@@ -331,9 +331,15 @@ let cloud = null;
 function colorCloud(column) {
   const spec = data.cloud.columns.find((c) => c.name === column);
   const vals = spec.values;
-  const finite = vals.filter((x) => Number.isFinite(x));
-  const vmin = Math.min(...finite);
-  const vmax = Math.max(...finite);
+  // A loop, not Math.min(...vals): a sweep can have more values than a call takes arguments.
+  let vmin = Infinity;
+  let vmax = -Infinity;
+  for (const x of vals) {
+    if (Number.isFinite(x)) {
+      vmin = Math.min(vmin, x);
+      vmax = Math.max(vmax, x);
+    }
+  }
   const col = new Float32Array(vals.length * 3);
   const c = new Color();
   vals.forEach((x, i) => {
