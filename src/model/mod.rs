@@ -26,6 +26,7 @@ pub mod actuation;
 pub mod bounds;
 mod file;
 pub mod hardware;
+pub mod limits;
 pub mod mesh;
 pub mod read;
 pub mod robot;
@@ -53,6 +54,8 @@ pub struct Model {
     pub scene: Scene,
     /// Gains, offsets and frames of a real robot (identity when the file has no `[hardware]`).
     pub hardware: hardware::Hardware,
+    /// Actuation limits per cable (`[limits.NAME]`; documented defaults otherwise).
+    pub limits: limits::Limits,
     /// Where the file was read from (for resolving relative paths).
     pub source: Option<PathBuf>,
 }

@@ -13,7 +13,7 @@ use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus,
     SupportedConeT, ZeroConeT,
 };
-use nalgebra::{Matrix6, SymmetricEigen, Vector6};
+use nalgebra::{DMatrix, Matrix6, SymmetricEigen, Vector6};
 
 /// Solution of [`qp_step6`].
 #[derive(Debug, Clone)]
@@ -97,6 +97,71 @@ pub fn qp_step6(
         lambda_eq: sol.z[..eq_rows.len()].to_vec(),
         mu: sol.z[eq_rows.len()..].to_vec(),
     })
+}
+
+/// Solve the dense QP `min ½ xᵀ H x + gᵀ x  s.t.  E x = e,  G x ≤ h` of any (small) size with
+/// clarabel; `H` must be symmetric positive semidefinite (only its upper triangle is read).
+/// `None` when clarabel reports anything but (almost) solved — an infeasible QP included.
+/// Used by the inverse problems ([`crate::reach`]) whose unknowns are the cable inputs.
+pub fn qp_dense(
+    h: &DMatrix<f64>,
+    g: &[f64],
+    eq: (&DMatrix<f64>, &[f64]),
+    ineq: (&DMatrix<f64>, &[f64]),
+) -> Option<Vec<f64>> {
+    let n = g.len();
+    let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
+    for j in 0..n {
+        for i in 0..=j {
+            rowval.push(i);
+            nzval.push(h[(i, j)]);
+        }
+        colptr.push(rowval.len());
+    }
+    let p = CscMatrix::new(n, n, colptr, rowval, nzval);
+    let (me, mi) = (eq.0.nrows(), ineq.0.nrows());
+    let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
+    for j in 0..n {
+        for i in 0..me + mi {
+            let v = if i < me {
+                eq.0[(i, j)]
+            } else {
+                ineq.0[(i - me, j)]
+            };
+            if v != 0.0 {
+                rowval.push(i);
+                nzval.push(v);
+            }
+        }
+        colptr.push(rowval.len());
+    }
+    let a = CscMatrix::new(me + mi, n, colptr, rowval, nzval);
+    let b: Vec<f64> = eq.1.iter().chain(ineq.1.iter()).copied().collect();
+    let mut cones: Vec<SupportedConeT<f64>> = vec![];
+    if me > 0 {
+        cones.push(ZeroConeT(me));
+    }
+    if mi > 0 {
+        cones.push(NonnegativeConeT(mi));
+    }
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_gap_abs(1e-14)
+        .tol_gap_rel(1e-12)
+        .tol_feas(1e-12)
+        .build()
+        .ok()?;
+    let mut solver = DefaultSolver::new(&p, g, &a, &b, &cones, settings).ok()?;
+    solver.solve();
+    let sol = &solver.solution;
+    if !matches!(
+        sol.status,
+        SolverStatus::Solved | SolverStatus::AlmostSolved
+    ) || sol.x.iter().any(|v| !v.is_finite())
+    {
+        return None;
+    }
+    Some(sol.x.clone())
 }
 
 /// Minimize `½ λᵀ S λ − qᵀ λ` over `λ ≥ 0` (`S`: `n × n`, symmetric positive semidefinite,
@@ -223,6 +288,19 @@ mod tests {
         let s = qp_step6(&h, &g, &[], &[], &[row], &[0.25], 1e-12).unwrap();
         assert!((s.x[0] - 0.25).abs() < 1e-8);
         assert!((s.mu[0] - 0.75).abs() < 1e-7);
+    }
+
+    /// min ½|x|² s.t. x₀ + x₁ = 1, x₀ ≤ 0.2: x = (0.2, 0.8) (closed form).
+    #[test]
+    fn dense_qp_with_equality_and_bound() {
+        let h = DMatrix::identity(2, 2);
+        let e = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+        let gi = DMatrix::from_row_slice(1, 2, &[1.0, 0.0]);
+        let x = qp_dense(&h, &[0.0, 0.0], (&e, &[1.0]), (&gi, &[0.2])).unwrap();
+        assert!(
+            (x[0] - 0.2).abs() < 1e-9 && (x[1] - 0.8).abs() < 1e-9,
+            "{x:?}"
+        );
     }
 
     /// The active set's answer satisfies the KKT conditions of `min ½ λᵀSλ − qᵀλ, λ ≥ 0`:

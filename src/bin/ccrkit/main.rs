@@ -7,6 +7,9 @@ use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
+mod plan;
+mod reach;
+mod roadmap;
 mod study_cmd;
 mod view;
 use study_cmd::StudyCommand;
@@ -70,6 +73,13 @@ enum Command {
     /// Write one self-contained HTML page showing the robot in 3-D (methods overlaid, a plan's
     /// waypoints, a sweep's tips), to turn in any browser, offline.
     View(view::ViewArgs),
+    /// The least-effort actuation within the limits that puts the tip on a target.
+    Reach(reach::ReachArgs),
+    /// A path of actuations to a tip or an actuation, clear of the obstacles.
+    Plan(plan::PlanArgs),
+    /// Roadmaps for repeated `plan` queries.
+    #[command(subcommand)]
+    Roadmap(roadmap::RoadmapCommand),
 }
 
 #[derive(Subcommand)]
@@ -183,6 +193,9 @@ fn run() -> Result<()> {
     match Cli::parse().command {
         Command::Study(cmd) => study_cmd::run(cmd),
         Command::View(args) => view::run(args),
+        Command::Reach(a) => reach::run(a),
+        Command::Plan(a) => plan::run(a),
+        Command::Roadmap(c) => roadmap::run(c),
         Command::Compare {
             file,
             methods,
