@@ -86,7 +86,7 @@ impl Model {
     fn from_toml_named(text: &str, path: &str, dir: &Path) -> Result<Model, ModelError> {
         let file: FileModel = toml::from_str(text).map_err(|e| ModelError::Parse {
             path: path.to_string(),
-            reason: e.to_string().trim().replace('\n', " "),
+            reason: e.to_string().trim_end().to_string(),
         })?;
         file.validate(dir)
     }
