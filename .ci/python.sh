@@ -2,7 +2,9 @@
 # CI for the Python package (python/): a fresh venv, the package installed with the README's
 # one command (`pip install ./python`, a maturin build of the PyO3 crate), then pytest
 # (every API item against the CLI, the batch, pickling, the Dask cluster test, the examples).
-# Reuses the root build's target/ so the core and its dependencies compile once.
+# Shares the root build's target/: most dependencies are reused, but pyo3's proc macros unify
+# other features of syn/serde and numpy adds num-complex's defaults, so the core, nalgebra,
+# parry and clarabel compile a second time for the wheel (~5 min on two loaded cores).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"

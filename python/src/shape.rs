@@ -194,8 +194,8 @@ impl Shape {
     /// A shape from `to_json()` text (warm-start state is not kept).
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Shape> {
-        let shape = ccrkit::Shape::from_json_str(text)
-            .map_err(|e| crate::errors::model_error(py, &e))?;
+        let shape =
+            ccrkit::Shape::from_json_str(text).map_err(|e| crate::errors::model_error(py, &e))?;
         Ok(Shape::new(shape))
     }
 
