@@ -19,8 +19,10 @@
 //! - each disk against backbone segments more than π R along the arc from it (a curve leaving
 //!   a disk along its normal returns to the disk's plane only after half a turn).
 //!
-//! An overlap deeper than [`SELF_CONTACT_TOL`] × min(disk thickness, backbone diameter) is
-//! reported. A broad phase (uniform grid over axis-aligned bounds) keeps the cost near linear
+//! An overlap deeper than tol = [`SELF_CONTACT_TOL`] × min(disk thickness, backbone diameter) is
+//! reported: the parts shrunk by tol intersect (GJK's boolean test, robust also where EPA's
+//! penetration depth fails, e.g. for coaxial disks); the depth given is EPA's where it has one,
+//! else tol (a lower bound). A broad phase (uniform grid over axis-aligned bounds) keeps the cost near linear
 //! in the number of disks and samples.
 
 use crate::error::SolveError;
@@ -120,6 +122,8 @@ pub struct SelfContact {
 /// One part in the broad phase: a shape, its pose, and where it sits along the arc.
 struct Part {
     shape: SharedShape,
+    /// The shape shrunk by the tolerance (the overlap test).
+    shrunk: SharedShape,
     pose: Pose,
     /// Arc-length interval along the solved backbone polyline (disks: where they sit on it,
     /// assuming a uniform stretch).
@@ -137,7 +141,7 @@ fn disk_pose(rotation: &Matrix3<f64>, position: &Vector3<f64>) -> Pose {
     Isometry3::from_parts(Translation3::from(*position), q).into()
 }
 
-fn parts(robot: &Robot, shape: &Shape) -> Vec<Part> {
+fn parts(robot: &Robot, shape: &Shape, tol: f64) -> Vec<Part> {
     let pts = &shape.backbone;
     let total: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
     // Polyline arc per metre of undeformed backbone (1 for an inextensible rod).
@@ -146,13 +150,16 @@ fn parts(robot: &Robot, shape: &Shape) -> Vec<Part> {
     } else {
         1.0
     };
-    let disk = SharedShape::new(Cylinder::new(robot.disk_thickness / 2.0, robot.disk_radius));
+    let (ht, r) = (robot.disk_thickness / 2.0, robot.disk_radius);
+    let disk = SharedShape::new(Cylinder::new(ht, r));
+    let disk_shrunk = SharedShape::new(Cylinder::new(ht - tol, r - tol));
     let mut out: Vec<Part> = shape
         .disks
         .iter()
         .enumerate()
         .map(|(k, d)| Part {
             shape: disk.clone(),
+            shrunk: disk_shrunk.clone(),
             pose: disk_pose(&d.rotation, &d.position),
             s: (d.s * scale, d.s * scale),
             section: k,
@@ -172,12 +179,10 @@ fn parts(robot: &Robot, shape: &Shape) -> Vec<Part> {
     for w in idx.windows(2) {
         let (a, b) = (pts[w[0]], pts[w[1]]);
         let len = (b - a).norm();
+        let (pa, pb) = (PVec::new(a.x, a.y, a.z), PVec::new(b.x, b.y, b.z));
         out.push(Part {
-            shape: SharedShape::new(Capsule::new(
-                PVec::new(a.x, a.y, a.z),
-                PVec::new(b.x, b.y, b.z),
-                rho,
-            )),
+            shape: SharedShape::new(Capsule::new(pa, pb, rho)),
+            shrunk: SharedShape::new(Capsule::new(pa, pb, rho - tol)),
             pose: Pose::IDENTITY,
             s: (s, s + len),
             section: robot
@@ -238,7 +243,7 @@ pub fn self_contact(robot: &Robot, shape: &Shape) -> Option<SelfContact> {
     }
     let d = robot.backbone.diameter;
     let tol = SELF_CONTACT_TOL * robot.disk_thickness.min(d);
-    let parts = parts(robot, shape);
+    let parts = parts(robot, shape, tol);
     let mut worst: Option<SelfContact> = None;
     for (a, b) in broad_phase(&parts) {
         let (pa, pb) = (&parts[a], &parts[b]);
@@ -251,12 +256,19 @@ pub fn self_contact(robot: &Robot, shape: &Shape) -> Option<SelfContact> {
         if gap < needed || (pa.disk.is_some() && pa.disk == pb.disk) {
             continue;
         }
-        let Ok(Some(c)) = parry3d::query::contact(&pa.pose, &*pa.shape, &pb.pose, &*pb.shape, 0.0)
-        else {
+        // GJK's boolean test on the shrunk shapes decides (robust also for coaxial disks,
+        // where EPA's penetration depth can fail); EPA's depth, when it has one, is reported.
+        let overlap =
+            parry3d::query::intersection_test(&pa.pose, &*pa.shrunk, &pb.pose, &*pb.shrunk)
+                .is_ok_and(|x| x.intersecting);
+        if !overlap {
             continue;
+        }
+        let depth = match parry3d::query::contact(&pa.pose, &*pa.shape, &pb.pose, &*pb.shape, 0.0) {
+            Ok(Some(c)) => (-c.dist).max(tol),
+            _ => tol,
         };
-        let depth = -c.dist;
-        if depth > tol && worst.as_ref().is_none_or(|w| depth > w.depth) {
+        if worst.as_ref().is_none_or(|w| depth > w.depth) {
             worst = Some(SelfContact {
                 what: describe(pa, pb),
                 section: pa.section,

@@ -145,6 +145,36 @@ fn subcommand_jobs() -> Vec<Vec<String>> {
             "export", "urdf", &c1, "--method", &m, "--out", "x.urdf",
         ]));
     }
+    // Studies: absurd sizes and ranges are refused before any solve (small grids otherwise).
+    jobs.push(args(&["study", "merge", "m.csv", "/dev/zero"]));
+    jobs.push(args(&["study", "merge", "m.csv", "no-such.csv"]));
+    for (flag, v) in [
+        ("--grid", "0"),
+        ("--grid", "4000000000"),
+        ("--max-percent", "nan"),
+        ("--max-percent", "1e308"),
+        ("--max-percent", "-5"),
+        ("--tension-factor", "inf"),
+        ("--methods", "no-such"),
+        ("--input", "sideways"),
+    ] {
+        let mut a = args(&["study", "stability", &c1, "--out", "st", "--grid", "2"]);
+        a.extend(args(&[flag, v]));
+        jobs.push(a);
+    }
+    for (flag, v) in [
+        ("--samples", "0"),
+        ("--samples", "18446744073709551615"),
+        ("--shard", "3/2"),
+        ("--shard", "0/0"),
+        ("--chunk", "0"),
+        ("--max-percent", "nan"),
+        ("--method", "no-such"),
+    ] {
+        let mut a = args(&["study", "workspace", &c1, "--out", "ws", "--samples", "4"]);
+        a.extend(args(&[flag, v]));
+        jobs.push(a);
+    }
     jobs
 }
 

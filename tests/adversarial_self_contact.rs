@@ -51,8 +51,12 @@ fn a_shape_folded_onto_itself_is_flagged() {
     }
     s.backbone = s.disks.iter().map(|d| d.position).collect();
     let c = self_contact(&model.robot, &s).expect("folded shape overlaps");
-    assert!(c.what.contains("disk"), "{}", c.what);
-    assert!(c.depth > 1e-4, "{}", c.depth);
+    assert!(c.depth > 0.0, "{c:?}");
+    // The disks alone (no backbone polyline) are seen too: disk 6 sits on disk 2 (coaxial,
+    // 1 mm apart sideways), the case where EPA's depth fails and GJK's test decides.
+    s.backbone.clear();
+    let c = self_contact(&model.robot, &s).expect("folded disks overlap");
+    assert!(c.what.starts_with("disks "), "{}", c.what);
 }
 
 /// 99.99 % shortening: whatever a method answers, it is never a shape through itself with

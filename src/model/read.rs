@@ -43,7 +43,7 @@ pub fn read_text(path: &Path, what: &str) -> Result<String, ModelError> {
     String::from_utf8(bytes).map_err(|e| ModelError::Io {
         path: path.display().to_string(),
         reason: format!(
-            "not UTF-8 text (invalid byte at offset {}): a {what} is TOML",
+            "not UTF-8 text (invalid byte at offset {}): not a {what}",
             e.utf8_error().valid_up_to()
         ),
     })

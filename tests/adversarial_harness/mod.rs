@@ -53,6 +53,8 @@ pub const NAMED: &[&str] = &[
     "cannot plot to `",
     "writing ",
     "tolerance must be",
+    "unknown --",
+    "shard `",
 ];
 
 /// How one run ended.
