@@ -164,7 +164,15 @@ fn closed_form(robot: &Robot, c: usize) -> Option<Curve> {
         let d = robot.disk_s[k] - robot.disk_s[k - 1];
         (d - ell).abs() <= 1e-12 * ell && cable.radius[k] == rho
     });
-    if !uniform || ell <= 0.0 {
+    // The angle table is the robot's one source of truth (a caller may edit it after
+    // parsing): the declared rule is used only while the table still follows it, with the
+    // table's own phase.
+    let a0 = cable.angle[0];
+    let follows = cable.angle.iter().enumerate().all(|(k, a)| {
+        let rule = a0 + helix.per_disk * k as f64;
+        (a - rule).abs() <= 1e-12 * (1.0 + rule.abs())
+    });
+    if !uniform || ell <= 0.0 || !follows {
         return None;
     }
     Some(if helix.per_disk == 0.0 {
@@ -172,7 +180,7 @@ fn closed_form(robot: &Robot, c: usize) -> Option<Curve> {
     } else {
         Curve::Helix {
             rho,
-            theta0: helix.start - helix.per_disk * robot.disk_s[0] / ell,
+            theta0: a0 - helix.per_disk * robot.disk_s[0] / ell,
             omega: helix.per_disk / ell,
         }
     })
