@@ -367,15 +367,22 @@ impl<'p, 'a> Sqp<'p, 'a> {
     }
 
     /// The converged result: the iterate and its pressing contacts.
-    fn solution(self, iterations: usize, residual: f64) -> Solution {
+    fn solution(mut self, iterations: usize, residual: f64) -> Solution {
         let world = self.world;
+        let pressing: Vec<(&Pair, f64)> = self
+            .pairs
+            .iter()
+            .zip(&self.mu)
+            .filter(|(_, &m)| m > 0.0)
+            .map(|(p, &m)| (p, m))
+            .collect();
         let sensitivity = self.prob.sensitivity(
             &self.xi,
             &self.wgt,
             &self.lam,
-            &self.pairs,
-            &self.mu,
+            &pressing,
             self.kin.as_ref(),
+            &mut self.w,
         );
         let contacts = self
             .pairs
