@@ -376,14 +376,21 @@ impl<'p, 'a> Sqp<'p, 'a> {
             .filter(|(_, &m)| m > 0.0)
             .map(|(p, &m)| (p, m))
             .collect();
-        let sensitivity = self.prob.sensitivity(
-            &self.xi,
-            &self.wgt,
-            &self.lam,
-            &pressing,
-            self.kin.as_ref(),
-            &mut self.w,
-        );
+        let sensitivity = if pressing.is_empty() || self.prob.set.contact_sensitivity {
+            self.prob.sensitivity(
+                &self.xi,
+                &self.wgt,
+                &self.lam,
+                &pressing,
+                self.kin.as_ref(),
+                &mut self.w,
+            )
+        } else {
+            Sensitivity {
+                stable: None,
+                jacobian: None,
+            }
+        };
         let contacts = self
             .pairs
             .iter()
