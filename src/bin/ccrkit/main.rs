@@ -7,11 +7,11 @@ use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
+mod calibrate;
 mod plan;
+mod predict;
 mod reach;
 mod roadmap;
-mod calibrate;
-mod predict;
 mod study_cmd;
 use study_cmd::StudyCommand;
 
