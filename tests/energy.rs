@@ -240,6 +240,10 @@ fn rotating_the_routing_rotates_the_shape() {
         for a in &mut c.angle {
             *a += phi;
         }
+        // The declared rule (closed-form helix route) turns with the holes.
+        if let Some(h) = &mut c.helix {
+            h.start += phi;
+        }
     }
     let rz = Rotation3::from_axis_angle(&Vector3::z_axis(), phi);
     for length in [LengthMeasure::Path, LengthMeasure::Chord] {

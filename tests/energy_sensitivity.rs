@@ -93,9 +93,16 @@ fn tip_jacobian_matches_central_differences_when_tension_driven() {
 fn tip_jacobian_near_a_wall_matches_central_differences() {
     let m = paper(1);
     let scene = Scene::from_file(root().join("models/scenes/wall.toml")).expect("wall");
-    let set = Energy::default();
-    let s = run(&set, &m, &m.actuation, &scene);
+    let s = run(&Energy::default(), &m, &m.actuation, &scene);
     assert!(!s.contacts.is_empty(), "the wall is touched");
+    assert!(
+        s.report.jacobian.is_none() && s.report.stable.is_none(),
+        "off by default"
+    );
+    let set = Energy {
+        contact_sensitivity: true,
+        ..Energy::default()
+    };
     let e = jacobian_error(&set, &m, &m.actuation, &scene, 1e-6);
     println!("wall: relative error {e:.2e}");
     // Measured 2.2e-7 (h = 1e-6 m); without the contact curvature it was 1.6e-1.

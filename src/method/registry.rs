@@ -108,6 +108,13 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
         default: "1",
         help: "backbone samples per sub-arc in the output shape",
     },
+    SettingInfo {
+        name: "contact-sensitivity",
+        values: "on | off",
+        default: "off",
+        help: "stable and jacobian also with pressing contacts (contact curvature: ~70 M \
+               instructions on the wall scene)",
+    },
 ];
 
 const ROD_SETTINGS: &[SettingInfo] = &[

@@ -22,11 +22,15 @@ impl Energy {
         mut notes: Vec<String>,
     ) -> Shape {
         if !sol.contacts.is_empty() {
-            notes.push(
+            notes.push(if self.contact_sensitivity {
                 "stable and jacobian: contact curvature −Σ μ ∇²d by central differences of \
                  the exact contact gradients"
-                    .into(),
-            );
+                    .into()
+            } else {
+                "stable and jacobian not computed with pressing contacts \
+                 (`--set contact-sensitivity=on`)"
+                    .into()
+            });
         }
         let (xi, lam) = (&sol.xi[..], &sol.lam[..]);
         let robot = prob.robot;

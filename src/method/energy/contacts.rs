@@ -216,6 +216,12 @@ impl<'a> World<'a> {
     /// the smallest distance found, the margin for a pair beyond it, or the distance to the
     /// bounds of an obstacle not queried.
     pub fn pairs(&self, kin: &Kin) -> (Vec<Pair>, f64) {
+        self.pairs_among(kin, None)
+    }
+
+    /// [`World::pairs`] restricted to the pairs `only` (by [`Pair::key`]) when given: the
+    /// other feature–obstacle pairs are not queried (their distances do not bound `clear`).
+    pub fn pairs_among(&self, kin: &Kin, only: Option<&[(usize, Feat)]>) -> (Vec<Pair>, f64) {
         let mut clear = f64::INFINITY;
         // Robot-level pass: the bounds of every frame origin grown by the largest feature
         // reach (disk radius, half a sub-arc); obstacles farther than the margin from them
@@ -260,6 +266,9 @@ impl<'a> World<'a> {
                                  radius: f64,
                                  ends: Ends| {
             for &k in &candidates {
+                if only.is_some_and(|keys| !keys.contains(&(k, feat))) {
+                    continue;
+                }
                 let o = &self.scene.obstacles[k];
                 // Bounds farther than the margin: no query, their distance bounds `clear`.
                 let lower = self.scene.bounds_distance(k, &center) - radius;

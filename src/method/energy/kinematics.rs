@@ -108,6 +108,32 @@ fn cross<T: Real>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     ]
 }
 
+/// The action of one sub-arc on `P` points at once (the exponential's coefficients shared):
+/// `exp_act(xi, ell, q)` for each `q` in `qs`.
+pub(super) fn exp_act_all<T: Real, const P: usize>(
+    xi: &[T],
+    ell: f64,
+    qs: &[[T; 3]; P],
+) -> [[T; 3]; P] {
+    let w = [xi[0] * ell, xi[1] * ell, xi[2] * ell];
+    let x = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    let (a, b, c) = abc_series(x);
+    let vz = (xi[3] + 1.0) * ell;
+    let wv = [w[1] * vz, -(w[0] * vz), T::cst(0.0)];
+    let wwv = cross(&w, &wv);
+    std::array::from_fn(|p| {
+        let q = &qs[p];
+        let wq = cross(&w, q);
+        let wwq = cross(&w, &wq);
+        let mut out = [T::cst(0.0); 3];
+        for k in 0..3 {
+            let vk = if k == 2 { vz } else { T::cst(0.0) };
+            out[k] = q[k] + a * wq[k] + b * wwq[k] + vk + b * wv[k] + c * wwv[k];
+        }
+        out
+    })
+}
+
 /// The action `exp(ℓ ξ̂) q` of one sub-arc on a point `q` (any [`Real`]).
 pub(super) fn exp_act<T: Real>(xi: &[T], ell: f64, q: &[T; 3]) -> [T; 3] {
     let w = [xi[0] * ell, xi[1] * ell, xi[2] * ell];

@@ -135,7 +135,8 @@ pub use kinematics::GL_NODES;
 
 use crate::error::SolveError;
 use crate::method::settings::{
-    parse_control, parse_count, parse_in, parse_length, parse_routing, Configure, MAX_ITERATIONS,
+    parse_choice, parse_control, parse_count, parse_in, parse_length, parse_routing, Configure,
+    MAX_ITERATIONS,
 };
 use crate::method::{Method, MethodKind};
 use crate::model::actuation::{Actuation, Input, LengthMeasure};
@@ -166,6 +167,11 @@ pub struct Energy {
     pub min_stretch: f64,
     /// Backbone samples per sub-arc in the output shape.
     pub samples_per_sub_arc: usize,
+    /// Compute `report.stable` and `report.jacobian` also when contacts press: their
+    /// curvature costs `2 · 4 · sub-arcs` contact queries (`sensitivity.rs`). Off: such
+    /// solves report neither (a note says so); without pressing contacts both are always
+    /// reported.
+    pub contact_sensitivity: bool,
 }
 
 impl Default for Energy {
@@ -179,6 +185,7 @@ impl Default for Energy {
             tolerance: 1e-10,
             min_stretch: 0.5,
             samples_per_sub_arc: 1,
+            contact_sensitivity: false,
         }
     }
 }
@@ -212,6 +219,10 @@ impl Configure for Energy {
             "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
             "min-stretch" => self.min_stretch = parse_in(name, value, 0.0, 1.0)?,
             "samples-per-sub-arc" => self.samples_per_sub_arc = parse_count(name, value, 1, 64)?,
+            "contact-sensitivity" => {
+                self.contact_sensitivity =
+                    parse_choice(name, value, &[("on", true), ("off", false)])?
+            }
             _ => return self.kind().check_setting(name),
         }
         Ok(())

@@ -367,16 +367,30 @@ impl<'p, 'a> Sqp<'p, 'a> {
     }
 
     /// The converged result: the iterate and its pressing contacts.
-    fn solution(self, iterations: usize, residual: f64) -> Solution {
+    fn solution(mut self, iterations: usize, residual: f64) -> Solution {
         let world = self.world;
-        let sensitivity = self.prob.sensitivity(
-            &self.xi,
-            &self.wgt,
-            &self.lam,
-            &self.pairs,
-            &self.mu,
-            self.kin.as_ref(),
-        );
+        let pressing: Vec<(&Pair, f64)> = self
+            .pairs
+            .iter()
+            .zip(&self.mu)
+            .filter(|(_, &m)| m > 0.0)
+            .map(|(p, &m)| (p, m))
+            .collect();
+        let sensitivity = if pressing.is_empty() || self.prob.set.contact_sensitivity {
+            self.prob.sensitivity(
+                &self.xi,
+                &self.wgt,
+                &self.lam,
+                &pressing,
+                self.kin.as_ref(),
+                &mut self.w,
+            )
+        } else {
+            Sensitivity {
+                stable: None,
+                jacobian: None,
+            }
+        };
         let contacts = self
             .pairs
             .iter()

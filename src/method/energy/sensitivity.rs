@@ -27,9 +27,9 @@
 //!
 //! (a slack cable's shortening moves nothing: its column is zero). With `H` block diagonal it
 //! is solved by the Schur complement `S = A H⁻¹ Aᵀ` (one block solve per active row), else by
-//! a dense LU of the whole matrix. The tip moves as `dp = Σ_j (∂p/∂ξ_j) dξ_j` with
-//! `∂p/∂u_a = (M_j e_a) × p − N_{j,a}`, `∂p/∂ε = M_j e_z`, and its tangent `t = R e_z` as
-//! `∂t/∂u_a = (M_j e_a) × t` (integrals `M_j`, `N_j` of `energy/contacts.rs`).
+//! a dense LU of the whole matrix. The tip position and tangent `t = R e_z` move along `dξ`
+//! as their directional derivatives, by first-order forward AD ([`D1`]) through the product
+//! of sub-arc exponentials (exact, one pass per column).
 //!
 //! # Dead-load curvature
 //!
@@ -56,11 +56,11 @@
 //! normals, not exact — an analytic second derivative of the distance is future work.
 
 use super::contacts::{self, Kin, Pair};
-use super::kinematics::exp_act;
+use super::kinematics::{exp_act, exp_act_all};
 use super::lengths::Work;
 use super::problem::{Problem, Target};
 use crate::model::actuation::{Input, LengthMeasure};
-use crate::numeric::ad::{Real, D2};
+use crate::numeric::ad::{Jet, Real, D1, D2};
 use crate::numeric::dense::{chol_factor, small_solve};
 use crate::shape::TipJacobian;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -93,51 +93,34 @@ struct Column {
 
 impl Problem<'_> {
     /// Stability and tip Jacobian at the converged point `xi` with cable weights `wgt`
-    /// (multipliers of taut cables, input tensions), cable multipliers `lam`, and the pairs
-    /// with their multipliers `mu`; `kin` the frames with integrals if already computed.
+    /// (multipliers of taut cables, input tensions), cable multipliers `lam`, and the
+    /// pressing pairs with their multipliers; `kin` the frames with integrals if already computed; `w`
+    /// the scratch of the last linearization at `xi` (lengths and gradients).
     pub(super) fn sensitivity(
         &self,
         xi: &[f64],
         wgt: &[f64],
         lam: &[f64],
-        pairs: &[Pair],
-        mu: &[f64],
+        pressing: &[(&Pair, f64)],
         kin: Option<&Kin>,
+        w: &mut Work,
     ) -> Sensitivity {
-        let own;
-        let kin = match kin {
-            Some(k) if k.m_int.len() == self.nsub => k,
-            _ => {
-                own = contacts::kinematics(xi, &self.ell, true);
-                &own
-            }
-        };
         let nc = self.robot.cables.len();
-        let mut w = Work::new(self);
+        // `w` holds the lengths and gradients at `xi` (the last linearization); its Hessian
+        // blocks are rebuilt here, exact.
         match self.set.cable_length {
-            LengthMeasure::Path => {
-                self.evaluate(xi, wgt, &mut w, false);
-                self.path_hessian(xi, wgt, &mut w);
-            }
-            LengthMeasure::Chord => self.evaluate(xi, wgt, &mut w, true),
+            LengthMeasure::Path => self.path_hessian(xi, wgt, w),
+            LengthMeasure::Chord => self.evaluate(xi, wgt, w, true),
         }
         // Active rows: taut cables, then pressing contacts (gradient of clearance − d).
         let taut: Vec<usize> = (0..nc)
             .filter(|&c| matches!(self.targets[c], Target::Length(_)) && lam[c] > 0.0)
             .collect();
         let mut rows: Vec<Vec<f64>> = taut.iter().map(|&c| w.grad[c].clone()).collect();
-        for (p, &m) in pairs.iter().zip(mu) {
-            if m > 0.0 {
-                rows.push(p.grad.iter().map(|g| -g).collect());
-            }
+        for (p, _) in pressing {
+            rows.push(p.grad.iter().map(|g| -g).collect());
         }
-        let pressing: Vec<(&Pair, f64)> = pairs
-            .iter()
-            .zip(mu)
-            .filter(|(_, &m)| m > 0.0)
-            .map(|(p, &m)| (p, m))
-            .collect();
-        let hess = self.lagrangian_hessian(xi, &w, kin, &pressing);
+        let hess = self.lagrangian_hessian(xi, w, kin, pressing);
         let stable = Some(match &hess {
             Hessian::Blocks(_) => true,
             Hessian::Dense(h) => reduced_positive_definite(h, &rows),
@@ -172,7 +155,7 @@ impl Problem<'_> {
                 Target::Free => {}
             }
         }
-        let jacobian = self.tip_jacobian(&hess, &rows, &cols, kin);
+        let jacobian = self.tip_jacobian(xi, &hess, &rows, &cols);
         Sensitivity { stable, jacobian }
     }
 
@@ -182,7 +165,7 @@ impl Problem<'_> {
         &self,
         xi: &[f64],
         w: &Work,
-        kin: &Kin,
+        kin: Option<&Kin>,
         pressing: &[(&Pair, f64)],
     ) -> Hessian {
         let (nb, nv) = (self.nb, self.nvar());
@@ -201,7 +184,13 @@ impl Problem<'_> {
             }
         }
         if !self.frame_forces.is_empty() {
-            self.add_load_hessian(xi, kin, &mut h);
+            match kin.filter(|k| k.m_int.len() == self.nsub) {
+                Some(k) => self.add_load_hessian(xi, k, &mut h),
+                None => {
+                    let k = contacts::kinematics(xi, &self.ell, true);
+                    self.add_load_hessian(xi, &k, &mut h)
+                }
+            }
         }
         self.add_contact_curvature(xi, pressing, &mut h);
         Hessian::Dense(h)
@@ -216,13 +205,15 @@ impl Problem<'_> {
             return;
         };
         let nv = self.nvar();
+        let keys: Vec<_> = pressing.iter().map(|(p, _)| p.key()).collect();
         let mut d2 = DMatrix::zeros(nv, nv);
         let mut x = xi.to_vec();
         for i in 0..nv {
             let mut grads = [vec![], vec![]];
             for (sgn, g) in [1.0, -1.0].iter().zip(grads.iter_mut()) {
                 x[i] = xi[i] + sgn * CURVATURE_STEP;
-                *g = wd.pairs(&contacts::kinematics(&x, &self.ell, true)).0;
+                let kin = contacts::kinematics(&x, &self.ell, true);
+                *g = wd.pairs_among(&kin, Some(&keys)).0;
             }
             x[i] = xi[i];
             for (p, m) in pressing {
@@ -289,10 +280,10 @@ impl Problem<'_> {
     /// if the system is singular or the result is not finite.
     fn tip_jacobian(
         &self,
+        xi: &[f64],
         hess: &Hessian,
         rows: &[Vec<f64>],
         cols: &[Column],
-        kin: &Kin,
     ) -> Option<TipJacobian> {
         let (nv, k) = (self.nvar(), rows.len());
         let dxis: Vec<Vec<f64>> = match hess {
@@ -347,25 +338,22 @@ impl Problem<'_> {
                 out
             }
         };
-        let n = self.nsub;
-        let (p, t): (Vector3<f64>, Vector3<f64>) = (kin.pos[n], kin.rot[n].column(2).into_owned());
         let mut jac = TipJacobian {
             inputs: vec![],
             position: vec![],
             tangent: vec![],
         };
-        for (col, dxi) in cols.iter().zip(&dxis) {
-            let (mut dp, mut dt) = (Vector3::zeros(), Vector3::zeros());
-            for j in 0..n {
-                let m = &kin.m_int[j];
-                for a in 0..3 {
-                    let o: Vector3<f64> = m.column(a).into_owned();
-                    let v = dxi[4 * j + a];
-                    dp += (o.cross(&p) - kin.n_int[j][a]) * v;
-                    dt += o.cross(&t) * v;
-                }
-                dp += m.column(2).into_owned() * dxi[4 * j + 3];
-            }
+        let mut tips = Vec::with_capacity(cols.len());
+        for chunk in dxis.chunks(4) {
+            let refs: Vec<&Vec<f64>> = chunk.iter().collect();
+            tips.extend(match refs.len() {
+                1 => tip_directional::<1>(xi, &self.ell, &refs),
+                2 => tip_directional::<2>(xi, &self.ell, &refs),
+                3 => tip_directional::<3>(xi, &self.ell, &refs),
+                _ => tip_directional::<4>(xi, &self.ell, &refs),
+            });
+        }
+        for (col, (dp, dt)) in cols.iter().zip(tips) {
             if !(dp.iter().chain(dt.iter()).all(|v| v.is_finite())) {
                 return None;
             }
@@ -378,6 +366,34 @@ impl Problem<'_> {
         }
         Some(jac)
     }
+}
+
+/// Directional derivatives of the tip position and tangent along each of `dxis`: forward-mode
+/// AD ([`D1`], one direction per gradient slot) through the chain `g_0 ⋯ g_{n−1}` applied to
+/// the tip (origin of the last frame) and to the point one metre along its tangent, from the
+/// tip back to the base (as the chord lengths are formed).
+fn tip_directional<const K: usize>(
+    xi: &[f64],
+    ell: &[f64],
+    dxis: &[&Vec<f64>],
+) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    let z = D1::<K>::cst(0.0);
+    let mut qs = [[z; 3], [z, z, D1::cst(1.0)]];
+    for j in (0..ell.len()).rev() {
+        let v: [D1<K>; 4] = std::array::from_fn(|a| Jet {
+            v: xi[4 * j + a],
+            g: std::array::from_fn(|c| dxis.get(c).map_or(0.0, |d| d[4 * j + a])),
+            h: [],
+        });
+        qs = exp_act_all(&v, ell[j], &qs);
+    }
+    (0..dxis.len())
+        .map(|c| {
+            let dp = Vector3::new(qs[0][0].g[c], qs[0][1].g[c], qs[0][2].g[c]);
+            let dt = Vector3::new(qs[1][0].g[c], qs[1][1].g[c], qs[1][2].g[c]) - dp;
+            (dp, dt)
+        })
+        .collect()
 }
 
 /// `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]` in the strains of one sub-arc (second-order AD of
