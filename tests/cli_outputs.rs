@@ -143,3 +143,58 @@ fn compare_draws_the_methods_overlaid() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("gif"), "{err}");
 }
+
+#[test]
+fn view_draws_a_plan_written_by_ccrkit_plan() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-plan-view");
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = |n: &str| dir.join(n).display().to_string();
+    std::fs::write(
+        p("to.json"),
+        "{\"actuation\": [{\"cable\": \"A\", \"shorten\": 0.0015}, {\"cable\": \"B\", \"shorten\": 0.0005}]}",
+    )
+    .unwrap();
+    std::fs::write(
+        p("from.json"),
+        "{\"actuation\": [{\"cable\": \"A\", \"shorten\": 0.0}, {\"cable\": \"B\", \"shorten\": 0.0}]}",
+    )
+    .unwrap();
+    let out = ccrkit(&[
+        "plan",
+        "models/paper/case1.toml",
+        "--scene",
+        "models/scenes/wall.toml",
+        "--from-actuation",
+        &p("from.json"),
+        "--to-actuation",
+        &p("to.json"),
+        "--seed",
+        "1",
+        "--json",
+        &p("plan.json"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let plan: Value =
+        serde_json::from_str(&std::fs::read_to_string(p("plan.json")).unwrap()).unwrap();
+    let n = plan["waypoints"].as_array().unwrap().len();
+    let out = ccrkit(&[
+        "view",
+        "models/paper/case1.toml",
+        "--scene",
+        "models/scenes/wall.toml",
+        "--plan",
+        &p("plan.json"),
+        "--out",
+        &p("plan.html"),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains(&format!("1 layers, 1 obstacles, {n} frames")),
+        "{err}"
+    );
+}
