@@ -9,6 +9,8 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod calibrate;
+pub mod check;
 pub mod error;
 pub mod export;
 pub mod method;
