@@ -1,7 +1,7 @@
 //! `plan`: a path of actuations from a start to a goal along which the robot keeps a margin
 //! from every obstacle, every edge validated at a resolution that certifies it.
 //!
-//! * Search: RRT-Connect in the actuation space ([`rrt`], why there) or, for repeated
+//! * Search: RRT-Connect in the actuation space (`src/plan/rrt.rs`, why there) or, for repeated
 //!   queries, a precomputed roadmap ([`roadmap`]).
 //! * Validation: [`edge`] — sub-intervals bisected until a bound on how far any feature
 //!   moves ([`crate::reach::motion_bound`], inflated by the Lipschitz factor

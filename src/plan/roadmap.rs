@@ -2,7 +2,7 @@
 //! in the actuation space): `build` samples admissible actuations (seeded), solves them and
 //! connects each to its nearest neighbours by validated edges ([`super::edge`]); `query`
 //! connects a start and a goal to their nearest nodes, searches the graph (Dijkstra, lengths
-//! in actuation space), and hands the path to the same shortcut and output stage as the
+//! in actuation space lengthened near obstacles), and hands the path to the same shortcut and output stage as the
 //! single-query planner.
 //!
 //! A roadmap remembers the robot's cable names and limits, the method and its settings, the
@@ -344,8 +344,17 @@ impl Roadmap {
         let n = self.nodes.len();
         let (si, gi) = (n, n + 1);
         let mut adj: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n + 2];
+        // Edge weights: actuation length, lengthened near obstacles (× (1 + 1 mm / c) for the
+        // smaller clearance c of its ends), so paths keep away from them; edges near the
+        // margin also need the finest validation.
+        let clear = |i: usize| match i.checked_sub(n) {
+            None => self.nodes[i].clearance.unwrap_or(f64::INFINITY),
+            Some(0) => s.clearance,
+            Some(_) => g.clearance,
+        };
         let link = |adj: &mut Vec<Vec<(usize, f64)>>, a: usize, b: usize| {
-            let w = dist(self.u_of(a, &s, &g), self.u_of(b, &s, &g));
+            let c = clear(a).min(clear(b)).max(1e-6);
+            let w = dist(self.u_of(a, &s, &g), self.u_of(b, &s, &g)) * (1.0 + 1e-3 / c);
             adj[a].push((b, w));
             adj[b].push((a, w));
         };

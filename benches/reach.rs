@@ -1,0 +1,140 @@
+//! Inverse problems (issue 13 measures): reach on the paper robot (energy) without obstacles
+//! and next to the wall; a cold RRT-Connect plan and a roadmap query around a ball blocking
+//! the straight path (case 1), and a cold plan inside the vessel (two-segment robot).
+//!
+//! `cargo bench --bench reach`
+
+use ccrkit::method::run::SolveRequest;
+use ccrkit::method::MethodKind;
+use ccrkit::plan::roadmap::{build, BuildOptions};
+use ccrkit::plan::{plan, Goal, PlanOptions};
+use ccrkit::reach::{reach, ReachOptions, Space, Target};
+use ccrkit::{Model, Scene};
+use criterion::{criterion_group, criterion_main, Criterion};
+use nalgebra::Vector3;
+use std::hint::black_box;
+use std::time::Duration;
+
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+fn case1() -> Model {
+    Model::from_file(format!("{ROOT}/models/paper/case1.toml")).unwrap()
+}
+
+fn energy() -> SolveRequest {
+    SolveRequest::new(MethodKind::Energy)
+}
+
+fn tip_of(model: &Model, u: &[f64]) -> Vector3<f64> {
+    Space::new(model, &energy(), false)
+        .unwrap()
+        .solve(u, None)
+        .unwrap()
+        .tip()
+}
+
+fn bench_reach(c: &mut Criterion) {
+    let model = case1();
+    let target = Target {
+        tip: tip_of(&model, &[0.006, 0.002]),
+        tangent: None,
+    };
+    let opts = ReachOptions::default();
+    c.bench_function("reach/case1_free", |b| {
+        b.iter(|| {
+            let r = reach(&model, &energy(), black_box(&target), &opts).unwrap();
+            assert!(r.reached);
+        })
+    });
+    // Next to the wall: the tip of cable A alone at 3.25 mm (3.2 mm clear of the wall),
+    // reached keeping a 1 mm margin.
+    let wall = Scene::from_file(format!("{ROOT}/models/scenes/wall.toml")).unwrap();
+    let req = energy().with_scene(Some(wall));
+    let target = Target {
+        tip: tip_of(&model, &[0.00325, 0.0]),
+        tangent: None,
+    };
+    let opts = ReachOptions {
+        margin: Some(0.001),
+        ..ReachOptions::default()
+    };
+    c.bench_function("reach/case1_wall", |b| {
+        b.iter(|| {
+            let r = reach(&model, &req, black_box(&target), &opts).unwrap();
+            assert!(r.reached);
+        })
+    });
+}
+
+const BALL: &str = "[[obstacles]]\nname = \"ball\"\nshape = \"sphere\"\nposition = [0.064, 0.111, 0.104]\nradius = 0.012\n";
+
+fn bench_plan(c: &mut Criterion) {
+    let text = std::fs::read_to_string(format!("{ROOT}/models/paper/case1.toml")).unwrap();
+    let model = Model::from_toml_str(&format!("clearance = 0.0005\n{text}\n{BALL}")).unwrap();
+    let (from, to) = (vec![0.014, 0.0], vec![0.0, 0.014]);
+    let opts = PlanOptions::default();
+    let mut g = c.benchmark_group("plan");
+    g.sample_size(20).measurement_time(Duration::from_secs(10));
+    g.bench_function("ball_detour_cold", |b| {
+        b.iter(|| {
+            plan(
+                &model,
+                &energy(),
+                Some(from.clone()),
+                &Goal::Actuation(to.clone()),
+                &opts,
+            )
+            .unwrap()
+        })
+    });
+    let rm = build(&model, &energy(), &BuildOptions::default()).unwrap();
+    g.bench_function("ball_detour_roadmap_query", |b| {
+        b.iter(|| {
+            rm.query(
+                &model,
+                &energy(),
+                Some(from.clone()),
+                &Goal::Actuation(to.clone()),
+                &opts,
+            )
+            .unwrap()
+        })
+    });
+    // Inside the vessel: from the least-effort shape with the tip on the centre line to the
+    // one with the tip 5 mm off it (both found once, outside the timing).
+    let model = Model::from_file(format!("{ROOT}/models/plan/two_segment.toml")).unwrap();
+    let scene = Scene::from_file(format!("{ROOT}/models/plan/vessel.toml")).unwrap();
+    let req = energy().with_scene(Some(scene));
+    let (r, l) = (0.11, model.robot.length());
+    let axis = Vector3::new(r * (1.0 - (l / r).cos()), 0.0, r * (l / r).sin());
+    let go = |tip| {
+        reach(
+            &model,
+            &req,
+            &Target { tip, tangent: None },
+            &ReachOptions::default(),
+        )
+        .unwrap()
+        .require_reached()
+        .unwrap()
+        .u
+    };
+    let (s, t) = (go(axis), go(axis + Vector3::new(0.0, 0.005, 0.0)));
+    g.sample_size(10);
+    g.bench_function("vessel_cold", |b| {
+        b.iter(|| {
+            plan(
+                &model,
+                &req,
+                Some(s.clone()),
+                &Goal::Actuation(t.clone()),
+                &opts,
+            )
+            .unwrap()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench_reach, bench_plan);
+criterion_main!(benches);
