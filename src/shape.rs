@@ -2,9 +2,10 @@
 //!
 //! Every method returns a [`Shape`]; every export reads one. Positions in metres, base frame.
 
+use crate::error::ModelError;
 use crate::method::warm::WarmState;
 use nalgebra::{Matrix3, Vector3};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Pose of one disk.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,17 +35,17 @@ pub struct CablePath {
 }
 
 /// A contact between the robot and an obstacle (filled by obstacle-aware methods).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Contact {
     /// Obstacle name.
     pub obstacle: String,
     /// Robot feature: `backbone`, `disk` or `cable` (`cable:NAME` names the cable).
     pub feature: String,
     /// Disk index, for disk features.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub disk: Option<usize>,
     /// Section index (1-based), for backbone and cable-chord features.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub section: Option<usize>,
     /// Closest point on the robot \[m\].
     pub point_robot: [f64; 3],
@@ -60,7 +61,7 @@ pub struct Contact {
 }
 
 /// What happened in one section of a section-by-section method.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SectionReport {
     /// Section index (1-based).
     pub section: usize,
@@ -79,7 +80,7 @@ pub struct SectionReport {
 }
 
 /// How a solve went.
-#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct SolveReport {
     /// True when every tolerance was met.
     pub converged: bool,
@@ -90,22 +91,22 @@ pub struct SolveReport {
     /// Wall time of the solve \[s\] (median over `--repeat` where the CLI sets it).
     pub solve_time_s: f64,
     /// Per-section details (section methods).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sections: Vec<SectionReport>,
     /// Internal force and moment at the base, base frame [N, N m] (rod methods).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub base_wrench: Option<[f64; 6]>,
     /// Notes: choices made, inputs ignored.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
     /// Whether the answer is a stable equilibrium: `Some(true)` when the method verified it
     /// (energy: the reduced Hessian on the active constraints is positive definite),
     /// `Some(false)` when it found the answer unstable (a saddle: the robot would not stay
     /// there), `None` when the method cannot tell. See each method's docs.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stable: Option<bool>,
     /// Sensitivities of the tip to the inputs, where the method computes them.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub jacobian: Option<TipJacobian>,
     /// Method-specific solver state for warm starts (not serialized).
     #[serde(skip)]
@@ -116,7 +117,7 @@ pub struct SolveReport {
 /// driven cable (in robot order), `position[j] = ∂p_tip/∂u_j` [m per input unit] and
 /// `tangent[j] = ∂t_tip/∂u_j` (t: the tip disk's normal), where `u_j` is the cable's shortening
 /// \[m\] or tension \[N\] as `inputs[j]` says.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TipJacobian {
     /// The column's cable and input: `(cable name, "shortening" | "tension")`.
     pub inputs: Vec<(String, String)>,
@@ -211,12 +212,97 @@ impl Shape {
     }
 }
 
+impl ShapeJson {
+    /// The shape this JSON describes (the reader of [`Shape::to_json`]'s output; warm-start
+    /// state is not carried). Refused when there is no disk or a number is not finite; `field`
+    /// prefixes the field names in errors (e.g. `waypoints[3].shape`).
+    pub fn into_shape(self, field: &str) -> Result<Shape, ModelError> {
+        if self.disks.is_empty() {
+            return Err(ModelError::invalid(
+                format!("{field}.disks"),
+                "a shape has at least the base disk",
+            ));
+        }
+        let finite = |v: &[f64], f: String| {
+            if v.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(ModelError::invalid(f, "numbers must be finite"))
+            }
+        };
+        let mut disks = Vec::with_capacity(self.disks.len());
+        for (k, d) in self.disks.iter().enumerate() {
+            let r = &d.rotation;
+            let flat = [
+                d.s,
+                d.position[0],
+                d.position[1],
+                d.position[2],
+                r[0][0],
+                r[0][1],
+                r[0][2],
+                r[1][0],
+                r[1][1],
+                r[1][2],
+                r[2][0],
+                r[2][1],
+                r[2][2],
+            ];
+            finite(&flat, format!("{field}.disks[{k}]"))?;
+            disks.push(DiskFrame {
+                s: d.s,
+                position: Vector3::from(d.position),
+                rotation: Matrix3::new(
+                    r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
+                ),
+            });
+        }
+        let mut backbone = Vec::with_capacity(self.backbone.len());
+        for (i, p) in self.backbone.iter().enumerate() {
+            finite(p, format!("{field}.backbone[{i}]"))?;
+            backbone.push(Vector3::from(*p));
+        }
+        let mut cables = Vec::with_capacity(self.cables.len());
+        for (c, cj) in self.cables.into_iter().enumerate() {
+            for (i, p) in cj.points.iter().enumerate() {
+                finite(p, format!("{field}.cables[{c}].points[{i}]"))?;
+            }
+            cables.push(CablePath {
+                name: cj.name,
+                points: cj.points.into_iter().map(Vector3::from).collect(),
+                slack: cj.slack,
+                slack_sections: cj.slack_sections,
+                tension: cj.tension,
+            });
+        }
+        Ok(Shape {
+            method: self.method,
+            disks,
+            backbone,
+            cables,
+            contacts: self.contacts,
+            report: self.report,
+        })
+    }
+}
+
+impl Shape {
+    /// Read a shape back from the JSON text [`Shape::to_json_string`] writes.
+    pub fn from_json_str(text: &str) -> Result<Shape, ModelError> {
+        let j: ShapeJson = serde_json::from_str(text).map_err(|e| ModelError::Parse {
+            path: "<shape JSON>".into(),
+            reason: e.to_string(),
+        })?;
+        j.into_shape("shape")
+    }
+}
+
 fn arr(v: &Vector3<f64>) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
 
 /// JSON form of a disk frame: rotation is row-major 3×3.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct DiskJson {
     /// Arc length \[m\].
     pub s: f64,
@@ -227,7 +313,7 @@ pub struct DiskJson {
 }
 
 /// JSON form of a cable path.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CableJson {
     /// Cable name.
     pub name: String,
@@ -238,12 +324,12 @@ pub struct CableJson {
     /// Sections where slack.
     pub slack_sections: Vec<usize>,
     /// Tension \[N\] where computed.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tension: Option<f64>,
 }
 
 /// JSON form of a [`Shape`].
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ShapeJson {
     /// Method name.
     pub method: String,
@@ -257,4 +343,63 @@ pub struct ShapeJson {
     pub contacts: Vec<Contact>,
     /// Solver report.
     pub report: SolveReport,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Shape {
+        let rot = nalgebra::Rotation3::from_euler_angles(0.1, -0.2, 0.3).into_inner();
+        Shape {
+            method: "energy".into(),
+            disks: vec![
+                DiskFrame {
+                    s: 0.0,
+                    position: Vector3::zeros(),
+                    rotation: Matrix3::identity(),
+                },
+                DiskFrame {
+                    s: 0.02,
+                    position: Vector3::new(0.001, -0.002, 0.0199),
+                    rotation: rot,
+                },
+            ],
+            backbone: vec![Vector3::zeros(), Vector3::new(0.001, -0.002, 0.0199)],
+            cables: vec![CablePath {
+                name: "A".into(),
+                points: vec![
+                    Vector3::new(0.008, 0.0, 0.0),
+                    Vector3::new(0.009, 0.0, 0.02),
+                ],
+                slack: false,
+                slack_sections: vec![],
+                tension: Some(1.5),
+            }],
+            contacts: vec![],
+            report: SolveReport {
+                converged: true,
+                iterations: 7,
+                residual: 1e-12,
+                ..Default::default()
+            },
+        }
+    }
+
+    #[test]
+    fn json_round_trip_gives_the_same_shape() {
+        let s = sample();
+        let back = Shape::from_json_str(&s.to_json_string()).expect("reads back");
+        assert_eq!(back, s);
+    }
+
+    #[test]
+    fn json_without_disks_is_refused_by_field() {
+        let mut j = sample().to_json();
+        j.disks.clear();
+        let e = j.into_shape("waypoints[2].shape").unwrap_err();
+        assert_eq!(e.field(), Some("waypoints[2].shape.disks"));
+        let e = Shape::from_json_str("{\"method\": 3}").unwrap_err();
+        assert!(matches!(e, ModelError::Parse { .. }), "{e}");
+    }
 }

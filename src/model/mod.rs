@@ -15,14 +15,20 @@
 //! ends_at = 9                   # disk where the cable is tied (default: last)
 //! shorten_percent = 4.0         # or shorten = 0.0072 \[m\]
 //! tension = 4.16925             # \[N\]
+//! [hardware]                    # optional: a real robot's gains, offsets and frames
+//! gain = 1.0                    # see [`hardware`] for every field
 //! ```
 //!
 //! Every rule is checked with an error naming the field ([`ModelError::Invalid`]); unknown
 //! fields are rejected by the parser ([`ModelError::Parse`], whose message names them).
 
 pub mod actuation;
+pub mod bounds;
 mod file;
+pub mod hardware;
+pub mod limits;
 pub mod mesh;
+pub mod read;
 pub mod robot;
 pub mod routing;
 pub mod scene;
@@ -46,6 +52,10 @@ pub struct Model {
     pub actuation: Actuation,
     /// Obstacles (from `[[obstacles]]` and a referenced `scene` file).
     pub scene: Scene,
+    /// Gains, offsets and frames of a real robot (identity when the file has no `[hardware]`).
+    pub hardware: hardware::Hardware,
+    /// Actuation limits per cable (`[limits.NAME]`; documented defaults otherwise).
+    pub limits: limits::Limits,
     /// Where the file was read from (for resolving relative paths).
     pub source: Option<PathBuf>,
 }
@@ -54,10 +64,7 @@ impl Model {
     /// Read and validate a model file.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Model, ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
+        let text = read::read_text(path, "model file")?;
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut m = Self::from_toml_named(&text, &path.display().to_string(), dir)?;
         m.source = Some(path.to_path_buf());
@@ -68,6 +75,12 @@ impl Model {
     /// current directory).
     pub fn from_toml_str(text: &str) -> Result<Model, ModelError> {
         Self::from_toml_named(text, "<string>", Path::new("."))
+    }
+
+    /// Parse and validate model text whose relative mesh and scene paths resolve against
+    /// `dir` (a model kept as text, e.g. sent to another process, that was read from `dir`).
+    pub fn from_toml_in(text: &str, dir: &Path) -> Result<Model, ModelError> {
+        Self::from_toml_named(text, "<string>", dir)
     }
 
     fn from_toml_named(text: &str, path: &str, dir: &Path) -> Result<Model, ModelError> {

@@ -1,13 +1,15 @@
 //! Second-order forward-mode automatic differentiation on fixed-size numbers.
 //!
-//! [`D2<N>`] carries a value, its gradient and its Hessian with respect to `N` variables, so a
-//! function written once over [`Real`] yields exact first and second derivatives (the section
-//! problems of the geometric method have N = 6). Unary functions use the chain rule
+//! One number type, [`Jet<N, M>`]: [`D2<N>`] (`M = N`) carries a value, its gradient and its
+//! Hessian with respect to `N` variables, [`D1<N>`] (`M = 0`) only value and gradient, so a
+//! function written once over [`Real`] yields exact first (and second) derivatives (the
+//! section problems of the geometric method use `D2<6>`, the energy model's chord Jacobians
+//! `D1<4 m>`). Unary functions use the chain rule
 //! `∇f(u) = f′ ∇u`, `∇²f(u) = f′ ∇²u + f″ ∇u ∇uᵀ`; products use the Leibniz rule.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// Scalar arithmetic shared by `f64` and [`D2`].
+/// Scalar arithmetic shared by `f64` and [`Jet`].
 pub trait Real:
     Copy
     + Add<Output = Self>
@@ -43,39 +45,54 @@ impl Real for f64 {
     }
 }
 
-/// A number with its gradient and Hessian with respect to `N` variables.
+/// A number with its gradient with respect to `N` variables and, when `M = N`, its Hessian
+/// (`M = 0`: first order only, no Hessian stored or computed). Use the aliases [`D1`] and
+/// [`D2`]; other `M` are refused at compile time.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct D2<const N: usize> {
+pub struct Jet<const N: usize, const M: usize> {
     /// Value.
     pub v: f64,
     /// Gradient.
     pub g: [f64; N],
-    /// Hessian (symmetric, stored in full).
-    pub h: [[f64; N]; N],
+    /// Hessian (symmetric, stored in full; empty when `M = 0`).
+    pub h: [[f64; M]; M],
 }
 
-impl<const N: usize> D2<N> {
+/// First-order forward AD: value and gradient with respect to `N` variables.
+pub type D1<const N: usize> = Jet<N, 0>;
+
+/// Second-order forward AD: value, gradient and Hessian with respect to `N` variables.
+pub type D2<const N: usize> = Jet<N, N>;
+
+impl<const N: usize, const M: usize> Jet<N, M> {
+    /// Only `M = 0` (first order) and `M = N` (second order) make sense.
+    const ORDER_OK: () = assert!(M == 0 || M == N, "Jet<N, M> needs M = 0 or M = N");
+
     /// The variable number `i` with value `v`.
     pub fn var(v: f64, i: usize) -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::ORDER_OK;
         let mut g = [0.0; N];
         g[i] = 1.0;
-        D2 {
+        Jet {
             v,
             g,
-            h: [[0.0; N]; N],
+            h: [[0.0; M]; M],
         }
     }
 
     /// Apply a unary function with value `f`, derivative `df`, second derivative `d2f`.
     fn chain(self, f: f64, df: f64, d2f: f64) -> Self {
-        let mut out = D2 {
+        let mut out = Jet {
             v: f,
             g: [0.0; N],
-            h: [[0.0; N]; N],
+            h: [[0.0; M]; M],
         };
         for i in 0..N {
             out.g[i] = df * self.g[i];
-            for j in i..N {
+        }
+        for i in 0..M {
+            for j in i..M {
                 let v = df * self.h[i][j] + d2f * self.g[i] * self.g[j];
                 out.h[i][j] = v;
                 out.h[j][i] = v;
@@ -85,14 +102,16 @@ impl<const N: usize> D2<N> {
     }
 }
 
-impl<const N: usize> Add for D2<N> {
+impl<const N: usize, const M: usize> Add for Jet<N, M> {
     type Output = Self;
     #[inline]
     fn add(mut self, o: Self) -> Self {
         self.v += o.v;
         for i in 0..N {
             self.g[i] += o.g[i];
-            for j in 0..N {
+        }
+        for i in 0..M {
+            for j in 0..M {
                 self.h[i][j] += o.h[i][j];
             }
         }
@@ -100,20 +119,22 @@ impl<const N: usize> Add for D2<N> {
     }
 }
 
-impl<const N: usize> Sub for D2<N> {
+impl<const N: usize, const M: usize> Sub for Jet<N, M> {
     type Output = Self;
     fn sub(self, o: Self) -> Self {
         self + (-o)
     }
 }
 
-impl<const N: usize> Neg for D2<N> {
+impl<const N: usize, const M: usize> Neg for Jet<N, M> {
     type Output = Self;
     fn neg(mut self) -> Self {
         self.v = -self.v;
         for i in 0..N {
             self.g[i] = -self.g[i];
-            for j in 0..N {
+        }
+        for i in 0..M {
+            for j in 0..M {
                 self.h[i][j] = -self.h[i][j];
             }
         }
@@ -121,18 +142,20 @@ impl<const N: usize> Neg for D2<N> {
     }
 }
 
-impl<const N: usize> Mul for D2<N> {
+impl<const N: usize, const M: usize> Mul for Jet<N, M> {
     type Output = Self;
     #[inline]
     fn mul(self, o: Self) -> Self {
-        let mut out = D2 {
+        let mut out = Jet {
             v: self.v * o.v,
             g: [0.0; N],
-            h: [[0.0; N]; N],
+            h: [[0.0; M]; M],
         };
         for i in 0..N {
             out.g[i] = self.v * o.g[i] + o.v * self.g[i];
-            for j in i..N {
+        }
+        for i in 0..M {
+            for j in i..M {
                 let v = self.v * o.h[i][j]
                     + o.v * self.h[i][j]
                     + self.g[i] * o.g[j]
@@ -145,7 +168,7 @@ impl<const N: usize> Mul for D2<N> {
     }
 }
 
-impl<const N: usize> Div for D2<N> {
+impl<const N: usize, const M: usize> Div for Jet<N, M> {
     type Output = Self;
     fn div(self, o: Self) -> Self {
         let inv = 1.0 / o.v;
@@ -153,7 +176,7 @@ impl<const N: usize> Div for D2<N> {
     }
 }
 
-impl<const N: usize> Add<f64> for D2<N> {
+impl<const N: usize, const M: usize> Add<f64> for Jet<N, M> {
     type Output = Self;
     fn add(mut self, o: f64) -> Self {
         self.v += o;
@@ -161,13 +184,15 @@ impl<const N: usize> Add<f64> for D2<N> {
     }
 }
 
-impl<const N: usize> Mul<f64> for D2<N> {
+impl<const N: usize, const M: usize> Mul<f64> for Jet<N, M> {
     type Output = Self;
     fn mul(mut self, o: f64) -> Self {
         self.v *= o;
         for i in 0..N {
             self.g[i] *= o;
-            for j in 0..N {
+        }
+        for i in 0..M {
+            for j in 0..M {
                 self.h[i][j] *= o;
             }
         }
@@ -175,12 +200,12 @@ impl<const N: usize> Mul<f64> for D2<N> {
     }
 }
 
-impl<const N: usize> Real for D2<N> {
+impl<const N: usize, const M: usize> Real for Jet<N, M> {
     fn cst(v: f64) -> Self {
-        D2 {
+        Jet {
             v,
             g: [0.0; N],
-            h: [[0.0; N]; N],
+            h: [[0.0; M]; M],
         }
     }
     fn val(&self) -> f64 {
@@ -202,14 +227,16 @@ impl<const N: usize> Real for D2<N> {
             2.0 * x.v * y.v / r4,
             (y.v * y.v - x.v * x.v) / r4,
         );
-        let mut out = D2 {
+        let mut out = Jet {
             v: y.v.atan2(x.v),
             g: [0.0; N],
-            h: [[0.0; N]; N],
+            h: [[0.0; M]; M],
         };
         for i in 0..N {
             out.g[i] = fy * y.g[i] + fx * x.g[i];
-            for j in i..N {
+        }
+        for i in 0..M {
+            for j in i..M {
                 let v = fy * y.h[i][j]
                     + fx * x.h[i][j]
                     + fyy * y.g[i] * y.g[j]
@@ -309,6 +336,25 @@ mod tests {
                 let fd2 = (dp.g[j] - dm.g[j]) / (2.0 * h);
                 assert!((fd2 - d.h[i][j]).abs() < 1e-6, "hessian {i}{j}");
             }
+        }
+    }
+
+    /// The first-order jet carries the same value and gradient as the second-order one.
+    #[test]
+    fn first_order_matches_second_order() {
+        fn f<T: Real>(x: [T; 3]) -> T {
+            let a = V3([x[0], x[1] * x[2], T::cst(0.3)]);
+            (a.dot(&a) + 1.0).sqrt() / (x[2] * 2.0 + 3.0) - a.angle(&V3([x[2], x[0], x[1]]))
+        }
+        let x0 = [0.4, -0.7, 1.3];
+        let d1 = f([D1::<3>::var(x0[0], 0), D1::var(x0[1], 1), D1::var(x0[2], 2)]);
+        let d2 = f([D2::<3>::var(x0[0], 0), D2::var(x0[1], 1), D2::var(x0[2], 2)]);
+        assert_eq!(d1.v, d2.v);
+        for i in 0..3 {
+            assert!(
+                (d1.g[i] - d2.g[i]).abs() <= 1e-15 * d2.g[i].abs().max(1.0),
+                "{i}"
+            );
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Small numerical kernels shared by the methods; nothing robot-specific.
 
 pub mod ad;
+pub mod dense;
 pub mod kkt;
 pub mod qp;
 pub mod so3;

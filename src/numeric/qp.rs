@@ -1,4 +1,5 @@
-//! Small convex QP steps with inequalities, solved by clarabel.
+//! Small convex QP steps with inequalities: [`qp_step6`] by clarabel, and [`nonneg_qp`] (a
+//! bound-constrained dense QP by a primal active set, the dual of the energy model's steps).
 //!
 //! `min ½ xᵀ H x + gᵀ x  s.t.  E x = e,  G x ≤ h` for 6 unknowns — the SQP step of a section
 //! problem when obstacle constraints are near-active. `H` is made positive definite first
@@ -6,12 +7,13 @@
 //! must descend. Equality-only steps do not come here: they use the dense nalgebra KKT step
 //! ([`crate::numeric::kkt::kkt_step6`]), which is ~100× cheaper.
 
+use crate::numeric::dense::small_solve;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT,
     SolverStatus, SupportedConeT, ZeroConeT,
 };
-use nalgebra::{Matrix6, SymmetricEigen, Vector3, Vector6};
+use nalgebra::{DMatrix, Matrix6, SymmetricEigen, Vector3, Vector6};
 
 /// Solution of [`qp_step6`].
 #[derive(Debug, Clone)]
@@ -97,6 +99,180 @@ pub fn qp_step6(
     })
 }
 
+/// Solve the dense QP `min ½ xᵀ H x + gᵀ x  s.t.  E x = e,  G x ≤ h` of any (small) size with
+/// clarabel; `H` must be symmetric positive semidefinite (only its upper triangle is read).
+/// `None` when clarabel reports anything but (almost) solved — an infeasible QP included.
+/// Used by the inverse problems ([`crate::reach`]) whose unknowns are the cable inputs.
+pub fn qp_dense(
+    h: &DMatrix<f64>,
+    g: &[f64],
+    eq: (&DMatrix<f64>, &[f64]),
+    ineq: (&DMatrix<f64>, &[f64]),
+) -> Option<Vec<f64>> {
+    let n = g.len();
+    let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
+    for j in 0..n {
+        for i in 0..=j {
+            rowval.push(i);
+            nzval.push(h[(i, j)]);
+        }
+        colptr.push(rowval.len());
+    }
+    let p = CscMatrix::new(n, n, colptr, rowval, nzval);
+    let (me, mi) = (eq.0.nrows(), ineq.0.nrows());
+    let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
+    for j in 0..n {
+        for i in 0..me + mi {
+            let v = if i < me {
+                eq.0[(i, j)]
+            } else {
+                ineq.0[(i - me, j)]
+            };
+            if v != 0.0 {
+                rowval.push(i);
+                nzval.push(v);
+            }
+        }
+        colptr.push(rowval.len());
+    }
+    let a = CscMatrix::new(me + mi, n, colptr, rowval, nzval);
+    let b: Vec<f64> = eq.1.iter().chain(ineq.1.iter()).copied().collect();
+    let mut cones: Vec<SupportedConeT<f64>> = vec![];
+    if me > 0 {
+        cones.push(ZeroConeT(me));
+    }
+    if mi > 0 {
+        cones.push(NonnegativeConeT(mi));
+    }
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_gap_abs(1e-14)
+        .tol_gap_rel(1e-12)
+        .tol_feas(1e-12)
+        .build()
+        .ok()?;
+    let mut solver = DefaultSolver::new(&p, g, &a, &b, &cones, settings).ok()?;
+    solver.solve();
+    let sol = &solver.solution;
+    if !matches!(
+        sol.status,
+        SolverStatus::Solved | SolverStatus::AlmostSolved
+    ) || sol.x.iter().any(|v| !v.is_finite())
+    {
+        return None;
+    }
+    Some(sol.x.clone())
+}
+
+/// Minimize `½ λᵀ S λ − qᵀ λ` over `λ ≥ 0` (`S`: `n × n`, symmetric positive semidefinite,
+/// row-major): the dual of one step's QP. A primal active set on the bounds: on the free set
+/// `F` solve `S_FF λ_F = q_F`; if that leaves the bounds, move to the first bound met and fix
+/// it there, else free the fixed bound with the most negative gradient `(S λ − q)_i`; done
+/// when none is negative. `lam` holds the start (projected on `λ ≥ 0`) and the result. When
+/// the free rows are dependent (two contacts at one joint, cables sharing a path), a ridge
+/// from 1e-12 of the largest diagonal up makes them solvable and they share the load; it is
+/// not used otherwise, since even 1e-12 moves the step by more than the last Newton
+/// corrections. `false` if it cycles.
+#[allow(clippy::needless_range_loop)]
+pub fn nonneg_qp(s: &[f64], q: &[f64], n: usize, lam: &mut [f64]) -> bool {
+    if n == 0 {
+        return true;
+    }
+    let big = (0..n).map(|i| s[i * n + i].abs()).fold(0.0, f64::max);
+    let mut ridge = 0.0;
+    for l in lam.iter_mut() {
+        *l = if l.is_finite() { l.max(0.0) } else { 0.0 };
+    }
+    let mut free: Vec<bool> = lam.iter().map(|&l| l > 0.0).collect();
+    // A bound freed because its gradient was negative must come out positive; in round-off
+    // (nearly dependent rows) it may not: then it stays fixed (its gradient is ~0 anyway).
+    let mut blocked = vec![false; n];
+    let mut last_added: Option<usize> = None;
+    let mut x = vec![0.0; n];
+    let (mut sub, mut rhs, mut idx) = (vec![], vec![], vec![]);
+    for _ in 0..20 * n + 50 {
+        idx.clear();
+        idx.extend((0..n).filter(|&i| free[i]));
+        let k = idx.len();
+        x.fill(0.0);
+        if k > 0 {
+            loop {
+                sub.clear();
+                rhs.clear();
+                for &a in &idx {
+                    rhs.push(q[a]);
+                    for &b in &idx {
+                        sub.push(s[a * n + b] + if a == b { ridge } else { 0.0 });
+                    }
+                }
+                if small_solve(&mut sub, &mut rhs, k).is_some() {
+                    break;
+                }
+                // Dependent rows: a ridge (it perturbs the multipliers, so only when needed).
+                ridge = if ridge == 0.0 {
+                    1e-12 * big
+                } else {
+                    100.0 * ridge
+                };
+                if !(ridge > 0.0 && ridge < big) {
+                    return false;
+                }
+            }
+            for (t, &a) in idx.iter().enumerate() {
+                x[a] = rhs[t];
+            }
+        }
+        if idx.iter().all(|&a| x[a] >= 0.0) {
+            lam.copy_from_slice(&x);
+            let mut best: Option<(usize, f64)> = None;
+            for i in (0..n).filter(|&i| !free[i] && !blocked[i]) {
+                let (mut g, mut scale) = (-q[i], q[i].abs());
+                for j in 0..n {
+                    g += s[i * n + j] * lam[j];
+                    scale += (s[i * n + j] * lam[j]).abs();
+                }
+                if g < -1e-12 * scale && best.is_none_or(|(_, b)| g < b) {
+                    best = Some((i, g));
+                }
+            }
+            match best {
+                Some((i, _)) => {
+                    free[i] = true;
+                    last_added = Some(i);
+                }
+                None => return true,
+            }
+        } else {
+            if let Some(i) = last_added.take() {
+                if x[i] < 0.0 {
+                    free[i] = false;
+                    blocked[i] = true;
+                    continue;
+                }
+            }
+            let mut alpha = 1.0;
+            let mut hit = None;
+            for &a in &idx {
+                if x[a] < 0.0 {
+                    let r = lam[a] / (lam[a] - x[a]);
+                    if r < alpha {
+                        alpha = r;
+                        hit = Some(a);
+                    }
+                }
+            }
+            for &a in &idx {
+                lam[a] += alpha * (x[a] - lam[a]);
+                if lam[a] <= 0.0 || Some(a) == hit {
+                    lam[a] = 0.0;
+                    free[a] = false;
+                }
+            }
+        }
+    }
+    false
+}
+
 /// The smallest `s` such that `target = Σ_k (a_k e1_k + b_k e2_k)` with `a_k² + b_k² ≤ (s w_k)²`:
 /// how far `target` is from the Minkowski sum of the discs `{a e1_k + b e2_k : |(a, b)| ≤ w_k}`
 /// (`s ≤ 1`: inside). A second-order cone program (min s over the cones `(w_k s, a_k, b_k)`),
@@ -175,6 +351,51 @@ mod tests {
         let s = qp_step6(&h, &g, &[], &[], &[row], &[0.25], 1e-12).unwrap();
         assert!((s.x[0] - 0.25).abs() < 1e-8);
         assert!((s.mu[0] - 0.75).abs() < 1e-7);
+    }
+
+    /// min ½|x|² s.t. x₀ + x₁ = 1, x₀ ≤ 0.2: x = (0.2, 0.8) (closed form).
+    #[test]
+    fn dense_qp_with_equality_and_bound() {
+        let h = DMatrix::identity(2, 2);
+        let e = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+        let gi = DMatrix::from_row_slice(1, 2, &[1.0, 0.0]);
+        let x = qp_dense(&h, &[0.0, 0.0], (&e, &[1.0]), (&gi, &[0.2])).unwrap();
+        assert!(
+            (x[0] - 0.2).abs() < 1e-9 && (x[1] - 0.8).abs() < 1e-9,
+            "{x:?}"
+        );
+    }
+
+    /// The active set's answer satisfies the KKT conditions of `min ½ λᵀSλ − qᵀλ, λ ≥ 0`:
+    /// λ ≥ 0, gradient `Sλ − q` ≥ 0, zero where λ > 0.
+    #[test]
+    fn nonneg_qp_meets_kkt_conditions() {
+        let n = 4;
+        let b = [
+            1.0, 0.3, -0.2, 0.5, -0.4, 1.2, 0.1, 0.0, 0.2, -0.3, 0.9, 0.4, 0.0, 0.6, -0.5, 1.1,
+        ];
+        let mut s = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                s[i * n + j] = (0..n).map(|k| b[i * n + k] * b[j * n + k]).sum();
+            }
+        }
+        for q in [
+            [1.0, -2.0, 0.5, 0.3],
+            [-1.0, -1.0, -1.0, -1.0],
+            [2.0, 1.0, 3.0, -0.1],
+        ] {
+            let mut lam = vec![0.0; n];
+            assert!(nonneg_qp(&s, &q, n, &mut lam));
+            for i in 0..n {
+                let g: f64 = (0..n).map(|j| s[i * n + j] * lam[j]).sum::<f64>() - q[i];
+                assert!(lam[i] >= 0.0 && g > -1e-12, "{q:?} {i}: λ {} g {g}", lam[i]);
+                assert!(
+                    lam[i] == 0.0 || g.abs() < 1e-12,
+                    "{q:?} {i}: complementarity"
+                );
+            }
+        }
     }
 
     /// Two discs, normal to x and to y (both contain z), weight 1: (0.5, 0.5, 1) splits best

@@ -43,7 +43,7 @@
 //! every sub-arc upstream of a contact and break the block-diagonal structure); with contacts,
 //! convergence is therefore linear near the solution rather than quadratic.
 
-use super::{sub_arc_exp, GL_NODES, GL_W, GL_X};
+use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use crate::method::contact::{nvec, polish, ppose, pvec, query, y_to_z, Witness};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;

@@ -1,0 +1,34 @@
+from typing import Optional
+
+import numpy.typing as npt
+
+from ._native import (
+    ExportError as ExportError,
+    Infeasible as Infeasible,
+    InvalidInput as InvalidInput,
+    Model as Model,
+    ModelError as ModelError,
+    NotConverged as NotConverged,
+    Obstructed as Obstructed,
+    Shape as Shape,
+    SolveError as SolveError,
+    Unsupported as Unsupported,
+    methods as methods,
+)
+from .batch import STATUSES as STATUSES, Batch as Batch
+
+__version__: str
+
+def solve_batch(
+    model: Model,
+    shorten: Optional[npt.ArrayLike] = None,
+    tension: Optional[npt.ArrayLike] = None,
+    method: str = "energy",
+    threads: Optional[int] = None,
+    warm_start: bool = True,
+    *,
+    chunk: int = 64,
+    full: bool = False,
+    steps: int = 1,
+    **settings: object,
+) -> Batch: ...

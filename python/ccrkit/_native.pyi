@@ -1,0 +1,154 @@
+"""Type stubs of ccrkit's native module (PyO3). Units: metres, newtons, radians."""
+
+from __future__ import annotations
+
+from os import PathLike
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Path = Union[str, PathLike]
+_Vec = Union[npt.ArrayLike, Sequence[float]]
+_Setting = Union[str, int, float, bool]
+
+class SolveError(Exception):
+    """Every ccrkit error."""
+
+    kind: str
+    field: Optional[str]
+    reason: str
+    cable: Optional[str]
+    section: Optional[int]
+    method: Optional[str]
+    iterations: Optional[int]
+    residual: Optional[float]
+    obstacle: Optional[str]
+    path: Optional[str]
+
+class InvalidInput(SolveError):
+    """An input or setting is not valid (``field`` names it)."""
+
+class ModelError(InvalidInput):
+    """A model or scene file cannot be read, parsed or used (``field``, ``path``)."""
+
+class Infeasible(SolveError):
+    """No shape reaches the actuation (``cable``, ``section``)."""
+
+class NotConverged(SolveError):
+    """A solver stopped short of its tolerance (``method``, ``iterations``, ``residual``)."""
+
+class Obstructed(SolveError):
+    """An obstacle makes the shape impossible (``obstacle``, ``section``)."""
+
+class Unsupported(SolveError):
+    """The method cannot represent this robot, load or obstacle (``method``)."""
+
+class ExportError(SolveError):
+    """An export cannot be written (``path``)."""
+
+class Shape:
+    """A solved robot; arrays are float64 in metres, base frame."""
+
+    @property
+    def method(self) -> str: ...
+    @property
+    def disk_positions(self) -> npt.NDArray[np.float64]:
+        """(n+1, 3) disk centres [m]."""
+    @property
+    def disk_rotations(self) -> npt.NDArray[np.float64]:
+        """(n+1, 3, 3): ``[d, i, j]`` is row i, column j of disk d's rotation."""
+    @property
+    def disk_s(self) -> npt.NDArray[np.float64]:
+        """(n+1,) arc length of every disk along the undeformed backbone [m]."""
+    @property
+    def tip(self) -> npt.NDArray[np.float64]:
+        """(3,) tip position [m]."""
+    @property
+    def backbone(self) -> npt.NDArray[np.float64]:
+        """(m, 3) dense backbone samples [m]."""
+    @property
+    def cable_paths(self) -> Dict[str, npt.NDArray[np.float64]]:
+        """Cable name -> (k, 3) hole positions at the disks it passes [m]."""
+    @property
+    def tensions(self) -> npt.NDArray[np.float64]:
+        """(cables,) tensions [N], NaN where the method computes none."""
+    @property
+    def slack(self) -> List[bool]: ...
+    @property
+    def contacts(self) -> List[Dict[str, Any]]:
+        """obstacle, feature, disk, section, point_robot, point_obstacle, normal, distance, reaction."""
+    @property
+    def report(self) -> Dict[str, Any]:
+        """The ``report`` object of ``to_json()``."""
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def stable(self) -> Optional[bool]: ...
+    @property
+    def jacobian(self) -> Optional[Dict[str, Any]]:
+        """``inputs`` [(cable, input)], ``position`` and ``tangent`` (3, k) arrays; or None."""
+    def to_json(self) -> str:
+        """The command line's ``ccrkit solve --json`` text."""
+    @staticmethod
+    def from_json(text: str) -> Shape: ...
+
+class Model:
+    """A parsed, validated model file (robot, actuation, obstacles); immutable, pickles."""
+
+    @staticmethod
+    def load(path: _Path) -> Model: ...
+    @staticmethod
+    def from_toml(text: str, base_dir: Optional[_Path] = None) -> Model: ...
+    def with_scene(self, path: _Path) -> Model: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def cables(self) -> List[str]: ...
+    @property
+    def sections(self) -> int: ...
+    @property
+    def cable_lengths(self) -> npt.NDArray[np.float64]:
+        """(cables,) undeformed straight-chord lengths [m]."""
+    @property
+    def shorten(self) -> npt.NDArray[np.float64]:
+        """(cables,) the file's shortenings [m], NaN where none."""
+    @property
+    def tension(self) -> npt.NDArray[np.float64]:
+        """(cables,) the file's tensions [N], NaN where none."""
+    @property
+    def obstacles(self) -> List[str]: ...
+    @property
+    def source(self) -> Optional[str]: ...
+    def solve(
+        self,
+        method: str = "energy",
+        shorten: Optional[_Vec] = None,
+        tension: Optional[_Vec] = None,
+        *,
+        steps: int = 1,
+        warm_from: Optional[str] = None,
+        **settings: _Setting,
+    ) -> Shape: ...
+    def export_urdf(
+        self,
+        path: _Path,
+        shape: Shape,
+        mode: str = "articulated",
+        cables: bool = False,
+        name: Optional[str] = None,
+    ) -> List[str]: ...
+
+def methods() -> List[Dict[str, Any]]: ...
+def _solve_batch(
+    model: Model,
+    shorten: Optional[npt.ArrayLike] = None,
+    tension: Optional[npt.ArrayLike] = None,
+    method: str = "energy",
+    threads: Optional[int] = None,
+    warm_start: bool = True,
+    chunk: int = 64,
+    full: bool = False,
+    steps: int = 1,
+    **settings: _Setting,
+) -> Dict[str, Any]: ...

@@ -1,0 +1,320 @@
+//! `ccrkit.Model`: a parsed, validated model file, kept with its text so that it pickles.
+
+use crate::errors::{export_error, invalid, model_error, solve_error};
+use crate::shape::Shape;
+use ccrkit::batch::BatchInputs;
+use ccrkit::export::{export_urdf, UrdfOptions};
+use ccrkit::method::run::SolveRequest;
+use ccrkit::method::{MethodKind, Settings};
+use ccrkit::Scene;
+use numpy::{AllowTypeChange, PyArray1, PyArrayLike1};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyString, PyTuple};
+use std::path::{Path, PathBuf};
+
+/// A robot with its file's actuation and obstacles. Build it with `Model.load(path)` or
+/// `Model.from_toml(text, base_dir=None)`; it is immutable (`with_scene` returns a new one)
+/// and pickles (its TOML text, base directory and added scene files travel).
+#[pyclass(frozen, module = "ccrkit._native", name = "Model")]
+pub struct Model {
+    pub(crate) inner: ccrkit::Model,
+    text: String,
+    dir: PathBuf,
+    source: Option<PathBuf>,
+    scenes: Vec<PathBuf>,
+}
+
+fn absolute(py: Python<'_>, p: &Path) -> PyResult<PathBuf> {
+    std::path::absolute(p).map_err(|e| invalid(py, "path", format!("`{}`: {e}", p.display())))
+}
+
+impl Model {
+    fn build(
+        py: Python<'_>,
+        text: String,
+        dir: PathBuf,
+        source: Option<PathBuf>,
+        scenes: Vec<PathBuf>,
+    ) -> PyResult<Model> {
+        let mut inner =
+            ccrkit::Model::from_toml_in(&text, &dir).map_err(|e| model_error(py, &e))?;
+        inner.source = source.clone();
+        for s in &scenes {
+            inner
+                .scene
+                .merge(Scene::from_file(s).map_err(|e| model_error(py, &e))?);
+        }
+        Ok(Model {
+            inner,
+            text,
+            dir,
+            source,
+            scenes,
+        })
+    }
+
+    /// The actuation given by `shorten` / `tension` (one value per cable, NaN: none), or the
+    /// file's when both are `None`.
+    pub(crate) fn actuation(
+        &self,
+        py: Python<'_>,
+        shorten: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+        tension: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+    ) -> PyResult<ccrkit::Actuation> {
+        if shorten.is_none() && tension.is_none() {
+            return Ok(self.inner.actuation.clone());
+        }
+        let k = self.inner.robot.cables.len();
+        let vec =
+            |a: Option<PyArrayLike1<'_, f64, AllowTypeChange>>| a.map(|a| a.as_array().to_vec());
+        let inputs =
+            BatchInputs::new(1, k, vec(shorten), vec(tension)).map_err(|e| solve_error(py, &e))?;
+        Ok(inputs.actuation(0))
+    }
+}
+
+/// Settings given as Python keyword arguments: `sub_arcs=8` is `sub-arcs=8`; booleans are
+/// `true`/`false`; every other value is its `str()`.
+pub fn settings_from(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Settings> {
+    let mut s = Settings::new();
+    if let Some(d) = kwargs {
+        for (k, v) in d.iter() {
+            let name: String = k.extract()?;
+            let value = if v.is_instance_of::<PyBool>() {
+                if v.is_truthy()? { "true" } else { "false" }.to_string()
+            } else if let Ok(t) = v.cast::<PyString>() {
+                t.to_string()
+            } else {
+                v.str()?.to_string()
+            };
+            s.push(name, value);
+        }
+    }
+    Ok(s)
+}
+
+/// The method named `name`, or `InvalidInput` naming the known ones.
+pub fn method_kind(py: Python<'_>, name: &str) -> PyResult<MethodKind> {
+    name.parse::<MethodKind>().map_err(|e| solve_error(py, &e))
+}
+
+#[pymethods]
+impl Model {
+    /// Read and validate a model file (TOML); relative scene and mesh paths resolve against
+    /// its folder.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Model> {
+        let path = absolute(py, &path)?;
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            model_error(
+                py,
+                &ccrkit::ModelError::Io {
+                    path: path.display().to_string(),
+                    reason: e.to_string(),
+                },
+            )
+        })?;
+        // Parsed as the command line does, so errors name the file; the same model as
+        // `from_toml_in(text, dir)`, which rebuilds it when unpickled.
+        let inner = ccrkit::Model::from_file(&path).map_err(|e| model_error(py, &e))?;
+        let dir = path.parent().unwrap_or(Path::new("/")).to_path_buf();
+        Ok(Model {
+            inner,
+            text,
+            dir,
+            source: Some(path),
+            scenes: Vec::new(),
+        })
+    }
+
+    /// Parse and validate model text; relative scene and mesh paths resolve against
+    /// `base_dir` (default: the current directory).
+    #[staticmethod]
+    #[pyo3(signature = (text, base_dir=None))]
+    fn from_toml(py: Python<'_>, text: String, base_dir: Option<PathBuf>) -> PyResult<Model> {
+        let dir = absolute(py, &base_dir.unwrap_or_else(|| PathBuf::from(".")))?;
+        Model::build(py, text, dir, None, Vec::new())
+    }
+
+    /// This model with the obstacles of a scene file added.
+    fn with_scene(&self, py: Python<'_>, path: PathBuf) -> PyResult<Model> {
+        let mut scenes = self.scenes.clone();
+        scenes.push(absolute(py, &path)?);
+        Model::build(
+            py,
+            self.text.clone(),
+            self.dir.clone(),
+            self.source.clone(),
+            scenes,
+        )
+    }
+
+    /// Robot name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.robot.name.clone()
+    }
+
+    /// Cable names, in robot order (the columns of `shorten` / `tension`).
+    #[getter]
+    fn cables(&self) -> Vec<String> {
+        self.inner
+            .robot
+            .cables
+            .iter()
+            .map(|c| c.name.clone())
+            .collect()
+    }
+
+    /// Number of sections n (disks 0..=n).
+    #[getter]
+    fn sections(&self) -> usize {
+        self.inner.robot.sections()
+    }
+
+    /// Undeformed straight-chord length of every cable [m] (shortening fractions are of it).
+    #[getter]
+    fn cable_lengths<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let r = &self.inner.robot;
+        PyArray1::from_vec(
+            py,
+            (0..r.cables.len())
+                .map(|c| r.undeformed_chord_length(c))
+                .collect(),
+        )
+    }
+
+    /// The file's shortening of every cable [m] (NaN where it gives none).
+    #[getter]
+    fn shorten<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let (r, a) = (&self.inner.robot, &self.inner.actuation);
+        PyArray1::from_vec(
+            py,
+            (0..r.cables.len())
+                .map(|c| a.shortening_length(r, c).unwrap_or(f64::NAN))
+                .collect(),
+        )
+    }
+
+    /// The file's tension of every cable [N] (NaN where it gives none).
+    #[getter]
+    fn tension<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let a = &self.inner.actuation;
+        PyArray1::from_vec(
+            py,
+            (0..self.inner.robot.cables.len())
+                .map(|c| a.tension(c).unwrap_or(f64::NAN))
+                .collect(),
+        )
+    }
+
+    /// Number of obstacles (the file's and the added scenes').
+    #[getter]
+    fn obstacles(&self) -> Vec<String> {
+        self.inner
+            .scene
+            .obstacles
+            .iter()
+            .map(|o| o.name.clone())
+            .collect()
+    }
+
+    /// The file the model was read from, if any.
+    #[getter]
+    fn source(&self) -> Option<PathBuf> {
+        self.source.clone()
+    }
+
+    /// Solve the shape with `method` (see `ccrkit.methods()`). `shorten` [m] and `tension` [N]
+    /// (one value per cable, NaN: none) replace the file's actuation when either is given.
+    /// `steps` reaches the actuation in that many warm-started steps; `warm_from` starts from
+    /// another method's shape. Every other keyword is a setting of the method by name
+    /// (`sub_arcs=8`, `length="chord"`); a setting the method does not take is refused.
+    #[pyo3(signature = (method="energy", shorten=None, tension=None, *, steps=1, warm_from=None, **settings))]
+    #[allow(clippy::too_many_arguments)]
+    fn solve(
+        &self,
+        py: Python<'_>,
+        method: &str,
+        shorten: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+        tension: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+        steps: usize,
+        warm_from: Option<&str>,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Shape> {
+        let request = SolveRequest {
+            method: method_kind(py, method)?,
+            settings: settings_from(settings)?,
+            extra_scene: None,
+            warm_from: warm_from.map(|w| method_kind(py, w)).transpose()?,
+            steps,
+            repeat: 1,
+        };
+        let actuation = self.actuation(py, shorten, tension)?;
+        let model = &self.inner;
+        let solved = py.detach(|| {
+            if actuation == model.actuation {
+                request.run(model)
+            } else {
+                let mut m = model.clone();
+                m.actuation = actuation;
+                request.run(&m)
+            }
+        });
+        let solved = solved.map_err(|e| solve_error(py, &e))?;
+        Ok(Shape::new(solved.shape))
+    }
+
+    /// Write `shape` (solved on this model) as URDF to `path`, with the SRDF and the joint
+    /// values as JSON next to it in `articulated` mode. Returns the paths written.
+    #[pyo3(signature = (path, shape, mode="articulated", cables=false, name=None))]
+    fn export_urdf(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        shape: &Shape,
+        mode: &str,
+        cables: bool,
+        name: Option<String>,
+    ) -> PyResult<Vec<PathBuf>> {
+        let mode = mode.parse().map_err(|e| export_error(py, &e))?;
+        let opts = UrdfOptions { mode, cables, name };
+        let export = export_urdf(&shape.inner, &self.inner.robot, &opts)
+            .map_err(|e| export_error(py, &e))?;
+        export.write_files(&path).map_err(|e| export_error(py, &e))
+    }
+
+    /// Pickling: the TOML text, its base directory, the source file and the added scenes.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let restore = py.get_type::<Model>().getattr("_restore")?;
+        let args = (
+            self.text.clone(),
+            self.dir.clone(),
+            self.source.clone(),
+            self.scenes.clone(),
+        );
+        PyTuple::new(py, [restore, args.into_pyobject(py)?.into_any()])
+    }
+
+    /// Rebuild a pickled model (not meant to be called directly).
+    #[staticmethod]
+    fn _restore(
+        py: Python<'_>,
+        text: String,
+        dir: PathBuf,
+        source: Option<PathBuf>,
+        scenes: Vec<PathBuf>,
+    ) -> PyResult<Model> {
+        Model::build(py, text, dir, source, scenes)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Model(name={:?}, sections={}, cables={:?}, obstacles={})",
+            self.inner.robot.name,
+            self.inner.robot.sections(),
+            self.cables(),
+            self.inner.scene.obstacles.len()
+        )
+    }
+}

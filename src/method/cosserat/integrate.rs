@@ -1,0 +1,307 @@
+//! Integration base to tip: fixed RK4 steps (or adaptive Dormand–Prince RK45) over each
+//! section, the jumps of the internal wrench at the disks (tendon ties, disk weights, tip
+//! wrench, kink forces of cables passing a disk), and one shooting pass ([`Problem::shoot`]).
+
+use super::problem::{LoadCase, Problem, Shot, Trace};
+use super::variational::Var;
+use super::{put3, rot_of, v3, Buf, RodModel, State, E3, MAX_CABLES};
+use crate::model::actuation::LengthMeasure;
+use nalgebra::{Matrix3, Vector3, Vector6};
+
+impl Problem<'_> {
+    /// One classical RK4 step from `s` of size `h`; path lengths accumulate in `len`.
+    #[inline]
+    pub(super) fn rk4(
+        &self,
+        s: f64,
+        h: f64,
+        y: &mut State,
+        sec: usize,
+        ld: &LoadCase,
+        len: &mut Buf,
+    ) {
+        let (mut l1, mut l2, mut l3, mut l4) = (
+            [0.0; MAX_CABLES],
+            [0.0; MAX_CABLES],
+            [0.0; MAX_CABLES],
+            [0.0; MAX_CABLES],
+        );
+        let k1 = self.rucker_webster(s, y, sec, ld, &mut l1);
+        let k2 = self.rucker_webster(s + 0.5 * h, &(*y + k1 * (0.5 * h)), sec, ld, &mut l2);
+        let k3 = self.rucker_webster(s + 0.5 * h, &(*y + k2 * (0.5 * h)), sec, ld, &mut l3);
+        let k4 = self.rucker_webster(s + h, &(*y + k3 * h), sec, ld, &mut l4);
+        *y += (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
+        for c in 0..self.robot.cables.len() {
+            len[c] += (l1[c] + 2.0 * (l2[c] + l3[c]) + l4[c]) * (h / 6.0);
+        }
+    }
+
+    /// Integrate section `sec` with its fixed RK4 steps (and the tangents, if `var`).
+    pub(super) fn section(
+        &self,
+        sec: usize,
+        y: &mut State,
+        ld: &LoadCase,
+        len: &mut Buf,
+        trace: &mut Option<&mut Trace>,
+        var: &mut Option<&mut Var>,
+    ) {
+        let (s0, s1) = (self.robot.disk_s[sec - 1], self.robot.disk_s[sec]);
+        let nsteps = self.nsteps[sec];
+        let h = (s1 - s0) / nsteps as f64;
+        for j in 0..nsteps {
+            // Each step starts at its own arc length (never drop s0).
+            let s = s0 + j as f64 * h;
+            match var.as_deref_mut() {
+                Some(vr) => self.rk4_t(s, h, y, sec, ld, len, vr),
+                None => self.rk4(s, h, y, sec, ld, len),
+            }
+            if let Some(t) = trace.as_deref_mut() {
+                t.backbone.push(v3(y, 0));
+            }
+        }
+    }
+
+    /// Rod force and moment (base frame) from the state.
+    #[inline]
+    pub(super) fn wrench(&self, y: &State) -> (Vector3<f64>, Vector3<f64>) {
+        let r = rot_of(y);
+        let u = v3(y, 15);
+        let n = match self.set.model {
+            RodModel::Full => r * self.kse.component_mul(&(v3(y, 12) - E3)),
+            RodModel::Kirchhoff => v3(y, 12),
+        };
+        (n, r * self.kbt.component_mul(&u))
+    }
+
+    /// Set the strains (and `n` for Kirchhoff) from a rod wrench.
+    #[inline]
+    pub(super) fn set_wrench(&self, y: &mut State, n: &Vector3<f64>, m: &Vector3<f64>) {
+        let r = rot_of(y);
+        match self.set.model {
+            RodModel::Full => put3(y, 12, &(E3 + r.tr_mul(n).component_div(&self.kse))),
+            RodModel::Kirchhoff => put3(y, 12, n),
+        }
+        put3(y, 15, &r.tr_mul(m).component_div(&self.kbt));
+    }
+
+    /// Integrate base to tip from the base wrench `n0`, `m0` (one shooting pass): the
+    /// residual `[n(L⁺), m(L⁺)/L]`, the cable lengths and the tip. The geometry goes to
+    /// `trace` (default: the problem's `last`), the tangents to `var` if given.
+    pub(super) fn shoot(
+        &self,
+        n0: &Vector3<f64>,
+        m0: &Vector3<f64>,
+        ld: &LoadCase,
+        trace: Option<&mut Trace>,
+        mut var: Option<&mut Var>,
+    ) -> Shot {
+        let robot = self.robot;
+        let mut last = self.last.borrow_mut();
+        let rec: &mut Trace = match trace {
+            Some(t) => t,
+            None => &mut last,
+        };
+        rec.start(n0, m0, ld);
+        let mut trace = Some(rec);
+        let mut y = State::zeros();
+        y.as_mut_slice()[3..12].copy_from_slice(Matrix3::<f64>::identity().as_slice());
+        self.set_wrench(&mut y, n0, m0);
+        let mut path = [0.0; MAX_CABLES];
+        let mut chord = [0.0; MAX_CABLES];
+        let mut prev = [Vector3::zeros(); MAX_CABLES];
+        for (c, cable) in robot.cables.iter().enumerate() {
+            prev[c] = cable.hole(0);
+        }
+        if let Some(t) = trace.as_deref_mut() {
+            t.disks.push((Vector3::zeros(), Matrix3::identity()));
+            t.backbone.push(Vector3::zeros());
+        }
+        let mut h_adapt = self.len_l / (robot.sections() as f64 * 4.0);
+        let nsec = robot.sections();
+        let bad = Shot {
+            resid: Vector6::from_element(f64::NAN),
+            len: [f64::NAN; MAX_CABLES],
+            tip: Vector3::from_element(f64::NAN),
+        };
+        {
+            let mut mesh = self.mesh.borrow_mut();
+            mesh.cursor = 0;
+            mesh.worst = 0.0;
+            if !mesh.frozen {
+                mesh.ends.clear();
+            }
+        }
+        let mut crossed = Vec::new();
+        let mut steps = 0;
+        let mut k = 1;
+        while k <= nsec {
+            if self.set.adaptive.is_some() {
+                // Adaptive: integrate to the next disk with a jump, reading the disks crossed
+                // on the way from the continuous extension.
+                let b = self.stretch_end(k, ld);
+                crossed.clear();
+                let secs = (k, b);
+                let (len, h) = (&mut path, &mut h_adapt);
+                if !self.stretch(
+                    secs,
+                    &mut y,
+                    ld,
+                    len,
+                    h,
+                    &mut steps,
+                    &mut trace,
+                    &mut crossed,
+                ) || crossed.len() != b - k
+                {
+                    return bad;
+                }
+                for (j, yj) in (k..b).zip(&crossed) {
+                    if let Some(t) = trace.as_deref_mut() {
+                        t.disks.push((v3(yj, 0), rot_of(yj)));
+                    }
+                    // No jump at a crossed disk: only the chords move on.
+                    self.disk_loads(j, yj, ld, &mut chord, &mut prev);
+                }
+                k = b;
+            } else {
+                self.section(k, &mut y, ld, &mut path, &mut trace, &mut var);
+            }
+            let r = rot_of(&y);
+            let p = v3(&y, 0);
+            if let Some(vr) = var.as_deref_mut() {
+                self.disk_tangents(k, &y, ld, &prev, vr);
+            }
+            if let Some(t) = trace.as_deref_mut() {
+                t.disks.push((p, r));
+            }
+            let (mut n, mut m) = self.disk_loads(k, &y, ld, &mut chord, &mut prev);
+            let tied_here = robot
+                .cables
+                .iter()
+                .enumerate()
+                .any(|(c, cable)| cable.ends_at == k && ld.tau[c] != 0.0);
+            let point_load = self.disk_weight.norm() * ld.lam > 0.0;
+            if k < nsec && (tied_here || point_load) {
+                // The variational pass is only run where no such jump occurs (`var_ok`).
+                debug_assert!(var.is_none());
+                match self.kink_forces(k, &y, ld, n, m) {
+                    Some((n2, m2)) => (n, m) = (n2, m2),
+                    None => return bad,
+                }
+            }
+            self.set_wrench(&mut y, &n, &m);
+            if k == nsec {
+                let mm = m / self.len_l;
+                let resid = Vector6::new(n.x, n.y, n.z, mm.x, mm.y, mm.z);
+                let len = match self.set.length {
+                    LengthMeasure::Path => path,
+                    LengthMeasure::Chord => chord,
+                };
+                return Shot { resid, len, tip: p };
+            }
+            k += 1;
+        }
+        bad
+    }
+
+    /// The internal wrench just after disk `k` from the state just before it, with the
+    /// point loads there: tie forces of cables ending at `k` (`F = −τ t` at `p + R r`),
+    /// the disk weight and, at the tip, the tip wrench. Adds the chords to `chord` and moves
+    /// each running cable's last hole `prev` to disk `k`.
+    fn disk_loads(
+        &self,
+        k: usize,
+        y: &State,
+        ld: &LoadCase,
+        chord: &mut Buf,
+        prev: &mut [Vector3<f64>; MAX_CABLES],
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let robot = self.robot;
+        let r = rot_of(y);
+        let p = v3(y, 0);
+        let (mut n, mut m) = self.wrench(y);
+        let v = match self.set.model {
+            RodModel::Full => v3(y, 12),
+            RodModel::Kirchhoff => E3,
+        };
+        let u = v3(y, 15);
+        for (c, cable) in robot.cables.iter().enumerate() {
+            if cable.ends_at < k {
+                continue;
+            }
+            let hole = p + r * cable.hole(k);
+            chord[c] += (hole - prev[c]).norm();
+            prev[c] = hole;
+            let t = ld.tau[c];
+            if cable.ends_at == k && t != 0.0 {
+                let rp = self.eval_route(c, robot.disk_s[k], k);
+                let pd = u.cross(&rp.r) + rp.dr + v;
+                let f = r * pd * (-t / pd.norm());
+                n -= f;
+                m -= (r * rp.r).cross(&f);
+            }
+        }
+        n -= self.disk_weight * ld.lam;
+        if k == robot.sections() {
+            n -= self.tip_f * ld.lam;
+            m -= self.tip_m * ld.lam;
+        }
+        (n, m)
+    }
+
+    /// Kink forces of cables passing inner disk `k` where the strains jump (a cable is tied
+    /// there, or a point load acts): a passing cable changes direction at its hole,
+    /// `t⁻ = (v⁻ + u⁻ × r + r′)/|·| → t⁺`, and, frictionless, pushes the disk with
+    /// `F = τ (t⁺ − t⁻)`, a point force the distributed Rucker–Webster loads cannot carry.
+    /// `n⁺ = n⁻ − F`, `m⁺ = m⁻ − (R r) × F`, with `t⁺` from the post-jump strains, which
+    /// depend on `F`: a fixed point (the coupling is weak; it converges in a few sweeps).
+    /// `(n_base, m_base)`: the wrench after the other point loads; `None` if not settled.
+    fn kink_forces(
+        &self,
+        k: usize,
+        y: &State,
+        ld: &LoadCase,
+        n_base: Vector3<f64>,
+        m_base: Vector3<f64>,
+    ) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        let robot = self.robot;
+        let r = rot_of(y);
+        let v = match self.set.model {
+            RodModel::Full => v3(y, 12),
+            RodModel::Kirchhoff => E3,
+        };
+        let u = v3(y, 15);
+        let (mut n, mut m) = (n_base, m_base);
+        for _ in 0..50 {
+            let mut yy = *y;
+            self.set_wrench(&mut yy, &n, &m);
+            let vp = match self.set.model {
+                RodModel::Full => v3(&yy, 12),
+                RodModel::Kirchhoff => E3,
+            };
+            let up = v3(&yy, 15);
+            let (mut n2, mut m2) = (n_base, m_base);
+            for (c, cable) in robot.cables.iter().enumerate() {
+                let t = ld.tau[c];
+                if cable.ends_at <= k || t == 0.0 {
+                    continue;
+                }
+                let rm = self.routes[c].eval(robot.disk_s[k], k - 1);
+                let rpl = self.routes[c].eval(robot.disk_s[k], k);
+                let tm = u.cross(&rm.r) + rm.dr + v;
+                let tp = up.cross(&rpl.r) + rpl.dr + vp;
+                let f = r * (tp / tp.norm() - tm / tm.norm()) * t;
+                n2 -= f;
+                m2 -= (r * rm.r).cross(&f);
+            }
+            let change = (n2 - n).norm() + (m2 - m).norm() / self.len_l;
+            n = n2;
+            m = m2;
+            if change <= 1e-14 * (1.0 + n.norm() + m.norm() / self.len_l) {
+                return Some((n, m));
+            }
+        }
+        None
+    }
+}

@@ -1,0 +1,231 @@
+//! The `Method` entry of the rod: the slack active set over length-controlled cables around
+//! the shooting solve, and the assembly of the shape from the converged pass.
+
+use super::problem::{LoadCase, Problem, Trace};
+use super::shooting::{Newton, Setup};
+use super::warm::Warm;
+use super::{Cosserat, RodModel};
+use crate::error::SolveError;
+use crate::method::warm::WarmState;
+use crate::method::{Method, MethodKind};
+use crate::model::actuation::{Actuation, Drive};
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
+use crate::numeric::so3::gram_schmidt;
+use crate::shape::{CablePath, DiskFrame, Shape, SolveReport};
+use nalgebra::{DVector, Vector3};
+use std::time::Instant;
+
+impl Method for Cosserat {
+    fn kind(&self) -> MethodKind {
+        match self.model {
+            RodModel::Full => MethodKind::Cosserat,
+            RodModel::Kirchhoff => MethodKind::Kirchhoff,
+        }
+    }
+
+    fn solve(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError> {
+        let start = Instant::now();
+        let name = self.name().to_string();
+        self.kind().check_support(robot, scene)?;
+        let (prob, mut notes) = self.problem(robot, act)?;
+        let nc = robot.cables.len();
+        let length_cables: Vec<usize> = (0..nc)
+            .filter(|&c| matches!(prob.modes[c], Drive::Shorten { .. }))
+            .collect();
+        let mut slack = vec![false; nc];
+        let mut warm = Warm::read(warm, self.name(), prob.len_l, &length_cables, &mut slack);
+        // Active set over slack cables.
+        let mut total_it = 0usize;
+        let max_rounds = 2 * nc + 3;
+        let mut prev: Option<(DVector<f64>, Setup)> = None;
+        for _round in 0..max_rounds {
+            let unknown: Vec<usize> = length_cables
+                .iter()
+                .copied()
+                .filter(|&c| !slack[c])
+                .collect();
+            let setup = Setup {
+                unknown,
+                slack: slack.clone(),
+            };
+            let mut x0 = DVector::zeros(6 + setup.unknown.len());
+            match &prev {
+                // Carry the base wrench and the tensions of cables still unknown.
+                Some((xp, ps)) => {
+                    for i in 0..6 {
+                        x0[i] = xp[i];
+                    }
+                    for (j, &c) in setup.unknown.iter().enumerate() {
+                        if let Some(pj) = ps.unknown.iter().position(|&q| q == c) {
+                            x0[6 + j] = xp[6 + pj].max(0.0);
+                        }
+                    }
+                }
+                None => warm.start(&prob, &setup, &mut x0),
+            }
+            let jac0 = if prev.is_none() {
+                warm.jac.as_ref()
+            } else {
+                None
+            };
+            let (sol, load_steps) =
+                prob.solve_with_continuation(&x0, &setup, jac0)
+                    .map_err(|e| SolveError::NotConverged {
+                        method: name.clone(),
+                        section: None,
+                        iterations: total_it + e.iterations,
+                        residual: e.residual,
+                        detail: e.detail,
+                    })?;
+            if load_steps > 0 {
+                notes.push(format!("continuation: {load_steps} load steps"));
+            }
+            let Newton {
+                x,
+                iterations: it,
+                residual: res,
+                jac,
+            } = sol;
+            total_it += it;
+            if !self.update_active_set(&prob, &x, &setup, &length_cables, &mut slack) {
+                let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, start, notes);
+                shape.report.warm = jac.map(|jacobian| WarmState::Rod { jacobian });
+                return Ok(shape);
+            }
+            prev = Some((x, setup));
+        }
+        Err(SolveError::NotConverged {
+            method: name,
+            section: None,
+            iterations: total_it,
+            residual: f64::NAN,
+            detail: "slack active set did not settle".into(),
+        })
+    }
+}
+
+impl Cosserat {
+    /// Complementarity at a converged `x`: the taut cable with the most negative tension
+    /// becomes slack; else every slack cable whose path comes out longer than its length
+    /// becomes taut. True if the set changed.
+    fn update_active_set(
+        &self,
+        prob: &Problem,
+        x: &DVector<f64>,
+        setup: &Setup,
+        length_cables: &[usize],
+        slack: &mut [bool],
+    ) -> bool {
+        let tau = prob.tensions(x, setup, 1.0);
+        let mut changed = false;
+        let neg = setup
+            .unknown
+            .iter()
+            .copied()
+            .filter(|&c| tau[c] < 0.0)
+            .min_by(|&a, &b| tau[a].total_cmp(&tau[b]));
+        if let Some(c) = neg {
+            slack[c] = true;
+            changed = true;
+        } else if setup.slack.iter().any(|&b| b) {
+            let n0 = Vector3::new(x[0], x[1], x[2]);
+            let m0 = Vector3::new(x[3], x[4], x[5]) * prob.len_l;
+            let shot = prob.shoot(&n0, &m0, &LoadCase { tau, lam: 1.0 }, None, None);
+            for &c in length_cables {
+                let tol_len = 10.0 * self.tolerance / prob.kl[c];
+                if setup.slack[c] && shot.len[c] > prob.target(c, 1.0) + tol_len {
+                    slack[c] = false;
+                    changed = true;
+                }
+            }
+        }
+        changed
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn build_shape(
+        &self,
+        prob: &Problem,
+        x: &DVector<f64>,
+        setup: &Setup,
+        iterations: usize,
+        residual: f64,
+        start: Instant,
+        notes: Vec<String>,
+    ) -> Shape {
+        let robot = prob.robot;
+        let n0 = Vector3::new(x[0], x[1], x[2]);
+        let m0 = Vector3::new(x[3], x[4], x[5]) * prob.len_l;
+        let tau = prob.tensions(x, setup, 1.0);
+        let ld = LoadCase { tau, lam: 1.0 };
+        // The converged point was the last one integrated (Newton returns right after it):
+        // reuse its geometry; integrate again only if it was another point.
+        let mut trace = prob.last.take();
+        let mut probe = Trace::default();
+        probe.start(&n0, &m0, &ld);
+        if trace.key != probe.key || trace.disks.len() != robot.sections() + 1 {
+            prob.shoot(&n0, &m0, &ld, Some(&mut probe), None);
+            trace = probe;
+        }
+        let disks: Vec<DiskFrame> = trace
+            .disks
+            .iter()
+            .enumerate()
+            .map(|(k, (p, r))| DiskFrame {
+                s: robot.disk_s[k],
+                position: *p,
+                rotation: gram_schmidt(r),
+            })
+            .collect();
+        let cables = robot
+            .cables
+            .iter()
+            .enumerate()
+            .map(|(c, cable)| {
+                let points = (0..=cable.ends_at)
+                    .map(|k| disks[k].position + disks[k].rotation * cable.hole(k))
+                    .collect();
+                let slack =
+                    setup.slack[c] || matches!(prob.modes[c], Drive::Tension(t) if t == 0.0);
+                CablePath {
+                    name: cable.name.clone(),
+                    points,
+                    slack,
+                    // One tension along a frictionless cable: slack everywhere or nowhere.
+                    slack_sections: if slack {
+                        (1..=cable.ends_at).collect()
+                    } else {
+                        vec![]
+                    },
+                    tension: Some(tau[c]),
+                }
+            })
+            .collect();
+        Shape {
+            method: self.name().into(),
+            disks,
+            backbone: trace.backbone,
+            cables,
+            contacts: vec![],
+            report: SolveReport {
+                converged: true,
+                iterations,
+                residual,
+                solve_time_s: start.elapsed().as_secs_f64(),
+                sections: vec![],
+                base_wrench: Some([n0.x, n0.y, n0.z, m0.x, m0.y, m0.z]),
+                notes,
+                stable: None,
+                jacobian: None,
+                warm: None,
+            },
+        }
+    }
+}

@@ -1,0 +1,127 @@
+//! The start of a solve from a previous shape (module docs, "Warm starts"): its base wrench
+//! and tensions, and from a shape of this method its last Jacobian, predicted to the new load
+//! by the load ratio; without a warm shape, the global balance.
+
+use super::problem::Problem;
+use super::shooting::Setup;
+use super::{Buf, MAX_CABLES};
+use crate::method::warm::WarmState;
+use crate::shape::Shape;
+use nalgebra::{DMatrix, DVector, Vector3};
+
+/// What a warm shape gives the rod.
+pub(super) struct Warm {
+    /// Base wrench `n(0)`, `m(0)/L` and every cable's tension.
+    pub(super) x: Option<(Vector3<f64>, Vector3<f64>, Vec<f64>)>,
+    /// The last Jacobian (a shape of this method only).
+    pub(super) jac: Option<DMatrix<f64>>,
+    /// The shape came from this method (its base wrench carries this discretization).
+    pub(super) same: bool,
+}
+
+/// Load ratio of tensions `tn` to `tw` along `tw`'s ray: `tn·tw / tw·tw` (1 without load).
+fn load_ratio(tn: &Buf, tw: &Buf) -> f64 {
+    let a: f64 = tn.iter().zip(tw).map(|(a, b)| a * b).sum();
+    let b: f64 = tw.iter().map(|b| b * b).sum();
+    if b > 0.0 && (a / b).is_finite() {
+        a / b
+    } else {
+        1.0
+    }
+}
+
+impl Warm {
+    /// Read a warm shape (`None`: a cold start). Length-controlled cables that were slack
+    /// with zero tension start slack (`slack`).
+    pub(super) fn read(
+        warm: Option<&Shape>,
+        name: &str,
+        len_l: f64,
+        length_cables: &[usize],
+        slack: &mut [bool],
+    ) -> Warm {
+        let nc = slack.len();
+        // A warm start from this method also carries its last Jacobian (`report.warm`) and
+        // the offset of its base wrench from the global balance.
+        let same = warm.is_some_and(|w| w.method == name);
+        let jac = warm.filter(|_| same).and_then(|w| match &w.report.warm {
+            Some(WarmState::Rod { jacobian }) if jacobian.nrows() >= 6 && jacobian.is_square() => {
+                Some(jacobian.clone())
+            }
+            _ => None,
+        });
+        let mut x = None;
+        if let Some(w) = warm {
+            if let Some(bw) = w.report.base_wrench {
+                if bw.iter().all(|v| v.is_finite()) && w.cables.len() == nc {
+                    let tens: Vec<f64> = w
+                        .cables
+                        .iter()
+                        .map(|c| c.tension.filter(|t| t.is_finite()).unwrap_or(0.0))
+                        .collect();
+                    for &c in length_cables {
+                        slack[c] = w.cables[c].slack && tens[c] == 0.0;
+                    }
+                    x = Some((
+                        Vector3::new(bw[0], bw[1], bw[2]),
+                        Vector3::new(bw[3], bw[4], bw[5]) / len_l,
+                        tens,
+                    ));
+                }
+            }
+        }
+        Warm { x, jac, same }
+    }
+
+    /// The start `x0` of the first active-set round: the warm base wrench and tensions; with
+    /// no shape-dependent external load, the global balance at the new tensions plus the warm
+    /// solution's offset from it, scaled by the load ratio `ρ` (and the tendon part of the
+    /// Jacobian likewise). Cold: the global balance.
+    pub(super) fn start(&mut self, prob: &Problem, setup: &Setup, x0: &mut DVector<f64>) {
+        let Some((n0, m0s, tens)) = &self.x else {
+            prob.balance_guess(x0, setup, 1.0);
+            return;
+        };
+        let len_l = prob.len_l;
+        let nc = prob.robot.cables.len();
+        for i in 0..3 {
+            x0[i] = n0[i];
+            x0[3 + i] = m0s[i];
+        }
+        for (j, &c) in setup.unknown.iter().enumerate() {
+            x0[6 + j] = tens[c];
+        }
+        if !prob.shape_free_loads() {
+            return;
+        }
+        let same = self.same;
+        // The balance is exact for the rod but not for its discretization, which
+        // misses it by the integration error; a warm start from this method has
+        // measured that offset. The offset vanishes with the load and, to first
+        // order, grows with it: keep it, scaled by the load ratio `ρ`.
+        let mut tw = [0.0; MAX_CABLES];
+        tw[..nc].copy_from_slice(tens);
+        let tn = prob.tensions(x0, setup, 1.0);
+        let (nb, mb) = prob.balance(&tn, 1.0);
+        let (nw, mw) = if same {
+            prob.balance(&tw, 1.0)
+        } else {
+            (*n0, m0s * len_l)
+        };
+        let rho = if same { load_ratio(&tn, &tw) } else { 1.0 };
+        for i in 0..3 {
+            x0[i] = nb[i] + (n0[i] - nw[i]) * rho;
+            x0[3 + i] = (mb[i] + (m0s[i] * len_l - mw[i]) * rho) / len_l;
+        }
+        // Likewise the tendon part of the Jacobian, `J − J₀` (`J₀`: the unloaded
+        // straight rod's, a rigid transport along `L e3`), for the wrench block.
+        if let Some(j) = self.jac.as_mut().filter(|j| j.nrows() == x0.len()) {
+            let j0 = prob.transport_jacobian(&Vector3::new(0.0, 0.0, len_l));
+            for r in 0..6 {
+                for c in 0..6 {
+                    j[(r, c)] = j0[(r, c)] + rho * (j[(r, c)] - j0[(r, c)]);
+                }
+            }
+        }
+    }
+}

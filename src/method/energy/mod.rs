@@ -1,0 +1,332 @@
+//! Whole-robot energy model (`--method energy`): piecewise constant strains, elastic energy,
+//! one total-length constraint per displacement-driven cable. A displacement-driven geometric
+//! model that agrees with the Cosserat rod ([`crate::method::cosserat`]).
+//!
+//! # Kinematics
+//!
+//! Each section `i` (disks `i−1` → `i`, length `l_i`) is cut into [`Energy::sub_arcs`] sub-arcs
+//! of equal undeformed length `ℓ = l_i / sub_arcs`. On sub-arc `j` the strains are constant:
+//! body twist `u_j = (κx, κy, τ)` (bending about the body x and y axes, twist about the
+//! backbone) and `v_j = (0, 0, 1 + ε)` (axial strain ε, no shear). The body frame follows
+//! `p' = R v`, `R' = R û` (Rucker & Webster 2011, eq. 1), so across the sub-arc it moves by the
+//! SE(3) exponential `g_j = exp(ℓ [û_j v_j; 0 0])`, in closed form (Rodrigues, ω = ℓu, θ = |ω|):
+//!
+//! ```text
+//! R = I + A ω̂ + B ω̂²,      p = (I + B ω̂ + C ω̂²) ℓ v,
+//! A = sin θ / θ,  B = (1 − cos θ) / θ²,  C = (θ − sin θ) / θ³
+//! ```
+//!
+//! The frame at `s = 0` is the base frame; the disks are square to the backbone, so the frame
+//! of disk `k` is the backbone frame at `disk_s[k]` (x axis at hole angle 0).
+//!
+//! # Energy and constraints
+//!
+//! `E(ξ) = Σ_j ½ ℓ_j (EI (κx² + κy²) + GJ τ² + EA ε²)`, minimized over all strains `ξ` subject,
+//! for every displacement-driven cable `c`, to `L_c(ξ) ≤ L_c⁰ − δ_c`: cables pull, never push
+//! (a cable whose path comes out shorter than its length is slack, tension 0). `δ_c` is
+//! [`Actuation::shortening_length`] (metres; a percentage is of the straight-chord undeformed
+//! length, as for the geometric method) and `L_c⁰` is the undeformed length *in the chosen
+//! measure*: the same convention as the Cosserat model's displacement control. A cable that has
+//! only a tension `T_c` is force-driven: it adds the potential `T_c L_c(ξ)` to the energy. A
+//! cable with neither is free: its path is reported and it constrains nothing.
+//!
+//! The Lagrangian is `E + Σ λ_c (L_c − L_c⁰ + δ_c)`; at the optimum `∂E/∂L_c = −λ_c`, so the
+//! multiplier is the energy released per metre of cable paid out: the cable tension \[N\]
+//! (reported in `cables[c].tension`).
+//!
+//! Cable length, [`LengthMeasure`]:
+//! * **Path** (default, the rod's measure): the cable runs at `p(s) + R(s) r(s)` with `r(s)` the
+//!   C² routing curve of [`crate::model::routing`]. In the body frame its tangent is
+//!   `w = v + u × r + r'` (R&W eq. 6–7), so `L_c = Σ_j ∫ |w_j(s)| ds`. `w` is *affine* in the
+//!   sub-arc's own strains, `w = w₀(s) + B(s) ξ_j`, hence each `L_c` is a sum of convex,
+//!   separable terms with exact derivatives `∇ = Bᵀ ŵ`, `∇² = Bᵀ (I − ŵŵᵀ) B / |w|`. The
+//!   problem is convex (quadratic energy, convex constraints), so its KKT point is the global
+//!   minimum. The integral uses [`GL_NODES`]-point Gauss–Legendre per sub-arc (the spline is a
+//!   cubic inside a section and sub-arcs never straddle a disk); a unit test checks it against a
+//!   64×-refined rule: ≤ 5e-12 m on a strongly bent, twisted state of case III.
+//! * **Chord**: straight chords between the holes at consecutive disks (as physical disks guide
+//!   the cable), `|g_{i,1} ⋯ g_{i,m} h_i − h_{i−1}|`, separable by section. The chord vector and
+//!   its Jacobian `J` come from first-order forward AD through the exponentials (`sub_arcs ≤
+//!   4`). The constraint curvature first uses only the Gauss–Newton part `Jᵀ (I − d̂d̂ᵀ) J / |d|`
+//!   (dropping `Σ d̂ᵢ ∇²dᵢ`; linear convergence, ≈ 9 iterations on the paper's cases); if that
+//!   contracts the residual by less than 70 % per iteration after the fourth, or the line
+//!   search stalls, the exact Hessian from second-order AD ([`crate::numeric::ad::D2`],
+//!   quadratic convergence, ≈ 10× dearer per iteration) takes over. Both reach the same KKT point: the residual uses
+//!   the exact gradient.
+//!
+//! Because both measures are separable, the Hessian of the Lagrangian is block diagonal (4×4
+//! per sub-arc for paths, `4m × 4m` per section for chords).
+//!
+//! A frictionless cable that kinks where the strains jump (at sub-arc ends here, at a disk where
+//! another cable is tied in the rod) presses on its hole with `τ (t⁺ − t⁻)`; varying the whole
+//! path length includes that force automatically. The rod of [`crate::method::cosserat`]
+//! applies at a tie disk only the tied cable's own force, so the two disagree (≈ 2–3 mm) when
+//! a cable with `r' ≠ 0` passes a disk where another is tied; adding the kink force to the rod
+//! restores 0.01–0.02 mm agreement (`ENERGY_NOTES.md`).
+//!
+//! # Accuracy (against the rod driven by the same path lengths, 20 RK4 steps per section)
+//!
+//! `sub_arcs` = 4 (default) gives RMS over the disks 0.000 / 0.014 / 0.088 mm on the paper's
+//! cases I / II / III and tensions within 0.0 / 0.24 / 1.24 %; 3 sub-arcs give 0.020 / 0.136 mm
+//! and 1.93 % (case III's cable B, which jumps across the disk); 8 give 0.008 / 0.041 mm and
+//! 0.55 % (`cargo run --release --example energy_sweep`).
+//!
+//! # Solver
+//!
+//! Sequential QP (Newton–KKT) with the exact Lagrangian Hessian of the cable terms,
+//! `H = K + Σ (λ_c or T_c) ∇²L_c` (block diagonal). Every displacement-driven cable is a
+//! pull-only inequality and every feature–obstacle pair within a margin (module
+//! `energy/contacts.rs`) a distance inequality; the step's QP is solved in its dual: with
+//! `z = H⁻¹ ∇f` and `y_r = H⁻¹ a_r` for each constraint row `a_r`, the multipliers minimize
+//! `½ λᵀ S λ − qᵀ λ` over `λ ≥ 0` (`S = [a_rᵀ y_s]`, `q_r = c_r − a_rᵀ z`; a small dense
+//! problem, primal active set in [`crate::numeric::qp::nonneg_qp`]) and the step is
+//! `−z − Σ λ_r y_r`. A cable whose multiplier is zero is slack; a contact whose multiplier is positive presses. Line
+//! search on the ℓ1 merit `E + Σ T L + μ Σ max(0, c_r)`, with every pair re-queried at the
+//! trial point. Converged when the length residual is ≤ [`Energy::tolerance`] \[m\] and the
+//! stationarity residual, expressed as a length (`r̄ |∇ℒ|∞ / (EI ℓ)`, a curvature error
+//! times the hole radius), is below the same tolerance (with active contacts, see
+//! `energy/contacts.rs` and `CONTACT_STEP`). Cost per iteration is linear in the number of
+//! sub-arcs without obstacles. Warm starts read `report.warm`
+//! ([`crate::method::warm::WarmState::Energy`]: ξ and λ) of a previous shape of the same robot
+//! and settings, or fit strains to the disk frames of any other shape
+//! (e.g. the geometric method's, to start inside a tube).
+//!
+//! # Loads
+//!
+//! Gravity (`loads.gravity` on the backbone's `ρ A` per length, lumped half to each end of
+//! its sub-arc, and on `loads.disk_mass` at each disk) and `loads.tip_force` are dead loads
+//! `F_f` at the sub-arc ends, with the potential `V = −Σ F_f · p_f` added to the objective and
+//! its exact gradient (see `add_load_gradient`) to the stationarity; their curvature is left
+//! out of the Hessian, so convergence with loads is linear. A dead tip moment has no potential
+//! for finite 3-D rotations: [`SolveError::Unsupported`].
+//!
+//! # Obstacles
+//!
+//! Distance constraints for backbone sub-arcs, disks and cable chords, with exact gradients
+//! in the strains (derivation in `energy/contacts.rs`); the multiplier of a contact is its normal
+//! reaction \[N\] (energy J over distance m). A step never moves any point of the robot farther
+//! than its distance to the obstacles (or half the pair margin when closer), so no feature
+//! passes through an obstacle between iterates — distances to open meshes are unsigned. A
+//! start that already crosses an obstacle (the straight robot through a bent tube) ends in
+//! [`SolveError::Obstructed`] naming the obstacle; start from a clear shape instead. A base
+//! disk inside an obstacle is `Obstructed` at section 0.
+//!
+//! Errors: a target length ≤ 0, or a solution that needs the backbone compressed below
+//! [`Energy::min_stretch`], is [`SolveError::Infeasible`] naming the cable (the most loaded one
+//! in the second case) and the section; no convergence within [`Energy::max_iterations`] is
+//! [`SolveError::NotConverged`] with the residual. Non-finite values never reach a shape.
+//!
+//! Speed (paper cases, path, 4 sub-arcs, cold start; `cargo run --release --example
+//! energy_timing`, machine shared with other builds): median 25 / 52 / 54 µs (1 / 3 / 3
+//! Newton iterations); chord ≈ 0.5 ms (9 iterations). `cargo bench --bench energy`.
+
+// Index loops mirror the block/variable layout of the math below.
+#![allow(clippy::needless_range_loop)]
+
+mod assemble;
+mod contacts;
+mod kinematics;
+mod lengths;
+mod newton;
+mod problem;
+mod sensitivity;
+
+pub use kinematics::GL_NODES;
+
+use crate::error::SolveError;
+use crate::method::settings::{
+    parse_control, parse_count, parse_in, parse_length, parse_routing, Configure, MAX_ITERATIONS,
+};
+use crate::method::{Method, MethodKind};
+use crate::model::actuation::{Actuation, Input, LengthMeasure};
+use crate::model::robot::Robot;
+use crate::model::routing::RoutingFit;
+use crate::model::scene::Scene;
+use crate::shape::Shape;
+use problem::{Problem, Target};
+use std::time::Instant;
+
+/// Settings of the whole-robot energy method.
+#[derive(Debug, Clone)]
+pub struct Energy {
+    /// Which input drives a cable that gives both a shortening and a tension.
+    pub control: Input,
+    /// Constant-strain sub-arcs per section (≥ 1; ≤ 4 with [`LengthMeasure::Chord`]).
+    pub sub_arcs: usize,
+    /// Cable length measure.
+    pub cable_length: LengthMeasure,
+    /// Routing curve of the path measure.
+    pub routing: RoutingFit,
+    /// Newton iterations.
+    pub max_iterations: usize,
+    /// Length and stationarity tolerance \[m\] (see module docs).
+    pub tolerance: f64,
+    /// Smallest acceptable stretch `1 + ε`: a solution that needs more axial compression means
+    /// the shortening cannot be reached by bending ([`SolveError::Infeasible`]).
+    pub min_stretch: f64,
+    /// Backbone samples per sub-arc in the output shape.
+    pub samples_per_sub_arc: usize,
+}
+
+impl Default for Energy {
+    fn default() -> Self {
+        Energy {
+            control: Input::Shortening,
+            sub_arcs: 4,
+            cable_length: LengthMeasure::Path,
+            routing: RoutingFit::Spline,
+            max_iterations: 60,
+            tolerance: 1e-10,
+            min_stretch: 0.5,
+            samples_per_sub_arc: 1,
+        }
+    }
+}
+
+impl Energy {
+    /// Builder: sub-arcs per section.
+    pub fn with_sub_arcs(mut self, n: usize) -> Self {
+        self.sub_arcs = n;
+        self
+    }
+    /// Builder: cable length measure.
+    pub fn with_cable_length(mut self, l: LengthMeasure) -> Self {
+        self.cable_length = l;
+        self
+    }
+    /// Builder: routing fit.
+    pub fn with_routing(mut self, r: RoutingFit) -> Self {
+        self.routing = r;
+        self
+    }
+}
+
+impl Configure for Energy {
+    fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        match name {
+            "control" => self.control = parse_control(value)?,
+            "sub-arcs" => self.sub_arcs = parse_count(name, value, 1, 64)?,
+            "length" => self.cable_length = parse_length(value)?,
+            "routing" => self.routing = parse_routing(value)?,
+            "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
+            "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
+            "min-stretch" => self.min_stretch = parse_in(name, value, 0.0, 1.0)?,
+            "samples-per-sub-arc" => self.samples_per_sub_arc = parse_count(name, value, 1, 64)?,
+            _ => return self.kind().check_setting(name),
+        }
+        Ok(())
+    }
+}
+
+impl Method for Energy {
+    fn kind(&self) -> MethodKind {
+        MethodKind::Energy
+    }
+
+    fn solve(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError> {
+        let start = Instant::now();
+        if self.sub_arcs == 0 {
+            return Err(SolveError::InvalidInput {
+                field: "sub_arcs".into(),
+                reason: "must be ≥ 1".into(),
+            });
+        }
+        if self.cable_length == LengthMeasure::Chord && self.sub_arcs > 4 {
+            return Err(SolveError::InvalidInput {
+                field: "sub_arcs".into(),
+                reason: "the chord measure supports at most 4 sub-arcs per section".into(),
+            });
+        }
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(SolveError::InvalidInput {
+                field: "tolerance".into(),
+                reason: format!("must be > 0, got {}", self.tolerance),
+            });
+        }
+        if !(self.min_stretch.is_finite() && self.min_stretch > 0.0 && self.min_stretch <= 1.0) {
+            return Err(SolveError::InvalidInput {
+                field: "min_stretch".into(),
+                reason: format!("must be in (0, 1], got {}", self.min_stretch),
+            });
+        }
+        let prob = self.setup(robot, act, scene)?;
+        self.kind().check_support(robot, scene)?;
+        let mut notes = vec![format!(
+            "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
+            self.sub_arcs, self.cable_length, self.routing
+        )];
+        if !prob.frame_forces.is_empty() {
+            notes.push(
+                "gravity and the tip force enter as dead-load potentials (backbone weight lumped \
+                 at sub-arc ends); their curvature is left out of the Hessian"
+                    .into(),
+            );
+        }
+        for (c, d) in prob.targets.iter().enumerate() {
+            match d {
+                Target::Free => notes.push(format!("cable `{}` is free", robot.cables[c].name)),
+                Target::Length(_) if act.tension(c).is_some() => notes.push(format!(
+                    "cable `{}`: displacement used, tension input ignored",
+                    robot.cables[c].name
+                )),
+                Target::Tension(_) if act.cables[c].shorten.is_some() => notes.push(format!(
+                    "cable `{}`: tension used (control = force), displacement input ignored",
+                    robot.cables[c].name
+                )),
+                _ => {}
+            }
+        }
+        if let Some(wd) = &prob.world {
+            notes.push(format!(
+                "obstacles: {} of {} within reach; contact multipliers are reactions [N]",
+                wd.obstacle_count(),
+                scene.obstacles.len()
+            ));
+        }
+        let sol = self.newton(&prob, warm)?;
+        Ok(self.build_shape(&prob, sol, start, notes))
+    }
+}
+
+/// Run `f` on the unactuated, obstacle-free problem of `robot` and `set` once `xi` is known
+/// to have the right length: the shared front of the check functions below.
+fn with_problem<T>(
+    robot: &Robot,
+    set: &Energy,
+    xi: &[f64],
+    f: impl FnOnce(&Problem) -> T,
+) -> Result<T, SolveError> {
+    let empty = Scene::empty();
+    let prob = set.setup(robot, &Actuation::free(robot), &empty)?;
+    if xi.len() != prob.nvar() {
+        return Err(SolveError::InvalidInput {
+            field: "xi".into(),
+            reason: format!("expected {} strains, got {}", prob.nvar(), xi.len()),
+        });
+    }
+    Ok(f(&prob))
+}
+
+/// Length of every cable of `robot` for the strains `xi` (4 per sub-arc, `sub_arcs` per
+/// section) in the measure of `set`: the function the constraints use, exposed for checks.
+pub fn cable_lengths(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<Vec<f64>, SolveError> {
+    with_problem(robot, set, xi, |prob| {
+        let mut out = vec![0.0; robot.cables.len()];
+        prob.lengths(xi, &mut out);
+        out
+    })
+}
+
+/// Elastic energy `Σ ½ ℓ (EI κ² + GJ τ² + EA ε²)` \[J\] of the strains `xi` (layout as in
+/// [`cable_lengths`]), the objective the method minimizes when every cable is
+/// displacement-driven: exposed for checks (e.g. that a contact multiplier is the price of
+/// the clearance, `∂E*/∂clearance`).
+pub fn elastic_energy(robot: &Robot, set: &Energy, xi: &[f64]) -> Result<f64, SolveError> {
+    with_problem(robot, set, xi, |prob| prob.energy(xi))
+}

@@ -1,0 +1,333 @@
+//! The problem of one energy solve, fixed before iterating: sub-arc lengths and stiffnesses,
+//! routing samples at the Gauss nodes, what each cable imposes ([`Target`]), dead loads,
+//! obstacles within reach; the energy, the load potential and its gradient, the cable length
+//! constraint ([`Problem::cable_gap`]).
+
+use super::contacts::{Kin, World};
+use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
+use super::lengths::Node;
+use super::Energy;
+use crate::error::SolveError;
+use crate::method::contact::check_base;
+use crate::method::Method;
+use crate::model::actuation::{Actuation, Drive, Input, LengthMeasure};
+use crate::model::robot::Robot;
+use crate::model::routing::Route;
+use crate::model::scene::Scene;
+use crate::numeric::so3::log_so3;
+use crate::shape::DiskFrame;
+use nalgebra::Vector3;
+
+/// What a cable imposes in this method, from its resolved [`Drive`]: a length constraint
+/// (its target length in the chosen measure), a constant tension, or nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Target {
+    /// Length constraint with this target \[m\].
+    Length(f64),
+    /// Constant tension \[N\] (potential `T L`).
+    Tension(f64),
+    /// Nothing.
+    Free,
+}
+
+/// Everything fixed during one solve.
+pub(super) struct Problem<'a> {
+    pub(super) robot: &'a Robot,
+    pub(super) set: &'a Energy,
+    /// Sub-arcs per section.
+    pub(super) m: usize,
+    /// Total sub-arcs.
+    pub(super) nsub: usize,
+    /// Sub-arc lengths.
+    pub(super) ell: Vec<f64>,
+    /// Diagonal stiffness of each variable (ℓ·EI, ℓ·EI, ℓ·GJ, ℓ·EA).
+    pub(super) k: Vec<f64>,
+    /// Gauss samples `[c][j][q]` (path measure; empty for sub-arcs the cable does not reach).
+    pub(super) nodes: Vec<Vec<[Node; GL_NODES]>>,
+    pub(super) targets: Vec<Target>,
+    /// Block size (4 for paths, 4m for chords) and count.
+    pub(super) nb: usize,
+    pub(super) nblocks: usize,
+    /// Stationarity scale: r̄ / (EI ℓ_min).
+    pub(super) stat_scale: f64,
+    /// Obstacles within reach (none: no distance constraints).
+    pub(super) world: Option<World<'a>>,
+    /// Dead loads at the sub-arc ends (frame `f` = end of sub-arc `f − 1`; empty: none):
+    /// backbone weight lumped half to each end of its sub-arc, disk weights, the tip force.
+    pub(super) frame_forces: Vec<Vector3<f64>>,
+}
+
+impl Problem<'_> {
+    pub(super) fn nvar(&self) -> usize {
+        4 * self.nsub
+    }
+
+    /// Section (1-based) of sub-arc `j`.
+    pub(super) fn section_of(&self, j: usize) -> usize {
+        j / self.m + 1
+    }
+
+    /// The cable length constraint of displacement-driven cable `c` at path length `len`:
+    /// `L_c − (L_c⁰ − δ_c)` \[m\], ≤ 0 when satisfied (0 when the cable is taut). The one
+    /// place that says what a cable's length must be (the residual, the step's QP row and
+    /// the merit all read it): a cable model with axial compliance changes it here.
+    #[inline]
+    pub(super) fn cable_gap(&self, c: usize, len: f64) -> f64 {
+        match self.targets[c] {
+            Target::Length(t) => len - t,
+            _ => len,
+        }
+    }
+
+    pub(super) fn energy(&self, xi: &[f64]) -> f64 {
+        0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>()
+    }
+
+    /// Whether an iterate needs its frames (obstacles or dead loads); they are computed once
+    /// per point and shared by both.
+    pub(super) fn needs_frames(&self) -> bool {
+        self.world.is_some() || !self.frame_forces.is_empty()
+    }
+
+    /// Potential of the dead loads, `V = −Σ F_f · p_f` \[J\] (0 without loads), at the frames
+    /// `kin` of the strains.
+    pub(super) fn load_potential(&self, kin: Option<&Kin>) -> f64 {
+        let Some(kin) = kin.filter(|_| !self.frame_forces.is_empty()) else {
+            return 0.0;
+        };
+        -self
+            .frame_forces
+            .iter()
+            .zip(&kin.pos)
+            .map(|(f, p)| f.dot(p))
+            .sum::<f64>()
+    }
+
+    /// Add `∇V` to `g`. A frame origin beyond sub-arc `j` moves by
+    /// `∂x/∂u_a = (M_j e_a) × x − N_{j,a}`, `∂x/∂ε = M_j e_z` (`energy/contacts.rs`), so with
+    /// the suffix sums `S_j = Σ_{f>j} F_f`, `C_j = Σ_{f>j} p_f × F_f`:
+    /// `∂V/∂u_a = −((M_j e_a) · C_j − N_{j,a} · S_j)`, `∂V/∂ε = −(M_j e_z) · S_j`.
+    /// `kin` must carry the integrals.
+    pub(super) fn add_load_gradient(&self, kin: Option<&Kin>, g: &mut [f64]) {
+        let Some(kin) = kin.filter(|_| !self.frame_forces.is_empty()) else {
+            return;
+        };
+        let (mut sum, mut mom) = (Vector3::zeros(), Vector3::zeros());
+        for j in (0..self.nsub).rev() {
+            let f = &self.frame_forces[j + 1];
+            sum += f;
+            mom += kin.pos[j + 1].cross(f);
+            let m = &kin.m_int[j];
+            let mc = m.tr_mul(&mom);
+            let ms = m.tr_mul(&sum);
+            let nj = &kin.n_int[j];
+            g[4 * j] -= mc.x - nj[0].dot(&sum);
+            g[4 * j + 1] -= mc.y - nj[1].dot(&sum);
+            g[4 * j + 2] -= mc.z - nj[2].dot(&sum);
+            g[4 * j + 3] -= ms.z;
+        }
+    }
+
+    /// Strains that put the disks where `disks` has them, approximately: per section, the
+    /// constant strain whose exponential has the section's relative rotation (`u = log(R)/l`)
+    /// and its chord length (`ε`), on every sub-arc of the section. A start for shapes from
+    /// other methods (e.g. the geometric method's inside a tube, where the straight start
+    /// would cross the wall); non-finite frames leave the straight start.
+    pub(super) fn strains_from_disks(&self, disks: &[DiskFrame], xi: &mut [f64]) {
+        let mut out = vec![0.0; xi.len()];
+        for i in 1..disks.len() {
+            let (a, b) = (&disks[i - 1], &disks[i]);
+            let r = a.rotation.transpose() * b.rotation;
+            let p = a.rotation.transpose() * (b.position - a.position);
+            let l = self.robot.section_length(i);
+            let u = log_so3(&r) / l;
+            let (_, unit) = sub_arc_exp(&[u.x, u.y, u.z, 0.0], l);
+            let stretch = p.norm() / unit.norm();
+            for j in (i - 1) * self.m..i * self.m {
+                out[4 * j..4 * j + 4].copy_from_slice(&[u.x, u.y, u.z, stretch - 1.0]);
+            }
+        }
+        if out.iter().all(|v| v.is_finite()) {
+            xi.copy_from_slice(&out);
+        }
+    }
+
+    /// Upper bound on how far a change `d` of the strains moves any point of the robot \[m\]:
+    /// turning sub-arc `j` by `ℓ_j |δu_j|` moves what lies beyond it by at most that angle
+    /// times the length beyond, stretching it by `ℓ_j |δε_j|`.
+    pub(super) fn move_bound(&self, d: &[f64]) -> f64 {
+        let total: f64 = self.ell.iter().sum();
+        let mut s = 0.0;
+        let mut bound = 0.0;
+        for (j, l) in self.ell.iter().enumerate() {
+            let du =
+                (d[4 * j] * d[4 * j] + d[4 * j + 1] * d[4 * j + 1] + d[4 * j + 2] * d[4 * j + 2])
+                    .sqrt();
+            bound += l * (du * (total - s) + d[4 * j + 3].abs());
+            s += l;
+        }
+        bound
+    }
+}
+
+impl Energy {
+    pub(super) fn setup<'a>(
+        &'a self,
+        robot: &'a Robot,
+        act: &Actuation,
+        scene: &'a Scene,
+    ) -> Result<Problem<'a>, SolveError> {
+        let m = self.sub_arcs;
+        let n = robot.sections();
+        let nsub = n * m;
+        let bb = &robot.backbone;
+        let (ei, gj, ea) = (bb.ei(), bb.gj(), bb.ea());
+        let mut ell = Vec::with_capacity(nsub);
+        let mut k = Vec::with_capacity(4 * nsub);
+        for i in 1..=n {
+            let l = robot.section_length(i) / m as f64;
+            for _ in 0..m {
+                ell.push(l);
+                k.extend_from_slice(&[l * ei, l * ei, l * gj, l * ea]);
+            }
+        }
+        let nc = robot.cables.len();
+        let nodes = match self.cable_length {
+            LengthMeasure::Path => self.gauss_nodes(robot, &ell)?,
+            LengthMeasure::Chord => vec![],
+        };
+        let (nb, nblocks) = match self.cable_length {
+            LengthMeasure::Path => (4, nsub),
+            LengthMeasure::Chord => (4 * m, n),
+        };
+        let rbar = robot
+            .cables
+            .iter()
+            .flat_map(|c| c.radius.iter())
+            .fold(0.0f64, |a, &r| a.max(r));
+        let rbar = if rbar > 0.0 { rbar } else { robot.disk_radius };
+        let lmin = ell.iter().cloned().fold(f64::INFINITY, f64::min);
+        let mut prob = Problem {
+            robot,
+            set: self,
+            m,
+            nsub,
+            ell,
+            k,
+            nodes,
+            targets: vec![Target::Free; nc],
+            nb,
+            nblocks,
+            stat_scale: rbar / (ei * lmin),
+            world: None,
+            frame_forces: vec![],
+        };
+        prob.frame_forces = self.dead_loads(robot, &prob.ell)?;
+        if !scene.is_empty() {
+            // Broad phase, robot level: only obstacles within reach of the base take part.
+            let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
+            let near = scene.near(&Vector3::zeros(), reach);
+            check_base(robot, scene, &near)?;
+            prob.world = World::new(robot, scene, near, m);
+        }
+        // Undeformed lengths in the chosen measure (straight backbone, ξ = 0).
+        let mut len0 = vec![0.0; nc];
+        prob.lengths(&vec![0.0; 4 * nsub], &mut len0);
+        let drives = act.drives(
+            robot,
+            self.name(),
+            &[Input::Shortening, Input::Tension],
+            self.control,
+        )?;
+        for (c, cable) in robot.cables.iter().enumerate() {
+            prob.targets[c] = match drives[c] {
+                Drive::Shorten { length: d, .. } => {
+                    let target = len0[c] - d;
+                    if target <= 0.0 {
+                        return Err(SolveError::Infeasible {
+                            cable: cable.name.clone(),
+                            section: cable.ends_at,
+                            reason: format!(
+                                "shortening {d:.6} m is not less than the cable's undeformed \
+                                 length {:.6} m",
+                                len0[c]
+                            ),
+                        });
+                    }
+                    Target::Length(target)
+                }
+                Drive::Tension(t) => Target::Tension(t),
+                Drive::Free => Target::Free,
+            };
+        }
+        Ok(prob)
+    }
+
+    /// Dead loads at the sub-arc ends (empty: none): backbone weight lumped half to each end of
+    /// its sub-arc, disk weights, the tip force; a tip moment is refused (no potential).
+    fn dead_loads(&self, robot: &Robot, ell: &[f64]) -> Result<Vec<Vector3<f64>>, SolveError> {
+        let (m, n) = (self.sub_arcs, robot.sections());
+        let nsub = n * m;
+        let bb = &robot.backbone;
+        let loads = &robot.loads;
+        if loads.tip_moment.norm() > 0.0 {
+            return Err(SolveError::Unsupported {
+                method: self.name().into(),
+                reason: "a dead tip moment is not conservative (no potential): use the \
+                         Cosserat model for tip moments"
+                    .into(),
+            });
+        }
+        let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
+        if !finite(&loads.gravity) || !finite(&loads.tip_force) || !loads.disk_mass.is_finite() {
+            return Err(SolveError::InvalidInput {
+                field: "loads".into(),
+                reason: "gravity, disk_mass and tip_force must be finite".into(),
+            });
+        }
+        if loads.gravity.norm() > 0.0 || loads.tip_force.norm() > 0.0 {
+            let mut ff = vec![Vector3::zeros(); nsub + 1];
+            let w = loads.gravity * (bb.density * bb.area());
+            for j in 0..nsub {
+                ff[j] += w * (0.5 * ell[j]);
+                ff[j + 1] += w * (0.5 * ell[j]);
+            }
+            for k in 1..=n {
+                ff[k * m] += loads.gravity * loads.disk_mass;
+            }
+            ff[nsub] += loads.tip_force;
+            return Ok(ff);
+        }
+        Ok(vec![])
+    }
+
+    /// Routing samples `[c][j][q]` of every cable at the Gauss nodes of the sub-arcs it
+    /// reaches (path measure): the routing curve fitted once per solve.
+    fn gauss_nodes(
+        &self,
+        robot: &Robot,
+        ell: &[f64],
+    ) -> Result<Vec<Vec<[Node; GL_NODES]>>, SolveError> {
+        let m = self.sub_arcs;
+        let mut nodes = Vec::with_capacity(robot.cables.len());
+        for (c, cable) in robot.cables.iter().enumerate() {
+            let route = Route::new(robot, c, self.routing)?;
+            let mut per = Vec::with_capacity(cable.ends_at * m);
+            for sec in 1..=cable.ends_at {
+                for k in 0..m {
+                    let j = (sec - 1) * m + k;
+                    let s0 = robot.disk_s[sec - 1] + k as f64 * ell[j];
+                    let mut arr = [[0.0; 5]; GL_NODES];
+                    for q in 0..GL_NODES {
+                        let s = s0 + 0.5 * ell[j] * (GL_X[q] + 1.0);
+                        let rp = route.eval(s, sec - 1);
+                        arr[q] = [rp.r.x, rp.r.y, rp.dr.x, rp.dr.y, 0.5 * ell[j] * GL_W[q]];
+                    }
+                    per.push(arr);
+                }
+            }
+            nodes.push(per);
+        }
+        Ok(nodes)
+    }
+}
