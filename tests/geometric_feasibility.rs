@@ -161,3 +161,16 @@ shorten_percent = 1.0
         other => panic!("expected Infeasible, got {other:?}"),
     }
 }
+
+/// Issue 11 #9: the literal method reports `stable` from its certificate: on the paper cases
+/// every section's reduced Hessian is positive definite (or nothing is free), so `true`.
+#[test]
+fn paper_cases_report_a_stable_certificate() {
+    for c in 1..=3 {
+        let m = Model::from_file(format!("models/paper/case{c}.toml")).expect("case");
+        let s = Geometric::literal()
+            .solve(&m.robot, &m.actuation, &Scene::empty(), None)
+            .expect("solves");
+        assert_eq!(s.report.stable, Some(true), "case {c}");
+    }
+}

@@ -14,6 +14,9 @@ use nalgebra::{Vector3, Vector6};
 
 /// The accepted solution of one section.
 pub(super) struct SectionSolution {
+    /// Whether the pose is a strict local minimum of the section problem (see
+    /// [`STRICT_EIGENVALUE`]).
+    pub(super) strict: bool,
     pub(super) pose: Pose,
     pub(super) slack: Vec<usize>,
     pub(super) report: SectionReport,
@@ -31,6 +34,8 @@ pub(super) struct Candidate {
     pub(super) face: u32,
     /// Active contacts with their multipliers.
     pub(super) contacts: Vec<Contact>,
+    /// Smallest eigenvalue of the reduced Hessian (∞ at a vertex, where nothing is free).
+    pub(super) min_eig: f64,
 }
 
 /// A Newton–KKT step.
@@ -56,6 +61,10 @@ pub(super) struct Rejected {
     pub(super) escape: Option<Box<(Pose, u32)>>,
 }
 
+/// A certified candidate whose reduced Hessian's smallest eigenvalue exceeds this is a strict
+/// local minimum of its section problem (the certificate itself accepts ≥ −1e-8).
+pub(super) const STRICT_EIGENVALUE: f64 = 1e-8;
+
 /// Escape runs (see [`Rejected::escape`]) per taut set.
 const MAX_ESCAPES: usize = 8;
 
@@ -71,6 +80,22 @@ pub(super) struct Tally {
     /// Smallest residual of a rejected Newton run.
     pub(super) closest: f64,
 }
+
+impl Tally {
+    /// Whether the section's Newton iteration budget ([`SECTION_BUDGET`]) is spent.
+    fn exhausted(&self) -> bool {
+        self.iterations >= SECTION_BUDGET
+    }
+}
+
+/// Newton iterations one section may spend over all taut sets, faces and starts: bounds every
+/// run (a 16-cable section needs ~2 300). Spent: `NotConverged`, saying so.
+pub const SECTION_BUDGET: usize = 20_000;
+
+/// Driven cable constraints in one section up to which, when the active-set path fails, every
+/// taut set of at most 5 cables is tried (`Σ C(m, k)`, k ≤ 5: 637 sets at 10). Above it only the
+/// active-set path runs, and a failure is `NotConverged` naming this limit.
+pub const MAX_ENUMERATED_CABLES: usize = 10;
 
 impl Geometric {
     /// Solve section `i`: the lowest certified pose over the taut sets and faces.
@@ -113,6 +138,7 @@ impl Geometric {
         }
         slack.sort_unstable();
         Ok(SectionSolution {
+            strict: best.min_eig > STRICT_EIGENVALUE,
             contacts: best.contacts.clone(),
             pose: best.pose,
             report: SectionReport {
@@ -145,7 +171,7 @@ impl Geometric {
             .filter(|&j| data.chord(&straight, j) > data.cons[j].length)
             .collect();
         let mut seen: Vec<Vec<usize>> = vec![];
-        while taut.len() <= max_taut && !seen.contains(&taut) {
+        while taut.len() <= max_taut && !seen.contains(&taut) && !tally.exhausted() {
             seen.push(taut.clone());
             let Some(best) = self.best_on_taut_set(data, &taut, starts, squared, tally) else {
                 break;
@@ -163,7 +189,13 @@ impl Geometric {
         }
         let mut accepted: Option<(Candidate, Vec<usize>)> = None;
         let m = data.cons.len();
+        if m > MAX_ENUMERATED_CABLES {
+            return None;
+        }
         for mask in 0u32..(1 << m) {
+            if tally.exhausted() {
+                return None;
+            }
             let set: Vec<usize> = (0..m).filter(|j| mask & (1 << j) != 0).collect();
             if set.len() > max_taut || seen.contains(&set) {
                 continue;
@@ -191,13 +223,23 @@ impl Geometric {
             .as_ref()
             .map(|w| format!(", keeping clear of {}", w.names.join(", ")))
             .unwrap_or_default();
+        let limit = if tally.exhausted() {
+            format!("the section's budget of {SECTION_BUDGET} Newton iterations is spent; ")
+        } else if data.cons.len() > MAX_ENUMERATED_CABLES {
+            format!(
+                "{} driven cables reach this section, more than the {MAX_ENUMERATED_CABLES} whose taut sets are all tried; ",
+                data.cons.len()
+            )
+        } else {
+            String::new()
+        };
         SolveError::NotConverged {
             method: self.name().into(),
             section: Some(i),
             iterations: tally.iterations,
             residual: tally.closest,
             detail: format!(
-                "no taut set and face of the section problem gave a certified minimum ({} certified candidates were rejected by the pull-only check{near}); the actuation is not proved infeasible",
+                "{limit}no taut set and face of the section problem gave a certified minimum ({} certified candidates were rejected by the pull-only check{near}); the actuation is not proved infeasible",
                 tally.count
             ),
         }
@@ -262,6 +304,7 @@ impl Geometric {
                 cable_lambda: vec![],
                 face: (1 << n_terms) - 1,
                 contacts: vec![],
+                min_eig: f64::INFINITY,
             });
         }
         let fixed = 1 + taut.len() + usize::from(data.gauge.is_some());
@@ -273,7 +316,7 @@ impl Geometric {
         let mut best: Option<Candidate> = None;
         let mut escapes = 0;
         let mut k = 0;
-        while k < runs.len() {
+        while k < runs.len() && !tally.exhausted() {
             let (face, start) = runs[k];
             k += 1;
             match self.newton(data, &start, face, taut, squared) {
@@ -454,6 +497,7 @@ impl Geometric {
                 cable_lambda,
                 face,
                 contacts,
+                min_eig,
             },
             it,
         ))
@@ -486,6 +530,7 @@ fn unloaded_section(data: &SectionData, i: usize) -> Result<SectionSolution, Sol
         }
     }
     Ok(SectionSolution {
+        strict: true,
         contacts: vec![],
         pose: Pose::straight(l0),
         slack: data.always_slack.clone(),

@@ -49,6 +49,16 @@
 //! the tighter length; the other is slack there. Sections past every driven cable's end carry no
 //! load and continue straight.
 //!
+//! ## Stability (`report.stable`)
+//!
+//! The paper's method has no energy, so "stable" is read from the certificate: every section's
+//! pose is a certified local minimum of its own problem (feasible, stationary, subgradient and
+//! pull-only conditions, reduced Hessian positive semi-definite). When, in every section, the
+//! reduced Hessian is positive definite (smallest eigenvalue above `1e-8`, or nothing free at a
+//! vertex) each pose is a strict local minimum — a small disturbance of any disk is undone by
+//! re-solving — and `stable` is `true`. A singular reduced Hessian somewhere leaves it unknown
+//! (`None`); `false` never occurs, since saddles are rejected by the certificate.
+//!
 //! # The squared variant (`geometric-squared`)
 //!
 //! Same sections and constraints, objective `Σ ang²` — a discrete bending energy, smooth, so one
@@ -77,6 +87,7 @@ use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::numeric::so3::orthonormalize;
 use crate::shape::{DiskFrame, Shape, SolveReport};
+pub use faces::{MAX_ENUMERATED_CABLES, SECTION_BUDGET};
 use nalgebra::{Matrix3, Vector3};
 use obstacles::SectionWorld;
 use problem::{Pose, SectionData};
@@ -183,12 +194,14 @@ impl Method for Geometric {
         check_base(robot, scene, &relevant)?;
         let warm_rel = warm.filter(|w| w.disks.len() == n + 1).map(relative_poses);
         let mut contacts = vec![];
+        let mut strict = true;
         for i in 1..=n {
             let mut data = SectionData::new(robot, &frac, i)?;
             data.world = SectionWorld::new(robot, scene, &relevant, i, &rot, &pos);
             let warm_i = warm_rel.as_ref().map(|w| w[i - 1]);
             let sol = self.solve_section(&data, i, prev_rel.as_ref(), warm_i.as_ref())?;
             contacts.extend(sol.contacts.iter().cloned());
+            strict &= sol.strict;
             total_it += sol.report.iterations;
             worst = worst.max(sol.report.residual);
             for &c in &sol.slack {
@@ -220,7 +233,7 @@ impl Method for Geometric {
                 sections,
                 base_wrench: None,
                 notes,
-                stable: None,
+                stable: strict.then_some(true),
                 jacobian: None,
                 warm: None,
             },
