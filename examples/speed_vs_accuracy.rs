@@ -15,7 +15,13 @@ fn main() -> Result<()> {
     std::fs::create_dir_all(&out)?;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let model = Model::from_file(root.join("models/paper/case2.toml"))?;
-    let rows = study::speed_accuracy(&model, &study::SpeedAccuracyOptions::default())?;
+    let rows = study::speed_accuracy(
+        &model,
+        &study::SpeedAccuracyOptions {
+            progress: true,
+            ..Default::default()
+        },
+    )?;
     let front = study::speed_accuracy_front(&rows);
     println!("Errors against the converged rod driven by the same kind of input (force: the file's tensions; displacement: the file's shortenings).\n");
     println!("| method | setting | input / reference | median time [ms] | tip error [mm] | RMS error [mm] | Pareto |");

@@ -173,7 +173,9 @@ impl Shape {
     /// Serializable form (see [`ShapeJson`]).
     pub fn to_json(&self) -> ShapeJson {
         ShapeJson {
+            model: None,
             method: self.method.clone(),
+            input: None,
             disks: self
                 .disks
                 .iter()
@@ -331,8 +333,14 @@ pub struct CableJson {
 /// JSON form of a [`Shape`].
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ShapeJson {
+    /// Name of the model (robot) solved, where the writer knew it (the CLI's `solve --json`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
     /// Method name.
     pub method: String,
+    /// The input that drove the solve, where the writer knew it (the CLI's `solve --json`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub input: Option<DrivenBy>,
     /// Disk frames.
     pub disks: Vec<DiskJson>,
     /// Dense backbone samples.
@@ -343,6 +351,33 @@ pub struct ShapeJson {
     pub contacts: Vec<Contact>,
     /// Solver report.
     pub report: SolveReport,
+}
+
+/// What drove a solve: the method's input where a cable gives both, and each cable's drive.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DrivenBy {
+    /// `shortening` or `tension`: the input the method used where a cable gave both.
+    pub control: String,
+    /// Method settings given (`name`, `value`), in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub settings: Vec<(String, String)>,
+    /// Per cable, in robot order.
+    pub cables: Vec<CableDriveJson>,
+}
+
+/// One cable's drive in a solve.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CableDriveJson {
+    /// Cable name.
+    pub name: String,
+    /// `shorten`, `tension` or `free`.
+    pub drive: String,
+    /// Shortening at the base \[m\] (for `shorten`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shorten_m: Option<f64>,
+    /// Tension \[N\] (for `tension`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tension_n: Option<f64>,
 }
 
 #[cfg(test)]

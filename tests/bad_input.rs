@@ -269,3 +269,20 @@ fn nan_gravity() {
     let e = Model::from_toml_str(&text).unwrap_err();
     assert_eq!(e.field(), Some("loads.gravity[1]"));
 }
+
+#[test]
+fn toml_errors_keep_line_column_and_caret() {
+    // `sections` on line 4 of GOOD (line 1 is empty) given as a string.
+    let text = GOOD.replace("sections = 4", "sections = \"four\"");
+    let e = Model::from_toml_str(&text).unwrap_err().to_string();
+    assert!(e.contains("line 4, column 12"), "{e}");
+    let lines: Vec<&str> = e.lines().collect();
+    let src = lines
+        .iter()
+        .position(|l| l.starts_with("4 | sections = \"four\""))
+        .unwrap_or_else(|| panic!("no source line in {e}"));
+    // The caret line below the source points at the value's first character.
+    let caret = lines[src + 1];
+    let col = caret.find('^').unwrap_or_else(|| panic!("no caret in {e}"));
+    assert_eq!(col, lines[src].find("\"four\"").unwrap(), "{e}");
+}

@@ -206,3 +206,171 @@ fn bad_hardware_is_refused_by_name() {
         .expect_err("unknown");
     assert!(e.to_string().contains("spool"), "{e}");
 }
+
+mod batch {
+    use super::*;
+    use ccrkit::calibrate::data::{family, DataOptions, Dataset};
+    use ccrkit::calibrate::fit::{calibrate, fitted_toml, FitOptions};
+    use ccrkit::calibrate::predict::{predict, PredictOptions};
+    use ccrkit::calibrate::{aligned_errors, ErrorStats};
+    use ccrkit::method::run::SolveRequest;
+    use ccrkit::method::{MethodKind, Settings};
+    use nalgebra::Vector3;
+
+    const V4_TRAIN: &str = "models/hardware/data/v4/tdcr_sysid_20260511-183002_train.csv";
+
+    fn opts(chunk: usize) -> PredictOptions {
+        let mut s = Settings::new();
+        s.push("sub-arcs", "1");
+        PredictOptions {
+            request: SolveRequest::new(MethodKind::Energy).with_settings(s),
+            chunk,
+            progress: false,
+        }
+    }
+
+    fn v4_rows(step: usize) -> Dataset {
+        let d = Dataset::from_file(root(V4_TRAIN), &DataOptions::default()).expect("data");
+        let idx: Vec<usize> = (0..d.len()).step_by(step).collect();
+        d.select(&idx)
+    }
+
+    /// The metric: invariant to a common shift of the prediction, and equal to the plain RMSE of
+    /// the centred differences (a hand-computed case).
+    #[test]
+    fn aligned_metric_by_hand() {
+        let real = [Vector3::new(0.0, 0.0, 0.0), Vector3::new(1.0, 0.0, 0.0)];
+        let sim = [Vector3::new(5.0, 1.0, 0.0), Vector3::new(7.0, 1.0, 0.0)];
+        // Offsets (5,1,0) and (6,1,0): mean (5.5,1,0); residuals ∓0.5 in x.
+        let e = aligned_errors(&sim, &real);
+        assert!(
+            (e[0] - 0.5).abs() < 1e-15 && (e[1] - 0.5).abs() < 1e-15,
+            "{e:?}"
+        );
+        let s = ErrorStats::of(&e).expect("stats");
+        assert!((s.rmse - 0.5).abs() < 1e-15 && (s.max - 0.5).abs() < 1e-15);
+        assert_eq!(family("rep1_all3_same_dir120_hold"), "all3_same");
+        assert_eq!(family("rep1_tendon3_id5_pull"), "tendon3_id5_pull");
+        assert_eq!(family("rep1_seg2_circle"), "seg2_circle");
+    }
+
+    /// Bad data is refused naming the row and column; a model/data mismatch and predict's
+    /// non-options are refused by name.
+    #[test]
+    fn bad_data_is_refused_by_name() {
+        let o = DataOptions::default();
+        let e = Dataset::from_csv_str("a,servo_1_mm\nx,zz\n", "d.csv", &o).expect_err("nan");
+        assert_eq!(e.field(), Some("d.csv row 1 column servo_1_mm"), "{e}");
+        let e = Dataset::from_csv_str("a,b\n1,2\n", "d.csv", &o).expect_err("no servo");
+        assert_eq!(e.field(), Some("columns"), "{e}");
+        let named = DataOptions {
+            columns: vec!["q".into()],
+            unit: 1e-3,
+        };
+        let e = Dataset::from_csv_str("a,b\n1,2\n", "d.csv", &named).expect_err("missing");
+        assert_eq!(e.field(), Some("columns"), "{e}");
+        let e = Dataset::from_csv_str("servo_1_mm\n1,2\n", "d.csv", &o).expect_err("fields");
+        assert_eq!(e.field(), Some("d.csv row 1"), "{e}");
+        let m = model("v4");
+        let d = Dataset::from_csv_str("servo_1_mm\n1\n", "d.csv", &o).expect("one column");
+        let e = predict(&m, &d, &opts(8)).expect_err("9 cables");
+        assert!(e.to_string().contains("columns"), "{e}");
+        let mut bad = opts(8);
+        bad.request.steps = 3;
+        let e = predict(&m, &v4_rows(400), &bad).expect_err("steps");
+        assert!(e.to_string().contains("steps"), "{e}");
+        let e = predict(&m, &v4_rows(400), &opts(0)).expect_err("chunk");
+        assert!(e.to_string().contains("chunk"), "{e}");
+    }
+
+    /// Prediction keeps row order and does not depend on chunking: every row solved cold
+    /// (chunk 1) and warm-started in chunks of 50 agree to the solver tolerance, and both equal
+    /// a direct solve of that row.
+    #[test]
+    fn predict_is_ordered_and_independent_of_chunks() {
+        let m = model("v4");
+        let d = v4_rows(8);
+        let cold = predict(&m, &d, &opts(1)).expect("cold");
+        let warm = predict(&m, &d, &opts(50)).expect("warm");
+        assert_eq!(cold.len(), d.len());
+        for (a, b) in cold.iter().zip(&warm) {
+            let (a, b) = (
+                a.tip.as_ref().expect("cold row"),
+                b.tip.as_ref().expect("warm row"),
+            );
+            assert!((a - b).norm() < 1e-8, "{a:?} vs {b:?}");
+        }
+        for i in [0, d.len() / 2, d.len() - 1] {
+            let act = m.hardware.actuation(&d.commands[i]);
+            let s = Energy::default()
+                .with_sub_arcs(1)
+                .solve(&m.robot, &act, &Scene::empty(), None)
+                .expect("row");
+            let t = m.hardware.measured_tip(&s);
+            assert!(
+                (t - warm[i].tip.as_ref().expect("row")).norm() < 1e-8,
+                "row {i}"
+            );
+        }
+    }
+
+    /// Calibration recovers known parameters: tips made by the model with chosen gains,
+    /// offsets and marker (plus a frame shift the metric removes) are fitted back from the
+    /// nominal model to 1e-5 relative, RMSE to ~0, and the written model reproduces them.
+    #[test]
+    fn calibrate_recovers_known_parameters() {
+        let nominal = model("v4");
+        let mut truth = nominal.clone();
+        let set = |m: &mut Model, seg: usize, g: f64, o: f64| {
+            for c in 3 * seg..3 * seg + 3 {
+                m.hardware.gain[c] = g;
+                m.hardware.offset[c] = o;
+            }
+        };
+        set(&mut truth, 0, 0.85, -0.0003);
+        set(&mut truth, 1, 0.97, 0.0004);
+        set(&mut truth, 2, 1.06, 0.0001);
+        truth.hardware.marker.z = 0.005;
+        truth.hardware.base_position += Vector3::new(0.002, -0.001, 0.003);
+        let mut d = v4_rows(6);
+        let p = predict(&truth, &d, &opts(64)).expect("truth");
+        d.tips = Some(
+            p.iter()
+                .map(|r| *r.tip.as_ref().expect("truth row"))
+                .collect(),
+        );
+        let rep = calibrate(&nominal, &d, &FitOptions::new(opts(64))).expect("fit");
+        assert!(
+            rep.before.rmse > 2e-3,
+            "nominal is off: {}",
+            rep.before.rmse
+        );
+        assert!(
+            rep.after.rmse < 1e-6,
+            "fit rmse {} ({})",
+            rep.after.rmse,
+            rep.stop
+        );
+        let want = [0.85, 0.97, 1.06, -0.0003, 0.0004, 0.0001, 0.005];
+        for (f, w) in rep.params.iter().zip(want) {
+            assert!(
+                (f.value - w).abs() < 1e-5 * w.abs().max(1e-3),
+                "{}: {} vs {w}",
+                f.name,
+                f.value
+            );
+            assert!(f.sigma.is_some(), "{}", f.name);
+        }
+        // Cost never rises.
+        assert!(rep.history.windows(2).all(|w| w[1].rmse <= w[0].rmse));
+        // The written file loads and predicts the truth without alignment.
+        let text = std::fs::read_to_string(root("models/hardware/ftdcr_v4.toml")).expect("text");
+        let out = fitted_toml(&text, &rep.model, "test").expect("toml");
+        let back = Model::from_toml_str(&out).expect("fitted model loads");
+        let q = predict(&back, &d, &opts(64)).expect("fitted");
+        let tips = d.tips.as_ref().expect("tips");
+        for (r, t) in q.iter().zip(tips) {
+            assert!((r.tip.as_ref().expect("row") - t).norm() < 1e-6);
+        }
+    }
+}

@@ -99,6 +99,7 @@ fn pareto_front_is_non_dominated() {
 fn speed_accuracy_csv_has_columns_and_finite_values() {
     let model = paper(1);
     let opts = study::SpeedAccuracyOptions {
+        progress: false,
         repeats: 1,
         methods: vec![
             "geometric-squared".into(),
@@ -137,6 +138,7 @@ fn unsupported_methods_carry_their_kind() {
     // Case II has a helical cable: the constant-curvature closed form cannot represent it.
     let model = paper(2);
     let opts = study::SpeedAccuracyOptions {
+        progress: false,
         repeats: 1,
         methods: vec!["constant-curvature".into()],
     };

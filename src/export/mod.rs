@@ -1,9 +1,10 @@
 //! Exports of a solved [`Shape`](crate::shape::Shape): URDF (+ SRDF and joint values) for
-//! robotics tools.
+//! robotics tools, and the 3-D HTML view ([`view`]).
 //!
 //! JSON of the shape itself lives on [`Shape::to_json_string`](crate::shape::Shape::to_json_string).
 
 pub mod urdf;
+pub mod view;
 
 pub use urdf::{
     export_urdf, rotation_from_rpy, rpy_from_rotation, JointValue, SectionJoints, UrdfExport,
@@ -43,6 +44,14 @@ pub enum ExportError {
     #[error("cannot write URDF: {reason}")]
     Urdf {
         /// urdf-rs's message.
+        reason: String,
+    },
+    /// An input to an export (a plan, a sweep) cannot be used.
+    #[error("invalid `{field}`: {reason}")]
+    Input {
+        /// What is wrong where (e.g. `waypoints[3].shape.disks`, `sweep line 7`).
+        field: String,
+        /// Why.
         reason: String,
     },
     /// A file could not be written.

@@ -4,9 +4,10 @@
 
 use super::{solve_stepped, Method, MethodKind, Settings};
 use crate::error::SolveError;
+use crate::model::actuation::Drive;
 use crate::model::scene::Scene;
 use crate::model::Model;
-use crate::shape::Shape;
+use crate::shape::{CableDriveJson, DrivenBy, Shape, ShapeJson};
 use std::time::Instant;
 
 /// Most repeated solves one request may ask for (timing medians).
@@ -114,6 +115,48 @@ impl SolveRequest {
             }
         }
         kind.build(&s)
+    }
+
+    /// The JSON of `shape` solved by this request on `model`, with the model's name and the
+    /// input that drove the solve (the method's `control`, its settings, each cable's drive).
+    pub fn json(&self, model: &Model, shape: &Shape) -> ShapeJson {
+        let info = self.method.info();
+        let control = self.method.input_with(&self.settings);
+        let drives = model
+            .actuation
+            .drives(&model.robot, info.name, info.inputs, control)
+            .unwrap_or_default();
+        let cables = model
+            .robot
+            .cables
+            .iter()
+            .zip(drives.iter().map(Some).chain(std::iter::repeat(None)))
+            .map(|(c, d)| {
+                let (drive, shorten_m, tension_n) = match d {
+                    Some(Drive::Shorten { length, .. }) => ("shorten", Some(*length), None),
+                    Some(Drive::Tension(t)) => ("tension", None, Some(*t)),
+                    _ => ("free", None, None),
+                };
+                CableDriveJson {
+                    name: c.name.clone(),
+                    drive: drive.into(),
+                    shorten_m,
+                    tension_n,
+                }
+            })
+            .collect();
+        let mut j = shape.to_json();
+        j.model = Some(model.robot.name.clone());
+        j.input = Some(DrivenBy {
+            control: control.name().into(),
+            settings: self
+                .settings
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect(),
+            cables,
+        });
+        j
     }
 
     /// Solve `model`.

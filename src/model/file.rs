@@ -5,6 +5,7 @@ use super::actuation::{Actuation, CableDrive, Shortening};
 use super::bounds;
 use super::hardware::{FileHardware, Hardware};
 use super::robot::{Backbone, Cable, Loads, Robot};
+use super::routing::Helix;
 use super::scene::{FileObstacle, Scene};
 use super::{Model, MAX_SECTIONS};
 use crate::error::ModelError;
@@ -34,6 +35,9 @@ pub(super) struct FileModel {
     /// Gains, offsets, frames of a real robot (`model/hardware.rs`).
     #[serde(default)]
     hardware: Option<FileHardware>,
+    /// Actuation limits per cable (`src/model/limits.rs`).
+    #[serde(default)]
+    limits: std::collections::BTreeMap<String, super::limits::FileLimit>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -341,11 +345,23 @@ impl FileModel {
                     v.clone()
                 }
             };
+            let helix = match &fc.angles {
+                FileAngles::Rule(FileAngleRule::Straight(a)) => Some(Helix {
+                    start: *a,
+                    per_disk: 0.0,
+                }),
+                FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => Some(Helix {
+                    start: *start,
+                    per_disk: *per_disk,
+                }),
+                FileAngles::PerDisk(_) => None,
+            };
             let cable = Cable {
                 name: fc.name.clone(),
                 ends_at,
                 radius,
                 angle,
+                helix,
             };
             // Undeformed chord length, to check an absolute shortening against.
             let chord_len: f64 = (1..=ends_at)
@@ -443,6 +459,7 @@ impl FileModel {
             loads,
         };
         let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
+        let limits = super::limits::validate(&self.limits, &robot)?;
         let mut actuation = Actuation { cables: drives };
         hardware.fold(&robot, &mut actuation)?;
         Ok(Model {
@@ -450,6 +467,7 @@ impl FileModel {
             robot,
             actuation,
             hardware,
+            limits,
             source: None,
         })
     }

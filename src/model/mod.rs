@@ -26,6 +26,7 @@ pub mod actuation;
 pub mod bounds;
 mod file;
 pub mod hardware;
+pub mod limits;
 pub mod mesh;
 pub mod read;
 pub mod robot;
@@ -53,6 +54,8 @@ pub struct Model {
     pub scene: Scene,
     /// Gains, offsets and frames of a real robot (identity when the file has no `[hardware]`).
     pub hardware: hardware::Hardware,
+    /// Actuation limits per cable (`[limits.NAME]`; documented defaults otherwise).
+    pub limits: limits::Limits,
     /// Where the file was read from (for resolving relative paths).
     pub source: Option<PathBuf>,
 }
@@ -83,7 +86,7 @@ impl Model {
     fn from_toml_named(text: &str, path: &str, dir: &Path) -> Result<Model, ModelError> {
         let file: FileModel = toml::from_str(text).map_err(|e| ModelError::Parse {
             path: path.to_string(),
-            reason: e.to_string().trim().replace('\n', " "),
+            reason: e.to_string().trim_end().to_string(),
         })?;
         file.validate(dir)
     }

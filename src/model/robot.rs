@@ -70,6 +70,9 @@ pub struct Cable {
     pub radius: Vec<f64>,
     /// Hole angle at disks `0..=ends_at` \[rad\], unwrapped as given.
     pub angle: Vec<f64>,
+    /// The rule the file declared the angles by (`straight` or `helix`; `None`: a per-disk
+    /// table), so the rod can route the cable by its closed form ([`crate::model::routing`]).
+    pub helix: Option<crate::model::routing::Helix>,
 }
 
 impl Cable {

@@ -21,6 +21,15 @@
 //!   `1` keeps `a_0` determined). With more than 17 disks the same formula with a tiny ridge
 //!   term becomes a regularized least-squares fit.
 //!
+//! **Declared helices stay helices.** A cable whose file gives `angles = { helix = … }` or
+//! `{ straight = … }` (and one hole radius, on equally spaced disks) is routed by its closed
+//! form under the default fit: `r(s) = ρ (cos θ, sin θ, 0)`, `θ = θ₀ + ω s`, `ω = δ/ℓ`
+//! (`δ` the angle per disk, `ℓ` the disk spacing), `r' = ρω (−sin θ, cos θ, 0)`,
+//! `r'' = −ρω² (cos θ, sin θ, 0)` — the curve public Cosserat codes use (e.g. Rucker &
+//! Webster 2011's helical examples). A spline through a helix's holes misses it between disks
+//! (case II: 0.036 mm with 9 sections). Per-disk tables keep the spline; `fourier8` keeps the
+//! paper's fit for every cable.
+//!
 //! Effect of the choice on case III (force control, full model, 12 RK4 steps per section):
 //! the tip moves by 0.65 mm (spline [-24.693, 36.437, 171.988] mm, Fourier8
 //! [-25.127, 35.968, 172.082] mm; `ccrkit solve models/paper/case3.toml --method cosserat
@@ -52,6 +61,16 @@ pub struct RoutePoint {
     pub ddr: Vector3<f64>,
 }
 
+/// A hole pattern declared by rule in the model file: the hole of disk `k` at angle
+/// `start + per_disk · k` (a straight cable: `per_disk = 0`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Helix {
+    /// Angle at disk 0 \[rad\].
+    pub start: f64,
+    /// Angle added per disk \[rad\].
+    pub per_disk: f64,
+}
+
 /// Order of the Fourier fit.
 pub const FOURIER_ORDER: usize = 8;
 const NCOEF: usize = 2 * FOURIER_ORDER + 1;
@@ -71,6 +90,10 @@ enum Curve {
         cx: [f64; NCOEF],
         cy: [f64; NCOEF],
     },
+    /// A straight cable: the constant hole position.
+    Straight { r: Vector3<f64> },
+    /// A helix: `θ(s) = theta0 + omega s`, radius `rho`.
+    Helix { rho: f64, theta0: f64, omega: f64 },
 }
 
 /// A fitted cable route.
@@ -130,7 +153,37 @@ fn fourier_basis(omega: f64, s: f64) -> [[f64; NCOEF]; 3] {
     b
 }
 
+/// The closed-form route of cable `c` if its file declared a helix or a straight run, its
+/// holes share one radius and its disks are equally spaced (else `None`: a per-disk table).
+fn closed_form(robot: &Robot, c: usize) -> Option<Curve> {
+    let cable = &robot.cables[c];
+    let helix = cable.helix?;
+    let rho = cable.radius[0];
+    let ell = robot.disk_s[1] - robot.disk_s[0];
+    let uniform = (1..=cable.ends_at).all(|k| {
+        let d = robot.disk_s[k] - robot.disk_s[k - 1];
+        (d - ell).abs() <= 1e-12 * ell && cable.radius[k] == rho
+    });
+    if !uniform || ell <= 0.0 {
+        return None;
+    }
+    Some(if helix.per_disk == 0.0 {
+        Curve::Straight { r: cable.hole(0) }
+    } else {
+        Curve::Helix {
+            rho,
+            theta0: helix.start - helix.per_disk * robot.disk_s[0] / ell,
+            omega: helix.per_disk / ell,
+        }
+    })
+}
+
 impl Route {
+    /// True for the closed-form routes of declared helices and straight cables.
+    pub fn is_closed_form(&self) -> bool {
+        matches!(self.curve, Curve::Straight { .. } | Curve::Helix { .. })
+    }
+
     /// Fit cable `c` of `robot` with `fit`. Knots are the disks `0..=ends_at`.
     pub fn new(robot: &Robot, c: usize, fit: RoutingFit) -> Result<Route, SolveError> {
         let cable = robot
@@ -148,6 +201,9 @@ impl Route {
             });
         }
         let knots: Vec<f64> = robot.disk_s[..count].to_vec();
+        if let (RoutingFit::Spline, Some(curve)) = (fit, closed_form(robot, c)) {
+            return Ok(Route { curve });
+        }
         let x: Vec<f64> = (0..count).map(|k| cable.hole(k).x).collect();
         let y: Vec<f64> = (0..count).map(|k| cable.hole(k).y).collect();
         let curve = match fit {
@@ -234,6 +290,20 @@ impl Route {
                     ddr: Vector3::new(x2, y2, 0.0),
                 }
             }
+            Curve::Straight { r } => RoutePoint {
+                r: *r,
+                dr: Vector3::zeros(),
+                ddr: Vector3::zeros(),
+            },
+            Curve::Helix { rho, theta0, omega } => {
+                let (sn, cs) = (theta0 + omega * s).sin_cos();
+                let (w, w2) = (rho * omega, rho * omega * omega);
+                RoutePoint {
+                    r: Vector3::new(rho * cs, rho * sn, 0.0),
+                    dr: Vector3::new(-w * sn, w * cs, 0.0),
+                    ddr: Vector3::new(-w2 * cs, -w2 * sn, 0.0),
+                }
+            }
             Curve::Fourier { omega, cx, cy } => {
                 let b = fourier_basis(*omega, s);
                 let dot = |row: &[f64; NCOEF], c: &[f64; NCOEF]| -> f64 {
@@ -298,5 +368,26 @@ mod tests {
         let ddr = (route.eval(s + h, 1).dr - route.eval(s - h, 1).dr) / (2.0 * h);
         assert!((dr - p.dr).norm() < 1e-6);
         assert!((ddr - p.ddr).norm() < 1e-4);
+    }
+
+    #[test]
+    fn declared_helix_is_closed_form_with_exact_derivatives() {
+        let m = case(2);
+        let route = Route::new(&m.robot, 0, RoutingFit::Spline).expect("fit");
+        assert!(route.is_closed_form());
+        // Between the holes: on the circle of radius 8 mm at the helix's angle.
+        let ell = m.robot.disk_s[1];
+        let (s, h) = (0.031, 1e-6);
+        let p = route.eval(s, 1);
+        let theta = std::f64::consts::FRAC_PI_6 * s / ell;
+        let exact = Vector3::new(0.008 * theta.cos(), 0.008 * theta.sin(), 0.0);
+        assert!((p.r - exact).norm() < 1e-15);
+        let dr = (route.eval(s + h, 1).r - route.eval(s - h, 1).r) / (2.0 * h);
+        let ddr = (route.eval(s + h, 1).dr - route.eval(s - h, 1).dr) / (2.0 * h);
+        assert!((dr - p.dr).norm() < 1e-8);
+        assert!((ddr - p.ddr).norm() < 1e-6);
+        // Fourier keeps the paper's fit.
+        let fourier = Route::new(&m.robot, 0, RoutingFit::Fourier8).expect("fit");
+        assert!(!fourier.is_closed_form());
     }
 }

@@ -115,7 +115,7 @@ impl Scene {
         let text = super::read::read_text(path, "scene file")?;
         let file: FileScene = toml::from_str(&text).map_err(|e| ModelError::Parse {
             path: path.display().to_string(),
-            reason: e.to_string().trim().replace('\n', " "),
+            reason: e.to_string().trim_end().to_string(),
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
         Scene::from_parts(file.clearance, &file.obstacles, dir, "")

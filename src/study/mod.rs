@@ -236,6 +236,25 @@ pub fn progress_bar(len: u64, show: bool, msg: &str) -> ProgressBar {
     bar
 }
 
+/// A spinner with the elapsed time on standard error for one long step whose progress cannot
+/// be counted (a single solve), ticking on its own thread; hidden when stderr is not a
+/// terminal. `finish_and_clear` it when the step ends.
+pub fn spinner(msg: &str) -> ProgressBar {
+    let bar = if std::io::stderr().is_terminal() {
+        ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr())
+    } else {
+        ProgressBar::hidden()
+    };
+    if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} ({elapsed})") {
+        bar.set_style(style);
+    }
+    bar.set_message(msg.to_string());
+    if !bar.is_hidden() {
+        bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    }
+    bar
+}
+
 /// Settings of a registered method's resolution entry.
 fn resolution_settings(pairs: &[(&str, &str)]) -> Settings {
     let mut s = Settings::new();

@@ -2,7 +2,7 @@
 //! measured against a converged rod driven by the same kind of input.
 
 use super::{
-    all_method_names, method_kinds, num, outcome, reference, reference_displacement,
+    all_method_names, method_kinds, num, outcome, progress_bar, reference, reference_displacement,
     resolution_settings, Input, Status, StudyError,
 };
 use crate::error::SolveError;
@@ -72,6 +72,8 @@ pub struct SpeedAccuracyOptions {
     pub repeats: usize,
     /// Methods to study (default: every registered method).
     pub methods: Vec<String>,
+    /// Progress bar on a terminal (one step per method variant).
+    pub progress: bool,
 }
 
 impl Default for SpeedAccuracyOptions {
@@ -79,6 +81,7 @@ impl Default for SpeedAccuracyOptions {
         SpeedAccuracyOptions {
             repeats: 5,
             methods: all_method_names(),
+            progress: false,
         }
     }
 }
@@ -97,8 +100,19 @@ pub fn speed_accuracy(
         .solve(&model.robot, &model.actuation, &scene, None)
         .ok();
     let mut rows = vec![];
-    for kind in method_kinds(&opts.methods)? {
-        for v in variants(kind)? {
+    let all = method_kinds(&opts.methods)?
+        .into_iter()
+        .map(variants)
+        .collect::<Result<Vec<_>, _>>()?;
+    let bar = progress_bar(
+        all.iter().map(Vec::len).sum::<usize>() as u64,
+        opts.progress,
+        "speed-accuracy",
+    );
+    for vs in all {
+        for v in vs {
+            bar.set_message(format!("{} {}", v.method, v.setting));
+            bar.inc(1);
             let mut times = vec![];
             let mut last = None;
             for _ in 0..opts.repeats.max(1) {
@@ -144,6 +158,7 @@ pub fn speed_accuracy(
             });
         }
     }
+    bar.finish_and_clear();
     Ok(rows)
 }
 

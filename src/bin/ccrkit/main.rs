@@ -7,7 +7,13 @@ use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
+mod calibrate;
+mod plan;
+mod predict;
+mod reach;
+mod roadmap;
 mod study_cmd;
+mod view;
 use study_cmd::StudyCommand;
 
 #[derive(Parser)]
@@ -54,6 +60,9 @@ enum Command {
         /// Tip distance \[m\] beyond which two same-input methods are flagged as disagreeing.
         #[arg(long, default_value_t = study::compare::DISAGREE_TOL)]
         tolerance: f64,
+        /// Write the solved shapes overlaid in three views (.svg or .png).
+        #[arg(long)]
+        plot: Option<PathBuf>,
     },
     /// List the available methods, their inputs, obstacle and load support, and settings.
     Methods,
@@ -63,6 +72,20 @@ enum Command {
     /// Studies: speed against accuracy, stability maps, workspace sweeps.
     #[command(subcommand)]
     Study(StudyCommand),
+    /// Write one self-contained HTML page showing the robot in 3-D (methods overlaid, a plan's
+    /// waypoints, a sweep's tips), to turn in any browser, offline.
+    View(view::ViewArgs),
+    /// The least-effort actuation within the limits that puts the tip on a target.
+    Reach(reach::ReachArgs),
+    /// A path of actuations to a tip or an actuation, clear of the obstacles.
+    Plan(plan::PlanArgs),
+    /// Roadmaps for repeated `plan` queries.
+    #[command(subcommand)]
+    Roadmap(roadmap::RoadmapCommand),
+    /// Predict the measured tip for every row of a data CSV (in-process, warm-started, parallel).
+    Predict(predict::PredictArgs),
+    /// Fit a model's hardware parameters to measured tips (Levenberg–Marquardt).
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 #[derive(Subcommand)]
@@ -175,12 +198,25 @@ fn main() {
 fn run() -> Result<()> {
     match Cli::parse().command {
         Command::Study(cmd) => study_cmd::run(cmd),
+        Command::View(args) => view::run(args),
+        Command::Reach(a) => reach::run(a),
+        Command::Plan(a) => plan::run(a),
+        Command::Roadmap(c) => roadmap::run(c),
+        Command::Predict(a) => predict::run(a),
+        Command::Calibrate(a) => calibrate::run(a),
         Command::Compare {
             file,
             methods,
             scene,
             tolerance,
-        } => compare(&file, &methods, scene.as_ref(), tolerance),
+            plot: plot_path,
+        } => compare(
+            &file,
+            &methods,
+            scene.as_ref(),
+            tolerance,
+            plot_path.as_ref(),
+        ),
         Command::Methods => {
             print_methods();
             Ok(())
@@ -219,14 +255,18 @@ fn run() -> Result<()> {
             }
             let request = solve.request(repeat)?;
             let model = Model::from_file(&file)?;
-            let solved = request.run(&model)?;
+            let bar = study::spinner(&format!("solving with {}", request.method));
+            let solved = request.run(&model);
+            bar.finish_and_clear();
+            let solved = solved?;
             let (shape, median) = (&solved.shape, solved.median_time_s);
             let quiet = json.as_deref() == Some("-");
             if !quiet {
                 print_summary(&model, shape, median, repeat);
             }
             if let Some(j) = json {
-                let text = shape.to_json_string();
+                // Model name and driving input included (the library's `SolveRequest::json`).
+                let text = serde_json::to_string_pretty(&request.json(&model, shape))?;
                 if j == "-" {
                     println!("{text}");
                 } else {
@@ -282,7 +322,11 @@ fn compare(
     methods: &[String],
     scene: Option<&PathBuf>,
     tolerance: f64,
+    plot_path: Option<&PathBuf>,
 ) -> Result<()> {
+    if let Some(p) = plot_path {
+        plot::check_path(p)?;
+    }
     let default = [
         "geometric",
         "energy",
@@ -307,6 +351,24 @@ fn compare(
     let model = Model::from_file(file)?;
     let cmp = study::compare(&model, &requests, tolerance)?;
     print!("{cmp}");
+    if let Some(p) = plot_path {
+        let mut all = model.scene.clone();
+        if let Some(x) = extra {
+            all.merge(x);
+        }
+        let row = plot::Row {
+            title: format!("{}: methods compared", model.robot.name),
+            robot: &model.robot,
+            shapes: cmp
+                .rows
+                .iter()
+                .filter_map(|r| r.shape.as_ref().map(|s| (s, r.label.clone())))
+                .collect(),
+            scene: Some(&all),
+        };
+        plot::plot_rows(&[row], p)?;
+        eprintln!("wrote {}", p.display());
+    }
     Ok(())
 }
 

@@ -120,6 +120,7 @@ pub(crate) fn run(cmd: StudyCommand) -> Result<()> {
             let opts = study::SpeedAccuracyOptions {
                 repeats,
                 methods: methods_or_all(methods),
+                progress: true,
             };
             let rows = study::speed_accuracy(&model, &opts)?;
             let front = study::speed_accuracy_front(&rows);

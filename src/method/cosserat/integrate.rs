@@ -36,171 +36,30 @@ impl Problem<'_> {
         }
     }
 
-    /// Scaled max-norm of a state error (for the adaptive integrator).
-    fn err_norm(&self, e: &State) -> f64 {
-        let l = self.len_l;
-        let wn = match self.set.model {
-            RodModel::Full => 1.0,
-            RodModel::Kirchhoff => 1.0 / self.fscale,
-        };
-        let mut m = 0.0f64;
-        for i in 0..18 {
-            let w = match i {
-                0..=2 => 1.0 / l,
-                3..=11 => 1.0,
-                12..=14 => wn,
-                _ => l,
-            };
-            m = m.max((e[i] * w).abs());
-        }
-        m
-    }
-
-    /// Integrate section `sec` from `s0` to `s1` (either fixed RK4 or adaptive RK45).
-    #[allow(clippy::too_many_arguments)]
+    /// Integrate section `sec` with its fixed RK4 steps (and the tangents, if `var`).
     pub(super) fn section(
         &self,
         sec: usize,
         y: &mut State,
         ld: &LoadCase,
         len: &mut Buf,
-        h_adapt: &mut f64,
         trace: &mut Option<&mut Trace>,
         var: &mut Option<&mut Var>,
-    ) -> bool {
+    ) {
         let (s0, s1) = (self.robot.disk_s[sec - 1], self.robot.disk_s[sec]);
-        match self.set.adaptive {
-            None => {
-                let nsteps = self.nsteps[sec];
-                let h = (s1 - s0) / nsteps as f64;
-                for j in 0..nsteps {
-                    // Each step starts at its own arc length (never drop s0).
-                    let s = s0 + j as f64 * h;
-                    match var.as_deref_mut() {
-                        Some(vr) => self.rk4_t(s, h, y, sec, ld, len, vr),
-                        None => self.rk4(s, h, y, sec, ld, len),
-                    }
-                    if let Some(t) = trace.as_deref_mut() {
-                        t.backbone.push(v3(y, 0));
-                    }
-                }
-                true
+        let nsteps = self.nsteps[sec];
+        let h = (s1 - s0) / nsteps as f64;
+        for j in 0..nsteps {
+            // Each step starts at its own arc length (never drop s0).
+            let s = s0 + j as f64 * h;
+            match var.as_deref_mut() {
+                Some(vr) => self.rk4_t(s, h, y, sec, ld, len, vr),
+                None => self.rk4(s, h, y, sec, ld, len),
             }
-            Some(tol) => {
-                let mut s = s0;
-                let mut guard = 0usize;
-                while s < s1 - 1e-15 * s1.abs().max(1.0) {
-                    guard += 1;
-                    if guard > 100_000 || !h_adapt.is_finite() {
-                        return false;
-                    }
-                    let h = h_adapt.min(s1 - s);
-                    let (yn, ln, err) = self.dp45(s, h, y, sec, ld, len);
-                    let e = err / tol;
-                    if e <= 1.0 || h < 1e-12 * self.len_l {
-                        *y = yn;
-                        *len = ln;
-                        s = if h == s1 - s { s1 } else { s + h };
-                        if let Some(t) = trace.as_deref_mut() {
-                            t.backbone.push(v3(y, 0));
-                        }
-                    }
-                    let fac = if e == 0.0 {
-                        5.0
-                    } else {
-                        (0.9 * e.powf(-0.2)).clamp(0.2, 5.0)
-                    };
-                    *h_adapt = h * fac;
-                    if !e.is_finite() {
-                        return false;
-                    }
-                }
-                true
+            if let Some(t) = trace.as_deref_mut() {
+                t.backbone.push(v3(y, 0));
             }
         }
-    }
-
-    /// One Dormand–Prince 5(4) step: new state, new lengths, scaled error.
-    fn dp45(
-        &self,
-        s: f64,
-        h: f64,
-        y: &State,
-        sec: usize,
-        ld: &LoadCase,
-        len: &Buf,
-    ) -> (State, Buf, f64) {
-        const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
-        const A: [[f64; 6]; 7] = [
-            [0.0; 6],
-            [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
-            [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
-            [
-                19372.0 / 6561.0,
-                -25360.0 / 2187.0,
-                64448.0 / 6561.0,
-                -212.0 / 729.0,
-                0.0,
-                0.0,
-            ],
-            [
-                9017.0 / 3168.0,
-                -355.0 / 33.0,
-                46732.0 / 5247.0,
-                49.0 / 176.0,
-                -5103.0 / 18656.0,
-                0.0,
-            ],
-            [
-                35.0 / 384.0,
-                0.0,
-                500.0 / 1113.0,
-                125.0 / 192.0,
-                -2187.0 / 6784.0,
-                11.0 / 84.0,
-            ],
-        ];
-        const B5: [f64; 7] = [
-            35.0 / 384.0,
-            0.0,
-            500.0 / 1113.0,
-            125.0 / 192.0,
-            -2187.0 / 6784.0,
-            11.0 / 84.0,
-            0.0,
-        ];
-        const B4: [f64; 7] = [
-            5179.0 / 57600.0,
-            0.0,
-            7571.0 / 16695.0,
-            393.0 / 640.0,
-            -92097.0 / 339200.0,
-            187.0 / 2100.0,
-            1.0 / 40.0,
-        ];
-        let mut k = [State::zeros(); 7];
-        let mut lr = [[0.0; MAX_CABLES]; 7];
-        for i in 0..7 {
-            let mut yi = *y;
-            for j in 0..i {
-                if A[i][j] != 0.0 {
-                    yi += k[j] * (h * A[i][j]);
-                }
-            }
-            k[i] = self.rucker_webster(s + C[i] * h, &yi, sec, ld, &mut lr[i]);
-        }
-        let mut yn = *y;
-        let mut e = State::zeros();
-        let mut ln = *len;
-        for i in 0..7 {
-            yn += k[i] * (h * B5[i]);
-            e += k[i] * (h * (B5[i] - B4[i]));
-            for c in 0..self.robot.cables.len() {
-                ln[c] += h * B5[i] * lr[i][c];
-            }
-        }
-        (yn, ln, self.err_norm(&e))
     }
 
     /// Rod force and moment (base frame) from the state.
@@ -265,9 +124,48 @@ impl Problem<'_> {
             len: [f64::NAN; MAX_CABLES],
             tip: Vector3::from_element(f64::NAN),
         };
-        for k in 1..=nsec {
-            if !self.section(k, &mut y, ld, &mut path, &mut h_adapt, &mut trace, &mut var) {
-                return bad;
+        {
+            let mut mesh = self.mesh.borrow_mut();
+            mesh.cursor = 0;
+            mesh.worst = 0.0;
+            if !mesh.frozen {
+                mesh.ends.clear();
+            }
+        }
+        let mut crossed = Vec::new();
+        let mut steps = 0;
+        let mut k = 1;
+        while k <= nsec {
+            if self.set.adaptive.is_some() {
+                // Adaptive: integrate to the next disk with a jump, reading the disks crossed
+                // on the way from the continuous extension.
+                let b = self.stretch_end(k, ld);
+                crossed.clear();
+                let secs = (k, b);
+                let (len, h) = (&mut path, &mut h_adapt);
+                if !self.stretch(
+                    secs,
+                    &mut y,
+                    ld,
+                    len,
+                    h,
+                    &mut steps,
+                    &mut trace,
+                    &mut crossed,
+                ) || crossed.len() != b - k
+                {
+                    return bad;
+                }
+                for (j, yj) in (k..b).zip(&crossed) {
+                    if let Some(t) = trace.as_deref_mut() {
+                        t.disks.push((v3(yj, 0), rot_of(yj)));
+                    }
+                    // No jump at a crossed disk: only the chords move on.
+                    self.disk_loads(j, yj, ld, &mut chord, &mut prev);
+                }
+                k = b;
+            } else {
+                self.section(k, &mut y, ld, &mut path, &mut trace, &mut var);
             }
             let r = rot_of(&y);
             let p = v3(&y, 0);
@@ -302,6 +200,7 @@ impl Problem<'_> {
                 };
                 return Shot { resid, len, tip: p };
             }
+            k += 1;
         }
         bad
     }

@@ -120,11 +120,13 @@
 //!
 //! `settings` (the solver's options) · `rhs` (the plain Rucker–Webster right-hand side, the
 //! math in one short function) · `variational` (its derivatives: the tangent equations, the
-//! exact shooting Jacobian) · `integrate` (RK4/RK45 over sections, jumps at the disks, one
-//! shooting pass) · `problem` (what is fixed during a solve, global balance) · `shooting`
-//! (Newton with Broyden updates, load continuation) · `warm` (the start from a previous shape)
-//! · `solve` (the `Method` entry: slack active set, shape assembly).
+//! exact shooting Jacobian) · `integrate` (RK4 over sections, jumps at the disks, one
+//! shooting pass) · `adaptive` (Dormand–Prince over stretches between jumps) · `problem`
+//! (what is fixed during a solve, global balance) · `shooting` (Newton with Broyden updates,
+//! load continuation) · `warm` (the start from a previous shape) · `solve` (the `Method`
+//! entry: slack active set, shape assembly).
 
+mod adaptive;
 mod integrate;
 mod problem;
 mod rhs;

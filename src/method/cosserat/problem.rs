@@ -67,10 +67,29 @@ pub(super) struct Problem<'a> {
     /// RK4 steps of each section (index = section, 1-based; entry 0 unused).
     pub(super) nsteps: Vec<usize>,
     /// Spline routes as cubics in `σ = s − s_{k−1}` per section: `[c0, c1, c2, c3]` at
-    /// index `(k − 1)·ncables + c` (empty for the Fourier fit).
+    /// index `(k − 1)·ncables + c` (empty for the Fourier fit; closed-form routes — declared
+    /// helices and straight cables — are evaluated exactly instead).
     pub(super) cubic: Vec<[Vector3<f64>; 4]>,
     /// Geometry of the latest pass (so the converged one need not be integrated again).
     pub(super) last: std::cell::RefCell<Trace>,
+    /// Step mesh of the adaptive integrator (see [`Mesh`]).
+    pub(super) mesh: std::cell::RefCell<Mesh>,
+}
+
+/// The adaptive integrator's steps: recorded by a pass that adapts, replayed by the passes
+/// of one Newton solve (frozen), so that the shooting residual is a smooth function of the
+/// unknowns there (a step sequence that changes with them makes it jump by the integration
+/// error, which stalls line searches and difference Jacobians at tight tolerances).
+#[derive(Default)]
+pub(super) struct Mesh {
+    /// Replay `ends` instead of adapting.
+    pub(super) frozen: bool,
+    /// Accepted step ends of the last adapting pass, in order.
+    pub(super) ends: Vec<f64>,
+    /// Next end to replay.
+    pub(super) cursor: usize,
+    /// Largest scaled error estimate (error / TOL) of the steps of the last pass.
+    pub(super) worst: f64,
 }
 
 impl Problem<'_> {
@@ -97,7 +116,7 @@ impl Problem<'_> {
     /// Route of cable `c` at `s` in section `sec` (1-based).
     #[inline(always)]
     pub(super) fn eval_route(&self, c: usize, s: f64, sec: usize) -> RoutePoint {
-        if self.cubic.is_empty() {
+        if self.cubic.is_empty() || self.routes[c].is_closed_form() {
             return self.routes[c].eval(s, sec - 1);
         }
         let [c0, c1, c2, c3] = &self.cubic[(sec - 1) * self.robot.cables.len() + c];
@@ -322,6 +341,7 @@ impl Cosserat {
             nsteps: vec![],
             cubic: vec![],
             last: Default::default(),
+            mesh: Default::default(),
         };
         prob.nsteps = prob.steps_per_section();
         prob.cubic = prob.route_cubics();

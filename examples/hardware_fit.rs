@@ -1,0 +1,260 @@
+//! The OpenCR FTDCR benchmark (data README §8, `models/hardware/data/`): for v4 and v6, predict
+//! train and val with the nominal model, calibrate the default parameters on train only,
+//! predict val with the fitted model, print the protocol's table (mean-offset-aligned
+//! Euclidean tip RMSE in mm on train, val and val by pattern family), and draw predicted
+//! against measured tips per val pattern family.
+//!
+//! `cargo run --release --example hardware_fit [OUT_DIR]`
+//!
+//! Writes `OUT_DIR/hardware_fit/{v4,v6}_{family}.svg` and the fitted models
+//! `OUT_DIR/hardware_fit/ftdcr_{v4,v6}_fitted.toml` (default OUT_DIR `target`). Val is never
+//! looked at before the fit is done: its rows are read only to be predicted.
+
+use anyhow::Result;
+use ccrkit::calibrate::data::{family, DataOptions, Dataset};
+use ccrkit::calibrate::fit::{calibrate, fitted_toml, FitOptions};
+use ccrkit::calibrate::predict::{predict, PredictOptions, DEFAULT_CHUNK};
+use ccrkit::calibrate::{aligned_errors, first_point_errors, ErrorStats};
+use ccrkit::method::run::SolveRequest;
+use ccrkit::method::{MethodKind, Settings};
+use ccrkit::Model;
+use nalgebra::Vector3;
+use plotters::prelude::*;
+use std::path::Path;
+use std::time::Instant;
+
+/// A 2-D projection of a 3-D point, in mm.
+type Projection = fn(&Vector3<f64>) -> (f64, f64);
+
+const FAMILIES: [&str; 3] = ["all3_same", "all3_scurve", "all3_spiral"];
+
+fn options() -> PredictOptions {
+    let mut s = Settings::new();
+    // Straight tendons, no loads: each segment bends at constant curvature, so one
+    // constant-strain sub-arc per section is exact (tests/hardware.rs checks chunking and rows).
+    s.push("sub-arcs", "1");
+    PredictOptions {
+        request: SolveRequest::new(MethodKind::Energy).with_settings(s),
+        chunk: DEFAULT_CHUNK,
+        progress: true,
+    }
+}
+
+/// Predicted tips (rows that failed are reported and left out of the metric).
+fn tips(model: &Model, data: &Dataset) -> Result<(Vec<Option<Vector3<f64>>>, usize)> {
+    let p = predict(model, data, &options())?;
+    let failed = p.iter().filter(|r| r.tip.is_err()).count();
+    Ok((p.into_iter().map(|r| r.tip.ok()).collect(), failed))
+}
+
+/// Aligned errors [mm] over the rows that solved, with their labels; first-point errors too.
+fn errors(pred: &[Option<Vector3<f64>>], data: &Dataset) -> (Vec<f64>, Vec<String>, Vec<f64>) {
+    let meas = data.tips.as_ref().expect("tips");
+    let labels = data.labels.clone().unwrap_or_default();
+    let (mut s, mut m, mut l) = (vec![], vec![], vec![]);
+    for (i, p) in pred.iter().enumerate() {
+        if let Some(p) = p {
+            s.push(*p);
+            m.push(meas[i]);
+            l.push(labels.get(i).map(|x| family(x)).unwrap_or_default());
+        }
+    }
+    let mm = |v: Vec<f64>| v.into_iter().map(|e| 1e3 * e).collect::<Vec<_>>();
+    (
+        mm(aligned_errors(&s, &m)),
+        l,
+        mm(first_point_errors(&s, &m)),
+    )
+}
+
+fn rmse(e: &[f64]) -> f64 {
+    ErrorStats::of(e).map(|s| s.rmse).unwrap_or(f64::NAN)
+}
+
+fn main() -> Result<()> {
+    let out = std::env::args().nth(1).unwrap_or_else(|| "target".into());
+    let dir = Path::new(&out).join("hardware_fit");
+    std::fs::create_dir_all(&dir)?;
+    let root = env!("CARGO_MANIFEST_DIR");
+    let mut table = vec![];
+    for (v, stem) in [
+        ("v4", "tdcr_sysid_20260511-183002"),
+        ("v6", "tdcrv6_sysid_20260406-181730"),
+    ] {
+        let file = format!("{root}/models/hardware/ftdcr_{v}.toml");
+        let nominal = Model::from_file(&file)?;
+        let read = |p: &str| {
+            Dataset::from_file(
+                format!("{root}/models/hardware/data/{v}/{stem}_{p}.csv"),
+                &DataOptions::default(),
+            )
+        };
+        let (train, val) = (read("train")?, read("val")?);
+        // Fit on train only.
+        let t = Instant::now();
+        let rep = calibrate(&nominal, &train, &FitOptions::new(options()))?;
+        let fit_s = t.elapsed().as_secs_f64();
+        println!("\nFTDCR {v}: calibrated on train ({} rows, {} left out) in {fit_s:.1} s, {} iterations ({})", rep.rows_used, rep.rows_excluded, rep.history.len() - 1, rep.stop);
+        for h in &rep.history {
+            println!(
+                "  iteration {:>2}: train RMSE {:.3} mm",
+                h.iteration,
+                1e3 * h.rmse
+            );
+        }
+        for p in &rep.params {
+            let k = if p.unit == "m" { 1e3 } else { 1.0 };
+            let u = if p.unit == "m" { "mm" } else { "" };
+            let sig = p
+                .sigma
+                .map(|s| format!("{:.4}", k * s))
+                .unwrap_or_else(|| "singular".into());
+            println!(
+                "  {:<10} {:>9.4} ± {sig} {u}  (nominal {:.4})",
+                p.name,
+                k * p.value,
+                k * p.initial
+            );
+        }
+        let text = std::fs::read_to_string(&file)?;
+        let fitted_path = dir.join(format!("ftdcr_{v}_fitted.toml"));
+        std::fs::write(
+            &fitted_path,
+            fitted_toml(
+                &text,
+                &rep.model,
+                &format!("hardware_fit example: {v} fitted on train"),
+            )?,
+        )?;
+        let fitted = Model::from_file(&fitted_path)?;
+        let mut val_pred = vec![];
+        for (name, model) in [("nominal", &nominal), ("fitted", &fitted)] {
+            let (pt, ft) = tips(model, &train)?;
+            let (pv, fv) = tips(model, &val)?;
+            let (et, _, _) = errors(&pt, &train);
+            let (ev, lv, fpv) = errors(&pv, &val);
+            let sv = ErrorStats::of(&ev).expect("val rows");
+            let fam: Vec<f64> = FAMILIES
+                .iter()
+                .map(|f| {
+                    rmse(
+                        &ev.iter()
+                            .zip(&lv)
+                            .filter(|(_, l)| l == f)
+                            .map(|(e, _)| *e)
+                            .collect::<Vec<_>>(),
+                    )
+                })
+                .collect();
+            table.push(format!(
+                "| {v} | {name} | {:.2} | **{:.2}** | {:.2} | {:.2} | {:.2} | {:.2} / {:.2} / {:.2} | {:.2} | {} |",
+                rmse(&et), sv.rmse, fam[0], fam[1], fam[2], sv.mean, sv.median, sv.max, rmse(&fpv), ft + fv
+            ));
+            val_pred.push((name.to_string(), pv));
+        }
+        // Figures: one per val family, measured and both predictions, each aligned by the
+        // mean offset over the whole val file (as the metric).
+        let meas = val.tips.as_ref().expect("tips");
+        let labels = val.labels.clone().unwrap_or_default();
+        for f in FAMILIES {
+            let rows: Vec<usize> = (0..val.len())
+                .filter(|&i| family(&labels[i]) == f)
+                .collect();
+            let mut series = vec![];
+            for (name, pv) in &val_pred {
+                let ok: Vec<usize> = (0..val.len()).filter(|&i| pv[i].is_some()).collect();
+                let off = ok
+                    .iter()
+                    .map(|&i| pv[i].unwrap_or_default() - meas[i])
+                    .sum::<Vector3<f64>>()
+                    / ok.len().max(1) as f64;
+                series.push((
+                    name.clone(),
+                    rows.iter()
+                        .filter_map(|&i| pv[i].map(|p| p - off))
+                        .collect::<Vec<_>>(),
+                ));
+            }
+            let m: Vec<Vector3<f64>> = rows.iter().map(|&i| meas[i]).collect();
+            let path = dir.join(format!("{v}_{f}.svg"));
+            draw(
+                &path,
+                &format!("FTDCR {v} val, {f}: measured vs predicted tip (mean-offset aligned)"),
+                &m,
+                &series,
+            )?;
+            println!("  wrote {}", path.display());
+        }
+    }
+    println!(
+        "\nMean-offset-aligned Euclidean tip RMSE [mm] (data README §8); energy model, sub-arcs 1"
+    );
+    println!("| robot | model | train | val | val all3_same | val all3_scurve | val all3_spiral | val mean / median / max | val first-point | rows failed |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for r in &table {
+        println!("{r}");
+    }
+    Ok(())
+}
+
+/// Two panels (top view x–y, side view x–z) in mm: measured in grey, predictions in colour.
+fn draw(
+    path: &Path,
+    title: &str,
+    measured: &[Vector3<f64>],
+    predicted: &[(String, Vec<Vector3<f64>>)],
+) -> Result<()> {
+    static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    let root = SVGBackend::new(path, (1100, 560)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(title, ("sans-serif", 18))?;
+    let colours = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
+    let views: [(&str, &str, Projection); 2] = [
+        ("top view", "y [mm]", |p| (1e3 * p.x, 1e3 * p.y)),
+        ("side view", "z [mm]", |p| (1e3 * p.x, 1e3 * p.z)),
+    ];
+    for (panel, (name, ylabel, proj)) in root.split_evenly((1, 2)).iter().zip(views) {
+        let pts: Vec<(f64, f64)> = measured
+            .iter()
+            .chain(predicted.iter().flat_map(|(_, v)| v.iter()))
+            .map(proj)
+            .collect();
+        let lo = |f: fn(&(f64, f64)) -> f64| pts.iter().map(f).fold(f64::MAX, f64::min);
+        let hi = |f: fn(&(f64, f64)) -> f64| pts.iter().map(f).fold(f64::MIN, f64::max);
+        let (x0, x1, y0, y1) = (lo(|p| p.0), hi(|p| p.0), lo(|p| p.1), hi(|p| p.1));
+        let pad = 0.05 * (x1 - x0).max(y1 - y0).max(1.0);
+        let mut chart = ChartBuilder::on(panel)
+            .caption(name, ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(50)
+            .build_cartesian_2d(x0 - pad..x1 + pad, y0 - pad..y1 + pad)?;
+        chart
+            .configure_mesh()
+            .x_desc("x [mm]")
+            .y_desc(ylabel)
+            .draw()?;
+        chart
+            .draw_series(LineSeries::new(
+                measured.iter().map(proj),
+                BLACK.mix(0.45).stroke_width(2),
+            ))?
+            .label("measured")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.45)));
+        for (k, (label, p)) in predicted.iter().enumerate() {
+            let c = colours[k % colours.len()];
+            chart
+                .draw_series(LineSeries::new(p.iter().map(proj), c.stroke_width(1)))?
+                .label(label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}

@@ -1,0 +1,384 @@
+//! Calibration: fit named parameters ([`super::params`]) to measured tips by
+//! Levenberg–Marquardt on the benchmark's metric.
+//!
+//! **Residual.** For parameters `x` every row is solved (warm-started, see below) and the
+//! marker `s_i(x)` taken in the measurement frame; the residual is the mean-offset-aligned
+//! error `r_i = s_i − mean_j(s_j − m_j) − m_i` (3 per row), so `½|r|²` is `N/2` times the
+//! squared RMSE the data README reports. The alignment absorbs the base position; the fitted
+//! model's `base_position` is moved by the final mean offset, so its predictions need no
+//! alignment on the training data.
+//!
+//! **Jacobian.** Forward differences `∂r/∂x_k ≈ (r(x + h_k e_k) − r(x)) / h_k`,
+//! `h_k = 10⁻⁴ × scale_k` (gain 10⁻⁴, lengths 0.1 µm: ≥ 10³ times the energy solver's 10⁻¹⁰ m
+//! tolerance), each row of the perturbed solve warm-started from that row's solution at `x`
+//! (one or two Newton steps).
+//!
+//! **Step.** Marquardt's scaled damping (Marquardt 1963; Nocedal & Wright, *Numerical
+//! Optimization*, 2nd ed., §10.3): `(JᵀJ + λ diag(JᵀJ)) δ = −Jᵀr` in scaled variables
+//! `x/scale`; a step that lowers the cost is taken and `λ /= 3`, else `λ *= 4`. A trial at which
+//! any row fails to solve counts as a rise. Stops when the relative decrease of the cost falls
+//! below [`FitOptions::tolerance`], or `λ` exceeds 10¹⁰ (no descent left), or after
+//! [`FitOptions::max_iterations`].
+//!
+//! **Uncertainty.** `cov = σ² (JᵀJ)⁻¹`, `σ² = |r|² / (3N − 3 − p)` (3 degrees of freedom per
+//! file go to the alignment): the standard errors of a least-squares fit with independent,
+//! equal-variance residuals (Nocedal & Wright §10.3). The residuals here are correlated
+//! along a pattern (hysteresis), so these are lower bounds.
+//!
+//! Why hand-written rather than the `levenberg-marquardt` crate: it is built on nalgebra 0.34
+//! (ccrkit is on 0.35: a second copy of nalgebra to compile and convert between), and this fit
+//! needs a trial that fails (a row that does not solve) to be a rejected step, the cost per
+//! iteration for the report, and the warm starts carried between evaluations; the p × p
+//! damped solve (p ≤ 9 by default) is nalgebra's Cholesky.
+
+use super::data::Dataset;
+use super::params::{default_names, parse_all, Param};
+use super::predict::{PredictOptions, Rows};
+use super::{aligned_errors, ErrorStats};
+use crate::error::SolveError;
+use crate::model::Model;
+use crate::shape::Shape;
+use indicatif::ProgressBar;
+use nalgebra::{DMatrix, DVector, Vector3};
+
+/// How to fit.
+#[derive(Debug, Clone)]
+pub struct FitOptions {
+    /// Method, settings, chunking, progress (as for predict).
+    pub predict: PredictOptions,
+    /// Parameter names (empty: [`default_names`]).
+    pub params: Vec<String>,
+    /// Most LM iterations.
+    pub max_iterations: usize,
+    /// Stop when an iteration lowers the cost by less than this fraction.
+    pub tolerance: f64,
+}
+
+impl FitOptions {
+    /// Defaults around `predict`: the default parameters, 30 iterations, tolerance 10⁻⁴ (on
+    /// FTDCR v4 the last 10⁻⁴ → 10⁻⁵ iterations move the train RMSE by ≈ 0.03 mm).
+    pub fn new(predict: PredictOptions) -> Self {
+        FitOptions {
+            predict,
+            params: Vec::new(),
+            max_iterations: 30,
+            tolerance: 1e-4,
+        }
+    }
+}
+
+/// One fitted parameter.
+#[derive(Debug, Clone)]
+pub struct Fitted {
+    /// Name.
+    pub name: String,
+    /// Unit (`-` or `m`).
+    pub unit: &'static str,
+    /// Value before the fit.
+    pub initial: f64,
+    /// Fitted value.
+    pub value: f64,
+    /// Standard error (module docs), `NaN` never: `None` when `JᵀJ` is singular.
+    pub sigma: Option<f64>,
+}
+
+/// One LM iteration.
+#[derive(Debug, Clone, Copy)]
+pub struct Iteration {
+    /// Iteration (0: the start).
+    pub iteration: usize,
+    /// Aligned tip RMSE \[m\] after it.
+    pub rmse: f64,
+    /// Damping used by the accepted step.
+    pub lambda: f64,
+    /// Full passes over the data so far (residual and Jacobian evaluations).
+    pub passes: usize,
+}
+
+/// The outcome of [`calibrate`].
+#[derive(Debug, Clone)]
+pub struct FitReport {
+    /// Fitted parameters.
+    pub params: Vec<Fitted>,
+    /// Cost per iteration.
+    pub history: Vec<Iteration>,
+    /// Aligned errors on the rows used, before and after.
+    pub before: ErrorStats,
+    /// After.
+    pub after: ErrorStats,
+    /// Rows used; rows left out because they did not solve at the start.
+    pub rows_used: usize,
+    /// Rows left out.
+    pub rows_excluded: usize,
+    /// Why the fit stopped.
+    pub stop: String,
+    /// The fitted model (base position moved by the remaining mean offset).
+    pub model: Model,
+}
+
+struct Eval {
+    shapes: Vec<Option<Shape>>,
+    r: DVector<f64>,
+    mean_offset: Vector3<f64>,
+}
+
+struct Fitter<'a> {
+    rows: Rows,
+    base: &'a Model,
+    params: Vec<Param>,
+    commands: Vec<Vec<f64>>,
+    tips: Vec<Vector3<f64>>,
+    bar: ProgressBar,
+    passes: usize,
+}
+
+impl Fitter<'_> {
+    fn model_at(&self, x: &DVector<f64>) -> Model {
+        let mut m = self.base.clone();
+        for (p, v) in self.params.iter().zip(x.iter()) {
+            p.set(&mut m, v * p.scale());
+        }
+        m
+    }
+
+    /// Residuals at `x` (`None` if a row fails).
+    fn eval(&mut self, x: &DVector<f64>, warm: Option<&[Option<Shape>]>) -> Option<Eval> {
+        let m = self.model_at(x);
+        self.passes += 1;
+        let out = self
+            .rows
+            .solve_all(&m, &self.commands, warm, &ProgressBar::hidden());
+        let mut shapes = Vec::with_capacity(out.len());
+        let mut sim = Vec::with_capacity(out.len());
+        for (r, _) in out {
+            let s = r.ok()?;
+            sim.push(m.hardware.measured_tip(&s));
+            shapes.push(Some(s));
+        }
+        let n = sim.len();
+        let off = (0..n).map(|i| sim[i] - self.tips[i]).sum::<Vector3<f64>>() / n as f64;
+        let mut r = DVector::zeros(3 * n);
+        for (i, (p, m)) in sim.iter().zip(&self.tips).enumerate() {
+            r.fixed_rows_mut::<3>(3 * i).copy_from(&(p - off - m));
+        }
+        Some(Eval {
+            shapes,
+            r,
+            mean_offset: off,
+        })
+    }
+
+    fn jacobian(&mut self, x: &DVector<f64>, at: &Eval) -> Result<DMatrix<f64>, SolveError> {
+        let mut j = DMatrix::zeros(at.r.len(), x.len());
+        for k in 0..x.len() {
+            let h = 1e-4;
+            let mut xp = x.clone();
+            xp[k] += h;
+            let e = match self.eval(&xp, Some(&at.shapes)) {
+                Some(e) => e,
+                None => {
+                    xp[k] = x[k] - h;
+                    let e = self.eval(&xp, Some(&at.shapes)).ok_or_else(|| SolveError::InvalidInput {
+                        field: format!("fit `{}`", self.params[k].name),
+                        reason: "rows fail to solve on both sides of the current value (finite differences)".into(),
+                    })?;
+                    j.set_column(k, &((&at.r - &e.r) / h));
+                    continue;
+                }
+            };
+            j.set_column(k, &((&e.r - &at.r) / h));
+        }
+        Ok(j)
+    }
+}
+
+fn rmse(r: &DVector<f64>) -> f64 {
+    (r.norm_squared() / (r.len() / 3).max(1) as f64).sqrt()
+}
+
+/// Fit `opts.params` of `model` to the measured tips of `data` (module docs).
+pub fn calibrate(
+    model: &Model,
+    data: &Dataset,
+    opts: &FitOptions,
+) -> Result<FitReport, SolveError> {
+    let names = if opts.params.is_empty() {
+        default_names(&model.robot)
+    } else {
+        opts.params.clone()
+    };
+    let params = parse_all(&names, &model.robot)?;
+    let tips = data.tips.clone().ok_or_else(|| SolveError::InvalidInput {
+        field: "data".into(),
+        reason: "has no tip_x, tip_y, tip_z columns to fit to".into(),
+    })?;
+    if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) || opts.max_iterations == 0 {
+        return Err(SolveError::InvalidInput {
+            field: "tolerance / max_iterations".into(),
+            reason: "need a tolerance > 0 and at least one iteration".into(),
+        });
+    }
+    let rows = Rows::new(model, data, &opts.predict)?;
+    // Rows that do not solve at the start are left out (and counted).
+    let first = rows.solve_all(model, &data.commands, None, &ProgressBar::hidden());
+    let used: Vec<usize> = (0..first.len()).filter(|&i| first[i].0.is_ok()).collect();
+    if used.len() < params.len() + 2 {
+        return Err(SolveError::InvalidInput {
+            field: "data".into(),
+            reason: format!(
+                "only {} of {} rows solve at the start",
+                used.len(),
+                first.len()
+            ),
+        });
+    }
+    let bar = crate::study::progress_bar(
+        opts.max_iterations as u64,
+        opts.predict.progress,
+        "calibrate",
+    );
+    let mut f = Fitter {
+        rows,
+        base: model,
+        params,
+        commands: used.iter().map(|&i| data.commands[i].clone()).collect(),
+        tips: used.iter().map(|&i| tips[i]).collect(),
+        bar,
+        passes: 0,
+    };
+    let mut x = DVector::from_iterator(
+        f.params.len(),
+        f.params.iter().map(|p| p.get(model) / p.scale()),
+    );
+    let x0 = x.clone();
+    let mut cur = f.eval(&x, None).ok_or_else(|| SolveError::InvalidInput {
+        field: "data".into(),
+        reason: "a row that solved cold failed when solved in sequence".into(),
+    })?;
+    let before = ErrorStats::of(&aligned_errors_of(&cur.r)).unwrap_or(ErrorStats {
+        n: 0,
+        rmse: 0.0,
+        mean: 0.0,
+        median: 0.0,
+        max: 0.0,
+    });
+    let mut history = vec![Iteration {
+        iteration: 0,
+        rmse: rmse(&cur.r),
+        lambda: 0.0,
+        passes: f.passes,
+    }];
+    let mut lambda = 1e-3;
+    let mut stop = format!("{} iterations", opts.max_iterations);
+    let mut jac = f.jacobian(&x, &cur)?;
+    for it in 1..=opts.max_iterations {
+        let a = jac.transpose() * &jac;
+        let g = jac.transpose() * &cur.r;
+        let cost = cur.r.norm_squared();
+        let mut accepted = None;
+        while lambda <= 1e10 {
+            let mut m = a.clone();
+            for k in 0..m.nrows() {
+                m[(k, k)] += lambda * a[(k, k)].max(1e-12);
+            }
+            let Some(ch) = m.cholesky() else {
+                lambda *= 4.0;
+                continue;
+            };
+            let xt = &x - ch.solve(&g);
+            match f.eval(&xt, Some(&cur.shapes)) {
+                Some(e) if e.r.norm_squared() < cost => {
+                    accepted = Some((xt, e));
+                    break;
+                }
+                _ => lambda *= 4.0,
+            }
+        }
+        let Some((xt, e)) = accepted else {
+            stop = "no descent left (damping above 1e10)".into();
+            break;
+        };
+        let rel = (cost - e.r.norm_squared()) / cost.max(f64::MIN_POSITIVE);
+        x = xt;
+        cur = e;
+        history.push(Iteration {
+            iteration: it,
+            rmse: rmse(&cur.r),
+            lambda,
+            passes: f.passes,
+        });
+        f.bar.set_position(it as u64);
+        f.bar
+            .set_message(format!("calibrate rmse {:.3} mm", 1e3 * rmse(&cur.r)));
+        lambda = (lambda / 3.0).max(1e-9);
+        if rel < opts.tolerance {
+            stop = format!("cost fell by {rel:.1e} < {:.0e}", opts.tolerance);
+            break;
+        }
+        jac = f.jacobian(&x, &cur)?;
+    }
+    f.bar.finish_and_clear();
+    // Uncertainties at the final point.
+    let jac = f.jacobian(&x, &cur)?;
+    let dof = (cur.r.len() as f64 - 3.0 - x.len() as f64).max(1.0);
+    let s2 = cur.r.norm_squared() / dof;
+    let cov = (jac.transpose() * &jac).try_inverse();
+    let mut fitted_model = f.model_at(&x);
+    fitted_model.hardware.base_position -= cur.mean_offset;
+    let params = f
+        .params
+        .iter()
+        .enumerate()
+        .map(|(k, p)| Fitted {
+            name: p.name.clone(),
+            unit: p.unit(),
+            initial: x0[k] * p.scale(),
+            value: x[k] * p.scale(),
+            sigma: cov
+                .as_ref()
+                .map(|c| (s2 * c[(k, k)]).max(0.0).sqrt() * p.scale())
+                .filter(|s| s.is_finite()),
+        })
+        .collect();
+    let after = ErrorStats::of(&aligned_errors_of(&cur.r)).unwrap_or(before);
+    Ok(FitReport {
+        params,
+        history,
+        before,
+        after,
+        rows_used: used.len(),
+        rows_excluded: data.len() - used.len(),
+        stop,
+        model: fitted_model,
+    })
+}
+
+/// Per-row error norms of an aligned residual vector.
+fn aligned_errors_of(r: &DVector<f64>) -> Vec<f64> {
+    let n = r.len() / 3;
+    let sim: Vec<Vector3<f64>> = (0..n)
+        .map(|i| r.fixed_rows::<3>(3 * i).into_owned())
+        .collect();
+    // Already aligned: the mean of `sim` is zero, so aligning again changes nothing.
+    aligned_errors(&sim, &vec![Vector3::zeros(); n])
+}
+
+/// The text of a model file with `[hardware]` replaced by `model`'s (comments are lost;
+/// `header` is written first as comment lines).
+pub fn fitted_toml(original: &str, model: &Model, header: &str) -> Result<String, SolveError> {
+    let mut t: toml::Table = toml::from_str(original).map_err(|e| SolveError::InvalidInput {
+        field: "model".into(),
+        reason: format!("cannot re-read the model text: {e}"),
+    })?;
+    t.insert(
+        "hardware".into(),
+        toml::Value::Table(model.hardware.to_toml()),
+    );
+    let body = toml::to_string(&t).map_err(|e| SolveError::InvalidInput {
+        field: "model".into(),
+        reason: format!("cannot write TOML: {e}"),
+    })?;
+    let mut out: String = header.lines().map(|l| format!("# {l}\n")).collect();
+    out.push_str(&body);
+    Ok(out)
+}

@@ -1,0 +1,212 @@
+//! Parameters `ccrkit calibrate` can fit, by name:
+//!
+//! | name | what | unit |
+//! |---|---|---|
+//! | `gain`, `gain.segK`, `gain.CABLE` | [`Hardware::gain`] of every cable / of segment K / of one cable | – |
+//! | `offset`, `offset.segK`, `offset.CABLE` | [`Hardware::offset`] (slack) of the same groups | m |
+//! | `marker.x`, `marker.y`, `marker.z` | [`Hardware::marker`] in the tip frame | m |
+//!
+//! Segment K is the K-th group of cables tied at the same disk, in order of that disk from the
+//! base (the FTDCR models: seg0 = the three cables tied at the end of the proximal segment).
+//! The base position is not a parameter: the metric aligns the mean offset, and the fitted
+//! model's `base_position` is set to remove it (see `fit.rs`).
+//!
+//! [`Hardware::gain`]: crate::model::hardware::Hardware::gain
+//! [`Hardware::offset`]: crate::model::hardware::Hardware::offset
+//! [`Hardware::marker`]: crate::model::hardware::Hardware::marker
+
+use crate::error::SolveError;
+use crate::model::robot::Robot;
+use crate::model::Model;
+
+/// Which cables a per-cable parameter acts on.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Group {
+    /// Every cable.
+    All,
+    /// The cables of one segment (indices).
+    Cables(Vec<usize>),
+}
+
+/// What a parameter sets.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Target {
+    /// Displacement gain.
+    Gain(Group),
+    /// Offset (slack) \[m\].
+    Offset(Group),
+    /// Marker coordinate (0, 1, 2 = x, y, z) in the tip frame \[m\].
+    Marker(usize),
+}
+
+/// A named, fittable parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Param {
+    /// Its name as given (`gain.seg0`).
+    pub name: String,
+    /// What it sets.
+    pub target: Target,
+}
+
+/// Default parameters: per-segment gain and offset, and the marker along the tip axis
+/// (7 scalars for a 3-segment robot; at most 9, the benchmark protocol's limit).
+pub fn default_names(robot: &Robot) -> Vec<String> {
+    let n = segments(robot).len();
+    let mut v: Vec<String> = (0..n).map(|k| format!("gain.seg{k}")).collect();
+    v.extend((0..n).map(|k| format!("offset.seg{k}")));
+    v.push("marker.z".into());
+    v
+}
+
+/// Cables grouped by the disk they are tied at, groups ordered from the base.
+pub fn segments(robot: &Robot) -> Vec<Vec<usize>> {
+    let mut ends: Vec<usize> = robot.cables.iter().map(|c| c.ends_at).collect();
+    ends.sort_unstable();
+    ends.dedup();
+    ends.iter()
+        .map(|e| {
+            (0..robot.cables.len())
+                .filter(|&c| robot.cables[c].ends_at == *e)
+                .collect()
+        })
+        .collect()
+}
+
+impl Param {
+    /// Parse a parameter name for `robot` (module docs), refusing unknown names by name.
+    pub fn parse(name: &str, robot: &Robot) -> Result<Param, SolveError> {
+        let bad = |why: String| SolveError::InvalidInput {
+            field: format!("fit `{name}`"),
+            reason: why,
+        };
+        let (head, tail) = match name.split_once('.') {
+            Some((h, t)) => (h, Some(t)),
+            None => (name, None),
+        };
+        let group = |t: Option<&str>| -> Result<Group, SolveError> {
+            let Some(t) = t else { return Ok(Group::All) };
+            if let Some(k) = t.strip_prefix("seg").and_then(|k| k.parse::<usize>().ok()) {
+                let segs = segments(robot);
+                return segs
+                    .get(k)
+                    .map(|c| Group::Cables(c.clone()))
+                    .ok_or_else(|| {
+                        bad(format!(
+                            "the robot has {} segments (seg0..seg{})",
+                            segs.len(),
+                            segs.len().saturating_sub(1)
+                        ))
+                    });
+            }
+            robot
+                .cable_index(t)
+                .map(|c| Group::Cables(vec![c]))
+                .ok_or_else(|| bad(format!("`{t}` is neither segK nor a cable name")))
+        };
+        let target = match head {
+            "gain" => Target::Gain(group(tail)?),
+            "offset" => Target::Offset(group(tail)?),
+            "marker" => match tail {
+                Some("x") => Target::Marker(0),
+                Some("y") => Target::Marker(1),
+                Some("z") => Target::Marker(2),
+                _ => return Err(bad("give marker.x, marker.y or marker.z".into())),
+            },
+            _ => {
+                return Err(bad(
+                    "unknown parameter: gain[.segK|.CABLE], offset[.segK|.CABLE], marker.x|y|z"
+                        .into(),
+                ))
+            }
+        };
+        Ok(Param {
+            name: name.to_string(),
+            target,
+        })
+    }
+
+    /// Scale of the parameter: its typical magnitude in SI units (the fit works in value/scale).
+    pub fn scale(&self) -> f64 {
+        match self.target {
+            Target::Gain(_) => 1.0,
+            Target::Offset(_) | Target::Marker(_) => 1e-3,
+        }
+    }
+
+    /// Unit for reports.
+    pub fn unit(&self) -> &'static str {
+        match self.target {
+            Target::Gain(_) => "-",
+            Target::Offset(_) | Target::Marker(_) => "m",
+        }
+    }
+
+    fn cables(g: &Group, n: usize) -> Vec<usize> {
+        match g {
+            Group::All => (0..n).collect(),
+            Group::Cables(c) => c.clone(),
+        }
+    }
+
+    /// The parameter's value in `model` (the mean over its cables).
+    pub fn get(&self, model: &Model) -> f64 {
+        let hw = &model.hardware;
+        let n = model.robot.cables.len();
+        let mean = |v: &[f64], g: &Group| {
+            let c = Self::cables(g, n);
+            c.iter().map(|&i| v[i]).sum::<f64>() / c.len().max(1) as f64
+        };
+        match &self.target {
+            Target::Gain(g) => mean(&hw.gain, g),
+            Target::Offset(g) => mean(&hw.offset, g),
+            Target::Marker(k) => hw.marker[*k],
+        }
+    }
+
+    /// Set the parameter to `v` in `model`.
+    pub fn set(&self, model: &mut Model, v: f64) {
+        let n = model.robot.cables.len();
+        let hw = &mut model.hardware;
+        match &self.target {
+            Target::Gain(g) => Self::cables(g, n).into_iter().for_each(|c| hw.gain[c] = v),
+            Target::Offset(g) => Self::cables(g, n)
+                .into_iter()
+                .for_each(|c| hw.offset[c] = v),
+            Target::Marker(k) => hw.marker[*k] = v,
+        }
+    }
+}
+
+/// Parse names, refusing duplicates and sets touching one value twice.
+pub fn parse_all(names: &[String], robot: &Robot) -> Result<Vec<Param>, SolveError> {
+    let ps: Vec<Param> = names
+        .iter()
+        .map(|n| Param::parse(n, robot))
+        .collect::<Result<_, _>>()?;
+    let n = robot.cables.len();
+    for (i, a) in ps.iter().enumerate() {
+        for b in &ps[..i] {
+            let overlap = match (&a.target, &b.target) {
+                (Target::Gain(x), Target::Gain(y)) | (Target::Offset(x), Target::Offset(y)) => {
+                    let (cx, cy) = (Param::cables(x, n), Param::cables(y, n));
+                    cx.iter().any(|c| cy.contains(c))
+                }
+                (Target::Marker(x), Target::Marker(y)) => x == y,
+                _ => false,
+            };
+            if overlap {
+                return Err(SolveError::InvalidInput {
+                    field: format!("fit `{}`", a.name),
+                    reason: format!("sets a value `{}` already sets", b.name),
+                });
+            }
+        }
+    }
+    if ps.is_empty() {
+        return Err(SolveError::InvalidInput {
+            field: "fit".into(),
+            reason: "no parameter to fit".into(),
+        });
+    }
+    Ok(ps)
+}

@@ -1,0 +1,203 @@
+//! Batch prediction: solve every row of a [`Dataset`] in-process, in order, each row
+//! warm-started from the previous one, chunks of rows in parallel (rayon), and report the
+//! marker in the measurement frame ([`crate::model::hardware::Hardware::measured_tip`]).
+//!
+//! Chunks are cut at fixed row counts ([`PredictOptions::chunk`]), not per thread, so the
+//! result does not depend on the number of threads: the first row of a chunk starts cold (from
+//! the straight robot), every other row from the previous row's shape. A warm-started solve
+//! that fails is retried cold once; a row that still fails gets its error as status, and the
+//! next row starts from the last shape that solved.
+
+use super::data::Dataset;
+use crate::error::SolveError;
+use crate::method::run::SolveRequest;
+use crate::method::Method;
+use crate::model::scene::Scene;
+use crate::model::Model;
+use crate::shape::Shape;
+use indicatif::ProgressBar;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+/// Default rows per chunk.
+pub const DEFAULT_CHUNK: usize = 64;
+
+/// How to predict.
+#[derive(Debug, Clone)]
+pub struct PredictOptions {
+    /// Method and settings (and extra obstacles). `steps`, `warm_from` and `repeat` other than
+    /// their defaults are refused by name: every row starts from the previous one.
+    pub request: SolveRequest,
+    /// Rows per chunk solved in sequence (≥ 1).
+    pub chunk: usize,
+    /// Show a progress bar on a terminal.
+    pub progress: bool,
+}
+
+/// One predicted row.
+#[derive(Debug, Clone)]
+pub struct RowPrediction {
+    /// Marker in the measurement frame \[m\] (`Err` when the row did not solve).
+    pub tip: Result<Vector3<f64>, SolveError>,
+    /// Solver iterations spent on the row (both attempts).
+    pub iterations: usize,
+}
+
+impl RowPrediction {
+    /// `ok`, or the error's kind (`not_converged`, `infeasible`, ...).
+    pub fn status(&self) -> &'static str {
+        match &self.tip {
+            Ok(_) => "ok",
+            Err(e) => e.kind(),
+        }
+    }
+}
+
+/// A method ready to solve rows of one model.
+pub(crate) struct Rows {
+    pub(crate) method: Box<dyn Method>,
+    pub(crate) scene: Scene,
+    pub(crate) chunk: usize,
+}
+
+impl Rows {
+    /// Check the options against the model and data and build the method.
+    pub(crate) fn new(
+        model: &Model,
+        data: &Dataset,
+        opts: &PredictOptions,
+    ) -> Result<Self, SolveError> {
+        let r = &opts.request;
+        for (field, bad) in [
+            ("steps", r.steps != 1),
+            ("warm_from", r.warm_from.is_some()),
+            ("repeat", r.repeat != 1),
+        ] {
+            if bad {
+                return Err(SolveError::InvalidInput {
+                    field: field.into(),
+                    reason: "predict warm-starts every row from the previous one; it takes no steps, warm-from or repeat".into(),
+                });
+            }
+        }
+        if opts.chunk == 0 {
+            return Err(SolveError::InvalidInput {
+                field: "chunk".into(),
+                reason: "must be ≥ 1 row".into(),
+            });
+        }
+        let n = model.robot.cables.len();
+        if data.columns.len() != n {
+            return Err(SolveError::InvalidInput {
+                field: "columns".into(),
+                reason: format!(
+                    "the data gives {} cable columns ({}) for a model with {n} cables",
+                    data.columns.len(),
+                    data.columns.join(",")
+                ),
+            });
+        }
+        Ok(Rows {
+            method: r.prepare()?,
+            scene: r.scene_for(model),
+            chunk: opts.chunk,
+        })
+    }
+
+    /// Solve one row from `warm` (falling back to a cold start).
+    pub(crate) fn solve(
+        &self,
+        model: &Model,
+        u: &[f64],
+        warm: Option<&Shape>,
+    ) -> (Result<Shape, SolveError>, usize) {
+        let act = model.hardware.actuation(u);
+        let first = self.method.solve(&model.robot, &act, &self.scene, warm);
+        match (first, warm) {
+            (Ok(s), _) => {
+                let it = s.report.iterations;
+                (Ok(s), it)
+            }
+            (Err(e), None) => (Err(e), 0),
+            (Err(_), Some(_)) => {
+                let r = self.method.solve(&model.robot, &act, &self.scene, None);
+                let it = r.as_ref().map(|s| s.report.iterations).unwrap_or(0);
+                (r, it)
+            }
+        }
+    }
+
+    /// Every row of `commands` for `model` (the robot `new` was checked against; its parameters may
+    /// differ), chunks in parallel. `warm[i]`, when given, starts row `i` instead of the
+    /// previous row.
+    pub(crate) fn solve_all(
+        &self,
+        model: &Model,
+        commands: &[Vec<f64>],
+        warm: Option<&[Option<Shape>]>,
+        bar: &ProgressBar,
+    ) -> Vec<(Result<Shape, SolveError>, usize)> {
+        let chunks: Vec<Vec<(Result<Shape, SolveError>, usize)>> = commands
+            .par_chunks(self.chunk)
+            .enumerate()
+            .map(|(k, rows)| {
+                let mut out = Vec::with_capacity(rows.len());
+                let mut last: Option<Shape> = None;
+                for (j, u) in rows.iter().enumerate() {
+                    let i = k * self.chunk + j;
+                    let w = match warm {
+                        Some(ws) => ws[i].as_ref().or(last.as_ref()),
+                        None => last.as_ref(),
+                    };
+                    let (r, it) = self.solve(model, u, w);
+                    if let Ok(s) = &r {
+                        last = Some(s.clone());
+                    }
+                    out.push((r, it));
+                    bar.inc(1);
+                }
+                out
+            })
+            .collect();
+        chunks.into_iter().flatten().collect()
+    }
+}
+
+/// Predict every row of `data` with `model`: the marker in the measurement frame per row, in
+/// row order (module docs).
+pub fn predict(
+    model: &Model,
+    data: &Dataset,
+    opts: &PredictOptions,
+) -> Result<Vec<RowPrediction>, SolveError> {
+    let rows = Rows::new(model, data, opts)?;
+    let bar = crate::study::progress_bar(data.len() as u64, opts.progress, "predict");
+    let out = rows
+        .solve_all(model, &data.commands, None, &bar)
+        .into_iter()
+        .map(|(r, iterations)| RowPrediction {
+            tip: r.map(|s| model.hardware.measured_tip(&s)),
+            iterations,
+        })
+        .collect();
+    bar.finish_and_clear();
+    Ok(out)
+}
+
+/// Write predictions as CSV: `tip_x, tip_y, tip_z` in the data's unit (`unit` metres per unit),
+/// then `status`; a row that did not solve has empty tip fields.
+pub fn write_csv(rows: &[RowPrediction], unit: f64) -> String {
+    let mut s = String::from("tip_x,tip_y,tip_z,status\n");
+    for r in rows {
+        match &r.tip {
+            Ok(t) => s.push_str(&format!(
+                "{},{},{},ok\n",
+                t.x / unit,
+                t.y / unit,
+                t.z / unit
+            )),
+            Err(e) => s.push_str(&format!(",,,{}\n", e.kind())),
+        }
+    }
+    s
+}
