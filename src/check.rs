@@ -65,6 +65,14 @@ pub fn output(robot: &Robot, shape: &Shape) -> Result<(), SolveError> {
     Ok(())
 }
 
+/// A method's result passed through [`output`]: what studies use, so a sweep counts a shape
+/// through itself or a non-finite one as the failure it is.
+pub fn checked(robot: &Robot, result: Result<Shape, SolveError>) -> Result<Shape, SolveError> {
+    let shape = result?;
+    output(robot, &shape)?;
+    Ok(shape)
+}
+
 /// The first field of `shape` holding a NaN or an infinity (a dotted path such as
 /// `disks[3].position`), if any.
 pub fn first_non_finite(shape: &Shape) -> Option<String> {

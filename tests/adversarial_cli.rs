@@ -257,3 +257,47 @@ fn devices_as_files_end_in_a_named_size_error() {
     t.add(&args(&["solve", "/dev/zero"]), &Verdict::Named);
     t.report_and_assert("devices");
 }
+
+/// Issue 11 #4: every solve flag a method does not take is refused before solving, naming the
+/// setting (the registry's `settings` say which methods take which).
+#[test]
+fn every_flag_a_method_does_not_take_is_refused_by_name() {
+    let dir = scratch("unused");
+    let c1 = case(1);
+    let flags = [
+        ("--control", "control", "force"),
+        ("--routing", "routing", "spline"),
+        ("--length", "length", "chord"),
+        ("--rk4-steps", "rk4-steps", "3"),
+        ("--adaptive", "adaptive", "1e-6"),
+    ];
+    let (mut refused, mut taken) = (0, 0);
+    for k in ccrkit::method::MethodKind::ALL {
+        for (flag, setting, value) in flags {
+            let takes = k.info().settings.iter().any(|s| s.name == setting);
+            let a = args(&["solve", &c1, "--method", k.name(), flag, value]);
+            let out = std::process::Command::new(adversarial_harness::bin())
+                .args(&a)
+                .current_dir(&dir)
+                .output()
+                .expect("runs");
+            let err = String::from_utf8_lossy(&out.stderr);
+            if takes {
+                assert!(
+                    !err.contains(&format!("invalid input `{setting}`")),
+                    "{a:?}: {err}"
+                );
+                taken += 1;
+            } else {
+                assert_eq!(out.status.code(), Some(1), "{a:?} accepted: {err}");
+                assert!(
+                    err.contains(&format!("invalid input `{setting}`")),
+                    "{a:?}: {err}"
+                );
+                refused += 1;
+            }
+        }
+    }
+    println!("unused flags: {refused} refused by name, {taken} taken");
+    assert!(refused > 0 && taken > 0);
+}

@@ -7,6 +7,9 @@
 
 mod adversarial_harness;
 use adversarial_harness::{methods, run_all, scratch, Tally};
+use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use parry3d::math::Pose;
+use parry3d::shape::{Ball, Cylinder};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{Config, TestRunner};
@@ -189,11 +192,13 @@ fn random_robots_with_every_method_end_named_and_bounded() {
     });
     let ms = methods();
     let mut jobs = vec![];
+    let mut specs = vec![];
     for k in 0..cases {
         let spec = robot()
             .new_tree(&mut runner)
             .expect("strategy draws")
             .current();
+        specs.push(spec.clone());
         let file = dir.join(format!("robot{k}.toml"));
         std::fs::write(&file, toml(&spec)).expect("write");
         for (j, m) in ms.iter().enumerate() {
@@ -214,4 +219,74 @@ fn random_robots_with_every_method_end_named_and_bounded() {
     }
     let t: Tally = run_all(&dir, jobs, BUDGET);
     t.report_and_assert("random robots × methods");
+    // Every solved shape with the ball obstacle keeps its disks out of the ball, checked from
+    // the JSON alone with parry3d (independent of the methods' own contact code).
+    let mut checked = 0;
+    for (k, spec) in specs.iter().enumerate() {
+        let Some((rad, h)) = spec.sphere else {
+            continue;
+        };
+        let centre = Vector3::new(
+            spec.disk_radius + rad + 0.002,
+            0.0,
+            h * spec.sections as f64 * spec.section_length,
+        );
+        for (j, m) in ms.iter().enumerate() {
+            let json = dir.join(format!("robot{k}_{j}.json"));
+            let Ok(text) = std::fs::read_to_string(&json) else {
+                continue;
+            };
+            let v: serde_json::Value = serde_json::from_str(&text).expect("JSON of a solve");
+            let depth = deepest_disk_in_ball(&v, spec, centre, rad);
+            // Contact tolerances of the methods are far below 1 µm.
+            assert!(
+                depth < 1e-6,
+                "{m} robot{k}: a disk is {depth:e} m inside the ball"
+            );
+            checked += 1;
+        }
+    }
+    println!("random robots: {checked} solved shapes with an obstacle checked for penetration");
+}
+
+/// Largest penetration of a disk (a cylinder at its solved frame) into the ball \[m\].
+fn deepest_disk_in_ball(v: &serde_json::Value, spec: &RobotSpec, c: Vector3<f64>, rad: f64) -> f64 {
+    let thickness = spec.section_length * spec.thickness_frac;
+    let disk = Cylinder::new(thickness / 2.0, spec.disk_radius);
+    let ball = Ball::new(rad);
+    let ball_pose: Pose = Isometry3::translation(c.x, c.y, c.z).into();
+    let num = |x: &serde_json::Value| x.as_f64().expect("a number");
+    let mut worst = f64::NEG_INFINITY;
+    for d in v["disks"].as_array().expect("disks") {
+        let p: Vec<f64> = d["position"]
+            .as_array()
+            .expect("position")
+            .iter()
+            .map(num)
+            .collect();
+        let r: Vec<Vec<f64>> = d["rotation"]
+            .as_array()
+            .expect("rotation")
+            .iter()
+            .map(|row| row.as_array().expect("row").iter().map(num).collect())
+            .collect();
+        let rot = Matrix3::from_fn(|i, j| r[i][j]);
+        // Parry's cylinder axis is y; the disk normal is the frame's z.
+        let y_to_z = Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
+        let q = UnitQuaternion::from_matrix(&(rot * y_to_z));
+        let pose: Pose = Isometry3::from_parts(Translation3::new(p[0], p[1], p[2]), q).into();
+        let gap = parry3d::query::distance(&pose, &disk, &ball_pose, &ball)
+            .expect("convex")
+            .distance;
+        let depth = if gap > 0.0 {
+            -gap
+        } else {
+            parry3d::query::contact(&pose, &disk, &ball_pose, &ball, 0.0)
+                .ok()
+                .flatten()
+                .map_or(0.0, |ct| -ct.dist)
+        };
+        worst = worst.max(depth);
+    }
+    worst
 }

@@ -169,7 +169,10 @@ pub fn stability(model: &Model, opts: &StabilityOptions) -> Result<Stability, St
                             let a = value(ia, amax);
                             let act = actuation_for(model, input, &[(ca, a), (cb, b)]);
                             let w = if continuation { warm.as_ref() } else { None };
-                            let o = outcome(solver.solve(&model.robot, &act, &scene, w));
+                            let o = outcome(crate::check::checked(
+                                &model.robot,
+                                solver.solve(&model.robot, &act, &scene, w),
+                            ));
                             bar.inc(1);
                             let tip = o.shape.as_ref().map(|s| s.tip());
                             if let Some(s) = o.shape {

@@ -182,7 +182,10 @@ pub fn workspace(model: &Model, opts: &WorkspaceOptions) -> Result<Workspace, St
                         d(x).total_cmp(&d(y))
                     })
                     .map(|(_, s)| s);
-                let o = outcome(solver.solve(&model.robot, &act, &scene, warm));
+                let o = outcome(crate::check::checked(
+                    &model.robot,
+                    solver.solve(&model.robot, &act, &scene, warm),
+                ));
                 bar.inc(1);
                 let tip = o.shape.as_ref().map(|s| s.tip());
                 if let Some(s) = o.shape {

@@ -1,7 +1,7 @@
 //! URDF export of a solved [`Shape`]: a fixed snapshot, or an articulated chain whose joint
 //! values (SRDF `group_state` + JSON) reproduce the solved disk frames.
 //!
-//! Units are metres and radians; every frame is the disk frame of [`DiskFrame`] (z along the disk
+//! Units are metres and radians; every frame is the disk frame of [`DiskFrame`](crate::shape::DiskFrame) (z along the disk
 //! normal, x at hole angle 0). Links and joints:
 //!
 //! * `base_link` — the robot's base frame; `base_to_disk_0` (fixed) places `disk_0` where the
