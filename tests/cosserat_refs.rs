@@ -216,3 +216,46 @@ fn displacement_driven_rod_on_the_ftdcr_v4_samples() {
         "full rod tips {worst:e} m from the energy model's"
     );
 }
+
+/// Issue 11 #11: a 3000-section rod (case II's robot cut 333×, displacement-driven) that does
+/// not converge used to run 36 s before giving up; every solve now spends at most
+/// `WORK_BUDGET` right-hand-side evaluations and then ends in `NotConverged` with its
+/// iterations, residual and the budget named. (If it converges instead, the shape is finite.)
+#[test]
+fn every_rod_solve_is_bounded_by_a_work_budget() {
+    use ccrkit::actuation::Input;
+    use ccrkit::{Method, Scene, SolveError};
+    let text = std::fs::read_to_string(format!(
+        "{}/models/paper/case2.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("case II")
+    .replace("sections = 9", "sections = 3000")
+    .replace("section_length = 0.020", "section_length = 0.00006")
+    .replace("disk_thickness = 0.002", "disk_thickness = 0.00001");
+    let model = ccrkit::Model::from_toml_str(&text).expect("3000 sections parse");
+    let rod = Cosserat::full().with_control(Input::Shortening);
+    match rod.solve(&model.robot, &model.actuation, &Scene::empty(), None) {
+        Ok(shape) => {
+            assert!(shape.report.converged);
+            assert!(shape
+                .disks
+                .iter()
+                .all(|d| d.position.iter().all(|v| v.is_finite())));
+        }
+        Err(SolveError::NotConverged {
+            iterations,
+            residual,
+            detail,
+            ..
+        }) => {
+            eprintln!("3000 sections: {iterations} iterations, residual {residual:e}: {detail}");
+            assert!(residual.is_finite(), "{detail}");
+            assert!(
+                detail.contains("work budget"),
+                "ended by something else: {detail}"
+            );
+        }
+        Err(e) => panic!("unexpected error kind: {e}"),
+    }
+}

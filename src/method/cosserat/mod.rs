@@ -136,6 +136,7 @@ mod solve;
 mod variational;
 mod warm;
 
+pub use problem::WORK_BUDGET;
 pub use settings::{Cosserat, RodModel};
 
 use nalgebra::{DMatrix, DVector, Matrix3, SVector, Vector3};
