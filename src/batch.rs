@@ -205,6 +205,8 @@ impl RowStatus {
             SolveError::NotConverged { .. } => RowStatus::NotConverged,
             SolveError::Obstructed { .. } => RowStatus::Obstructed,
             SolveError::Unsupported { .. } => RowStatus::Unsupported,
+            // Inverse problems' outcomes (reach, plan); a forward solve never returns them.
+            SolveError::Unreachable { .. } | SolveError::NoPath { .. } => RowStatus::Infeasible,
         }
     }
 }

@@ -103,6 +103,31 @@ pub enum SolveError {
         /// What cannot be done.
         reason: String,
     },
+    /// No actuation within the limits puts the tip on the target (keeping clear of the
+    /// obstacles, unless contact is allowed): the closest tip found and its distance.
+    #[error(
+        "unreachable target [{:.6}, {:.6}, {:.6}] m: closest tip [{:.6}, {:.6}, {:.6}] m at {distance:.3e} m ({reason})",
+        target[0], target[1], target[2], closest[0], closest[1], closest[2]
+    )]
+    Unreachable {
+        /// The target tip position \[m\].
+        target: [f64; 3],
+        /// The closest tip found \[m\].
+        closest: [f64; 3],
+        /// Its distance to the target \[m\].
+        distance: f64,
+        /// Why the search stopped (limits, obstacles, tension bound, tangent).
+        reason: String,
+    },
+    /// No collision-free path of actuations was found (planner budget spent, or start and
+    /// goal in different free regions).
+    #[error("no path found after {samples} samples: {reason}")]
+    NoPath {
+        /// Samples drawn.
+        samples: usize,
+        /// What stopped the search.
+        reason: String,
+    },
     /// The method cannot represent this robot or actuation.
     #[error("{method} cannot solve this: {reason}")]
     Unsupported {
@@ -122,6 +147,8 @@ impl SolveError {
             SolveError::NotConverged { .. } => "not_converged",
             SolveError::Obstructed { .. } => "obstructed",
             SolveError::Unsupported { .. } => "unsupported",
+            SolveError::Unreachable { .. } => "unreachable",
+            SolveError::NoPath { .. } => "no_path",
         }
     }
 }

@@ -9,13 +9,16 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod check;
 pub mod error;
 pub mod export;
 pub mod method;
 pub mod model;
 pub use model::{actuation, mesh, robot, routing, scene};
 pub mod numeric;
+pub mod plan;
 pub mod plot;
+pub mod reach;
 pub mod shape;
 pub mod study;
 

@@ -377,8 +377,13 @@ fn cylinder_ends(
                 let o = &v.origin;
                 let c = p + r * Vector3::new(o.xyz[0], o.xyz[1], o.xyz[2]);
                 let axis = r * rpy_matrix(&o.rpy.0) * Vector3::z() * (length / 2.0);
+                // Visuals are `NAME_visual`, collisions `NAME_collision` (MuJoCo wants
+                // unique names): key the cylinder by NAME.
                 let name = v.name.clone().expect("visuals are named");
-                ends.insert(name, (c - axis, c + axis, radius));
+                let name = name
+                    .strip_suffix("_visual")
+                    .unwrap_or_else(|| panic!("visual `{name}` does not end in _visual"));
+                ends.insert(name.to_string(), (c - axis, c + axis, radius));
             }
         }
     }

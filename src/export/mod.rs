@@ -7,7 +7,7 @@ pub mod urdf;
 
 pub use urdf::{
     export_urdf, rotation_from_rpy, rpy_from_rotation, JointValue, SectionJoints, UrdfExport,
-    UrdfMode, UrdfOptions,
+    UrdfMode, UrdfOptions, DEFAULT_BACKBONE_DENSITY, DEFAULT_DISK_DENSITY,
 };
 
 use thiserror::Error;

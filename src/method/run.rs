@@ -149,6 +149,8 @@ impl SolveRequest {
             reason: "no solve ran".into(),
         })?;
         shape.report.solve_time_s = median_time_s;
+        // The output boundary: no non-finite number, no robot passing through itself.
+        crate::check::output(&model.robot, &shape)?;
         Ok(Solved {
             shape,
             scene,

@@ -2,6 +2,7 @@
 //! here, once, with an error naming the field.
 
 use super::actuation::{Actuation, CableDrive, Shortening};
+use super::bounds;
 use super::hardware::{FileHardware, Hardware};
 use super::robot::{Backbone, Cable, Loads, Robot};
 use super::routing::Helix;
@@ -34,6 +35,9 @@ pub(super) struct FileModel {
     /// Gains, offsets, frames of a real robot (`model/hardware.rs`).
     #[serde(default)]
     hardware: Option<FileHardware>,
+    /// Actuation limits per cable (`src/model/limits.rs`).
+    #[serde(default)]
+    limits: std::collections::BTreeMap<String, super::limits::FileLimit>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -123,20 +127,12 @@ fn positive(field: &str, v: f64) -> Result<f64, ModelError> {
     }
 }
 
-fn non_negative(field: &str, v: f64) -> Result<f64, ModelError> {
-    finite(field, v)?;
-    if v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(ModelError::invalid(field, format!("must be >= 0, got {v}")))
-    }
-}
-
-fn vec3(field: &str, v: Option<[f64; 3]>) -> Result<Vector3<f64>, ModelError> {
-    let v = v.unwrap_or([0.0; 3]);
-    for (k, x) in v.iter().enumerate() {
-        finite(&format!("{field}[{k}]"), *x)?;
-    }
+fn vec3(
+    field: &str,
+    v: Option<[f64; 3]>,
+    range: bounds::Range,
+) -> Result<Vector3<f64>, ModelError> {
+    let v = range.check3(field, v.unwrap_or([0.0; 3]))?;
     Ok(Vector3::new(v[0], v[1], v[2]))
 }
 
@@ -154,6 +150,16 @@ impl FileModel {
             ));
         }
         let n = r.sections as usize;
+        if self.cables.len() > bounds::MAX_CABLES {
+            return Err(ModelError::invalid(
+                "cables",
+                format!(
+                    "at most {} cables, got {}",
+                    bounds::MAX_CABLES,
+                    self.cables.len()
+                ),
+            ));
+        }
         let lengths: Vec<f64> = match (&r.section_length, &r.section_lengths) {
             (Some(_), Some(_)) => {
                 return Err(ModelError::invalid(
@@ -167,7 +173,7 @@ impl FileModel {
                     "missing: give section_length or section_lengths",
                 ))
             }
-            (Some(l), None) => vec![positive("robot.section_length", *l)?; n],
+            (Some(l), None) => vec![bounds::SECTION_LENGTH.check("robot.section_length", *l)?; n],
             (None, Some(ls)) => {
                 if ls.len() != n {
                     return Err(ModelError::invalid(
@@ -176,7 +182,7 @@ impl FileModel {
                     ));
                 }
                 for (k, l) in ls.iter().enumerate() {
-                    positive(&format!("robot.section_lengths[{k}]"), *l)?;
+                    bounds::SECTION_LENGTH.check(&format!("robot.section_lengths[{k}]"), *l)?;
                 }
                 ls.clone()
             }
@@ -187,8 +193,23 @@ impl FileModel {
             let last = disk_s[disk_s.len() - 1];
             disk_s.push(last + l);
         }
-        let disk_radius = positive("robot.disk_radius", r.disk_radius)?;
-        let disk_thickness = positive("robot.disk_thickness", r.disk_thickness)?;
+        let total = disk_s[n];
+        if total > bounds::ROBOT_LENGTH.hi {
+            return Err(ModelError::invalid(
+                if r.section_length.is_some() {
+                    "robot.section_length"
+                } else {
+                    "robot.section_lengths"
+                },
+                format!(
+                    "the backbone would be {total:e} m long; at most {:e} m",
+                    bounds::ROBOT_LENGTH.hi
+                ),
+            ));
+        }
+        let disk_radius = bounds::DISK_RADIUS.check("robot.disk_radius", r.disk_radius)?;
+        let disk_thickness =
+            bounds::DISK_THICKNESS.check("robot.disk_thickness", r.disk_thickness)?;
         let min_l = lengths.iter().cloned().fold(f64::INFINITY, f64::min);
         if disk_thickness >= min_l {
             return Err(ModelError::invalid(
@@ -197,7 +218,8 @@ impl FileModel {
             ));
         }
         let b = &r.backbone;
-        let youngs_modulus = positive("robot.backbone.youngs_modulus", b.youngs_modulus)?;
+        let youngs_modulus =
+            bounds::YOUNGS_MODULUS.check("robot.backbone.youngs_modulus", b.youngs_modulus)?;
         let poisson_ratio = finite("robot.backbone.poisson_ratio", b.poisson_ratio)?;
         if !(poisson_ratio > -1.0 && poisson_ratio <= 0.5) {
             return Err(ModelError::invalid(
@@ -205,7 +227,7 @@ impl FileModel {
                 format!("must lie in (-1, 0.5], got {poisson_ratio}"),
             ));
         }
-        let diameter = positive("robot.backbone.diameter", b.diameter)?;
+        let diameter = bounds::DIAMETER.check("robot.backbone.diameter", b.diameter)?;
         if diameter >= 2.0 * disk_radius {
             return Err(ModelError::invalid(
                 "robot.backbone.diameter",
@@ -213,7 +235,7 @@ impl FileModel {
             ));
         }
         let density = match b.density {
-            Some(d) => non_negative("robot.backbone.density", d)?,
+            Some(d) => bounds::DENSITY.check("robot.backbone.density", d)?,
             None => 0.0,
         };
         let backbone = Backbone {
@@ -226,13 +248,13 @@ impl FileModel {
         let loads = match &self.loads {
             None => Loads::default(),
             Some(l) => Loads {
-                gravity: vec3("loads.gravity", l.gravity)?,
+                gravity: vec3("loads.gravity", l.gravity, bounds::GRAVITY)?,
                 disk_mass: match l.disk_mass {
-                    Some(m) => non_negative("loads.disk_mass", m)?,
+                    Some(m) => bounds::DISK_MASS.check("loads.disk_mass", m)?,
                     None => 0.0,
                 },
-                tip_force: vec3("loads.tip_force", l.tip_force)?,
-                tip_moment: vec3("loads.tip_moment", l.tip_moment)?,
+                tip_force: vec3("loads.tip_force", l.tip_force, bounds::TIP_FORCE)?,
+                tip_moment: vec3("loads.tip_moment", l.tip_moment, bounds::TIP_MOMENT)?,
             },
         };
 
@@ -300,11 +322,11 @@ impl FileModel {
             }
             let angle: Vec<f64> = match &fc.angles {
                 FileAngles::Rule(FileAngleRule::Straight(a)) => {
-                    vec![finite(&f("angles.straight"), *a)?; count]
+                    vec![bounds::ANGLE.check(&f("angles.straight"), *a)?; count]
                 }
                 FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => {
-                    finite(&f("angles.helix.start"), *start)?;
-                    finite(&f("angles.helix.per_disk"), *per_disk)?;
+                    bounds::ANGLE.check(&f("angles.helix.start"), *start)?;
+                    bounds::HELIX_PER_DISK.check(&f("angles.helix.per_disk"), *per_disk)?;
                     (0..count).map(|k| start + per_disk * k as f64).collect()
                 }
                 FileAngles::PerDisk(v) => {
@@ -318,7 +340,7 @@ impl FileModel {
                         ));
                     }
                     for (k, a) in v.iter().enumerate() {
-                        finite(&format!("cables[{ci}].angles[{k}]"), *a)?;
+                        bounds::ANGLE.check(&format!("cables[{ci}].angles[{k}]"), *a)?;
                     }
                     v.clone()
                 }
@@ -366,6 +388,15 @@ impl FileModel {
                             ),
                         ));
                     }
+                    if d <= -chord_len {
+                        return Err(ModelError::invalid(
+                            f("shorten"),
+                            format!(
+                                "a payout of {:e} m is not smaller than the cable's undeformed length {chord_len:.6} m",
+                                -d
+                            ),
+                        ));
+                    }
                     Some(Shortening::Length(d))
                 }
                 (None, Some(p)) => {
@@ -387,12 +418,13 @@ impl FileModel {
                 (None, None) => None,
             };
             let tension = match fc.tension {
-                Some(t) => Some(non_negative(&f("tension"), t).map_err(|_| {
-                    ModelError::invalid(
+                Some(t) if t.is_finite() && t < 0.0 => {
+                    return Err(ModelError::invalid(
                         f("tension"),
-                        format!("cables pull, they do not push: must be >= 0 and finite, got {t}"),
-                    )
-                })?),
+                        format!("cables pull, they do not push: must be >= 0, got {t}"),
+                    ))
+                }
+                Some(t) => Some(bounds::TENSION.check(&f("tension"), t)?),
                 None => None,
             };
             cables.push(cable);
@@ -427,6 +459,7 @@ impl FileModel {
             loads,
         };
         let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
+        let limits = super::limits::validate(&self.limits, &robot)?;
         let mut actuation = Actuation { cables: drives };
         hardware.fold(&robot, &mut actuation)?;
         Ok(Model {
@@ -434,6 +467,7 @@ impl FileModel {
             robot,
             actuation,
             hardware,
+            limits,
             source: None,
         })
     }

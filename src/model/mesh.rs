@@ -13,11 +13,20 @@ pub type MeshData = (Vec<Vector3<f64>>, Vec<[u32; 3]>);
 
 /// Vertices and triangles of a mesh file, or why it cannot be read.
 pub fn load(path: &Path) -> Result<MeshData, String> {
-    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
+    if !matches!(ext.as_deref(), Some("stl" | "obj")) {
+        return Err("unknown mesh format: use .stl or .obj".into());
+    }
+    let bytes =
+        super::read::read_capped(path, super::read::MAX_MESH_BYTES, "mesh file").map_err(|e| {
+            match e {
+                crate::error::ModelError::Io { reason, .. } => reason,
+                other => other.to_string(),
+            }
+        })?;
     let (v, t) = match ext.as_deref() {
         Some("stl") => stl(&bytes)?,
         Some("obj") => obj(&String::from_utf8_lossy(&bytes))?,

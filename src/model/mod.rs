@@ -23,9 +23,12 @@
 //! fields are rejected by the parser ([`ModelError::Parse`], whose message names them).
 
 pub mod actuation;
+pub mod bounds;
 mod file;
 pub mod hardware;
+pub mod limits;
 pub mod mesh;
+pub mod read;
 pub mod robot;
 pub mod routing;
 pub mod scene;
@@ -51,6 +54,8 @@ pub struct Model {
     pub scene: Scene,
     /// Gains, offsets and frames of a real robot (identity when the file has no `[hardware]`).
     pub hardware: hardware::Hardware,
+    /// Actuation limits per cable (`[limits.NAME]`; documented defaults otherwise).
+    pub limits: limits::Limits,
     /// Where the file was read from (for resolving relative paths).
     pub source: Option<PathBuf>,
 }
@@ -59,10 +64,7 @@ impl Model {
     /// Read and validate a model file.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Model, ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
+        let text = read::read_text(path, "model file")?;
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut m = Self::from_toml_named(&text, &path.display().to_string(), dir)?;
         m.source = Some(path.to_path_buf());

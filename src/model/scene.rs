@@ -112,10 +112,7 @@ impl Scene {
     /// Read a scene file (`clearance` and `[[obstacles]]`); mesh paths are relative to it.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
+        let text = super::read::read_text(path, "scene file")?;
         let file: FileScene = toml::from_str(&text).map_err(|e| ModelError::Parse {
             path: path.display().to_string(),
             reason: e.to_string().trim().replace('\n', " "),
@@ -133,13 +130,7 @@ impl Scene {
     ) -> Result<Scene, ModelError> {
         let clearance = match clearance {
             None => 0.0,
-            Some(c) if c.is_finite() && c >= 0.0 => c,
-            Some(c) => {
-                return Err(ModelError::invalid(
-                    format!("{prefix}clearance"),
-                    format!("must be >= 0 and finite, got {c}"),
-                ))
-            }
+            Some(c) => super::bounds::CLEARANCE.check(&format!("{prefix}clearance"), c)?,
         };
         let mut out: Vec<Obstacle> = Vec::with_capacity(obstacles.len());
         for (k, o) in obstacles.iter().enumerate() {
@@ -270,11 +261,7 @@ pub(crate) struct FileObstacle {
 fn pos_len(field: String, v: Option<f64>) -> Result<f64, ModelError> {
     match v {
         None => Err(ModelError::invalid(field, "missing")),
-        Some(x) if x.is_finite() && x > 0.0 => Ok(x),
-        Some(x) => Err(ModelError::invalid(
-            field,
-            format!("must be > 0 and finite, got {x}"),
-        )),
+        Some(x) => super::bounds::OBSTACLE_SIZE.check(&field, x),
     }
 }
 
@@ -288,10 +275,8 @@ impl FileObstacle {
             Some(n) => n.clone(),
             None => format!("obstacle{k}"),
         };
-        let p = self.position.unwrap_or([0.0; 3]);
-        if p.iter().any(|x| !x.is_finite()) {
-            return Err(ModelError::invalid(f("position"), "must be finite"));
-        }
+        let p =
+            super::bounds::COORDINATE.check3(&f("position"), self.position.unwrap_or([0.0; 3]))?;
         let rot = match &self.rotation {
             None => UnitQuaternion::identity(),
             Some(FileRotation::Rpy(r)) => {
@@ -396,8 +381,8 @@ impl FileObstacle {
                     Some(FileScale::Uniform(s)) => Vector3::new(*s, *s, *s),
                     Some(FileScale::PerAxis(s)) => Vector3::new(s[0], s[1], s[2]),
                 };
-                if scale.iter().any(|x| !x.is_finite() || *x <= 0.0) {
-                    return Err(ModelError::invalid(f("scale"), "must be > 0 and finite"));
+                for k in 0..3 {
+                    super::bounds::MESH_SCALE.check(&f("scale"), scale[k])?;
                 }
                 let (verts, tris) = crate::model::mesh::load(&full).map_err(|reason| {
                     ModelError::invalid(
@@ -407,6 +392,19 @@ impl FileObstacle {
                 })?;
                 let verts: Vec<Vector3<f64>> =
                     verts.iter().map(|v| v.component_mul(&scale)).collect();
+                if let Some(v) = verts
+                    .iter()
+                    .find(|v| v.amax() > super::bounds::COORDINATE.hi)
+                {
+                    return Err(ModelError::invalid(
+                        f("scale"),
+                        format!(
+                            "a scaled vertex lies at {:e} m, beyond the {:e} m ccrkit accepts",
+                            v.amax(),
+                            super::bounds::COORDINATE.hi
+                        ),
+                    ));
+                }
                 let pv: Vec<PVec> = verts.iter().map(|v| PVec::new(v.x, v.y, v.z)).collect();
                 let tm = TriMesh::new(pv, tris.clone()).map_err(|e| {
                     ModelError::invalid(

@@ -10,10 +10,10 @@
 use crate::numeric::dense::small_solve;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus,
-    SupportedConeT, ZeroConeT,
+    DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT,
+    SolverStatus, SupportedConeT, ZeroConeT,
 };
-use nalgebra::{Matrix6, SymmetricEigen, Vector6};
+use nalgebra::{DMatrix, Matrix6, SymmetricEigen, Vector3, Vector6};
 
 /// Solution of [`qp_step6`].
 #[derive(Debug, Clone)]
@@ -97,6 +97,71 @@ pub fn qp_step6(
         lambda_eq: sol.z[..eq_rows.len()].to_vec(),
         mu: sol.z[eq_rows.len()..].to_vec(),
     })
+}
+
+/// Solve the dense QP `min ½ xᵀ H x + gᵀ x  s.t.  E x = e,  G x ≤ h` of any (small) size with
+/// clarabel; `H` must be symmetric positive semidefinite (only its upper triangle is read).
+/// `None` when clarabel reports anything but (almost) solved — an infeasible QP included.
+/// Used by the inverse problems ([`crate::reach`]) whose unknowns are the cable inputs.
+pub fn qp_dense(
+    h: &DMatrix<f64>,
+    g: &[f64],
+    eq: (&DMatrix<f64>, &[f64]),
+    ineq: (&DMatrix<f64>, &[f64]),
+) -> Option<Vec<f64>> {
+    let n = g.len();
+    let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
+    for j in 0..n {
+        for i in 0..=j {
+            rowval.push(i);
+            nzval.push(h[(i, j)]);
+        }
+        colptr.push(rowval.len());
+    }
+    let p = CscMatrix::new(n, n, colptr, rowval, nzval);
+    let (me, mi) = (eq.0.nrows(), ineq.0.nrows());
+    let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
+    for j in 0..n {
+        for i in 0..me + mi {
+            let v = if i < me {
+                eq.0[(i, j)]
+            } else {
+                ineq.0[(i - me, j)]
+            };
+            if v != 0.0 {
+                rowval.push(i);
+                nzval.push(v);
+            }
+        }
+        colptr.push(rowval.len());
+    }
+    let a = CscMatrix::new(me + mi, n, colptr, rowval, nzval);
+    let b: Vec<f64> = eq.1.iter().chain(ineq.1.iter()).copied().collect();
+    let mut cones: Vec<SupportedConeT<f64>> = vec![];
+    if me > 0 {
+        cones.push(ZeroConeT(me));
+    }
+    if mi > 0 {
+        cones.push(NonnegativeConeT(mi));
+    }
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_gap_abs(1e-14)
+        .tol_gap_rel(1e-12)
+        .tol_feas(1e-12)
+        .build()
+        .ok()?;
+    let mut solver = DefaultSolver::new(&p, g, &a, &b, &cones, settings).ok()?;
+    solver.solve();
+    let sol = &solver.solution;
+    if !matches!(
+        sol.status,
+        SolverStatus::Solved | SolverStatus::AlmostSolved
+    ) || sol.x.iter().any(|v| !v.is_finite())
+    {
+        return None;
+    }
+    Some(sol.x.clone())
 }
 
 /// Minimize `½ λᵀ S λ − qᵀ λ` over `λ ≥ 0` (`S`: `n × n`, symmetric positive semidefinite,
@@ -208,6 +273,69 @@ pub fn nonneg_qp(s: &[f64], q: &[f64], n: usize, lam: &mut [f64]) -> bool {
     false
 }
 
+/// The smallest `s` such that `target = Σ_k (a_k e1_k + b_k e2_k)` with `a_k² + b_k² ≤ (s w_k)²`:
+/// how far `target` is from the Minkowski sum of the discs `{a e1_k + b e2_k : |(a, b)| ≤ w_k}`
+/// (`s ≤ 1`: inside). A second-order cone program (min s over the cones `(w_k s, a_k, b_k)`),
+/// solved by clarabel; `None` if it reports anything but (almost) solved, e.g. when the discs
+/// do not span `target`.
+///
+/// Used to certify a kink where several norm-like terms vanish together: the multiplier of
+/// their common constraint must split into one subgradient per term.
+pub fn disc_sum_scale(
+    target: &Vector3<f64>,
+    discs: &[(Vector3<f64>, Vector3<f64>, f64)],
+) -> Option<f64> {
+    let n = 1 + 2 * discs.len();
+    let m = 3 + 3 * discs.len();
+    // Column-major entries of A (rows: 3 equalities, then 3 per cone).
+    let mut cols: Vec<Vec<(usize, f64)>> = vec![vec![]; n];
+    for (k, (e1, e2, w)) in discs.iter().enumerate() {
+        for i in 0..3 {
+            cols[1 + 2 * k].push((i, e1[i]));
+            cols[2 + 2 * k].push((i, e2[i]));
+        }
+        let r = 3 + 3 * k;
+        cols[0].push((r, -w));
+        cols[1 + 2 * k].push((r + 1, -1.0));
+        cols[2 + 2 * k].push((r + 2, -1.0));
+    }
+    let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
+    for col in &mut cols {
+        col.sort_by_key(|e| e.0);
+        for &(i, v) in col.iter() {
+            rowval.push(i);
+            nzval.push(v);
+        }
+        colptr.push(rowval.len());
+    }
+    let a = CscMatrix::new(m, n, colptr, rowval, nzval);
+    let p = CscMatrix::zeros((n, n));
+    let mut q = vec![0.0; n];
+    q[0] = 1.0;
+    let mut b = vec![0.0; m];
+    b[..3].copy_from_slice(target.as_slice());
+    let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(3)];
+    cones.extend(discs.iter().map(|_| SecondOrderConeT(3)));
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_gap_abs(1e-12)
+        .tol_gap_rel(1e-12)
+        .tol_feas(1e-12)
+        .build()
+        .ok()?;
+    let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?;
+    solver.solve();
+    let sol = &solver.solution;
+    if !matches!(
+        sol.status,
+        SolverStatus::Solved | SolverStatus::AlmostSolved
+    ) || !sol.x[0].is_finite()
+    {
+        return None;
+    }
+    Some(sol.x[0])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -223,6 +351,19 @@ mod tests {
         let s = qp_step6(&h, &g, &[], &[], &[row], &[0.25], 1e-12).unwrap();
         assert!((s.x[0] - 0.25).abs() < 1e-8);
         assert!((s.mu[0] - 0.75).abs() < 1e-7);
+    }
+
+    /// min ½|x|² s.t. x₀ + x₁ = 1, x₀ ≤ 0.2: x = (0.2, 0.8) (closed form).
+    #[test]
+    fn dense_qp_with_equality_and_bound() {
+        let h = DMatrix::identity(2, 2);
+        let e = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+        let gi = DMatrix::from_row_slice(1, 2, &[1.0, 0.0]);
+        let x = qp_dense(&h, &[0.0, 0.0], (&e, &[1.0]), (&gi, &[0.2])).unwrap();
+        assert!(
+            (x[0] - 0.2).abs() < 1e-9 && (x[1] - 0.8).abs() < 1e-9,
+            "{x:?}"
+        );
     }
 
     /// The active set's answer satisfies the KKT conditions of `min ½ λᵀSλ − qᵀλ, λ ≥ 0`:
@@ -255,5 +396,17 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Two discs, normal to x and to y (both contain z), weight 1: (0.5, 0.5, 1) splits best
+    /// as (0, 0.5, 0.5) + (0.5, 0, 0.5), scale √0.5; one disc normal to x cannot reach x at all.
+    #[test]
+    fn disc_sum_scale_closed_forms() {
+        let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+        let s = disc_sum_scale(&Vector3::new(0.5, 0.5, 1.0), &[(y, z, 1.0), (x, z, 1.0)]).unwrap();
+        assert!((s - 0.5f64.sqrt()).abs() < 1e-7, "{s}");
+        let s = disc_sum_scale(&Vector3::new(0.0, 0.6, 0.8), &[(y, z, 2.0)]).unwrap();
+        assert!((s - 0.5).abs() < 1e-7, "{s}");
+        assert!(disc_sum_scale(&x, &[(y, z, 1.0)]).is_none_or(|s| s > 1e3));
     }
 }

@@ -108,6 +108,24 @@ pub(super) fn max_input(
     }
 }
 
+/// The sweep's ranges, checked before any solve (issue 11: `--max-percent nan` printed `NaN`,
+/// `1e308` and `--tension-factor inf` ran without end): the largest shortening a fraction in
+/// (0, 1), the tension factor in (0, 1000].
+pub(super) fn check_ranges(max_fraction: f64, factor: f64) -> Result<(), StudyError> {
+    if !(max_fraction > 0.0 && max_fraction < 1.0) {
+        return Err(StudyError::Invalid(format!(
+            "invalid option `max-percent`: must lie in (0, 100), got {}",
+            max_fraction * 100.0
+        )));
+    }
+    if !(factor > 0.0 && factor <= 1e3) {
+        return Err(StudyError::Invalid(format!(
+            "invalid option `tension-factor`: must lie in (0, 1000], got {factor}"
+        )));
+    }
+    Ok(())
+}
+
 /// An actuation with only the listed cables driven.
 pub fn actuation_for(model: &Model, input: Input, values: &[(usize, f64)]) -> Actuation {
     let mut act = Actuation::free(&model.robot);
@@ -125,6 +143,7 @@ pub fn actuation_for(model: &Model, input: Input, values: &[(usize, f64)]) -> Ac
 /// Sweep the inputs of the first two driven cables (the others free) over a grid, for every
 /// method, cold and with continuation along each row. Rows run in parallel (rayon).
 pub fn stability(model: &Model, opts: &StabilityOptions) -> Result<Stability, StudyError> {
+    check_ranges(opts.max_fraction, opts.tension_factor)?;
     let [ca, cb] = swept_cables(model)?;
     let n = opts.grid.max(2);
     let kinds = method_kinds(&opts.methods)?;

@@ -126,6 +126,7 @@ const PRIMES: [usize; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43,
 /// Solve `samples` Halton points of the driven cables' inputs (every cable with an input in
 /// the file; others free), this shard's blocks only, blocks in parallel.
 pub fn workspace(model: &Model, opts: &WorkspaceOptions) -> Result<Workspace, StudyError> {
+    super::stability::check_ranges(opts.max_fraction, opts.tension_factor)?;
     let kind: MethodKind = opts.method.parse()?;
     let input = opts.input.unwrap_or_else(|| natural_input(kind));
     let solver = study_method(kind, input)?;

@@ -7,6 +7,9 @@ use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
+mod plan;
+mod reach;
+mod roadmap;
 mod study_cmd;
 use study_cmd::StudyCommand;
 
@@ -63,6 +66,13 @@ enum Command {
     /// Studies: speed against accuracy, stability maps, workspace sweeps.
     #[command(subcommand)]
     Study(StudyCommand),
+    /// The least-effort actuation within the limits that puts the tip on a target.
+    Reach(reach::ReachArgs),
+    /// A path of actuations to a tip or an actuation, clear of the obstacles.
+    Plan(plan::PlanArgs),
+    /// Roadmaps for repeated `plan` queries.
+    #[command(subcommand)]
+    Roadmap(roadmap::RoadmapCommand),
 }
 
 #[derive(Subcommand)]
@@ -175,6 +185,9 @@ fn main() {
 fn run() -> Result<()> {
     match Cli::parse().command {
         Command::Study(cmd) => study_cmd::run(cmd),
+        Command::Reach(a) => reach::run(a),
+        Command::Plan(a) => plan::run(a),
+        Command::Roadmap(c) => roadmap::run(c),
         Command::Compare {
             file,
             methods,

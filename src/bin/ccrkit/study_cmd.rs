@@ -244,7 +244,9 @@ pub(crate) fn run(cmd: StudyCommand) -> Result<()> {
             let texts = inputs
                 .iter()
                 .map(|p| {
-                    std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))
+                    // Capped: a device or a huge file ends in a named error, not a hang.
+                    ccrkit::model::read::read_text(p, "study CSV")
+                        .with_context(|| format!("reading {}", p.display()))
                 })
                 .collect::<Result<Vec<_>>>()?;
             let merged = study::merge_csv(&texts)?;

@@ -19,8 +19,15 @@ impl Energy {
         prob: &Problem,
         sol: Solution,
         start: Instant,
-        notes: Vec<String>,
+        mut notes: Vec<String>,
     ) -> Shape {
+        if !sol.contacts.is_empty() {
+            notes.push(
+                "stable and jacobian: contact curvature −Σ μ ∇²d by central differences of \
+                 the exact contact gradients"
+                    .into(),
+            );
+        }
         let (xi, lam) = (&sol.xi[..], &sol.lam[..]);
         let robot = prob.robot;
         let n = robot.sections();
@@ -92,8 +99,8 @@ impl Energy {
                 sections: vec![],
                 base_wrench: None,
                 notes,
-                stable: None,
-                jacobian: None,
+                stable: sol.sensitivity.stable,
+                jacobian: sol.sensitivity.jacobian,
                 warm: Some(state),
             },
         }

@@ -109,7 +109,7 @@ fn cross<T: Real>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
 }
 
 /// The action `exp(ℓ ξ̂) q` of one sub-arc on a point `q` (any [`Real`]).
-fn exp_act<T: Real>(xi: &[T], ell: f64, q: &[T; 3]) -> [T; 3] {
+pub(super) fn exp_act<T: Real>(xi: &[T], ell: f64, q: &[T; 3]) -> [T; 3] {
     let w = [xi[0] * ell, xi[1] * ell, xi[2] * ell];
     let x = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
     let (a, b, c) = abc_series(x);

@@ -129,6 +129,7 @@ mod kinematics;
 mod lengths;
 mod newton;
 mod problem;
+mod sensitivity;
 
 pub use kinematics::GL_NODES;
 

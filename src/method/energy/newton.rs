@@ -7,6 +7,7 @@
 use super::contacts::{self, Feat, Kin, Pair, World};
 use super::lengths::Work;
 use super::problem::{Problem, Target};
+use super::sensitivity::Sensitivity;
 use super::Energy;
 use crate::error::SolveError;
 use crate::method::warm::WarmState;
@@ -25,6 +26,8 @@ pub(super) struct Solution {
     pub contacts: Vec<Contact>,
     pub iterations: usize,
     pub residual: f64,
+    /// Stability and tip Jacobian from the converged KKT system (`sensitivity.rs`).
+    pub sensitivity: Sensitivity,
 }
 
 /// Residual \[m\] at which a solution with active contacts has converged: parry's distances and
@@ -366,6 +369,14 @@ impl<'p, 'a> Sqp<'p, 'a> {
     /// The converged result: the iterate and its pressing contacts.
     fn solution(self, iterations: usize, residual: f64) -> Solution {
         let world = self.world;
+        let sensitivity = self.prob.sensitivity(
+            &self.xi,
+            &self.wgt,
+            &self.lam,
+            &self.pairs,
+            &self.mu,
+            self.kin.as_ref(),
+        );
         let contacts = self
             .pairs
             .iter()
@@ -379,6 +390,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
             contacts,
             iterations,
             residual,
+            sensitivity,
         }
     }
 

@@ -7,6 +7,7 @@ use super::{Geometric, Objective};
 use crate::error::SolveError;
 use crate::method::contact::CONTACT_TOL;
 use crate::method::Method;
+use crate::numeric::qp::disc_sum_scale;
 use crate::numeric::so3::{exp_so3, orthonormalize};
 use crate::shape::{Contact, SectionReport};
 use nalgebra::{Vector3, Vector6};
@@ -50,7 +51,16 @@ pub(super) enum TautMove {
 pub(super) struct Rejected {
     pub(super) iterations: usize,
     pub(super) residual: f64,
+    /// A stationary pose that failed only a zero term's subgradient bound, and the face
+    /// without that term, where the minimum lies.
+    pub(super) escape: Option<Box<(Pose, u32)>>,
 }
+
+/// Escape runs (see [`Rejected::escape`]) per taut set.
+const MAX_ESCAPES: usize = 8;
+
+/// How far an escape start moves a term off its kink \[rad\].
+const ESCAPE_ANGLE: f64 = 1e-4;
 
 /// What a section's search has spent and seen so far.
 pub(super) struct Tally {
@@ -172,44 +182,24 @@ impl Geometric {
         accepted
     }
 
-    /// The error when no taut set gave an accepted pose: certified poses existed, yet in each
-    /// some cable would push or be overstretched, or Newton runs stalled at a positive
-    /// residual — the lengths cannot all be met; otherwise not converged.
+    /// The error when no taut set gave an accepted pose. Infeasibility is only claimed where
+    /// it is proved (`feasibility.rs`, before the search); a search that finds nothing is
+    /// not a proof, so this is a non-convergence with its iterations and closest residual.
     fn section_failure(&self, data: &SectionData, i: usize, tally: &Tally) -> SolveError {
-        let (l0, count) = (data.l0, tally.count);
-        let straight = Pose::straight(l0);
-        if (count > 0 || tally.closest > 1e-8) && !data.cons.is_empty() {
-            let worst = (0..data.cons.len())
-                .max_by(|&a, &b| {
-                    let va = data.chord(&straight, a) - data.cons[a].length;
-                    let vb = data.chord(&straight, b) - data.cons[b].length;
-                    va.total_cmp(&vb)
-                })
-                .unwrap_or(0);
-            let near = data
-                .world
-                .as_ref()
-                .map(|w| {
-                    format!(
-                        " and keeps clear of the obstacles near this section ({})",
-                        w.names.join(", ")
-                    )
-                })
-                .unwrap_or_default();
-            return SolveError::Infeasible {
-                cable: data.names[data.cons[worst].cables[0]].clone(),
-                section: i,
-                reason: format!(
-                    "no set of taut cables meets every cable length (each certified pose leaves a cable pushing or overstretched) while the backbone segment keeps its length l0 = {l0} m (this method's backbone is incompressible){near}; {count} poses examined"
-                ),
-            };
-        }
+        let near = data
+            .world
+            .as_ref()
+            .map(|w| format!(", keeping clear of {}", w.names.join(", ")))
+            .unwrap_or_default();
         SolveError::NotConverged {
             method: self.name().into(),
             section: Some(i),
             iterations: tally.iterations,
             residual: tally.closest,
-            detail: "no face of the section problem gave a certified minimum".into(),
+            detail: format!(
+                "no taut set and face of the section problem gave a certified minimum ({} certified candidates were rejected by the pull-only check{near}); the actuation is not proved infeasible",
+                tally.count
+            ),
         }
     }
 
@@ -275,30 +265,38 @@ impl Geometric {
             });
         }
         let fixed = 1 + taut.len() + usize::from(data.gauge.is_some());
-        let faces: Vec<u32> = if squared {
-            vec![0]
-        } else {
-            (0u32..(1 << n_terms))
-                .filter(|f| fixed + 2 * f.count_ones() as usize <= 6)
-                .collect()
-        };
+        let faces: Vec<u32> = if squared { vec![0] } else { data.faces(fixed) };
+        let mut runs: Vec<(u32, Pose)> = faces
+            .iter()
+            .flat_map(|&face| starts.iter().map(move |s| (face, *s)))
+            .collect();
         let mut best: Option<Candidate> = None;
-        for &face in &faces {
-            for s in starts {
-                match self.newton(data, s, face, taut, squared) {
-                    Ok((cand, it)) => {
-                        tally.iterations += it;
-                        tally.count += 1;
-                        if best
-                            .as_ref()
-                            .is_none_or(|b| cand.objective < b.objective - 1e-12)
-                        {
-                            best = Some(cand);
-                        }
+        let mut escapes = 0;
+        let mut k = 0;
+        while k < runs.len() {
+            let (face, start) = runs[k];
+            k += 1;
+            match self.newton(data, &start, face, taut, squared) {
+                Ok((cand, it)) => {
+                    tally.iterations += it;
+                    tally.count += 1;
+                    if best
+                        .as_ref()
+                        .is_none_or(|b| cand.objective < b.objective - 1e-12)
+                    {
+                        best = Some(cand);
                     }
-                    Err(r) => {
-                        tally.iterations += r.iterations;
-                        tally.closest = tally.closest.min(r.residual);
+                }
+                Err(r) => {
+                    tally.iterations += r.iterations;
+                    tally.closest = tally.closest.min(r.residual);
+                    // A stationary pose whose zero term's multiplier leaves the subgradient
+                    // ball: the minimum lies just off that kink, on the face without it.
+                    if let Some((pose, smaller)) = r.escape.map(|e| *e) {
+                        if escapes < MAX_ESCAPES && faces.contains(&smaller) {
+                            escapes += 1;
+                            runs.push((smaller, pose));
+                        }
                     }
                 }
             }
@@ -375,18 +373,64 @@ impl Geometric {
         let reject = Err(Rejected {
             iterations: it,
             residual,
+            escape: None,
         });
+        let escape = |moved: Pose, smaller: u32| {
+            Err(Rejected {
+                iterations: it,
+                residual,
+                escape: Some(Box::new((moved, smaller))),
+            })
+        };
         if stationarity > stat_tol || min_eig < -1e-8 || min_eig.is_nan() {
             return reject;
         }
         let angles = data.term_angles(&pose);
         let mut row = 1 + active.len();
         let mut objective = 0.0;
+        let fixed_rotation = data.rotation_fixed(face);
         for (t, term) in data.terms.iter().enumerate() {
-            if face & (1 << t) != 0 {
+            if fixed_rotation && !term.tangent {
+                if t == 1 {
+                    // The rotation multiplier must split into one subgradient per coupler:
+                    // v_t ⊥ ĥ_t with |v_t| ≤ weight_t (the subdifferential of weight·|ω × ĥ|).
+                    let target = Vector3::new(lambda[row], lambda[row + 1], lambda[row + 2]);
+                    let discs: Vec<_> = data.terms[1..]
+                        .iter()
+                        .map(|k| (k.e1, k.e2, k.weight))
+                        .collect();
+                    if disc_sum_scale(&target, &discs).is_none_or(|s| s > 1.0 + 1e-7) {
+                        // Off Q = I along the rotation the multiplier asks for.
+                        let moved = Pose {
+                            p: pose.p,
+                            q: pose.q * exp_so3(&(target.normalize() * ESCAPE_ANGLE)),
+                        };
+                        return escape(moved, face & 1);
+                    }
+                    row += 3;
+                }
+            } else if face & (1 << t) != 0 {
                 let mu = (lambda[row].powi(2) + lambda[row + 1].powi(2)).sqrt();
                 if mu > term.weight * (1.0 + 1e-9) {
-                    return reject;
+                    // Moving this term's direction off the kink along its multiplier lowers
+                    // F at first order by (|μ| − weight)·ε: the minimum is on the face
+                    // without this term, ESCAPE_ANGLE away is a start for it.
+                    let m = (term.e1 * lambda[row] + term.e2 * lambda[row + 1]) / mu;
+                    let moved = if term.tangent {
+                        let l = pose.p.norm();
+                        Pose {
+                            p: (pose.p + m * (l * ESCAPE_ANGLE)).normalize() * l,
+                            q: pose.q,
+                        }
+                    } else {
+                        let v = pose.q * term.dir;
+                        let axis = v.cross(&m);
+                        Pose {
+                            p: pose.p,
+                            q: exp_so3(&(axis.normalize() * ESCAPE_ANGLE)) * pose.q,
+                        }
+                    };
+                    return escape(moved, face & !(1 << t));
                 }
                 row += 2;
             } else {

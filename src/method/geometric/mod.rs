@@ -59,9 +59,10 @@
 //!
 //! `mod.rs` the settings and the section loop (base to tip) · `problem.rs` the eq. 1–2 section
 //! problem and its derivatives · `faces.rs` the taut-set and face search and the certificate ·
-//! `newton.rs` Newton–KKT on one face · `obstacles.rs` the obstacles one section sees.
+//! `feasibility.rs` proofs that no pose exists · `newton.rs` Newton–KKT on one face · `obstacles.rs` the obstacles one section sees.
 
 mod faces;
+mod feasibility;
 mod newton;
 mod obstacles;
 mod problem;

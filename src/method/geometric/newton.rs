@@ -49,6 +49,7 @@ impl Geometric {
                 Err(Rejected {
                     iterations: it,
                     residual,
+                    escape: None,
                 })
             };
             let (f, c) = data.eval::<D2<6>>(&pose, face, active, squared);
@@ -142,6 +143,7 @@ impl Geometric {
         Err(Rejected {
             iterations: self.max_iterations,
             residual: last_res,
+            escape: None,
         })
     }
 

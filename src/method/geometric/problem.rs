@@ -174,7 +174,7 @@ impl SectionData {
                 }
             }
         };
-        Ok(SectionData {
+        let data = SectionData {
             section: i,
             l0,
             terms,
@@ -183,7 +183,44 @@ impl SectionData {
             names: robot.cables.iter().map(|c| c.name.clone()).collect(),
             gauge,
             world: None,
-        })
+        };
+        match data.prove_infeasible() {
+            Some(e) => Err(e),
+            None => Ok(data),
+        }
+    }
+
+    /// Bits of the coupler terms (every term but the tangent, term 0).
+    fn coupler_bits(&self) -> u32 {
+        ((1u32 << self.terms.len()) - 1) & !1
+    }
+
+    /// Whether a face sets two or more coupler angles to zero. The holes of a disk lie in its
+    /// plane, so two non-collinear couplers at zero fix `Q = I` and every coupler is then zero:
+    /// such a face is the one face "all couplers zero", three equations (not two per term).
+    pub(super) fn rotation_fixed(&self, face: u32) -> bool {
+        (face & self.coupler_bits()).count_ones() >= 2
+    }
+
+    /// The faces worth a Newton run, in increasing bit order: the tangent zero or not, times no
+    /// coupler zero, one coupler zero, or all couplers zero (`Q = I`) — `2 (couplers + 2)`
+    /// faces, not `2^terms` — keeping those whose equations (`fixed` besides the face's own)
+    /// leave a pose to solve for (at most 6 in all).
+    pub(super) fn faces(&self, fixed: usize) -> Vec<u32> {
+        let couplers = self.terms.len() - 1;
+        let mut rotation: Vec<(u32, usize)> = vec![(0, 0)];
+        rotation.extend((1..=couplers).map(|t| (1u32 << t, 2)));
+        if couplers >= 2 {
+            rotation.push((self.coupler_bits(), 3));
+        }
+        let mut faces: Vec<u32> = rotation
+            .iter()
+            .flat_map(|&(bits, rank)| [(bits, rank), (bits | 1, rank + 2)])
+            .filter(|&(_, rank)| fixed + rank <= 6)
+            .map(|(bits, _)| bits)
+            .collect();
+        faces.sort_unstable();
+        faces
     }
 
     /// Objective and constraints at pose ⊕ δ (δ = (dp, dω)) evaluated at δ = 0, generic over
@@ -206,9 +243,19 @@ impl SectionData {
             let chord = p.add(&rot(&k.h)).add(&V3::cst(&(-k.h_prev)));
             cons.push(chord.norm() + (-k.length));
         }
+        let fixed_rotation = self.rotation_fixed(face);
         for (t, term) in self.terms.iter().enumerate() {
             let v = if term.tangent { p } else { rot(&term.dir) };
-            if face & (1 << t) != 0 {
+            if fixed_rotation && !term.tangent {
+                if t == 1 {
+                    // Two or more coupler angles zero: Q = I, all couplers zero. Three
+                    // equations, the axial part of Q exp(δω), whose Jacobian at Q = I is I.
+                    let c: [V3<T>; 3] = std::array::from_fn(|k| rot(&Vector3::ith(k, 1.0)));
+                    cons.push((c[1].0[2] - c[2].0[1]) * 0.5);
+                    cons.push((c[2].0[0] - c[0].0[2]) * 0.5);
+                    cons.push((c[0].0[1] - c[1].0[0]) * 0.5);
+                }
+            } else if face & (1 << t) != 0 {
                 let inv = T::cst(1.0) / v.norm();
                 cons.push(v.dot_c(&term.e1) * inv);
                 cons.push(v.dot_c(&term.e2) * inv);

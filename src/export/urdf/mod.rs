@@ -58,11 +58,24 @@
 //! solved joint values and decorative elsewhere). Materials: `ccrkit_disk`, `ccrkit_backbone`,
 //! `ccrkit_cable`.
 
+mod frames;
+mod inertia;
+mod links;
+mod srdf;
+
+pub use frames::{rotation_from_rpy, rpy_from_rotation, SectionJoints};
+pub use inertia::{DEFAULT_BACKBONE_DENSITY, DEFAULT_DISK_DENSITY};
+
 use super::ExportError;
 use crate::model::robot::Robot;
-use crate::shape::{DiskFrame, Shape};
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use crate::shape::Shape;
+use links::{
+    add_cylinder, backbone_material, cable_material, disk_link, disk_link_name, disk_material,
+    empty_link, fixed_joint, limit, mass_link, pose,
+};
+use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
+use srdf::{json_text, srdf_text};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -72,13 +85,13 @@ pub const BASE_LINK: &str = "base_link";
 /// Name of the SRDF planning group (the chain `base_link` → last disk).
 pub const GROUP_NAME: &str = "backbone";
 /// Cable chords are drawn with this fraction of the backbone diameter…
-const CABLE_DIAMETER_FRACTION: f64 = 0.25;
+pub(super) const CABLE_DIAMETER_FRACTION: f64 = 0.25;
 /// …but at least this diameter \[m\].
-const CABLE_MIN_DIAMETER: f64 = 2e-4;
+pub(super) const CABLE_MIN_DIAMETER: f64 = 2e-4;
 /// Largest accepted deviation of a disk rotation from orthonormality (‖RᵀR − I‖∞).
 const ORTHONORMAL_TOL: f64 = 1e-6;
 /// Cylinders shorter than this are not drawn \[m\].
-const MIN_CYLINDER_LENGTH: f64 = 1e-12;
+pub(super) const MIN_CYLINDER_LENGTH: f64 = 1e-12;
 
 /// How the shape becomes a URDF.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -141,54 +154,6 @@ pub struct JointValue {
     pub name: String,
     /// Value \[rad\] for revolute joints, \[m\] for prismatic ones.
     pub value: f64,
-}
-
-/// The six joint values of one articulated section (see the module docs for the chain).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SectionJoints {
-    /// Chord bending about x \[rad\].
-    pub bend_x: f64,
-    /// Chord bending about y \[rad\].
-    pub bend_y: f64,
-    /// Chord length minus the nominal section length \[m\].
-    pub extension: f64,
-    /// Disk tilt about the chord frame's x \[rad\].
-    pub tilt_x: f64,
-    /// Disk tilt about y \[rad\].
-    pub tilt_y: f64,
-    /// Disk twist about z \[rad\].
-    pub twist: f64,
-}
-
-impl SectionJoints {
-    /// Joint values taking disk frame `prev` to disk frame `next` for a section of nominal
-    /// length `l0` (derivation in the module docs).
-    pub fn from_frames(prev: &DiskFrame, next: &DiskFrame, l0: f64) -> SectionJoints {
-        let t = prev.rotation.transpose() * (next.position - prev.position);
-        let c = t.norm();
-        let (bend_x, bend_y) = if c > 0.0 {
-            let u = t / c;
-            let a = (-u.y).atan2(u.z);
-            let v = rot_x(-a) * u;
-            (a, v.x.atan2(v.z))
-        } else {
-            (0.0, 0.0)
-        };
-        let chord = rot_x(bend_x) * rot_y(bend_y);
-        let d = chord.transpose() * prev.rotation.transpose() * next.rotation;
-        let alpha = (-d[(1, 2)]).atan2(d[(2, 2)]);
-        let m = rot_x(-alpha) * d;
-        let gamma = m[(1, 0)].atan2(m[(1, 1)]);
-        let beta = m[(0, 2)].atan2(m[(2, 2)]);
-        SectionJoints {
-            bend_x,
-            bend_y,
-            extension: c - l0,
-            tilt_x: alpha,
-            tilt_y: beta,
-            twist: gamma,
-        }
-    }
 }
 
 /// The result of [`export_urdf`]: the URDF (as urdf-rs data and text) and, in articulated
@@ -262,7 +227,17 @@ pub fn export_urdf(
         &disks[0].position,
         &disks[0].rotation,
     )];
-    links.push(disk_link(robot, shape, 0, opts, None));
+    let articulated = opts.mode == UrdfMode::Articulated;
+    // Share of a disk's mass on each link whose origin is its centre (see `inertia`).
+    let share = |k: usize| {
+        if articulated {
+            1.0 / inertia::shares_at_disk(k, n) as f64
+        } else {
+            1.0
+        }
+    };
+    let disk_part = |k: usize| inertia::disk(robot).scaled(share(k));
+    links.push(disk_link(robot, shape, 0, opts, None, share(0)));
     let mut values = Vec::new();
     for i in 1..=n {
         let (prev, next) = (&disks[i - 1], &disks[i]);
@@ -277,7 +252,7 @@ pub fn export_urdf(
                     &t,
                     &(prev.rotation.transpose() * next.rotation),
                 ));
-                links.push(disk_link(robot, shape, i, opts, Some(back)));
+                links.push(disk_link(robot, shape, i, opts, Some(back), share(i)));
             }
             UrdfMode::Articulated => {
                 let l0 = robot.section_length(i);
@@ -338,8 +313,16 @@ pub fn export_urdf(
                     });
                     parent = spec.child.to_string();
                 }
-                links.push(empty_link(&bend_x_link));
-                let mut chord = empty_link(&chord_link);
+                links.push(mass_link(&bend_x_link, disk_part(i - 1)));
+                let mut chord = mass_link(
+                    &chord_link,
+                    inertia::backbone(
+                        robot,
+                        i,
+                        &Vector3::zeros(),
+                        &Vector3::new(0.0, 0.0, t.norm()),
+                    ),
+                );
                 let c = t.norm();
                 if c > MIN_CYLINDER_LENGTH {
                     add_cylinder(
@@ -353,10 +336,10 @@ pub fn export_urdf(
                     );
                 }
                 links.push(chord);
-                links.push(empty_link(&chord_end));
-                links.push(empty_link(&tilt_x_link));
-                links.push(empty_link(&tilt_y_link));
-                links.push(disk_link(robot, shape, i, opts, None));
+                links.push(mass_link(&chord_end, disk_part(i)));
+                links.push(mass_link(&tilt_x_link, disk_part(i)));
+                links.push(mass_link(&tilt_y_link, disk_part(i)));
+                links.push(disk_link(robot, shape, i, opts, None, share(i)));
             }
         }
     }
@@ -457,369 +440,4 @@ fn check(shape: &Shape, robot: &Robot) -> Result<(), ExportError> {
         }
     }
     Ok(())
-}
-
-/// URDF roll-pitch-yaw of a rotation: `R = Rz(yaw) Ry(pitch) Rx(roll)` (fixed axes x, y, z).
-///
-/// `yaw = atan2(R₁₀, R₀₀)`, then `M = Rz(−yaw) R = Ry(pitch) Rx(roll)` gives
-/// `roll = atan2(−M₁₂, M₁₁)` and `pitch = atan2(−M₂₀, M₀₀)`: accurate to rounding also at
-/// `pitch = ±π/2`, where yaw is arbitrary and roll absorbs it. Returns `[roll, pitch, yaw]`.
-pub fn rpy_from_rotation(r: &Matrix3<f64>) -> [f64; 3] {
-    let yaw = r[(1, 0)].atan2(r[(0, 0)]);
-    let m = rot_z(-yaw) * r;
-    let roll = (-m[(1, 2)]).atan2(m[(1, 1)]);
-    let pitch = (-m[(2, 0)]).atan2(m[(0, 0)]);
-    [roll, pitch, yaw]
-}
-
-/// Rotation of URDF `rpy = [roll, pitch, yaw]`: `Rz(yaw) Ry(pitch) Rx(roll)`.
-pub fn rotation_from_rpy(rpy: [f64; 3]) -> Matrix3<f64> {
-    rot_z(rpy[2]) * rot_y(rpy[1]) * rot_x(rpy[0])
-}
-
-fn rot_x(a: f64) -> Matrix3<f64> {
-    Rotation3::from_axis_angle(&Vector3::x_axis(), a).into_inner()
-}
-fn rot_y(a: f64) -> Matrix3<f64> {
-    Rotation3::from_axis_angle(&Vector3::y_axis(), a).into_inner()
-}
-fn rot_z(a: f64) -> Matrix3<f64> {
-    Rotation3::from_axis_angle(&Vector3::z_axis(), a).into_inner()
-}
-
-fn disk_link_name(k: usize) -> String {
-    format!("disk_{k}")
-}
-
-fn pose(xyz: [f64; 3], rpy: [f64; 3]) -> urdf_rs::Pose {
-    // `+ 0.0` turns −0 into 0 (cosmetic: the text then reads `0`, not `-0`).
-    urdf_rs::Pose {
-        xyz: urdf_rs::Vec3(xyz.map(|v| v + 0.0)),
-        rpy: urdf_rs::Vec3(rpy.map(|v| v + 0.0)),
-    }
-}
-
-/// A number as XML attribute text that parses back to the same `f64` (shortest round trip;
-/// scientific notation for tiny magnitudes instead of 20 leading zeros).
-fn num(v: f64) -> String {
-    let v = v + 0.0;
-    if v != 0.0 && v.abs() < 1e-4 {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
-    }
-}
-
-fn limit(lower: f64, upper: f64) -> urdf_rs::JointLimit {
-    urdf_rs::JointLimit {
-        lower,
-        upper,
-        // Nominal: the exported chain is kinematic; planners need finite values here.
-        effort: 1.0,
-        velocity: 1.0,
-        acceleration: f64::INFINITY,
-        deceleration: f64::INFINITY,
-        jerk: f64::INFINITY,
-    }
-}
-
-fn fixed_joint(
-    name: &str,
-    parent: &str,
-    child: &str,
-    xyz: &Vector3<f64>,
-    rot: &Matrix3<f64>,
-) -> urdf_rs::Joint {
-    urdf_rs::Joint {
-        name: name.into(),
-        joint_type: urdf_rs::JointType::Fixed,
-        origin: pose([xyz.x, xyz.y, xyz.z], rpy_from_rotation(rot)),
-        parent: urdf_rs::LinkName {
-            link: parent.into(),
-        },
-        child: urdf_rs::LinkName { link: child.into() },
-        axis: urdf_rs::Axis {
-            xyz: urdf_rs::Vec3([0.0, 0.0, 1.0]),
-        },
-        limit: limit(0.0, 0.0),
-        calibration: None,
-        dynamics: None,
-        mimic: None,
-        safety_controller: None,
-    }
-}
-
-fn empty_link(name: &str) -> urdf_rs::Link {
-    urdf_rs::Link {
-        name: name.into(),
-        inertial: zero_inertial(),
-        visual: vec![],
-        collision: vec![],
-    }
-}
-
-fn zero_inertial() -> urdf_rs::Inertial {
-    urdf_rs::Inertial {
-        origin: pose([0.0; 3], [0.0; 3]),
-        mass: urdf_rs::Mass { value: 0.0 },
-        inertia: urdf_rs::Inertia {
-            ixx: 0.0,
-            ixy: 0.0,
-            ixz: 0.0,
-            iyy: 0.0,
-            iyz: 0.0,
-            izz: 0.0,
-        },
-    }
-}
-
-fn material(name: &str, rgba: [f64; 4]) -> urdf_rs::Material {
-    urdf_rs::Material {
-        name: name.into(),
-        color: Some(urdf_rs::Color {
-            rgba: urdf_rs::Vec4(rgba),
-        }),
-        texture: None,
-    }
-}
-fn disk_material() -> urdf_rs::Material {
-    material("ccrkit_disk", [0.85, 0.65, 0.2, 1.0])
-}
-fn backbone_material() -> urdf_rs::Material {
-    material("ccrkit_backbone", [0.25, 0.25, 0.3, 1.0])
-}
-fn cable_material() -> urdf_rs::Material {
-    material("ccrkit_cable", [0.1, 0.35, 0.9, 1.0])
-}
-
-/// Add a cylinder (visual, and collision when `collide`) from `a` to `b` in the link frame.
-fn add_cylinder(
-    link: &mut urdf_rs::Link,
-    name: &str,
-    a: &Vector3<f64>,
-    b: &Vector3<f64>,
-    radius: f64,
-    mat: &urdf_rs::Material,
-    collide: bool,
-) {
-    let d = b - a;
-    let length = d.norm();
-    if length <= MIN_CYLINDER_LENGTH {
-        return;
-    }
-    // URDF cylinders lie along their local z.
-    let rot = Rotation3::rotation_between(&Vector3::z(), &d)
-        .map(|r| r.into_inner())
-        .unwrap_or_else(|| rot_x(PI));
-    let mid = (a + b) / 2.0;
-    let origin = pose([mid.x, mid.y, mid.z], rpy_from_rotation(&rot));
-    let geometry = urdf_rs::Geometry::Cylinder { radius, length };
-    link.visual.push(urdf_rs::Visual {
-        name: Some(name.into()),
-        origin: origin.clone(),
-        geometry: geometry.clone(),
-        material: Some(mat.clone()),
-    });
-    if collide {
-        link.collision.push(urdf_rs::Collision {
-            name: Some(name.into()),
-            origin,
-            geometry,
-        });
-    }
-}
-
-/// Link of disk `k`: the disk cylinder, the backbone of section `k` when `backbone_to_prev`
-/// (the previous disk's position in this disk's frame) is given, and the cable chords.
-fn disk_link(
-    robot: &Robot,
-    shape: &Shape,
-    k: usize,
-    opts: &UrdfOptions,
-    backbone_to_prev: Option<Vector3<f64>>,
-) -> urdf_rs::Link {
-    let name = disk_link_name(k);
-    let mut link = empty_link(&name);
-    let m = robot.loads.disk_mass.max(0.0);
-    let (r, h) = (robot.disk_radius, robot.disk_thickness);
-    link.inertial.mass.value = m;
-    link.inertial.inertia.ixx = m * (3.0 * r * r + h * h) / 12.0;
-    link.inertial.inertia.iyy = link.inertial.inertia.ixx;
-    link.inertial.inertia.izz = m * r * r / 2.0;
-    let half = Vector3::new(0.0, 0.0, h / 2.0);
-    add_cylinder(&mut link, &name, &-half, &half, r, &disk_material(), true);
-    if let Some(prev) = backbone_to_prev {
-        add_cylinder(
-            &mut link,
-            &format!("section_{k}_backbone"),
-            &Vector3::zeros(),
-            &prev,
-            robot.backbone.radius(),
-            &backbone_material(),
-            true,
-        );
-    }
-    if opts.cables && k >= 1 {
-        let (prev, here) = (&shape.disks[k - 1], &shape.disks[k]);
-        let radius =
-            (robot.backbone.diameter * CABLE_DIAMETER_FRACTION).max(CABLE_MIN_DIAMETER) / 2.0;
-        for cable in robot.cables.iter().filter(|c| c.reaches_section(k)) {
-            let a = cable.hole(k);
-            let hole_prev = prev.position + prev.rotation * cable.hole(k - 1);
-            let b = here.rotation.transpose() * (hole_prev - here.position);
-            add_cylinder(
-                &mut link,
-                &format!("cable_{}_section_{k}", cable.name),
-                &a,
-                &b,
-                radius,
-                &cable_material(),
-                true,
-            );
-        }
-    }
-    link
-}
-
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-        .replace('\'', "&apos;")
-}
-
-/// SRDF: the planning group, the solved state, and collisions between touching neighbours off.
-fn srdf_text(name: &str, tip: &str, values: &[JointValue], n: usize) -> String {
-    let name = xml_escape(name);
-    let mut s = String::new();
-    s.push_str("<?xml version=\"1.0\"?>\n");
-    s.push_str(&format!("<robot name=\"{name}\">\n"));
-    s.push_str(&format!("  <group name=\"{GROUP_NAME}\">\n"));
-    s.push_str(&format!(
-        "    <chain base_link=\"{BASE_LINK}\" tip_link=\"{tip}\"/>\n"
-    ));
-    s.push_str("  </group>\n");
-    s.push_str(&format!(
-        "  <group_state name=\"{name}\" group=\"{GROUP_NAME}\">\n"
-    ));
-    for v in values {
-        s.push_str(&format!(
-            "    <joint name=\"{}\" value=\"{}\"/>\n",
-            xml_escape(&v.name),
-            num(v.value)
-        ));
-    }
-    s.push_str("  </group_state>\n");
-    // The backbone of section i touches disk i-1, disk i and the backbone of section i+1 by
-    // construction; cable chords (on disk i) touch disk i-1.
-    for i in 1..=n {
-        let mut pairs = vec![
-            (format!("disk_{}", i - 1), format!("section_{i}_chord")),
-            (format!("section_{i}_chord"), format!("disk_{i}")),
-            (format!("disk_{}", i - 1), format!("disk_{i}")),
-        ];
-        if i < n {
-            pairs.push((
-                format!("section_{i}_chord"),
-                format!("section_{}_chord", i + 1),
-            ));
-        }
-        for (a, b) in pairs {
-            s.push_str(&format!(
-                "  <disable_collisions link1=\"{a}\" link2=\"{b}\" reason=\"Adjacent\"/>\n"
-            ));
-        }
-    }
-    s.push_str("</robot>\n");
-    s
-}
-
-#[derive(Serialize)]
-struct JointsJson<'a> {
-    robot: &'a str,
-    method: &'a str,
-    group: &'a str,
-    group_state: &'a str,
-    units: &'a str,
-    joints: &'a [JointValue],
-}
-
-fn json_text(name: &str, method: &str, values: &[JointValue]) -> Result<String, ExportError> {
-    serde_json::to_string_pretty(&JointsJson {
-        robot: name,
-        method,
-        group: GROUP_NAME,
-        group_state: name,
-        units: "rad for revolute joints, m for prismatic (section_*_extension)",
-        joints: values,
-    })
-    .map_err(|e| ExportError::Urdf {
-        reason: format!("joint values as JSON: {e}"),
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const TOL: f64 = 1e-12;
-
-    fn angle_between(a: &Matrix3<f64>, b: &Matrix3<f64>) -> f64 {
-        // ‖A − B‖_F = 2√2 sin(θ/2): accurate for small angles.
-        let s = (a - b).norm() / (2.0 * 2f64.sqrt());
-        2.0 * s.min(1.0).asin()
-    }
-
-    #[test]
-    fn rpy_round_trips_including_gimbal_lock() {
-        let cases = [
-            [0.1, 0.2, 0.3],
-            [-2.0, 1.2, 3.0],
-            [0.4, FRAC_PI_2, -0.7],
-            [0.4, -FRAC_PI_2, 1.1],
-            [0.3, FRAC_PI_2 - 1e-9, 0.2],
-            [3.0, -1e-8, -3.1],
-        ];
-        for rpy in cases {
-            let r = rotation_from_rpy(rpy);
-            let back = rotation_from_rpy(rpy_from_rotation(&r));
-            assert!(angle_between(&r, &back) < TOL, "{rpy:?}");
-        }
-    }
-
-    #[test]
-    fn section_joints_reproduce_relative_pose() {
-        let prev = DiskFrame {
-            s: 0.0,
-            position: Vector3::new(0.01, -0.02, 0.03),
-            rotation: Rotation3::new(Vector3::new(0.3, -0.2, 0.9)).into_inner(),
-        };
-        for (w, t) in [
-            (
-                Vector3::new(0.2, 0.1, 1.4),
-                Vector3::new(0.004, -0.003, 0.019),
-            ),
-            (Vector3::new(0.0, 0.0, 0.0), Vector3::new(0.0, 0.0, 0.02)),
-            (Vector3::new(-0.5, 0.7, -2.0), Vector3::new(0.02, 0.0, 0.0)),
-            (
-                Vector3::new(0.0, FRAC_PI_2, 0.0),
-                Vector3::new(0.0, -0.01, -0.01),
-            ),
-        ] {
-            let next = DiskFrame {
-                s: 0.02,
-                position: prev.position + prev.rotation * t,
-                rotation: prev.rotation * Rotation3::new(w).into_inner(),
-            };
-            let q = SectionJoints::from_frames(&prev, &next, 0.02);
-            let chord = rot_x(q.bend_x) * rot_y(q.bend_y);
-            let rel_p = chord * Vector3::new(0.0, 0.0, 0.02 + q.extension);
-            let rel_r = chord * rot_x(q.tilt_x) * rot_y(q.tilt_y) * rot_z(q.twist);
-            let p = prev.position + prev.rotation * rel_p;
-            let r = prev.rotation * rel_r;
-            assert!((p - next.position).norm() < TOL, "{t:?}");
-            assert!(angle_between(&r, &next.rotation) < TOL, "{w:?}");
-        }
-    }
 }

@@ -1,0 +1,104 @@
+//! `ccrkit plan`: a clear path of actuations to a tip or an actuation
+//! ([`ccrkit::plan::plan`], or a roadmap's [`ccrkit::plan::roadmap::Roadmap::query`]).
+
+use super::reach::{vec3, write_json, InverseArgs};
+use anyhow::{bail, Context, Result};
+use ccrkit::plan::roadmap::Roadmap;
+use ccrkit::plan::{plan, read_actuation, Goal, Plan, PlanOptions};
+use ccrkit::Model;
+use std::path::PathBuf;
+
+/// `ccrkit plan` arguments.
+#[derive(clap::Args)]
+pub(crate) struct PlanArgs {
+    /// Model file (TOML); its `[limits]` bound the actuations.
+    file: PathBuf,
+    #[command(flatten)]
+    inverse: InverseArgs,
+    /// Goal: a tip position X,Y,Z \[m\] (reached with least effort first).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    to_tip: Vec<f64>,
+    /// Goal: an actuation file (`"actuation": [{"cable", "shorten"}]`, as `reach --json`
+    /// writes).
+    #[arg(long)]
+    to_actuation: Option<PathBuf>,
+    /// Start: an actuation file (default: the model file's shortenings, 0 where none).
+    #[arg(long)]
+    from_actuation: Option<PathBuf>,
+    /// Answer from this roadmap (`ccrkit roadmap build`) instead of a new search.
+    #[arg(long)]
+    roadmap: Option<PathBuf>,
+    /// Seed of every random choice.
+    #[arg(long, default_value_t = PlanOptions::default().seed)]
+    seed: u64,
+    /// Samples before giving up.
+    #[arg(long, default_value_t = PlanOptions::default().max_samples)]
+    max_samples: usize,
+    /// Write the plan as JSON (`-` for standard output).
+    #[arg(long)]
+    json: Option<String>,
+    /// Write the waypoints as joint values of the articulated URDF export (CSV).
+    #[arg(long)]
+    trajectory: Option<PathBuf>,
+}
+
+pub(crate) fn run(a: PlanArgs) -> Result<()> {
+    let request = a.inverse.request()?;
+    let model = Model::from_file(&a.file)?;
+    let goal = match (a.to_tip.is_empty(), &a.to_actuation) {
+        (false, None) => Goal::Tip(vec3("to-tip", &a.to_tip)?),
+        (true, Some(p)) => Goal::Actuation(read_actuation(p, &model)?),
+        _ => bail!("give exactly one goal: --to-tip X,Y,Z or --to-actuation FILE"),
+    };
+    let start = a
+        .from_actuation
+        .as_ref()
+        .map(|p| read_actuation(p, &model))
+        .transpose()?;
+    let opts = PlanOptions {
+        seed: a.seed,
+        margin: a.inverse.margin,
+        max_samples: a.max_samples,
+        ..PlanOptions::default()
+    };
+    let p: Plan = match &a.roadmap {
+        None => plan(&model, &request, start, &goal, &opts)?,
+        Some(path) => Roadmap::load(path)?.query(&model, &request, start, &goal, &opts)?,
+    };
+    let quiet = a.json.as_deref() == Some("-");
+    if let Some(j) = &a.json {
+        write_json(j, &serde_json::to_string_pretty(&p.to_json())?)?;
+    }
+    if let Some(t) = &a.trajectory {
+        let csv = p.trajectory_csv(&model)?;
+        std::fs::write(t, csv).with_context(|| format!("writing {}", t.display()))?;
+        if !quiet {
+            eprintln!("wrote {}", t.display());
+        }
+    }
+    if !quiet {
+        let s = &p.stats;
+        println!(
+            "{}: {} waypoints, clearance ≥ {:.3} mm measured, ≥ {:.3} mm certified (margin {} mm)",
+            s.planner,
+            p.waypoints.len(),
+            p.min_clearance_m * 1e3,
+            p.certified_clearance_m * 1e3,
+            p.margin_m * 1e3
+        );
+        println!(
+            "{} samples, {} tree nodes, {} solves, {} edges checked ({} refused), {} shortcut \
+             waypoints, length {:.3} → {:.3} mm, {:.1} ms",
+            s.samples,
+            s.tree_nodes,
+            s.checks.solves,
+            s.checks.edges_checked,
+            s.checks.edges_rejected,
+            s.shortcut_removed,
+            s.length_before_m * 1e3,
+            s.length_after_m * 1e3,
+            s.time_s * 1e3
+        );
+    }
+    Ok(())
+}

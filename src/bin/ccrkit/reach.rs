@@ -1,0 +1,152 @@
+//! `ccrkit reach`: the least-effort actuation that puts the tip on a target
+//! ([`ccrkit::reach::reach`]), and the arguments `plan` and `roadmap` share.
+
+use anyhow::{bail, Context, Result};
+use ccrkit::method::run::SolveRequest;
+use ccrkit::method::{MethodKind, Settings};
+use ccrkit::reach::{reach, ReachOptions, Target};
+use ccrkit::{Model, Scene};
+use nalgebra::Vector3;
+use std::path::PathBuf;
+
+/// What the inverse commands solve with: method, settings, obstacles, contact.
+#[derive(clap::Args, Clone)]
+pub(crate) struct InverseArgs {
+    /// Method driven by shortenings (see `ccrkit methods`).
+    #[arg(long, default_value = "energy", value_parser = super::parse_method)]
+    pub method: MethodKind,
+    /// A scene file with obstacles (added to the model file's own).
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Method setting NAME=VALUE (repeatable).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Distance every feature keeps from every obstacle \[m\] (default: the scene's
+    /// `clearance`).
+    #[arg(long)]
+    pub margin: Option<f64>,
+}
+
+impl InverseArgs {
+    /// The solve request, checked.
+    pub fn request(&self) -> Result<SolveRequest> {
+        let mut s = Settings::new();
+        for kv in &self.set {
+            let (k, v) = Settings::parse_pair(kv)?;
+            s.push(k, v);
+        }
+        let scene = self.scene.as_ref().map(Scene::from_file).transpose()?;
+        let r = SolveRequest::new(self.method)
+            .with_settings(s)
+            .with_scene(scene);
+        r.prepare()?;
+        Ok(r)
+    }
+}
+
+/// `ccrkit reach` arguments.
+#[derive(clap::Args)]
+pub(crate) struct ReachArgs {
+    /// Model file (TOML); its `[limits]` bound the search.
+    file: PathBuf,
+    /// Target tip position X,Y,Z \[m\], base frame.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    tip: Vec<f64>,
+    /// Target tip tangent X,Y,Z (normalized here).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    tangent: Vec<f64>,
+    #[command(flatten)]
+    inverse: InverseArgs,
+    /// Allow contact with the obstacles instead of keeping clear.
+    #[arg(long)]
+    allow_contact: bool,
+    /// Reached when the tip error (plus length × tangent error) is at most this \[m\].
+    #[arg(long, default_value_t = ReachOptions::default().tolerance)]
+    tolerance: f64,
+    /// Starts of the search before giving up.
+    #[arg(long, default_value_t = ReachOptions::default().starts)]
+    starts: usize,
+    /// Write the answer as JSON (`-` for standard output).
+    #[arg(long)]
+    json: Option<String>,
+}
+
+/// Three numbers named `field`.
+pub(crate) fn vec3(field: &str, v: &[f64]) -> Result<Vector3<f64>> {
+    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+        bail!("--{field} needs three finite numbers X,Y,Z, got {v:?}");
+    }
+    Ok(Vector3::new(v[0], v[1], v[2]))
+}
+
+/// Write JSON text to a path or `-`.
+pub(crate) fn write_json(path: &str, text: &str) -> Result<()> {
+    if path == "-" {
+        println!("{text}");
+    } else {
+        std::fs::write(path, text).with_context(|| format!("writing {path}"))?;
+        eprintln!("wrote {path}");
+    }
+    Ok(())
+}
+
+pub(crate) fn run(a: ReachArgs) -> Result<()> {
+    let tip = vec3("tip", &a.tip)?;
+    let tangent = if a.tangent.is_empty() {
+        None
+    } else {
+        let t = vec3("tangent", &a.tangent)?;
+        if t.norm() == 0.0 {
+            bail!("--tangent must not be zero");
+        }
+        Some(t.normalize())
+    };
+    let request = a.inverse.request()?;
+    let model = Model::from_file(&a.file)?;
+    let opts = ReachOptions {
+        allow_contact: a.allow_contact,
+        tolerance: a.tolerance,
+        starts: a.starts,
+        margin: a.inverse.margin,
+        ..ReachOptions::default()
+    };
+    let r = reach(&model, &request, &Target { tip, tangent }, &opts)?;
+    let quiet = a.json.as_deref() == Some("-");
+    if let Some(j) = &a.json {
+        let text = serde_json::to_string_pretty(&r.to_json())?;
+        write_json(j, &text)?;
+    }
+    if !quiet {
+        let t = r.shape.tip() * 1e3;
+        println!(
+            "{} tip [{:.4}, {:.4}, {:.4}] mm, error {:.3e} m{}",
+            if r.reached { "reached" } else { "NOT reached" },
+            t.x,
+            t.y,
+            t.z,
+            r.tip_error_m,
+            r.tangent_error_rad
+                .map(|e| format!(", tangent error {e:.3e} rad"))
+                .unwrap_or_default()
+        );
+        for c in &r.actuation {
+            println!(
+                "cable {}: shorten {:.6} mm{}",
+                c.cable,
+                c.shorten * 1e3,
+                c.tension
+                    .map(|t| format!(", tension {t:.4} N"))
+                    .unwrap_or_default()
+            );
+        }
+        if let Some(c) = r.min_clearance_m {
+            println!("clearance {:.3} mm", c * 1e3);
+        }
+        println!(
+            "effort Σ shorten² {:.4e} m², {} iterations, {} starts, {} solves ({} sensitivities)",
+            r.effort_m2, r.iterations, r.starts, r.solves, r.sensitivities
+        );
+    }
+    r.require_reached()?;
+    Ok(())
+}

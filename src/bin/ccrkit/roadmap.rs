@@ -1,0 +1,65 @@
+//! `ccrkit roadmap build`: precompute a roadmap for `ccrkit plan --roadmap`
+//! ([`ccrkit::plan::roadmap::build`]).
+
+use super::reach::InverseArgs;
+use anyhow::Result;
+use ccrkit::plan::roadmap::{build, BuildOptions};
+use ccrkit::Model;
+use clap::Subcommand;
+use std::path::PathBuf;
+
+#[derive(Subcommand)]
+pub(crate) enum RoadmapCommand {
+    /// Sample admissible actuations, solve them and connect neighbours by validated edges.
+    Build {
+        /// Model file (TOML); its `[limits]` bound the samples.
+        file: PathBuf,
+        #[command(flatten)]
+        inverse: InverseArgs,
+        /// Output roadmap file (JSON).
+        #[arg(long)]
+        out: PathBuf,
+        /// Samples drawn.
+        #[arg(long, default_value_t = BuildOptions::default().samples)]
+        samples: usize,
+        /// Neighbours each node tries to connect to.
+        #[arg(long, default_value_t = BuildOptions::default().neighbours)]
+        neighbours: usize,
+        /// Seed.
+        #[arg(long, default_value_t = BuildOptions::default().seed)]
+        seed: u64,
+    },
+}
+
+pub(crate) fn run(cmd: RoadmapCommand) -> Result<()> {
+    match cmd {
+        RoadmapCommand::Build {
+            file,
+            inverse,
+            out,
+            samples,
+            neighbours,
+            seed,
+        } => {
+            let request = inverse.request()?;
+            let model = Model::from_file(&file)?;
+            let opts = BuildOptions {
+                samples,
+                neighbours,
+                seed,
+                margin: inverse.margin,
+            };
+            let r = build(&model, &request, &opts)?;
+            r.save(&out)?;
+            println!(
+                "roadmap: {} nodes of {samples} samples, {} edges, {} solves, {:.2} s; wrote {}",
+                r.nodes.len(),
+                r.edges.len(),
+                r.build_solves,
+                r.build_time_s,
+                out.display()
+            );
+            Ok(())
+        }
+    }
+}

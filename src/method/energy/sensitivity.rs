@@ -1,0 +1,490 @@
+//! What the converged KKT system of an energy solve says beyond the shape: whether the
+//! equilibrium is stable, and how the tip moves with each input (implicit function theorem).
+//!
+//! # The converged system
+//!
+//! At a KKT point with active rows `A` (the gradients `∇L_c` of taut cables, `λ_c > 0`, and
+//! `−∇d` of pressing contacts, `μ > 0`) and Lagrangian Hessian
+//! `H = K + Σ w_c ∇²L_c + ∇²V` (`w_c` the multiplier of a taut cable or the tension of a
+//! tension-driven one, `V` the dead-load potential), the equilibrium is a strict local minimum —
+//! a **stable** equilibrium — when `H` is positive definite on the null space of `A`
+//! (second-order sufficient condition, Nocedal & Wright, *Numerical Optimization*, Thm 12.6);
+//! `report.stable = Some(false)` when it is not (a saddle: the robot would not stay there).
+//! Without loads the path measure makes the problem convex (`∇²L_c ⪰ 0`), `H` is block
+//! diagonal and positive definite, and stability follows from the block factorization alone;
+//! otherwise `Zᵀ H Z` (`Z` an orthonormal null-space basis from a Householder QR of `Aᵀ`) is
+//! factored densely.
+//!
+//! # Tip Jacobian
+//!
+//! Differentiating `∇ℒ(ξ, λ; u) = 0`, `c_A(ξ; u) = 0` in an input `u` (implicit function
+//! theorem, same reference, §12.8 / Fiacco's sensitivity theorem, with the active set fixed):
+//!
+//! ```text
+//! [ H  Aᵀ ] [ dξ ]   [ −∂(∇ℒ)/∂u ]        shortening δ_c of a taut cable: rhs (0, −e_c)
+//! [ A  0  ] [ dλ ] = [ −∂c_A/∂u   ]        tension T_c:                    rhs (−∇L_c, 0)
+//! ```
+//!
+//! (a slack cable's shortening moves nothing: its column is zero). With `H` block diagonal it
+//! is solved by the Schur complement `S = A H⁻¹ Aᵀ` (one block solve per active row), else by
+//! a dense LU of the whole matrix. The tip moves as `dp = Σ_j (∂p/∂ξ_j) dξ_j` with
+//! `∂p/∂u_a = (M_j e_a) × p − N_{j,a}`, `∂p/∂ε = M_j e_z`, and its tangent `t = R e_z` as
+//! `∂t/∂u_a = (M_j e_a) × t` (integrals `M_j`, `N_j` of `energy/contacts.rs`).
+//!
+//! # Dead-load curvature
+//!
+//! `V = −Σ_f F_f · x_f`. Raising a strain of sub-arc `k` moves everything beyond it rigidly
+//! with the twist `(ω_k, t_k)`; the point velocity of a downstream sub-arc's twist,
+//! `v_j(x) = ω_j × x + t_j`, is carried along as `Ω × v_j(x)` (the Jacobi identity cancels the
+//! translation), so for `k < j`:
+//! `∂²x/∂ξ_k∂ξ_j = ω_k × v_j(x)` (zero for a stretch `k`), and summed over the frames beyond
+//! `j` with the suffix sums `S_j = Σ F_f`, `D_j = Σ x_f F_fᵀ`:
+//! `∂²V/∂ξ_k∂ξ_{j,a} = −ω_k · Q_{j,a}`, `Q_{j,a} = D_j ω_{j,a} − tr(D_j) ω_{j,a} − N_{j,a} × S_j`
+//! (rotation `a`), `Q_{j,ε} = (M_j e_z) × S_j`. Within one sub-arc, `x_f = p_j + R_j(R_l y_f +
+//! p_l)` with `y_f` fixed, so the 4×4 block is `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]`,
+//! `W = R_jᵀ (D_jᵀ − S_j p_{j+1}ᵀ) R_{j+1}`, `g = R_jᵀ S_j`, by second-order AD ([`D2`]) of
+//! the sub-arc exponential. A unit test checks the whole matrix against central differences
+//! of the exact load gradient.
+//!
+//! # Contact curvature
+//!
+//! The solver's Hessian leaves out `−Σ μ ∇²d` of the pressing contacts; here it is needed
+//! (on the wall scene leaving it out puts the Jacobian 16 % off). `∇²d` includes the witness
+//! points sliding on curved features (disk rims, cylinders), so it is taken by central
+//! differences of each pressing pair's *exact* distance gradient (`energy/contacts.rs`),
+//! `2 · 4 · sub-arcs` pair queries per solve with contacts: accurate to the noise of parry's
+//! normals, not exact — an analytic second derivative of the distance is future work.
+
+use super::contacts::{self, Kin, Pair};
+use super::kinematics::exp_act;
+use super::lengths::Work;
+use super::problem::{Problem, Target};
+use crate::model::actuation::{Input, LengthMeasure};
+use crate::numeric::ad::{Real, D2};
+use crate::numeric::dense::{chol_factor, small_solve};
+use crate::shape::TipJacobian;
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+/// Strain step of the central differences of exact contact gradients \[1/m\] (parry's
+/// distances carry ~1e-9 m of noise; this keeps its effect on the curvature near 1e-3 of the
+/// gradient while the truncation error stays below 1e-8).
+const CURVATURE_STEP: f64 = 1e-5;
+
+/// Stability verdict and tip Jacobian of a converged solve.
+pub(super) struct Sensitivity {
+    pub stable: Option<bool>,
+    pub jacobian: Option<TipJacobian>,
+}
+
+/// The Lagrangian Hessian at the solution: factored blocks when it is block diagonal and
+/// positive definite, else dense.
+enum Hessian {
+    Blocks(Vec<f64>),
+    Dense(DMatrix<f64>),
+}
+
+/// One Jacobian column: cable, input kind, right-hand side `(r, s)` of the KKT system.
+struct Column {
+    cable: usize,
+    input: Input,
+    r: Vec<f64>,
+    s: Vec<f64>,
+}
+
+impl Problem<'_> {
+    /// Stability and tip Jacobian at the converged point `xi` with cable weights `wgt`
+    /// (multipliers of taut cables, input tensions), cable multipliers `lam`, and the pairs
+    /// with their multipliers `mu`; `kin` the frames with integrals if already computed.
+    pub(super) fn sensitivity(
+        &self,
+        xi: &[f64],
+        wgt: &[f64],
+        lam: &[f64],
+        pairs: &[Pair],
+        mu: &[f64],
+        kin: Option<&Kin>,
+    ) -> Sensitivity {
+        let own;
+        let kin = match kin {
+            Some(k) if k.m_int.len() == self.nsub => k,
+            _ => {
+                own = contacts::kinematics(xi, &self.ell, true);
+                &own
+            }
+        };
+        let nc = self.robot.cables.len();
+        let mut w = Work::new(self);
+        match self.set.cable_length {
+            LengthMeasure::Path => {
+                self.evaluate(xi, wgt, &mut w, false);
+                self.path_hessian(xi, wgt, &mut w);
+            }
+            LengthMeasure::Chord => self.evaluate(xi, wgt, &mut w, true),
+        }
+        // Active rows: taut cables, then pressing contacts (gradient of clearance − d).
+        let taut: Vec<usize> = (0..nc)
+            .filter(|&c| matches!(self.targets[c], Target::Length(_)) && lam[c] > 0.0)
+            .collect();
+        let mut rows: Vec<Vec<f64>> = taut.iter().map(|&c| w.grad[c].clone()).collect();
+        for (p, &m) in pairs.iter().zip(mu) {
+            if m > 0.0 {
+                rows.push(p.grad.iter().map(|g| -g).collect());
+            }
+        }
+        let pressing: Vec<(&Pair, f64)> = pairs
+            .iter()
+            .zip(mu)
+            .filter(|(_, &m)| m > 0.0)
+            .map(|(p, &m)| (p, m))
+            .collect();
+        let hess = self.lagrangian_hessian(xi, &w, kin, &pressing);
+        let stable = Some(match &hess {
+            Hessian::Blocks(_) => true,
+            Hessian::Dense(h) => reduced_positive_definite(h, &rows),
+        });
+        let nrow = rows.len();
+        let mut cols = vec![];
+        for c in 0..nc {
+            match self.targets[c] {
+                Target::Length(_) => {
+                    let mut s = vec![0.0; nrow];
+                    if let Some(r) = taut.iter().position(|&t| t == c) {
+                        s[r] = -1.0;
+                    }
+                    let r = vec![0.0; self.nvar()];
+                    cols.push(Column {
+                        cable: c,
+                        input: Input::Shortening,
+                        r,
+                        s,
+                    });
+                }
+                Target::Tension(_) => {
+                    let r = w.grad[c].iter().map(|g| -g).collect();
+                    let s = vec![0.0; nrow];
+                    cols.push(Column {
+                        cable: c,
+                        input: Input::Tension,
+                        r,
+                        s,
+                    });
+                }
+                Target::Free => {}
+            }
+        }
+        let jacobian = self.tip_jacobian(&hess, &rows, &cols, kin);
+        Sensitivity { stable, jacobian }
+    }
+
+    /// `H` from the blocks of `w` plus the dead-load curvature; factored blocks when that is
+    /// all and they are positive definite.
+    fn lagrangian_hessian(
+        &self,
+        xi: &[f64],
+        w: &Work,
+        kin: &Kin,
+        pressing: &[(&Pair, f64)],
+    ) -> Hessian {
+        let (nb, nv) = (self.nb, self.nvar());
+        if self.frame_forces.is_empty() && pressing.is_empty() {
+            let mut f = w.hess.clone();
+            if (0..self.nblocks).all(|b| chol_factor(&mut f[b * nb * nb..(b + 1) * nb * nb], nb)) {
+                return Hessian::Blocks(f);
+            }
+        }
+        let mut h = DMatrix::zeros(nv, nv);
+        for b in 0..self.nblocks {
+            for i in 0..nb {
+                for j in 0..nb {
+                    h[(b * nb + i, b * nb + j)] = w.hess[b * nb * nb + i * nb + j];
+                }
+            }
+        }
+        if !self.frame_forces.is_empty() {
+            self.add_load_hessian(xi, kin, &mut h);
+        }
+        self.add_contact_curvature(xi, pressing, &mut h);
+        Hessian::Dense(h)
+    }
+
+    /// Add `−Σ μ ∇²d` of the pressing contacts to `h`: central differences (step
+    /// [`CURVATURE_STEP`]) of each pair's exact distance gradient, re-queried for the same
+    /// feature and obstacle; symmetrized. A pair that leaves the margin at a perturbed point
+    /// contributes nothing in that direction.
+    fn add_contact_curvature(&self, xi: &[f64], pressing: &[(&Pair, f64)], h: &mut DMatrix<f64>) {
+        let Some(wd) = self.world.as_ref().filter(|_| !pressing.is_empty()) else {
+            return;
+        };
+        let nv = self.nvar();
+        let mut d2 = DMatrix::zeros(nv, nv);
+        let mut x = xi.to_vec();
+        for i in 0..nv {
+            let mut grads = [vec![], vec![]];
+            for (sgn, g) in [1.0, -1.0].iter().zip(grads.iter_mut()) {
+                x[i] = xi[i] + sgn * CURVATURE_STEP;
+                *g = wd.pairs(&contacts::kinematics(&x, &self.ell, true)).0;
+            }
+            x[i] = xi[i];
+            for (p, m) in pressing {
+                let find = |ps: &[Pair]| {
+                    ps.iter()
+                        .find(|q| q.key() == p.key())
+                        .map(|q| q.grad.clone())
+                };
+                if let (Some(gp), Some(gm)) = (find(&grads[0]), find(&grads[1])) {
+                    for k in 0..nv {
+                        d2[(i, k)] -= m * (gp[k] - gm[k]) / (2.0 * CURVATURE_STEP);
+                    }
+                }
+            }
+        }
+        *h += (&d2 + d2.transpose()) * 0.5;
+    }
+
+    /// Add `∇²V` of the dead loads (module docs) to `h`; `kin` with integrals.
+    pub(super) fn add_load_hessian(&self, xi: &[f64], kin: &Kin, h: &mut DMatrix<f64>) {
+        let nsub = self.nsub;
+        // ω[j][a] = M_j e_a and Q[j][a] (a = 3: stretch, whose ω is 0).
+        let mut om = vec![[Vector3::zeros(); 3]; nsub];
+        let mut q = vec![[Vector3::zeros(); 4]; nsub];
+        let (mut s, mut d) = (Vector3::zeros(), Matrix3::zeros());
+        for j in (0..nsub).rev() {
+            let f = &self.frame_forces[j + 1];
+            s += f;
+            d += kin.pos[j + 1] * f.transpose();
+            let m = &kin.m_int[j];
+            let tr = d.trace();
+            for a in 0..3 {
+                let o: Vector3<f64> = m.column(a).into_owned();
+                q[j][a] = d * o - o * tr - kin.n_int[j][a].cross(&s);
+                om[j][a] = o;
+            }
+            q[j][3] = m.column(2).into_owned().cross(&s);
+            // Within the sub-arc (module docs): W, g and the 4×4 block by second-order AD.
+            let (rj, rj1, pj1) = (&kin.rot[j], &kin.rot[j + 1], &kin.pos[j + 1]);
+            let wm = rj.transpose() * (d.transpose() - s * pj1.transpose()) * rj1;
+            let g = rj.transpose() * s;
+            let x4 = [xi[4 * j], xi[4 * j + 1], xi[4 * j + 2], xi[4 * j + 3]];
+            let blk = sub_arc_load_block(&x4, self.ell[j], &wm, &g);
+            for a in 0..4 {
+                for b in 0..4 {
+                    h[(4 * j + a, 4 * j + b)] += blk[a][b];
+                }
+            }
+        }
+        for k in 0..nsub {
+            for j in k + 1..nsub {
+                for b in 0..3 {
+                    for a in 0..4 {
+                        let v = -om[k][b].dot(&q[j][a]);
+                        h[(4 * k + b, 4 * j + a)] += v;
+                        h[(4 * j + a, 4 * k + b)] += v;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Solve the KKT system for every column and map `dξ` to the tip (module docs); `None`
+    /// if the system is singular or the result is not finite.
+    fn tip_jacobian(
+        &self,
+        hess: &Hessian,
+        rows: &[Vec<f64>],
+        cols: &[Column],
+        kin: &Kin,
+    ) -> Option<TipJacobian> {
+        let (nv, k) = (self.nvar(), rows.len());
+        let dxis: Vec<Vec<f64>> = match hess {
+            Hessian::Blocks(f) => {
+                // Schur complement: Y = H⁻¹ Aᵀ, S = A Y, dλ = S⁻¹ (A H⁻¹ r − s).
+                let ys: Vec<Vec<f64>> = rows
+                    .iter()
+                    .map(|r| {
+                        let mut y = r.clone();
+                        self.block_solve(f, &mut y);
+                        y
+                    })
+                    .collect();
+                let mut s = vec![0.0; k * k];
+                for a in 0..k {
+                    for b in 0..k {
+                        s[a * k + b] = dot(&rows[a], &ys[b]);
+                    }
+                }
+                let mut out = Vec::with_capacity(cols.len());
+                for col in cols {
+                    let mut z = col.r.clone();
+                    self.block_solve(f, &mut z);
+                    let mut dl: Vec<f64> = (0..k).map(|a| dot(&rows[a], &z) - col.s[a]).collect();
+                    small_solve(&mut s.clone(), &mut dl, k)?;
+                    for a in 0..k {
+                        for i in 0..nv {
+                            z[i] -= dl[a] * ys[a][i];
+                        }
+                    }
+                    out.push(z);
+                }
+                out
+            }
+            Hessian::Dense(h) => {
+                let mut m = DMatrix::zeros(nv + k, nv + k);
+                m.view_mut((0, 0), (nv, nv)).copy_from(h);
+                for a in 0..k {
+                    for i in 0..nv {
+                        m[(nv + a, i)] = rows[a][i];
+                        m[(i, nv + a)] = rows[a][i];
+                    }
+                }
+                let lu = m.lu();
+                let mut out = Vec::with_capacity(cols.len());
+                for col in cols {
+                    let b =
+                        DVector::from_iterator(nv + k, col.r.iter().chain(col.s.iter()).copied());
+                    let x = lu.solve(&b)?;
+                    out.push(x.rows(0, nv).iter().copied().collect());
+                }
+                out
+            }
+        };
+        let n = self.nsub;
+        let (p, t): (Vector3<f64>, Vector3<f64>) = (kin.pos[n], kin.rot[n].column(2).into_owned());
+        let mut jac = TipJacobian {
+            inputs: vec![],
+            position: vec![],
+            tangent: vec![],
+        };
+        for (col, dxi) in cols.iter().zip(&dxis) {
+            let (mut dp, mut dt) = (Vector3::zeros(), Vector3::zeros());
+            for j in 0..n {
+                let m = &kin.m_int[j];
+                for a in 0..3 {
+                    let o: Vector3<f64> = m.column(a).into_owned();
+                    let v = dxi[4 * j + a];
+                    dp += (o.cross(&p) - kin.n_int[j][a]) * v;
+                    dt += o.cross(&t) * v;
+                }
+                dp += m.column(2).into_owned() * dxi[4 * j + 3];
+            }
+            if !(dp.iter().chain(dt.iter()).all(|v| v.is_finite())) {
+                return None;
+            }
+            jac.inputs.push((
+                self.robot.cables[col.cable].name.clone(),
+                col.input.name().to_string(),
+            ));
+            jac.position.push([dp.x, dp.y, dp.z]);
+            jac.tangent.push([dt.x, dt.y, dt.z]);
+        }
+        Some(jac)
+    }
+}
+
+/// `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]` in the strains of one sub-arc (second-order AD of
+/// the exponential's action, [`exp_act`]).
+fn sub_arc_load_block(
+    xi: &[f64; 4],
+    ell: f64,
+    wm: &Matrix3<f64>,
+    g: &Vector3<f64>,
+) -> [[f64; 4]; 4] {
+    let vars: [D2<4>; 4] = std::array::from_fn(|i| D2::var(xi[i], i));
+    let zero = [D2::<4>::cst(0.0); 3];
+    let p0 = exp_act(&vars, ell, &zero);
+    let mut v = D2::<4>::cst(0.0);
+    for k in 0..3 {
+        v = v + p0[k] * g[k];
+    }
+    for b in 0..3 {
+        let mut e = [D2::<4>::cst(0.0); 3];
+        e[b] = D2::cst(1.0);
+        let pb = exp_act(&vars, ell, &e);
+        for a in 0..3 {
+            v = v + (pb[a] - p0[a]) * wm[(a, b)];
+        }
+    }
+    let mut out = [[0.0; 4]; 4];
+    for a in 0..4 {
+        for b in 0..4 {
+            out[a][b] = -v.h[a][b];
+        }
+    }
+    out
+}
+
+/// Whether `Zᵀ H Z` is positive definite, `Z` an orthonormal basis of the null space of the
+/// rows (Householder QR of the square matrix `[Aᵀ 0]`: the last `n − k` columns of `Q`).
+fn reduced_positive_definite(h: &DMatrix<f64>, rows: &[Vec<f64>]) -> bool {
+    let n = h.nrows();
+    let k = rows.len().min(n);
+    let z = if k == 0 {
+        DMatrix::identity(n, n)
+    } else {
+        let mut at = DMatrix::zeros(n, n);
+        for (r, row) in rows.iter().take(k).enumerate() {
+            for i in 0..n {
+                at[(i, r)] = row[i];
+            }
+        }
+        at.qr().q().columns(k, n - k).into_owned()
+    };
+    let red = z.transpose() * h * &z;
+    let red = (&red + red.transpose()) * 0.5;
+    red.cholesky().is_some()
+}
+
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::method::energy::contacts::kinematics;
+    use crate::method::energy::Energy;
+    use crate::model::scene::Scene;
+    use crate::model::Model;
+    use nalgebra::DMatrix;
+
+    /// The dead-load Hessian equals central differences of the exact load gradient.
+    #[test]
+    fn load_hessian_matches_finite_differences() {
+        let path = format!("{}/models/paper/case3.toml", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(path).expect("case 3")
+            + "\n[loads]\ngravity = [0.0, -9.81, -3.0]\ndisk_mass = 0.004\ntip_force = [0.3, -0.2, -0.5]\n";
+        let mut m = Model::from_toml_str(&text).expect("loaded model");
+        m.robot.backbone.density = 6450.0;
+        let set = Energy::default().with_sub_arcs(2);
+        let empty = Scene::empty();
+        let prob = set.setup(&m.robot, &m.actuation, &empty).expect("setup");
+        let nv = prob.nvar();
+        let xi: Vec<f64> = (0..nv)
+            .map(|i| 3.0 * ((i as f64) * 0.7).sin() * if i % 4 == 3 { 1e-3 } else { 1.0 })
+            .collect();
+        let grad = |x: &[f64]| {
+            let kin = kinematics(x, &prob.ell, true);
+            let mut g = vec![0.0; nv];
+            prob.add_load_gradient(Some(&kin), &mut g);
+            g
+        };
+        let mut h = DMatrix::zeros(nv, nv);
+        prob.add_load_hessian(&xi, &kinematics(&xi, &prob.ell, true), &mut h);
+        let e = 1e-6;
+        let scale = h.amax();
+        assert!(scale > 0.0);
+        for i in 0..nv {
+            let (mut xp, mut xm) = (xi.clone(), xi.clone());
+            xp[i] += e;
+            xm[i] -= e;
+            let (gp, gm) = (grad(&xp), grad(&xm));
+            for k in 0..nv {
+                let fd = (gp[k] - gm[k]) / (2.0 * e);
+                assert!(
+                    (fd - h[(i, k)]).abs() < 1e-6 * scale,
+                    "H[{i},{k}]: fd {fd} vs {}",
+                    h[(i, k)]
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,476 @@
+//! `plan`: a path of actuations from a start to a goal along which the robot keeps a margin
+//! from every obstacle, every edge validated at a resolution that certifies it.
+//!
+//! * Search: RRT-Connect in the actuation space ([`rrt`], why there) or, for repeated
+//!   queries, a precomputed roadmap ([`roadmap`]).
+//! * Validation: [`edge`] — sub-intervals bisected until a bound on how far any feature
+//!   moves ([`crate::reach::motion_bound`], inflated by the Lipschitz factor
+//!   [`edge::KAPPA`]) fits inside the measured clearances.
+//! * Then random shortcuts (seeded), and each remaining edge cut into pieces of at most
+//!   [`PlanOptions::output_step`] for the output waypoints (points of validated edges).
+//! * Deterministic: one seeded generator (xorshift, `rand_xorshift`) drives every random
+//!   choice; solves are deterministic.
+//!
+//! The goal is an actuation or a tip position; a tip goes through [`crate::reach::reach`]
+//! (keeping the same margin) first. Shapes are solved without obstacles and checked against
+//! them (the robot keeps clear, so the obstacle-aware solve is the same shape).
+
+pub mod edge;
+pub mod roadmap;
+mod rrt;
+
+pub use edge::{Checker, EdgeCheck, Node, Stats};
+
+use crate::error::{ModelError, SolveError};
+use crate::export::{export_urdf, ExportError, UrdfMode, UrdfOptions};
+use crate::method::run::SolveRequest;
+use crate::model::actuation::Actuation;
+use crate::model::Model;
+use crate::reach::{reach_in, CableActuation, ReachOptions, Space, Target};
+use crate::shape::ShapeJson;
+use nalgebra::Vector3;
+use rand_core::SeedableRng;
+use rand_xorshift::XorShiftRng;
+use serde::Serialize;
+use std::time::Instant;
+
+/// Where to go.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Goal {
+    /// Shortenings \[m\], one per cable.
+    Actuation(Vec<f64>),
+    /// A tip position \[m\] (reached first by least-effort [`crate::reach::reach`]).
+    Tip(Vector3<f64>),
+}
+
+/// How to plan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanOptions {
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Margin kept from the obstacles \[m\] (default: the scene's `clearance`).
+    pub margin: Option<f64>,
+    /// Largest step of a tree, as a fraction of the largest cable range.
+    pub step: f64,
+    /// Samples before giving up.
+    pub max_samples: usize,
+    /// Shortcut attempts.
+    pub shortcuts: usize,
+    /// Largest actuation change between output waypoints \[m\].
+    pub output_step: f64,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        PlanOptions {
+            seed: 1,
+            margin: None,
+            step: 0.15,
+            max_samples: 5000,
+            shortcuts: 60,
+            output_step: 1e-3,
+        }
+    }
+}
+
+/// Planner statistics.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct PlanStats {
+    /// Planner: `rrt-connect` or `roadmap`.
+    pub planner: &'static str,
+    /// Samples drawn.
+    pub samples: usize,
+    /// Nodes in the trees (or roadmap nodes used).
+    pub tree_nodes: usize,
+    /// Waypoints removed by shortcuts.
+    pub shortcut_removed: usize,
+    /// Path length in actuation space before and after shortcuts \[m\].
+    pub length_before_m: f64,
+    /// After.
+    pub length_after_m: f64,
+    /// Checks made.
+    pub checks: Stats,
+    /// Roadmap edges repaired (re-validated and dropped) in this query.
+    pub edges_repaired: usize,
+    /// Wall time \[s\].
+    pub time_s: f64,
+}
+
+/// A planned path.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Waypoints, start to goal.
+    pub waypoints: Vec<Node>,
+    /// Cable names.
+    pub cables: Vec<String>,
+    /// Margin kept \[m\].
+    pub margin_m: f64,
+    /// Smallest clearance measured on any solved shape along the path \[m\].
+    pub min_clearance_m: f64,
+    /// Certified lower bound over every edge (under the Lipschitz estimate) \[m\].
+    pub certified_clearance_m: f64,
+    /// Seed used.
+    pub seed: u64,
+    /// Statistics.
+    pub stats: PlanStats,
+}
+
+/// One waypoint in JSON.
+#[derive(Debug, Clone, Serialize)]
+pub struct WaypointJson {
+    /// Per-cable shortenings.
+    pub actuation: Vec<CableActuation>,
+    /// Tip \[m\].
+    pub tip: [f64; 3],
+    /// Clearance \[m\] (absent without obstacles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance_m: Option<f64>,
+    /// The shape.
+    pub shape: ShapeJson,
+}
+
+/// JSON form of a [`Plan`].
+#[derive(Debug, Clone, Serialize)]
+pub struct PlanJson {
+    /// Waypoints.
+    pub waypoints: Vec<WaypointJson>,
+    /// See [`Plan::min_clearance_m`] (absent without obstacles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_clearance_m: Option<f64>,
+    /// See [`Plan::certified_clearance_m`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub certified_clearance_m: Option<f64>,
+    /// Margin \[m\].
+    pub margin_m: f64,
+    /// How edges were validated.
+    pub validation: &'static str,
+    /// Seed.
+    pub seed: u64,
+    /// Statistics.
+    pub statistics: PlanStats,
+}
+
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+impl Plan {
+    /// JSON form.
+    pub fn to_json(&self) -> PlanJson {
+        PlanJson {
+            waypoints: self
+                .waypoints
+                .iter()
+                .map(|n| {
+                    let t = n.shape.tip();
+                    WaypointJson {
+                        actuation: actuation_json(&self.cables, &n.u, &n.shape),
+                        tip: [t.x, t.y, t.z],
+                        clearance_m: finite(n.clearance),
+                        shape: n.shape.to_json(),
+                    }
+                })
+                .collect(),
+            min_clearance_m: finite(self.min_clearance_m),
+            certified_clearance_m: finite(self.certified_clearance_m),
+            margin_m: self.margin_m,
+            validation: "bisection until (c0 + c1 - 2 D)/2 >= margin per sub-interval, D the \
+                         bound on feature motion between its end shapes (Lipschitz estimate, \
+                         factor 2)",
+            seed: self.seed,
+            statistics: self.stats.clone(),
+        }
+    }
+
+    /// The path as joint values of the articulated URDF export (`ccrkit export urdf`, same
+    /// joint names), one CSV row per waypoint: `waypoint,<joint>,…`.
+    pub fn trajectory_csv(&self, model: &Model) -> Result<String, ExportError> {
+        let opts = UrdfOptions {
+            mode: UrdfMode::Articulated,
+            cables: false,
+            name: None,
+        };
+        let mut out = String::new();
+        for (k, n) in self.waypoints.iter().enumerate() {
+            let e = export_urdf(&n.shape, &model.robot, &opts)?;
+            if k == 0 {
+                out.push_str("waypoint");
+                for j in &e.joint_values {
+                    out.push(',');
+                    out.push_str(&j.name);
+                }
+                out.push('\n');
+            }
+            out.push_str(&k.to_string());
+            for j in &e.joint_values {
+                out.push_str(&format!(",{:?}", j.value));
+            }
+            out.push('\n');
+        }
+        Ok(out)
+    }
+}
+
+fn actuation_json(
+    cables: &[String],
+    u: &[f64],
+    shape: &crate::shape::Shape,
+) -> Vec<CableActuation> {
+    cables
+        .iter()
+        .zip(u)
+        .enumerate()
+        .map(|(c, (name, x))| CableActuation {
+            cable: name.clone(),
+            shorten: *x,
+            tension: shape.cables.get(c).and_then(|p| p.tension),
+        })
+        .collect()
+}
+
+/// Shortenings from a model's actuation: each cable's `shorten` (0 where it has none).
+pub fn actuation_of(model: &Model, act: &Actuation) -> Vec<f64> {
+    (0..model.robot.cables.len())
+        .map(|c| act.shortening_length(&model.robot, c).unwrap_or(0.0))
+        .collect()
+}
+
+/// Read an actuation file: JSON with `"actuation": [{"cable": NAME, "shorten": METRES}, …]`
+/// naming every cable of the model (what `ccrkit reach --json` and each waypoint of
+/// `ccrkit plan --json` write).
+pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>, ModelError> {
+    let p = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
+        path: p.clone(),
+        reason: e.to_string(),
+    })?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| ModelError::Parse {
+        path: p.clone(),
+        reason: e.to_string(),
+    })?;
+    let list = v
+        .get("actuation")
+        .and_then(|a| a.as_array())
+        .ok_or_else(|| {
+            ModelError::invalid("actuation", format!("`{p}` has no `actuation` list"))
+        })?;
+    model
+        .robot
+        .cables
+        .iter()
+        .map(|c| {
+            list.iter()
+                .find(|e| e.get("cable").and_then(|n| n.as_str()) == Some(c.name.as_str()))
+                .and_then(|e| e.get("shorten").and_then(|s| s.as_f64()))
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    ModelError::invalid(
+                        format!("actuation[{}].shorten", c.name),
+                        format!("`{p}` gives no finite shortening for cable `{}`", c.name),
+                    )
+                })
+        })
+        .collect()
+}
+
+/// A start or goal, solved and checked (named `field` in errors).
+pub(crate) fn endpoint(ck: &mut Checker, u: &[f64], field: &str) -> Result<Node, SolveError> {
+    let space = ck.space;
+    if !space.contains(u) {
+        return Err(SolveError::InvalidInput {
+            field: field.into(),
+            reason: format!(
+                "{u:?} m lies outside the shortening limits {:?} … {:?} m",
+                space.lo, space.hi
+            ),
+        });
+    }
+    let shape = space.solve(u, None)?;
+    let c = space.clearance(&shape);
+    if let Some(c) = c.as_ref().filter(|c| c.distance < ck.margin) {
+        return Err(SolveError::InvalidInput {
+            field: field.into(),
+            reason: format!(
+                "{} is {:.3e} m from `{}`, closer than the margin {} m",
+                c.feature, c.distance, c.obstacle, ck.margin
+            ),
+        });
+    }
+    if let Some(v) = space.tension_violation(&shape) {
+        return Err(SolveError::InvalidInput {
+            field: field.into(),
+            reason: v,
+        });
+    }
+    ck.stats.solves += 1;
+    Ok(Node {
+        u: u.to_vec(),
+        shape,
+        clearance: c.map_or(f64::INFINITY, |c| c.distance),
+    })
+}
+
+/// The goal's actuation (a tip goes through reach, keeping `margin`).
+pub(crate) fn goal_actuation(
+    space: &Space,
+    model: &Model,
+    goal: &Goal,
+    margin: f64,
+) -> Result<Vec<f64>, SolveError> {
+    match goal {
+        Goal::Actuation(u) => Ok(u.clone()),
+        Goal::Tip(t) => {
+            let opts = ReachOptions {
+                margin: Some(margin),
+                ..ReachOptions::default()
+            };
+            let r = reach_in(
+                space,
+                model,
+                &Target {
+                    tip: *t,
+                    tangent: None,
+                },
+                &opts,
+            )?;
+            Ok(r.require_reached()?.u)
+        }
+    }
+}
+
+fn check_options(o: &PlanOptions) -> Result<(), SolveError> {
+    let bad = |field: &str, reason: String| {
+        Err(SolveError::InvalidInput {
+            field: field.into(),
+            reason,
+        })
+    };
+    if !(o.step.is_finite() && o.step > 0.0 && o.step <= 1.0) {
+        return bad("step", format!("must be in (0, 1], got {}", o.step));
+    }
+    if !(o.output_step.is_finite() && o.output_step > 0.0) {
+        return bad("output_step", format!("must be > 0, got {}", o.output_step));
+    }
+    if o.max_samples == 0 {
+        return bad("max_samples", "must be ≥ 1".into());
+    }
+    if let Some(m) = o.margin {
+        if !(m.is_finite() && m >= 0.0) {
+            return bad("margin", format!("must be finite and ≥ 0, got {m}"));
+        }
+    }
+    Ok(())
+}
+
+/// Plan from `start` (default: the model's actuation) to `goal` for `model` solved by
+/// `request` (obstacles: the model's and the request's).
+pub fn plan(
+    model: &Model,
+    request: &SolveRequest,
+    start: Option<Vec<f64>>,
+    goal: &Goal,
+    opts: &PlanOptions,
+) -> Result<Plan, SolveError> {
+    check_options(opts)?;
+    let t0 = Instant::now();
+    let space = Space::new(model, request, false)?;
+    let margin = opts.margin.unwrap_or(space.margin);
+    let start = start.unwrap_or_else(|| actuation_of(model, &model.actuation));
+    let goal_u = goal_actuation(&space, model, goal, margin)?;
+    let mut ck = Checker::new(&space, margin);
+    let s = endpoint(&mut ck, &start, "start")?;
+    let g = endpoint(&mut ck, &goal_u, "goal")?;
+    let mut rng = XorShiftRng::seed_from_u64(opts.seed);
+    let range = space
+        .lo
+        .iter()
+        .zip(&space.hi)
+        .map(|(l, h)| h - l)
+        .fold(0.0, f64::max);
+    let found = rrt::rrt_connect(&mut ck, s, g, opts.step * range, opts.max_samples, &mut rng)
+        .map_err(|samples| SolveError::NoPath {
+            samples,
+            reason: format!(
+                "RRT-Connect found no clear path keeping {margin} m from the obstacles"
+            ),
+        })?;
+    let stats = PlanStats {
+        planner: "rrt-connect",
+        samples: found.samples,
+        tree_nodes: found.tree_nodes,
+        ..PlanStats::default()
+    };
+    finish(&mut ck, found.path, opts, &mut rng, stats, t0)
+}
+
+/// Shortcut, cut into output waypoints, measure; shared by both planners.
+pub(crate) fn finish(
+    ck: &mut Checker,
+    mut path: Vec<Node>,
+    opts: &PlanOptions,
+    rng: &mut XorShiftRng,
+    mut stats: PlanStats,
+    t0: Instant,
+) -> Result<Plan, SolveError> {
+    let length = |p: &[Node]| p.windows(2).map(|w| edge::dist(&w[0].u, &w[1].u)).sum();
+    stats.length_before_m = length(&path);
+    stats.shortcut_removed = rrt::shortcut(ck, &mut path, opts.shortcuts, rng);
+    stats.length_after_m = length(&path);
+    // Every remaining edge is validated again (a shortcut's edge was; the tree's were) to
+    // collect the certified bound, then cut for output.
+    let mut certified = f64::INFINITY;
+    let mut measured = f64::INFINITY;
+    let mut out: Vec<Node> = vec![path[0].clone()];
+    for w in path.windows(2) {
+        match ck.edge(&w[0], &w[1]) {
+            EdgeCheck::Clear {
+                certified: c,
+                measured: m,
+                ..
+            } => {
+                certified = certified.min(c);
+                measured = measured.min(m);
+            }
+            EdgeCheck::Blocked => {
+                return Err(SolveError::NoPath {
+                    samples: stats.samples,
+                    reason: "an edge of the path failed its final validation".into(),
+                })
+            }
+        }
+        let pieces = (edge::dist(&w[0].u, &w[1].u) / opts.output_step)
+            .ceil()
+            .max(1.0) as usize;
+        for k in 1..pieces {
+            let f = k as f64 / pieces as f64;
+            let u: Vec<f64> = w[0]
+                .u
+                .iter()
+                .zip(&w[1].u)
+                .map(|(a, b)| a + f * (b - a))
+                .collect();
+            let prev = out[out.len() - 1].shape.clone();
+            let n = ck.node(&u, Some(&prev)).ok_or_else(|| SolveError::NoPath {
+                samples: stats.samples,
+                reason: "a point of a validated edge is not admissible".into(),
+            })?;
+            measured = measured.min(n.clearance);
+            out.push(n);
+        }
+        out.push(w[1].clone());
+    }
+    for n in &out {
+        measured = measured.min(n.clearance);
+    }
+    stats.checks = ck.stats.clone();
+    stats.time_s = t0.elapsed().as_secs_f64();
+    Ok(Plan {
+        waypoints: out,
+        cables: ck.space.cable_names(),
+        margin_m: ck.margin,
+        min_clearance_m: measured,
+        certified_clearance_m: certified,
+        seed: opts.seed,
+        stats,
+    })
+}

@@ -1,0 +1,449 @@
+//! A roadmap for repeated queries (a probabilistic roadmap, Kavraki et al., IEEE T-RA 1996,
+//! in the actuation space): `build` samples admissible actuations (seeded), solves them and
+//! connects each to its nearest neighbours by validated edges ([`super::edge`]); `query`
+//! connects a start and a goal to their nearest nodes, searches the graph (Dijkstra, lengths
+//! in actuation space), and hands the path to the same shortcut and output stage as the
+//! single-query planner.
+//!
+//! A roadmap remembers the robot's cable names and limits, the method and its settings, the
+//! margin and a fingerprint of the obstacles (names, poses, bounds, clearance). A query with
+//! different cables, limits or method is refused by name; with a changed scene (or margin) it
+//! is *repaired lazily*: the nodes and edges of each candidate path are checked again, those
+//! that fail are dropped and the search repeated ([`super::PlanStats::edges_repaired`]).
+
+use super::edge::{dist, Checker, EdgeCheck, Node};
+use super::{actuation_of, endpoint, finish, goal_actuation, Goal, Plan, PlanOptions, PlanStats};
+use crate::error::{ModelError, SolveError};
+use crate::method::run::SolveRequest;
+use crate::model::scene::Scene;
+use crate::model::Model;
+use crate::reach::Space;
+use rand_core::SeedableRng;
+use rand_xorshift::XorShiftRng;
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeSet, BinaryHeap};
+use std::time::Instant;
+
+/// Format tag of roadmap files.
+pub const FORMAT: &str = "ccrkit-roadmap-1";
+
+/// How to build a roadmap.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildOptions {
+    /// Samples drawn (inadmissible ones are dropped).
+    pub samples: usize,
+    /// Neighbours each node tries to connect to.
+    pub neighbours: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Margin \[m\] (default: the scene's `clearance`).
+    pub margin: Option<f64>,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions {
+            samples: 400,
+            neighbours: 8,
+            seed: 1,
+            margin: None,
+        }
+    }
+}
+
+/// One roadmap node.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RoadmapNode {
+    /// Shortenings \[m\].
+    pub u: Vec<f64>,
+    /// Tip \[m\].
+    pub tip: [f64; 3],
+    /// Clearance \[m\] (absent without obstacles).
+    pub clearance: Option<f64>,
+}
+
+/// A roadmap (JSON file).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Roadmap {
+    /// [`FORMAT`].
+    pub format: String,
+    /// Robot name.
+    pub robot: String,
+    /// Cable names.
+    pub cables: Vec<String>,
+    /// Lower limits \[m\].
+    pub lo: Vec<f64>,
+    /// Upper limits \[m\].
+    pub hi: Vec<f64>,
+    /// Method name and settings.
+    pub method: String,
+    /// Settings `NAME=VALUE`.
+    pub settings: Vec<String>,
+    /// Margin \[m\].
+    pub margin: f64,
+    /// Obstacle fingerprint.
+    pub scene: String,
+    /// Seed.
+    pub seed: u64,
+    /// Nodes.
+    pub nodes: Vec<RoadmapNode>,
+    /// Validated edges (node indices).
+    pub edges: Vec<(usize, usize)>,
+    /// Build statistics: solves, build time \[s\].
+    pub build_solves: usize,
+    /// Build time \[s\].
+    pub build_time_s: f64,
+}
+
+/// A fingerprint of the obstacles: names, poses, bounds and the clearance (FNV-1a, 64 bit).
+pub fn scene_fingerprint(scene: &Scene) -> String {
+    let mut text = format!("{:e};", scene.clearance);
+    for o in &scene.obstacles {
+        text.push_str(&format!("{}|{:?}|{:?};", o.name, o.pose, o.aabb));
+    }
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+fn settings_of(request: &SolveRequest) -> Vec<String> {
+    request
+        .settings
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect()
+}
+
+/// The `k` nearest of `nodes` to `u` (indices, nearest first).
+fn nearest(nodes: &[RoadmapNode], u: &[f64], k: usize) -> Vec<usize> {
+    let mut d: Vec<(f64, usize)> = nodes
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (dist(&n.u, u), i))
+        .collect();
+    d.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    d.into_iter().take(k).map(|x| x.1).collect()
+}
+
+/// Build a roadmap of `model` solved by `request`.
+pub fn build(
+    model: &Model,
+    request: &SolveRequest,
+    opts: &BuildOptions,
+) -> Result<Roadmap, SolveError> {
+    if opts.samples == 0 || opts.neighbours == 0 {
+        return Err(SolveError::InvalidInput {
+            field: "samples".into(),
+            reason: "samples and neighbours must be ≥ 1".into(),
+        });
+    }
+    let t0 = Instant::now();
+    let space = Space::new(model, request, false)?;
+    let margin = opts.margin.unwrap_or(space.margin);
+    let mut ck = Checker::new(&space, margin);
+    let mut rng = XorShiftRng::seed_from_u64(opts.seed);
+    let mut nodes: Vec<Node> = Vec::new();
+    for _ in 0..opts.samples {
+        let u: Vec<f64> = space
+            .lo
+            .iter()
+            .zip(&space.hi)
+            .map(|(l, h)| l + super::rrt::unit(&mut rng) * (h - l))
+            .collect();
+        if let Some(n) = ck.node(&u, None) {
+            nodes.push(n);
+        }
+    }
+    let plain: Vec<RoadmapNode> = nodes.iter().map(plain_node).collect();
+    let mut tried = BTreeSet::new();
+    let mut edges = Vec::new();
+    for i in 0..nodes.len() {
+        for j in nearest(&plain, &nodes[i].u, opts.neighbours + 1) {
+            let key = (i.min(j), i.max(j));
+            if i == j || !tried.insert(key) {
+                continue;
+            }
+            if let EdgeCheck::Clear { .. } = ck.edge(&nodes[key.0], &nodes[key.1]) {
+                edges.push(key);
+            }
+        }
+    }
+    Ok(Roadmap {
+        format: FORMAT.into(),
+        robot: model.robot.name.clone(),
+        cables: space.cable_names(),
+        lo: space.lo.clone(),
+        hi: space.hi.clone(),
+        method: request.method.name().into(),
+        settings: settings_of(request),
+        margin,
+        scene: scene_fingerprint(&space.scene),
+        seed: opts.seed,
+        nodes: plain,
+        edges,
+        build_solves: ck.stats.solves,
+        build_time_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+fn plain_node(n: &Node) -> RoadmapNode {
+    let t = n.shape.tip();
+    RoadmapNode {
+        u: n.u.clone(),
+        tip: [t.x, t.y, t.z],
+        clearance: n.clearance.is_finite().then_some(n.clearance),
+    }
+}
+
+/// Dijkstra from node `s` to node `g` over `adj` (lengths in actuation space).
+fn shortest(adj: &[Vec<(usize, f64)>], s: usize, g: usize) -> Option<Vec<usize>> {
+    #[derive(PartialEq)]
+    struct Item(f64, usize);
+    impl Eq for Item {}
+    impl PartialOrd for Item {
+        fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+            Some(self.cmp(o))
+        }
+    }
+    impl Ord for Item {
+        fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+            o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
+        }
+    }
+    let mut d = vec![f64::INFINITY; adj.len()];
+    let mut prev = vec![usize::MAX; adj.len()];
+    let mut heap = BinaryHeap::new();
+    d[s] = 0.0;
+    heap.push(Item(0.0, s));
+    while let Some(Item(di, i)) = heap.pop() {
+        if i == g {
+            break;
+        }
+        if di > d[i] {
+            continue;
+        }
+        for &(j, w) in &adj[i] {
+            if di + w < d[j] {
+                d[j] = di + w;
+                prev[j] = i;
+                heap.push(Item(d[j], j));
+            }
+        }
+    }
+    if !d[g].is_finite() {
+        return None;
+    }
+    let mut path = vec![g];
+    while path[path.len() - 1] != s {
+        path.push(prev[path[path.len() - 1]]);
+    }
+    path.reverse();
+    Some(path)
+}
+
+impl Roadmap {
+    /// Read a roadmap file.
+    pub fn load(path: &std::path::Path) -> Result<Roadmap, ModelError> {
+        let p = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
+            path: p.clone(),
+            reason: e.to_string(),
+        })?;
+        let r: Roadmap = serde_json::from_str(&text).map_err(|e| ModelError::Parse {
+            path: p.clone(),
+            reason: e.to_string(),
+        })?;
+        if r.format != FORMAT {
+            return Err(ModelError::invalid(
+                "format",
+                format!("`{p}` is `{}`, expected `{FORMAT}`", r.format),
+            ));
+        }
+        let n = r.nodes.len();
+        if let Some(e) = r.edges.iter().find(|e| e.0 >= n || e.1 >= n) {
+            return Err(ModelError::invalid(
+                "edges",
+                format!("edge {e:?} names a node beyond the {n} nodes"),
+            ));
+        }
+        Ok(r)
+    }
+
+    /// Write the roadmap as JSON.
+    pub fn save(&self, path: &std::path::Path) -> Result<(), ModelError> {
+        let text = serde_json::to_string(self).map_err(|e| ModelError::Parse {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        std::fs::write(path, text).map_err(|e| ModelError::Io {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })
+    }
+
+    fn check_fits(&self, space: &Space, request: &SolveRequest) -> Result<(), SolveError> {
+        let bad = |reason: String| {
+            Err(SolveError::InvalidInput {
+                field: "roadmap".into(),
+                reason,
+            })
+        };
+        if self.cables != space.cable_names() || self.lo != space.lo || self.hi != space.hi {
+            return bad(format!(
+                "built for cables {:?} with limits {:?} … {:?}; this model has {:?}, {:?} … {:?}",
+                self.cables,
+                self.lo,
+                self.hi,
+                space.cable_names(),
+                space.lo,
+                space.hi
+            ));
+        }
+        if self.method != request.method.name() || self.settings != settings_of(request) {
+            return bad(format!(
+                "built with {} {:?}, asked for {} {:?}",
+                self.method,
+                self.settings,
+                request.method.name(),
+                settings_of(request)
+            ));
+        }
+        Ok(())
+    }
+
+    /// Plan from `start` (default: the model's actuation) to `goal` on this roadmap.
+    pub fn query(
+        &self,
+        model: &Model,
+        request: &SolveRequest,
+        start: Option<Vec<f64>>,
+        goal: &Goal,
+        opts: &PlanOptions,
+    ) -> Result<Plan, SolveError> {
+        let t0 = Instant::now();
+        let space = Space::new(model, request, false)?;
+        self.check_fits(&space, request)?;
+        let margin = opts.margin.unwrap_or(space.margin);
+        let trusted = margin == self.margin && scene_fingerprint(&space.scene) == self.scene;
+        let start = start.unwrap_or_else(|| actuation_of(model, &model.actuation));
+        let goal_u = goal_actuation(&space, model, goal, margin)?;
+        let mut ck = Checker::new(&space, margin);
+        let s = endpoint(&mut ck, &start, "start")?;
+        let g = endpoint(&mut ck, &goal_u, "goal")?;
+        let mut rng = XorShiftRng::seed_from_u64(opts.seed);
+        let mut stats = PlanStats {
+            planner: "roadmap",
+            ..PlanStats::default()
+        };
+        if let EdgeCheck::Clear { .. } = ck.edge(&s, &g) {
+            return finish(&mut ck, vec![s, g], opts, &mut rng, stats, t0);
+        }
+        let n = self.nodes.len();
+        let (si, gi) = (n, n + 1);
+        let mut adj: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n + 2];
+        let link = |adj: &mut Vec<Vec<(usize, f64)>>, a: usize, b: usize| {
+            let w = dist(self.u_of(a, &s, &g), self.u_of(b, &s, &g));
+            adj[a].push((b, w));
+            adj[b].push((a, w));
+        };
+        for &(a, b) in &self.edges {
+            link(&mut adj, a, b);
+        }
+        // Solved roadmap nodes (lazily), `None` once refused.
+        let mut solved: Vec<Option<Option<Node>>> = vec![None; n];
+        for (end, idx) in [(&s, si), (&g, gi)] {
+            let mut links = 0;
+            for j in nearest(&self.nodes, &end.u, 4 * 3) {
+                if links >= 3 {
+                    break;
+                }
+                let Some(nj) = self.solve_node(&mut ck, &mut solved, j, &end.shape, trusted) else {
+                    continue;
+                };
+                if let EdgeCheck::Clear { .. } = ck.edge(end, &nj) {
+                    link(&mut adj, idx, j);
+                    links += 1;
+                }
+            }
+        }
+        loop {
+            let Some(ids) = shortest(&adj, si, gi) else {
+                return Err(SolveError::NoPath {
+                    samples: self.nodes.len(),
+                    reason: "the roadmap does not connect the start to the goal".into(),
+                });
+            };
+            stats.tree_nodes = ids.len();
+            // Solve the path's nodes in order; with a changed scene, check its edges too.
+            let mut path = vec![s.clone()];
+            let mut broken: Option<(usize, usize)> = None;
+            for w in ids.windows(2) {
+                let b = w[1];
+                let node = if b == gi {
+                    g.clone()
+                } else {
+                    let warm = path[path.len() - 1].shape.clone();
+                    match self.solve_node(&mut ck, &mut solved, b, &warm, trusted) {
+                        Some(x) => x,
+                        None => {
+                            broken = Some((w[0], b));
+                            break;
+                        }
+                    }
+                };
+                if !trusted && ck.edge(&path[path.len() - 1], &node) == EdgeCheck::Blocked {
+                    broken = Some((w[0], b));
+                    break;
+                }
+                path.push(node);
+            }
+            match broken {
+                None => return finish(&mut ck, path, opts, &mut rng, stats, t0),
+                Some((a, b)) => {
+                    stats.edges_repaired += 1;
+                    adj[a].retain(|e| e.0 != b);
+                    adj[b].retain(|e| e.0 != a);
+                }
+            }
+        }
+    }
+
+    fn u_of<'a>(&'a self, i: usize, s: &'a Node, g: &'a Node) -> &'a [f64] {
+        match i.checked_sub(self.nodes.len()) {
+            None => &self.nodes[i].u,
+            Some(0) => &s.u,
+            Some(_) => &g.u,
+        }
+    }
+
+    /// Roadmap node `j` solved (warm from `warm`); with a trusted scene it is not checked
+    /// again (it was admissible when built).
+    fn solve_node(
+        &self,
+        ck: &mut Checker,
+        solved: &mut [Option<Option<Node>>],
+        j: usize,
+        warm: &crate::shape::Shape,
+        trusted: bool,
+    ) -> Option<Node> {
+        if let Some(x) = &solved[j] {
+            return x.clone();
+        }
+        let u = &self.nodes[j].u;
+        let out = if trusted {
+            ck.stats.solves += 1;
+            ck.space.solve(u, Some(warm)).ok().map(|shape| Node {
+                u: u.clone(),
+                clearance: self.nodes[j].clearance.unwrap_or(f64::INFINITY),
+                shape,
+            })
+        } else {
+            ck.node(u, Some(warm))
+        };
+        solved[j] = Some(out.clone());
+        out
+    }
+}

@@ -1,0 +1,356 @@
+//! Inverse problems on the cable inputs: which actuation puts the tip on a target
+//! ([`reach()`]), and the shared machinery of [`crate::plan`]: the actuation space with its
+//! limits ([`Space`]), the clearance of a shape from the obstacles ([`clearance`]), a bound on
+//! how far any robot feature moves between two shapes ([`motion_bound`]) and the tip
+//! sensitivities ([`sensitivity`]).
+//!
+//! # Actuation space
+//!
+//! The unknowns are the shortenings `u` \[m\] of *every* cable of the robot, in robot order,
+//! each within its range from the model's limits ([`crate::model::limits`]). A point is
+//! solved forward by the requested method (default: `energy`, the displacement-driven
+//! whole-robot model) through the same call `ccrkit solve` makes, so a reported actuation is
+//! a file's `shorten = …` away from the reported shape.
+//!
+//! # Clearance
+//!
+//! By default the robot must stay clear: every feature (disks as cylinders, backbone pieces
+//! as capsules of the backbone radius between the shape's backbone samples, cable chords as
+//! segments — the features of the obstacle-aware methods) at least the margin (the scene's
+//! `clearance`) away from every obstacle, measured with parry3d on the *free* shape (solved
+//! without obstacles: a clear robot does not touch, so the obstacle-aware solve gives the same
+//! shape). With contact allowed, shapes are solved with the obstacles (the robot may press on
+//! them) and no clearance is required.
+
+mod sens;
+mod solve;
+
+pub use sens::{sensitivity, TipSens, FD_STEP};
+pub use solve::{reach, reach_in, CableActuation, Reach, ReachOptions, Target};
+
+use crate::error::SolveError;
+use crate::method::contact::{ppose, pvec, y_to_z};
+use crate::method::run::SolveRequest;
+use crate::method::{Method, MethodKind};
+use crate::model::actuation::{Actuation, CableDrive, Input, Shortening};
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
+use crate::model::Model;
+use crate::shape::Shape;
+use nalgebra::Vector3;
+use parry3d::query::ClosestPoints;
+use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
+
+/// The actuation space of a robot: its cables' shortenings within their limits, a method that
+/// solves a point of it, and the obstacles to keep clear of.
+pub struct Space {
+    /// The robot.
+    pub robot: Robot,
+    /// The method (and settings) every point is solved with.
+    pub request: SolveRequest,
+    method: Box<dyn Method>,
+    /// The obstacles: the model's and the request's.
+    pub scene: Scene,
+    /// Scene handed to each solve: empty when keeping clear, the obstacles when contact is
+    /// allowed.
+    solve_scene: Scene,
+    /// Lower shortening bound per cable \[m\].
+    pub lo: Vec<f64>,
+    /// Upper shortening bound per cable \[m\].
+    pub hi: Vec<f64>,
+    /// Tension range per cable \[N\].
+    pub tension: Vec<[f64; 2]>,
+    /// Smallest distance every feature keeps from every obstacle \[m\] (default: the scene's
+    /// `clearance`).
+    pub margin: f64,
+    /// Contact allowed (shapes solved with the obstacles, no clearance required).
+    pub allow_contact: bool,
+}
+
+impl Space {
+    /// The actuation space of `model` solved by `request` (its method must be driven by
+    /// shortenings with these settings).
+    pub fn new(
+        model: &Model,
+        request: &SolveRequest,
+        allow_contact: bool,
+    ) -> Result<Space, SolveError> {
+        let kind: MethodKind = request.method;
+        if !kind.accepts(Input::Shortening)
+            || kind.input_with(&request.settings) != Input::Shortening
+        {
+            return Err(SolveError::InvalidInput {
+                field: "method".into(),
+                reason: format!(
+                    "reach and plan drive cables by shortening; `{}` with these settings is \
+                     driven by tension",
+                    kind.name()
+                ),
+            });
+        }
+        let method = request.prepare()?;
+        let scene = request.scene_for(model);
+        let solve_scene = if allow_contact {
+            scene.clone()
+        } else {
+            Scene::empty()
+        };
+        let lim = &model.limits.cables;
+        if lim.len() != model.robot.cables.len() || lim.is_empty() {
+            return Err(SolveError::InvalidInput {
+                field: "limits".into(),
+                reason: format!(
+                    "{} cable limits for {} cables (a robot without cables has nothing to drive)",
+                    lim.len(),
+                    model.robot.cables.len()
+                ),
+            });
+        }
+        Ok(Space {
+            robot: model.robot.clone(),
+            request: request.clone(),
+            method,
+            margin: scene.clearance,
+            scene,
+            solve_scene,
+            lo: lim.iter().map(|l| l.shorten[0]).collect(),
+            hi: lim.iter().map(|l| l.shorten[1]).collect(),
+            tension: lim.iter().map(|l| l.tension).collect(),
+            allow_contact,
+        })
+    }
+
+    /// Number of inputs (cables).
+    pub fn dim(&self) -> usize {
+        self.lo.len()
+    }
+
+    /// Cable names, in robot order.
+    pub fn cable_names(&self) -> Vec<String> {
+        self.robot.cables.iter().map(|c| c.name.clone()).collect()
+    }
+
+    /// The actuation shortening cable `c` by `u[c]` metres.
+    pub fn actuation(&self, u: &[f64]) -> Actuation {
+        Actuation {
+            cables: u
+                .iter()
+                .map(|&x| CableDrive {
+                    shorten: Some(Shortening::Length(x)),
+                    tension: None,
+                })
+                .collect(),
+        }
+    }
+
+    /// `u` moved into the limits.
+    pub fn clamp(&self, u: &[f64]) -> Vec<f64> {
+        u.iter()
+            .enumerate()
+            .map(|(c, x)| x.clamp(self.lo[c], self.hi[c]))
+            .collect()
+    }
+
+    /// True when `u` lies within the limits.
+    pub fn contains(&self, u: &[f64]) -> bool {
+        u.len() == self.dim()
+            && u.iter()
+                .enumerate()
+                .all(|(c, x)| x.is_finite() && *x >= self.lo[c] && *x <= self.hi[c])
+    }
+
+    /// Solve the shape at `u` (warm-started from `warm`, a shape of this space).
+    pub fn solve(&self, u: &[f64], warm: Option<&Shape>) -> Result<Shape, SolveError> {
+        self.method
+            .solve(&self.robot, &self.actuation(u), &self.solve_scene, warm)
+    }
+
+    /// The shape at `u` solved exactly as `ccrkit solve` does (cold, through
+    /// [`SolveRequest::run`]): what a reported actuation must reproduce. With contact allowed
+    /// it is solved with every obstacle (`ccrkit solve FILE --scene S`); keeping clear, without
+    /// them (`ccrkit solve FILE` on the model without its obstacles) — a clear robot touches
+    /// nothing, so the obstacle-aware solve finds the same shape where it can start at all (a
+    /// cold obstacle-aware solve starts from the straight robot, which may cross a bent tube).
+    pub fn solve_as_cli(&self, model: &Model, u: &[f64]) -> Result<Shape, SolveError> {
+        let mut m = model.clone();
+        m.actuation = self.actuation(u);
+        if self.allow_contact {
+            Ok(self.request.run(&m)?.shape)
+        } else {
+            m.scene = Scene::empty();
+            Ok(self.request.clone().with_scene(None).run(&m)?.shape)
+        }
+    }
+
+    /// Clearance of `shape` from the obstacles (`None` without obstacles).
+    pub fn clearance(&self, shape: &Shape) -> Option<Clearance> {
+        clearance(&self.robot, shape, &self.scene)
+    }
+
+    /// Why `shape`'s cable tensions break the tension limits (`None` when they keep them).
+    pub fn tension_violation(&self, shape: &Shape) -> Option<String> {
+        shape.cables.iter().enumerate().find_map(|(c, cp)| {
+            let t = cp.tension?;
+            let [lo, hi] = self.tension[c];
+            (t < lo - 1e-9 || t > hi + 1e-9).then(|| {
+                format!(
+                    "cable `{}` needs tension {t:.4} N, outside its limits [{lo}, {hi}] N",
+                    cp.name
+                )
+            })
+        })
+    }
+
+    /// True when `shape` is acceptable: clear by the margin (unless contact is allowed) and
+    /// within the tension limits.
+    pub fn admissible(&self, shape: &Shape) -> bool {
+        let clear = self.allow_contact
+            || self
+                .clearance(shape)
+                .is_none_or(|c| c.distance >= self.margin);
+        clear && self.tension_violation(shape).is_none()
+    }
+}
+
+/// The smallest distance between the robot and the obstacles, and where.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Clearance {
+    /// Signed distance \[m\] (negative: penetration depth, for convex obstacles).
+    pub distance: f64,
+    /// Obstacle name.
+    pub obstacle: String,
+    /// Robot feature: `disk K`, `backbone J` (between backbone samples J and J+1) or
+    /// `cable NAME K` (chord from disk K−1 to K).
+    pub feature: String,
+}
+
+/// A robot feature: label, parry shape, bounding box (min, max), pose.
+type Feature = (
+    String,
+    Box<dyn PShape>,
+    Vector3<f64>,
+    Vector3<f64>,
+    parry3d::math::Pose,
+);
+
+/// Robot features of `shape` as parry shapes with their poses and bounding boxes.
+fn features(robot: &Robot, shape: &Shape) -> Vec<Feature> {
+    let mut out: Vec<Feature> = Vec::new();
+    let r = robot.disk_radius;
+    let ext = Vector3::repeat(r + robot.disk_thickness);
+    for (k, d) in shape.disks.iter().enumerate() {
+        out.push((
+            format!("disk {k}"),
+            Box::new(Cylinder::new(robot.disk_thickness / 2.0, r)),
+            d.position - ext,
+            d.position + ext,
+            ppose(&(d.rotation * y_to_z()), &d.position),
+        ));
+    }
+    let rb = robot.backbone.radius();
+    let id = parry3d::math::Pose::IDENTITY;
+    for (j, w) in shape.backbone.windows(2).enumerate() {
+        let (a, b) = (w[0], w[1]);
+        out.push((
+            format!("backbone {j}"),
+            Box::new(Capsule::new(pvec(&a), pvec(&b), rb)),
+            a.inf(&b) - Vector3::repeat(rb),
+            a.sup(&b) + Vector3::repeat(rb),
+            id,
+        ));
+    }
+    for c in &shape.cables {
+        for (k, w) in c.points.windows(2).enumerate() {
+            let (a, b) = (w[0], w[1]);
+            out.push((
+                format!("cable {} {}", c.name, k + 1),
+                Box::new(Segment::new(pvec(&a), pvec(&b))),
+                a.inf(&b),
+                a.sup(&b),
+                id,
+            ));
+        }
+    }
+    out
+}
+
+/// Smallest signed distance between any feature of `shape` and any obstacle of `scene`
+/// (parry3d; `None` for an empty scene). Feature–obstacle pairs whose bounding boxes are
+/// farther apart than the best distance so far are skipped (the box gap is a lower bound).
+pub fn clearance(robot: &Robot, shape: &Shape, scene: &Scene) -> Option<Clearance> {
+    if scene.is_empty() {
+        return None;
+    }
+    let mut best = Clearance {
+        distance: f64::INFINITY,
+        obstacle: String::new(),
+        feature: String::new(),
+    };
+    for (label, g, lo, hi, gp) in features(robot, shape) {
+        for (k, o) in scene.obstacles.iter().enumerate() {
+            if scene.bounds_gap(k, &lo, &hi) >= best.distance {
+                continue;
+            }
+            // Closest points within the best distance so far: parry prunes the rest of a
+            // mesh's BVH against it, so only pairs that can lower the minimum cost much.
+            let bound = if best.distance.is_finite() {
+                best.distance
+            } else {
+                f64::MAX
+            };
+            let mut d =
+                match parry3d::query::closest_points(&gp, &*g, &o.parry_pose, &*o.shape, bound) {
+                    Ok(ClosestPoints::Disjoint) => continue,
+                    Ok(ClosestPoints::WithinMargin(a, b)) => (a - b).length(),
+                    Ok(ClosestPoints::Intersecting) => 0.0,
+                    Err(_) => parry3d::query::distance(&gp, &*g, &o.parry_pose, &*o.shape)
+                        .map_or(0.0, |d| d.distance),
+                };
+            if d <= 0.0 {
+                if let Ok(Some(ct)) =
+                    parry3d::query::contact(&gp, &*g, &o.parry_pose, &*o.shape, 0.0)
+                {
+                    d = ct.dist.min(0.0);
+                }
+            }
+            if d < best.distance {
+                best = Clearance {
+                    distance: d,
+                    obstacle: o.name.clone(),
+                    feature: label.clone(),
+                };
+            }
+        }
+    }
+    Some(best)
+}
+
+/// An upper bound on how far any point of any robot feature of shape `a` lies from the
+/// corresponding point of shape `b` (the Hausdorff distance between the two feature sets is
+/// at most this), so every obstacle distance differs between them by at most this \[m\].
+///
+/// A point of disk `k` at offset `q` (|q| ≤ ρ = √(r² + (t/2)²)) moves by
+/// `|Δp_k + (R_b − R_a) q| ≤ |Δp_k| + ρ θ_k` with `θ_k` the angle of `R_aᵀ R_b`
+/// (`|R_b − R_a| q| = 2 sin(θ/2) |q_⊥| ≤ θ ρ`). Cable chords join hole points of disks; a
+/// point of a segment or capsule moves by at most the larger motion of its two ends (convex
+/// combination). Both shapes must have the same disks and backbone samples.
+pub fn motion_bound(robot: &Robot, a: &Shape, b: &Shape) -> f64 {
+    let rho = robot.disk_radius.hypot(robot.disk_thickness / 2.0);
+    let disks = a.disks.iter().zip(&b.disks).map(|(x, y)| {
+        let rel = x.rotation.transpose() * y.rotation;
+        let c = (rel.trace() - 1.0) / 2.0;
+        let v = Vector3::new(
+            rel[(2, 1)] - rel[(1, 2)],
+            rel[(0, 2)] - rel[(2, 0)],
+            rel[(1, 0)] - rel[(0, 1)],
+        );
+        // atan2 keeps small angles exact (acos of a cosine near 1 loses half the digits).
+        (y.position - x.position).norm() + rho * (0.5 * v.norm()).atan2(c)
+    });
+    let bb = a
+        .backbone
+        .iter()
+        .zip(&b.backbone)
+        .map(|(x, y)| (y - x).norm());
+    disks.chain(bb).fold(0.0, f64::max)
+}

@@ -1,0 +1,307 @@
+//! `plan` and roadmaps: a blocked straight path forces a detour; every planned path is
+//! re-checked on dense interpolations (8 per output edge, finer than the planner's output)
+//! with parry3d on features built here; the same seed gives the same path (library and CLI);
+//! roadmap queries succeed on seeded random feasible queries and repair a changed scene;
+//! the trajectory has the articulated URDF export's joint names.
+
+mod common;
+
+use ccrkit::export::{export_urdf, UrdfOptions};
+use ccrkit::method::run::SolveRequest;
+use ccrkit::method::MethodKind;
+use ccrkit::plan::roadmap::{build, BuildOptions};
+use ccrkit::plan::{plan, Checker, EdgeCheck, Goal, Plan, PlanOptions};
+use ccrkit::reach::Space;
+use ccrkit::{Model, Scene, Shape};
+use parry3d::math::{Pose, Vector as PVec};
+use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
+use rand_core::{Rng, SeedableRng};
+use rand_xorshift::XorShiftRng;
+
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// Case 1 with a ball where the tip passes halfway along the straight line from
+/// A-only to B-only shortening.
+fn ball_model() -> Model {
+    let text = std::fs::read_to_string(format!("{ROOT}/models/paper/case1.toml")).unwrap();
+    Model::from_toml_str(&format!("clearance = 0.0005\n{text}\n{BALL}")).unwrap()
+}
+
+/// The ball, as a model-file table.
+const BALL: &str = "[[obstacles]]\nname = \"ball\"\nshape = \"sphere\"\nposition = [0.064, 0.111, 0.104]\nradius = 0.012\n";
+
+fn energy() -> SolveRequest {
+    SolveRequest::new(MethodKind::Energy)
+}
+
+fn pv(v: &nalgebra::Vector3<f64>) -> PVec {
+    PVec::new(v.x, v.y, v.z)
+}
+
+/// Smallest distance from the features of `shape` (disks, backbone capsules, cable chords,
+/// built here) to the obstacles.
+fn parry_clearance(model: &Model, shape: &Shape, scene: &Scene) -> f64 {
+    let r = &model.robot;
+    let mut feats: Vec<(Box<dyn PShape>, Pose)> = Vec::new();
+    let y_to_z = nalgebra::Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
+    for d in &shape.disks {
+        let rot = nalgebra::Rotation3::from_matrix_unchecked(d.rotation * y_to_z);
+        let iso = nalgebra::Isometry3::from_parts(
+            nalgebra::Translation3::from(d.position),
+            nalgebra::UnitQuaternion::from_rotation_matrix(&rot),
+        );
+        feats.push((
+            Box::new(Cylinder::new(r.disk_thickness / 2.0, r.disk_radius)),
+            iso.into(),
+        ));
+    }
+    for w in shape.backbone.windows(2) {
+        feats.push((
+            Box::new(Capsule::new(pv(&w[0]), pv(&w[1]), r.backbone.radius())),
+            Pose::IDENTITY,
+        ));
+    }
+    for c in &shape.cables {
+        for w in c.points.windows(2) {
+            feats.push((Box::new(Segment::new(pv(&w[0]), pv(&w[1]))), Pose::IDENTITY));
+        }
+    }
+    let mut best = f64::INFINITY;
+    for (g, p) in &feats {
+        for o in &scene.obstacles {
+            let d = parry3d::query::distance(p, &**g, &o.parry_pose, &*o.shape)
+                .unwrap()
+                .distance;
+            best = best.min(d);
+        }
+    }
+    best
+}
+
+/// Every output edge re-solved at 8 interpolations and checked with parry: clearance ≥ margin.
+fn dense_recheck(model: &Model, p: &Plan) -> f64 {
+    let space = Space::new(model, &energy(), false).unwrap();
+    let mut worst = f64::INFINITY;
+    let mut warm: Option<Shape> = None;
+    for w in p.waypoints.windows(2) {
+        for k in 0..8 {
+            let f = k as f64 / 8.0;
+            let u: Vec<f64> = w[0]
+                .u
+                .iter()
+                .zip(&w[1].u)
+                .map(|(a, b)| a + f * (b - a))
+                .collect();
+            let s = space.solve(&u, warm.as_ref()).unwrap();
+            worst = worst.min(parry_clearance(model, &s, &space.scene));
+            warm = Some(s);
+        }
+    }
+    let last = &p.waypoints[p.waypoints.len() - 1];
+    worst = worst.min(parry_clearance(model, &last.shape, &space.scene));
+    assert!(
+        worst >= p.margin_m - 1e-9,
+        "dense re-check: clearance {worst:.3e} m below the margin {} m",
+        p.margin_m
+    );
+    worst
+}
+
+const FROM: [f64; 2] = [0.014, 0.0];
+const TO: [f64; 2] = [0.0, 0.014];
+
+#[test]
+fn blocked_straight_path_forces_a_detour() {
+    let model = ball_model();
+    let space = Space::new(&model, &energy(), false).unwrap();
+    // The straight line is blocked: its midpoint's shape meets the ball (parry, here).
+    let mid = space.solve(&[0.007, 0.007], None).unwrap();
+    assert!(parry_clearance(&model, &mid, &space.scene) < 0.0005);
+    let mut ck = Checker::new(&space, 0.0005);
+    let a = ck.node(&FROM, None).unwrap();
+    let b = ck.node(&TO, None).unwrap();
+    assert_eq!(ck.edge(&a, &b), EdgeCheck::Blocked);
+    let p = plan(
+        &model,
+        &energy(),
+        Some(FROM.to_vec()),
+        &Goal::Actuation(TO.to_vec()),
+        &PlanOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(p.waypoints[0].u, FROM.to_vec());
+    assert_eq!(p.waypoints[p.waypoints.len() - 1].u, TO.to_vec());
+    // A detour: some waypoint leaves the straight line by more than 1 mm of actuation.
+    let off = p
+        .waypoints
+        .iter()
+        .map(|n| (n.u[0] + n.u[1] - 0.014).abs() / 2f64.sqrt())
+        .fold(0.0, f64::max);
+    assert!(
+        off > 1e-3,
+        "largest distance from the straight line {off:.3e} m"
+    );
+    let worst = dense_recheck(&model, &p);
+    assert!(p.min_clearance_m >= p.margin_m && p.certified_clearance_m >= p.margin_m);
+    eprintln!(
+        "detour: {} waypoints, dense re-check {worst:.3e} m, planner {:.3e} m",
+        p.waypoints.len(),
+        p.min_clearance_m
+    );
+}
+
+#[test]
+fn same_seed_same_path() {
+    let model = ball_model();
+    let run = |seed| {
+        let o = PlanOptions {
+            seed,
+            ..PlanOptions::default()
+        };
+        plan(
+            &model,
+            &energy(),
+            Some(FROM.to_vec()),
+            &Goal::Actuation(TO.to_vec()),
+            &o,
+        )
+        .unwrap()
+    };
+    let (a, b) = (run(5), run(5));
+    let us = |p: &Plan| p.waypoints.iter().map(|n| n.u.clone()).collect::<Vec<_>>();
+    assert_eq!(us(&a), us(&b));
+    assert_eq!(a.stats.samples, b.stats.samples);
+}
+
+/// The CLI: two runs with `--seed 3` write the same waypoints; `--trajectory` rows are the
+/// waypoints with the articulated export's joint names.
+#[test]
+fn cli_seed_and_trajectory() {
+    let bin = env!("CARGO_BIN_EXE_ccrkit");
+    let dir = std::env::temp_dir().join(format!("ccrkit_plan_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let model_text = std::fs::read_to_string(format!("{ROOT}/models/paper/case1.toml")).unwrap();
+    let file = dir.join("ball.toml");
+    std::fs::write(&file, format!("clearance = 0.0005\n{model_text}\n{BALL}")).unwrap();
+    let act = |u: [f64; 2], name: &str| {
+        let p = dir.join(name);
+        std::fs::write(
+            &p,
+            format!(
+                "{{\"actuation\": [{{\"cable\": \"A\", \"shorten\": {}}}, {{\"cable\": \"B\", \"shorten\": {}}}]}}",
+                u[0], u[1]
+            ),
+        )
+        .unwrap();
+        p
+    };
+    let (from, to) = (act(FROM, "from.json"), act(TO, "to.json"));
+    let run = |k: usize| {
+        let out = std::process::Command::new(bin)
+            .args([
+                "plan".as_ref(),
+                file.as_os_str(),
+                "--from-actuation".as_ref(),
+                from.as_os_str(),
+                "--to-actuation".as_ref(),
+                to.as_os_str(),
+                "--seed".as_ref(),
+                "3".as_ref(),
+                "--json".as_ref(),
+                "-".as_ref(),
+                "--trajectory".as_ref(),
+                dir.join(format!("t{k}.csv")).as_os_str(),
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        j["waypoints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w["actuation"].clone())
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (run(1), run(2));
+    assert_eq!(a, b);
+    let csv = std::fs::read_to_string(dir.join("t1.csv")).unwrap();
+    assert_eq!(csv, std::fs::read_to_string(dir.join("t2.csv")).unwrap());
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let model = Model::from_file(&file).unwrap();
+    let shape = Space::new(&model, &energy(), false)
+        .unwrap()
+        .solve(&FROM, None)
+        .unwrap();
+    let e = export_urdf(&shape, &model.robot, &UrdfOptions::default()).unwrap();
+    let names: Vec<&str> = e.joint_values.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(header[0], "waypoint");
+    assert_eq!(&header[1..], &names[..]);
+    let first: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    for (v, j) in first.iter().zip(&e.joint_values) {
+        assert!((v - j.value).abs() < 1e-9, "{} {v} vs {}", j.name, j.value);
+    }
+    assert_eq!(csv.lines().count(), 1 + a.len());
+}
+
+/// Roadmap queries between seeded random admissible actuations succeed on ≥ 95 %, each
+/// passing the dense re-check; a roadmap built without the ball answers with it (repair).
+#[test]
+fn roadmap_queries_and_repair() {
+    let model = ball_model();
+    let rm = build(&model, &energy(), &BuildOptions::default()).unwrap();
+    let space = Space::new(&model, &energy(), false).unwrap();
+    let mut ck = Checker::new(&space, space.margin);
+    let mut rng = XorShiftRng::seed_from_u64(77);
+    let mut draw = |ck: &mut Checker| loop {
+        let u: Vec<f64> = (0..2)
+            .map(|c| {
+                let f = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                space.lo[c] + f * (space.hi[c] - space.lo[c])
+            })
+            .collect();
+        if ck.node(&u, None).is_some() {
+            return u;
+        }
+    };
+    let (mut ok, n) = (0, 20);
+    for _ in 0..n {
+        let (s, g) = (draw(&mut ck), draw(&mut ck));
+        if let Ok(p) = rm.query(
+            &model,
+            &energy(),
+            Some(s),
+            &Goal::Actuation(g),
+            &PlanOptions::default(),
+        ) {
+            dense_recheck(&model, &p);
+            ok += 1;
+        }
+    }
+    assert!(ok * 100 >= 95 * n, "{ok} of {n} queries answered");
+    // Built on the obstacle-free robot, queried with the ball: repaired lazily.
+    let mut free = model.clone();
+    free.scene = Scene::empty();
+    let rm_free = build(&free, &energy(), &BuildOptions::default()).unwrap();
+    let p = rm_free
+        .query(
+            &model,
+            &energy(),
+            Some(FROM.to_vec()),
+            &Goal::Actuation(TO.to_vec()),
+            &PlanOptions::default(),
+        )
+        .unwrap();
+    dense_recheck(&model, &p);
+}
