@@ -160,9 +160,15 @@ fn closed_form(robot: &Robot, c: usize) -> Option<Curve> {
     let helix = cable.helix?;
     let rho = cable.radius[0];
     let ell = robot.disk_s[1] - robot.disk_s[0];
+    // The holes are the truth: the rule is used only where they follow it (from the first
+    // hole's angle, so a model whose angles were turned after parsing stays consistent).
+    let a0 = cable.angle[0];
     let uniform = (1..=cable.ends_at).all(|k| {
         let d = robot.disk_s[k] - robot.disk_s[k - 1];
-        (d - ell).abs() <= 1e-12 * ell && cable.radius[k] == rho
+        let a = a0 + helix.per_disk * k as f64;
+        (d - ell).abs() <= 1e-12 * ell
+            && cable.radius[k] == rho
+            && (cable.angle[k] - a).abs() <= 1e-12 * (1.0 + a.abs())
     });
     if !uniform || ell <= 0.0 {
         return None;
@@ -172,7 +178,7 @@ fn closed_form(robot: &Robot, c: usize) -> Option<Curve> {
     } else {
         Curve::Helix {
             rho,
-            theta0: helix.start - helix.per_disk * robot.disk_s[0] / ell,
+            theta0: a0 - helix.per_disk * robot.disk_s[0] / ell,
             omega: helix.per_disk / ell,
         }
     })
