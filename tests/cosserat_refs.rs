@@ -133,3 +133,129 @@ fn declared_helix_is_routed_exactly() {
     let paper2 = solve(&fixed(64), &paper(2));
     assert!(paper2.tip_distance(&coarse) < 1e-12);
 }
+
+/// 23 samples spread evenly over the FTDCR v4 training CSV (rows `i · ⌊N/23⌋`), as
+/// `(servo shortenings in m, measured tip in mm)`.
+fn ftdcr_v4_samples() -> Vec<Vec<f64>> {
+    let path = format!(
+        "{}/models/hardware/data/v4/tdcr_sysid_20260511-183002_train.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(path).expect("FTDCR v4 data");
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .skip(2)
+                .take(9)
+                .map(|v| v.parse::<f64>().expect("number") * 1e-3)
+                .collect()
+        })
+        .collect();
+    let step = rows.len() / 23;
+    (0..23).map(|i| rows[i * step].clone()).collect()
+}
+
+/// Issue 11 #13 (partly done): on the FTDCR v4 hardware robot (3 segments × 3 tendons tied
+/// at disks 10, 20, 30), displacement-driven `cosserat` and `kirchhoff` started from the
+/// energy model's answer (its multipliers are the cable tensions, and its slack cables start
+/// slack) against a cold start, on 23 samples spread over the training CSV (our choice of
+/// samples: the issue does not list its 23). Measured: cold `cosserat` 6/23, `kirchhoff`
+/// 0/23; from energy `cosserat` 22/23 (tips within 1 µm of the energy model), `kirchhoff` 9/23. The
+/// issue's target, 23/23 for both, is NOT reached: this test guards the measured counts
+/// (they may only rise) and the agreement of the full rod with the energy model.
+#[test]
+fn displacement_driven_rod_on_the_ftdcr_v4_samples() {
+    use ccrkit::actuation::{Input, Shortening};
+    use ccrkit::method::energy::Energy;
+    use ccrkit::{Method, Scene};
+    let model = ccrkit::Model::from_file(format!(
+        "{}/models/hardware/ftdcr_v4.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("FTDCR v4 model");
+    // [cold cosserat, cold kirchhoff, warm cosserat, warm kirchhoff]
+    let mut ok = [0usize; 4];
+    let mut worst = 0.0f64;
+    for (i, u) in ftdcr_v4_samples().iter().enumerate() {
+        let mut act = model.actuation.clone();
+        for (k, d) in act.cables.iter_mut().enumerate() {
+            d.shorten = Some(Shortening::Length(u[k]));
+        }
+        let energy = Energy::default()
+            .solve(&model.robot, &act, &Scene::empty(), None)
+            .expect("energy solves");
+        for (j, rod) in [Cosserat::full(), Cosserat::kirchhoff()].iter().enumerate() {
+            let rod = rod.clone().with_control(Input::Shortening);
+            for (w, warm) in [None, Some(&energy)].into_iter().enumerate() {
+                match rod.solve(&model.robot, &act, &Scene::empty(), warm) {
+                    Ok(shape) => {
+                        ok[2 * w + j] += 1;
+                        let d = shape.tip_distance(&energy);
+                        if j == 0 {
+                            worst = worst.max(d);
+                        }
+                        eprintln!(
+                            "sample {i} {} warm {w}: {} iterations, tip {:.4} mm from energy",
+                            shape.method,
+                            shape.report.iterations,
+                            d * 1e3
+                        );
+                    }
+                    Err(e) => eprintln!("sample {i} {} warm {w}: {e}", rod.name()),
+                }
+            }
+        }
+    }
+    eprintln!("converged of 23 [cold cosserat, cold kirchhoff, warm cosserat, warm kirchhoff]: {ok:?}; full rod tip to energy ≤ {:.4} mm", worst * 1e3);
+    assert!(ok[2] >= 22 && ok[2] >= ok[0], "warm cosserat {ok:?}");
+    assert!(ok[3] >= 9 && ok[3] >= ok[1], "warm kirchhoff {ok:?}");
+    assert!(
+        worst < 1e-6,
+        "full rod tips {worst:e} m from the energy model's"
+    );
+}
+
+/// Issue 11 #11: a 3000-section rod (case II's robot cut 333×, displacement-driven) that does
+/// not converge used to run 36 s before giving up; every solve now spends at most
+/// `WORK_BUDGET` right-hand-side evaluations and then ends in `NotConverged` with its
+/// iterations, residual and the budget named. (If it converges instead, the shape is finite.)
+#[test]
+fn every_rod_solve_is_bounded_by_a_work_budget() {
+    use ccrkit::actuation::Input;
+    use ccrkit::{Method, Scene, SolveError};
+    let text = std::fs::read_to_string(format!(
+        "{}/models/paper/case2.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("case II")
+    .replace("sections = 9", "sections = 3000")
+    .replace("section_length = 0.020", "section_length = 0.00006")
+    .replace("disk_thickness = 0.002", "disk_thickness = 0.00001");
+    let model = ccrkit::Model::from_toml_str(&text).expect("3000 sections parse");
+    let rod = Cosserat::full().with_control(Input::Shortening);
+    match rod.solve(&model.robot, &model.actuation, &Scene::empty(), None) {
+        Ok(shape) => {
+            assert!(shape.report.converged);
+            assert!(shape
+                .disks
+                .iter()
+                .all(|d| d.position.iter().all(|v| v.is_finite())));
+        }
+        Err(SolveError::NotConverged {
+            iterations,
+            residual,
+            detail,
+            ..
+        }) => {
+            eprintln!("3000 sections: {iterations} iterations, residual {residual:e}: {detail}");
+            assert!(residual.is_finite(), "{detail}");
+            assert!(
+                detail.contains("work budget"),
+                "ended by something else: {detail}"
+            );
+        }
+        Err(e) => panic!("unexpected error kind: {e}"),
+    }
+}

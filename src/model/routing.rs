@@ -160,19 +160,17 @@ fn closed_form(robot: &Robot, c: usize) -> Option<Curve> {
     let helix = cable.helix?;
     let rho = cable.radius[0];
     let ell = robot.disk_s[1] - robot.disk_s[0];
+    // The holes are the truth: the rule is used only where they follow it (from the first
+    // hole's angle, so a model whose angles were turned after parsing stays consistent).
+    let a0 = cable.angle[0];
     let uniform = (1..=cable.ends_at).all(|k| {
         let d = robot.disk_s[k] - robot.disk_s[k - 1];
-        (d - ell).abs() <= 1e-12 * ell && cable.radius[k] == rho
+        let a = a0 + helix.per_disk * k as f64;
+        (d - ell).abs() <= 1e-12 * ell
+            && cable.radius[k] == rho
+            && (cable.angle[k] - a).abs() <= 1e-12 * (1.0 + a.abs())
     });
-    // The angle table is the robot's one source of truth (a caller may edit it after
-    // parsing): the declared rule is used only while the table still follows it, with the
-    // table's own phase.
-    let a0 = cable.angle[0];
-    let follows = cable.angle.iter().enumerate().all(|(k, a)| {
-        let rule = a0 + helix.per_disk * k as f64;
-        (a - rule).abs() <= 1e-12 * (1.0 + rule.abs())
-    });
-    if !uniform || ell <= 0.0 || !follows {
+    if !uniform || ell <= 0.0 {
         return None;
     }
     Some(if helix.per_disk == 0.0 {

@@ -114,6 +114,7 @@ impl Problem<'_> {
             } else {
                 h_adapt.min(s1 - s)
             };
+            self.work.set(self.work.get() + 7);
             let step = self.dp45(s, h, y, secs, ld, len);
             let e = step.err / tol;
             mesh.worst = mesh.worst.max(e);

@@ -97,6 +97,11 @@ impl Problem<'_> {
         mut var: Option<&mut Var>,
     ) -> Shot {
         let robot = self.robot;
+        if self.set.adaptive.is_none() {
+            let nd = var.as_deref().map_or(0, |v| v.nd);
+            let steps: usize = self.nsteps[1..].iter().sum();
+            self.work.set(self.work.get() + 4 * steps * (1 + nd));
+        }
         let mut last = self.last.borrow_mut();
         let rec: &mut Trace = match trace {
             Some(t) => t,

@@ -84,7 +84,15 @@
 //! **Continuation.** When the direct start fails (or with `direct_start: false`), the loads
 //! (tensions, shortenings, gravity, tip wrench) are stepped from zero with an adaptive step;
 //! the report notes `continuation: N load steps`. If even that stalls, the solve returns
-//! [`SolveError::NotConverged`] with the iterations spent and the last residual.
+//! [`SolveError::NotConverged`] with the iterations spent and the last residual. Every solve
+//! is also bounded by [`WORK_BUDGET`] right-hand-side evaluations, whatever the section count.
+//!
+//! **Stability.** `report.stable` is `None` (unknown) for the rod. A converged shooting
+//! solution is an equilibrium, but whether it is stable is a second-variation question. For
+//! rods it is answered by a conjugate-point test along `s` (Manning, Rogers & Maddocks 1998;
+//! Till & Rucker, IEEE T-RO 2017, applied it to continuum robots). The shooting Jacobian at the
+//! tip cannot settle it on its own, and that test is not implemented. The energy model reports
+//! `stable`; a shape the two models disagree on should be checked against it.
 
 //! # Cable length and slack (displacement control)
 //!
@@ -136,6 +144,7 @@ mod solve;
 mod variational;
 mod warm;
 
+pub use problem::WORK_BUDGET;
 pub use settings::{Cosserat, RodModel};
 
 use nalgebra::{DMatrix, DVector, Matrix3, SVector, Vector3};

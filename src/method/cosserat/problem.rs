@@ -74,6 +74,30 @@ pub(super) struct Problem<'a> {
     pub(super) last: std::cell::RefCell<Trace>,
     /// Step mesh of the adaptive integrator (see [`Mesh`]).
     pub(super) mesh: std::cell::RefCell<Mesh>,
+    /// Right-hand-side evaluations spent so far (a tangent direction counts as one more),
+    /// against [`WORK_BUDGET`].
+    pub(super) work: std::cell::Cell<usize>,
+}
+
+/// Right-hand-side evaluations one solve may spend (≈ 9 s for two cables on 3000 sections)
+/// before it ends in `NotConverged` naming the budget: every run is bounded, whatever the
+/// section count (a 3000-section rod that does not converge took 36 s before it gave up).
+/// The paper cases spend ~10³.
+pub const WORK_BUDGET: usize = 10_000_000;
+
+impl Problem<'_> {
+    /// True once the solve has spent [`WORK_BUDGET`].
+    pub(super) fn over_budget(&self) -> bool {
+        self.work.get() > WORK_BUDGET
+    }
+
+    /// The detail of a `NotConverged` for a spent budget.
+    pub(super) fn budget_detail(&self) -> String {
+        format!(
+            "work budget spent: {} right-hand-side evaluations (limit {WORK_BUDGET})",
+            self.work.get()
+        )
+    }
 }
 
 /// The adaptive integrator's steps: recorded by a pass that adapts, replayed by the passes
@@ -342,6 +366,7 @@ impl Cosserat {
             cubic: vec![],
             last: Default::default(),
             mesh: Default::default(),
+            work: Default::default(),
         };
         prob.nsteps = prob.steps_per_section();
         prob.cubic = prob.route_cubics();

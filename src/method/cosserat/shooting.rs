@@ -189,6 +189,13 @@ impl Problem<'_> {
             (self.fd_jacobian(&x, &f, setup, lam), true)
         };
         for it in 1..=self.set.max_iterations {
+            if self.over_budget() {
+                return Err(Fail {
+                    iterations: it - 1,
+                    residual: norm_inf(&f),
+                    detail: self.budget_detail(),
+                });
+            }
             let Some(dx) = jac.clone().lu().solve(&(-&f)) else {
                 if fresh {
                     return Err(Fail {
@@ -294,7 +301,16 @@ impl Problem<'_> {
         if self.set.direct_start {
             match self.newton(x0, setup, 1.0, jac0) {
                 Ok(n) => return Ok((n, 0)),
-                Err(e) => total += e.iterations,
+                Err(e) => {
+                    total += e.iterations;
+                    if self.over_budget() {
+                        return Err(Fail {
+                            iterations: total,
+                            residual: e.residual,
+                            detail: self.budget_detail(),
+                        });
+                    }
+                }
             }
         }
         let mut x = DVector::zeros(x0.len());
@@ -325,6 +341,16 @@ impl Problem<'_> {
                 }
                 Err(e) => {
                     total += e.iterations;
+                    if self.over_budget() {
+                        return Err(Fail {
+                            iterations: total,
+                            residual: e.residual,
+                            detail: format!(
+                                "continuation at load factor {lam:.4}: {}",
+                                self.budget_detail()
+                            ),
+                        });
+                    }
                     dl *= 0.5;
                     last = Fail {
                         iterations: total,

@@ -43,7 +43,7 @@ impl Tangents {
 /// Variational state carried along one shooting pass: `∂y/∂x` column by column, the
 /// tangents of the path lengths, and at the end the tangents of the residual.
 pub(super) struct Var {
-    nd: usize,
+    pub(super) nd: usize,
     tg: Tangents,
     /// `δ` of each cable's hole at the last disk passed.
     hole: [[Vector3<f64>; MAX_CABLES]; MAXD],

@@ -13,6 +13,8 @@ use nalgebra::{DMatrix, DVector, Vector3};
 pub(super) struct Warm {
     /// Base wrench `n(0)`, `m(0)/L` and every cable's tension.
     pub(super) x: Option<(Vector3<f64>, Vector3<f64>, Vec<f64>)>,
+    /// Only the tensions (a shape without a base wrench: another model's).
+    pub(super) tensions: Option<Vec<f64>>,
     /// The last Jacobian (a shape of this method only).
     pub(super) jac: Option<DMatrix<f64>>,
     /// The shape came from this method (its base wrench carries this discretization).
@@ -51,14 +53,15 @@ impl Warm {
             _ => None,
         });
         let mut x = None;
-        if let Some(w) = warm {
-            if let Some(bw) = w.report.base_wrench {
-                if bw.iter().all(|v| v.is_finite()) && w.cables.len() == nc {
-                    let tens: Vec<f64> = w
-                        .cables
-                        .iter()
-                        .map(|c| c.tension.filter(|t| t.is_finite()).unwrap_or(0.0))
-                        .collect();
+        let mut tensions = None;
+        if let Some(w) = warm.filter(|w| w.cables.len() == nc) {
+            let tens: Vec<f64> = w
+                .cables
+                .iter()
+                .map(|c| c.tension.filter(|t| t.is_finite()).unwrap_or(0.0))
+                .collect();
+            match w.report.base_wrench {
+                Some(bw) if bw.iter().all(|v| v.is_finite()) => {
                     for &c in length_cables {
                         slack[c] = w.cables[c].slack && tens[c] == 0.0;
                     }
@@ -68,9 +71,27 @@ impl Warm {
                         tens,
                     ));
                 }
+                // Another model's shape (energy, geometric): its cable tensions (the energy
+                // model's multipliers) start the length-controlled cables; the base wrench then
+                // follows from the global balance.
+                _ if w.cables.iter().any(|c| c.tension.is_some_and(|t| t > 0.0)) => {
+                    // Cables the other model leaves (numerically) slack start slack: a taut
+                    // cable at zero tension makes the inextensible rod's Jacobian singular.
+                    let top = tens.iter().fold(0.0f64, |a, &b| a.max(b));
+                    for &c in length_cables {
+                        slack[c] = tens[c] <= 1e-6 * top;
+                    }
+                    tensions = Some(tens);
+                }
+                _ => {}
             }
         }
-        Warm { x, jac, same }
+        Warm {
+            x,
+            tensions,
+            jac,
+            same,
+        }
     }
 
     /// The start `x0` of the first active-set round: the warm base wrench and tensions; with
@@ -79,6 +100,11 @@ impl Warm {
     /// Jacobian likewise). Cold: the global balance.
     pub(super) fn start(&mut self, prob: &Problem, setup: &Setup, x0: &mut DVector<f64>) {
         let Some((n0, m0s, tens)) = &self.x else {
+            if let Some(tens) = &self.tensions {
+                for (j, &c) in setup.unknown.iter().enumerate() {
+                    x0[6 + j] = tens[c];
+                }
+            }
             prob.balance_guess(x0, setup, 1.0);
             return;
         };
