@@ -179,6 +179,28 @@ pub fn solve_error(py: Python<'_>, e: &CoreSolveError) -> PyErr {
                 ..Default::default()
             },
         ),
+        // The inverse problems' kinds (reach, plan) are not bound yet; raised as the base
+        // class with the core's message as the reason.
+        CoreSolveError::Unreachable { distance, .. } => raise::<SolveError>(
+            py,
+            msg,
+            Attrs {
+                kind,
+                field: Some("tip".into()),
+                reason: format!("unreachable: closest tip {distance:.3e} m away"),
+                ..Default::default()
+            },
+        ),
+        CoreSolveError::NoPath { reason, .. } => raise::<SolveError>(
+            py,
+            msg,
+            Attrs {
+                kind,
+                field: Some("plan".into()),
+                reason,
+                ..Default::default()
+            },
+        ),
     }
 }
 
@@ -234,6 +256,14 @@ pub fn export_error(py: Python<'_>, e: &CoreExportError) -> PyErr {
         CoreExportError::Urdf { reason } => {
             raise::<ExportError>(py, msg, attrs(None, reason, None))
         }
+        CoreExportError::Input { field, reason } => raise::<InvalidInput>(
+            py,
+            msg,
+            Attrs {
+                kind: "invalid_input",
+                ..attrs(Some(field), reason, None)
+            },
+        ),
     }
 }
 
