@@ -21,4 +21,6 @@ cargo fmt --check --manifest-path python/Cargo.toml
 cargo build --release --bin ccrkit
 export CCRKIT_BIN="$CARGO_TARGET_DIR/release/ccrkit" CCRKIT_REQUIRE_CLI=1
 echo "== pytest python/tests"
-cd python && "$venv/bin/python" -m pytest -q -p no:cacheprovider tests
+# `pytest` (not `python -m pytest`, which puts the working directory first on sys.path, where
+# the source folder python/ccrkit without the built _native would shadow the installed package).
+cd python && "$venv/bin/pytest" -q -p no:cacheprovider tests

@@ -253,16 +253,17 @@ impl Model {
         let actuation = self.actuation(py, shorten, tension)?;
         let model = &self.inner;
         let solved = py.detach(|| {
-            if actuation == model.actuation {
-                request.run(model)
-            } else {
-                let mut m = model.clone();
-                m.actuation = actuation;
-                request.run(&m)
-            }
+            let mut m = model.clone();
+            m.actuation = actuation;
+            let solved = request.run(&m)?;
+            // The CLI's --json text: the same writer as `ccrkit solve --json`.
+            let json = serde_json::to_string_pretty(&request.json(&m, &solved.shape)).ok();
+            Ok::<_, ccrkit::SolveError>((solved, json))
         });
-        let solved = solved.map_err(|e| solve_error(py, &e))?;
-        Ok(Shape::new(solved.shape))
+        let (solved, json) = solved.map_err(|e| solve_error(py, &e))?;
+        let mut shape = Shape::new(solved.shape);
+        shape.json = json;
+        Ok(shape)
     }
 
     /// Write `shape` (solved on this model) as URDF to `path`, with the SRDF and the joint

@@ -10,11 +10,14 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 #[pyclass(frozen, module = "ccrkit._native", name = "Shape")]
 pub struct Shape {
     pub(crate) inner: ccrkit::Shape,
+    /// The CLI's `--json` text (with the model's name and the input that drove the solve),
+    /// when the shape came from `Model.solve`.
+    pub(crate) json: Option<String>,
 }
 
 impl Shape {
     pub fn new(inner: ccrkit::Shape) -> Self {
-        Shape { inner }
+        Shape { inner, json: None }
     }
 }
 
@@ -181,13 +184,15 @@ impl Shape {
 
     /// The command line's `--json` text for this shape (pretty-printed).
     fn to_json(&self) -> String {
-        self.inner.to_json_string()
+        self.json
+            .clone()
+            .unwrap_or_else(|| self.inner.to_json_string())
     }
 
     /// Pickling: through the JSON text (floats round-trip exactly).
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
         let restore = py.get_type::<Shape>().getattr("from_json")?;
-        let args = (self.inner.to_json_string(),).into_pyobject(py)?;
+        let args = (self.to_json(),).into_pyobject(py)?;
         PyTuple::new(py, [restore, args.into_any()])
     }
 
