@@ -87,7 +87,8 @@ pub fn settings_from(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Settings> {
             } else {
                 v.str()?.to_string()
             };
-            s.push(name, value);
+            // Python spells `sub-arcs` as the keyword `sub_arcs`: the registry's name.
+            s.push(name.replace('_', "-"), value);
         }
     }
     Ok(s)

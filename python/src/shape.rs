@@ -201,7 +201,10 @@ impl Shape {
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Shape> {
         let shape =
             ccrkit::Shape::from_json_str(text).map_err(|e| crate::errors::model_error(py, &e))?;
-        Ok(Shape::new(shape))
+        let mut shape = Shape::new(shape);
+        // The text read is the shape's JSON (the pickled one included): keep it verbatim.
+        shape.json = Some(text.to_string());
+        Ok(shape)
     }
 
     fn __repr__(&self) -> String {
