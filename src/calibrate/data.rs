@@ -86,10 +86,7 @@ impl Dataset {
     /// Read a CSV file.
     pub fn from_file(path: impl AsRef<Path>, opts: &DataOptions) -> Result<Dataset, ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
+        let text = crate::model::read::read_text(path, "data CSV")?;
         Self::from_csv_str(&text, &path.display().to_string(), opts)
     }
 

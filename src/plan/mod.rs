@@ -240,10 +240,7 @@ pub fn actuation_of(model: &Model, act: &Actuation) -> Vec<f64> {
 /// `ccrkit plan --json` write).
 pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>, ModelError> {
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-        path: p.clone(),
-        reason: e.to_string(),
-    })?;
+    let text = crate::model::read::read_text(path, "actuation file")?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| ModelError::Parse {
         path: p.clone(),
         reason: e.to_string(),

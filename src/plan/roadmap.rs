@@ -248,10 +248,7 @@ impl Roadmap {
     /// Read a roadmap file.
     pub fn load(path: &std::path::Path) -> Result<Roadmap, ModelError> {
         let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            path: p.clone(),
-            reason: e.to_string(),
-        })?;
+        let text = crate::model::read::read_text(path, "roadmap")?;
         let r: Roadmap = serde_json::from_str(&text).map_err(|e| ModelError::Parse {
             path: p.clone(),
             reason: e.to_string(),

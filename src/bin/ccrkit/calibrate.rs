@@ -43,8 +43,7 @@ pub struct CalibrateArgs {
 /// Run `ccrkit calibrate`.
 pub fn run(a: CalibrateArgs) -> Result<()> {
     let unit = unit_scale(&a.unit)?;
-    let text = std::fs::read_to_string(&a.file)
-        .with_context(|| format!("reading {}", a.file.display()))?;
+    let text = ccrkit::model::read::read_text(&a.file, "model file")?;
     let model = Model::from_file(&a.file)?;
     let data = Dataset::from_file(
         &a.data,

@@ -118,6 +118,6 @@ pub fn run(a: ViewArgs) -> Result<()> {
     Ok(())
 }
 
-fn read(p: &PathBuf) -> Result<String> {
-    std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))
+fn read(p: &std::path::Path) -> Result<String> {
+    Ok(ccrkit::model::read::read_text(p, "plan or sweep file")?)
 }
