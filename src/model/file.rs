@@ -105,6 +105,43 @@ struct FileCable {
     shorten: Option<f64>,
     shorten_percent: Option<f64>,
     tension: Option<f64>,
+    /// Axial stiffness of cable and actuator \[N/m\] (absent: inextensible).
+    stiffness: Option<f64>,
+    /// Pretension \[N\] (needs `stiffness`).
+    pretension: Option<f64>,
+}
+
+/// A cable's `stiffness` and `pretension`, checked (`f` names a field of this cable; the
+/// pretension's stretch must stay below the cable's undeformed length `len`).
+fn compliance(
+    fc: &FileCable,
+    f: &dyn Fn(&str) -> String,
+    len: f64,
+) -> Result<(Option<f64>, f64), ModelError> {
+    let k = fc
+        .stiffness
+        .map(|k| bounds::CABLE_STIFFNESS.check(&f("stiffness"), k))
+        .transpose()?;
+    let t0 = match (fc.pretension, k) {
+        (None, _) => 0.0,
+        (Some(_), None) => {
+            return Err(ModelError::invalid(
+                f("pretension"),
+                "a pretension needs the cable's `stiffness` (it is the tension of a cable tied stretched by pretension/stiffness)",
+            ))
+        }
+        (Some(t), Some(k)) => {
+            let t = bounds::TENSION.check(&f("pretension"), t)?;
+            if t / k >= len {
+                return Err(ModelError::invalid(
+                    f("pretension"),
+                    format!("stretches the cable by {:e} m, not less than its length {len:.6} m", t / k),
+                ));
+            }
+            t
+        }
+    };
+    Ok((k, t0))
 }
 
 fn finite(field: &str, v: f64) -> Result<f64, ModelError> {
@@ -356,12 +393,14 @@ impl FileModel {
                 }),
                 FileAngles::PerDisk(_) => None,
             };
-            let cable = Cable {
+            let mut cable = Cable {
                 name: fc.name.clone(),
                 ends_at,
                 radius,
                 angle,
                 helix,
+                stiffness: None,
+                pretension: 0.0,
             };
             // Undeformed chord length, to check an absolute shortening against.
             let chord_len: f64 = (1..=ends_at)
@@ -371,6 +410,7 @@ impl FileModel {
                     .norm()
                 })
                 .sum();
+            (cable.stiffness, cable.pretension) = compliance(fc, &f, chord_len)?;
             let shorten = match (fc.shorten, fc.shorten_percent) {
                 (Some(_), Some(_)) => {
                     return Err(ModelError::invalid(
