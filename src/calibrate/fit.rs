@@ -145,13 +145,17 @@ impl Fitter<'_> {
     fn eval(&mut self, x: &DVector<f64>, warm: Option<&[Option<Shape>]>) -> Option<Eval> {
         let m = self.model_at(x);
         self.passes += 1;
-        let out = self
-            .rows
-            .solve_all(&m, &self.commands, warm, &ProgressBar::hidden());
+        let out = self.rows.solve_all(
+            &m,
+            &self.commands,
+            warm,
+            &ProgressBar::hidden(),
+            &|_, r, _| r.ok().cloned(),
+        );
         let mut shapes = Vec::with_capacity(out.len());
         let mut sim = Vec::with_capacity(out.len());
-        for (r, _) in out {
-            let s = r.ok()?;
+        for r in out {
+            let s = r?;
             sim.push(m.hardware.measured_tip(&s));
             shapes.push(Some(s));
         }
@@ -220,8 +224,14 @@ pub fn calibrate(
     }
     let rows = Rows::new(model, data, &opts.predict)?;
     // Rows that do not solve at the start are left out (and counted).
-    let first = rows.solve_all(model, &data.commands, None, &ProgressBar::hidden());
-    let used: Vec<usize> = (0..first.len()).filter(|&i| first[i].0.is_ok()).collect();
+    let first = rows.solve_all(
+        model,
+        &data.commands,
+        None,
+        &ProgressBar::hidden(),
+        &|_, r, _| r.is_ok(),
+    );
+    let used: Vec<usize> = (0..first.len()).filter(|&i| first[i]).collect();
     if used.len() < params.len() + 2 {
         return Err(SolveError::InvalidInput {
             field: "data".into(),
