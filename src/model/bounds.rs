@@ -24,7 +24,7 @@ pub struct Range {
 impl Range {
     /// `v` when it is finite and inside the range, else an error naming `field`.
     pub fn check(&self, field: &str, v: f64) -> Result<f64, ModelError> {
-        if v.is_finite() && v >= self.lo && v <= self.hi {
+        if self.accepts(v) {
             Ok(v)
         } else {
             Err(ModelError::invalid(
@@ -37,10 +37,18 @@ impl Range {
         }
     }
 
+    /// True when `v` is finite and inside the range.
+    pub fn accepts(&self, v: f64) -> bool {
+        v.is_finite() && v >= self.lo && v <= self.hi
+    }
+
     /// Each component of `v` checked against the range (`field[k]` in the error).
     pub fn check3(&self, field: &str, v: [f64; 3]) -> Result<[f64; 3], ModelError> {
         for (k, x) in v.iter().enumerate() {
-            self.check(&format!("{field}[{k}]"), *x)?;
+            // The field name is formatted only for the error (scenes check thousands).
+            if !self.accepts(*x) {
+                self.check(&format!("{field}[{k}]"), *x)?;
+            }
         }
         Ok(v)
     }

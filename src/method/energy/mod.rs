@@ -119,9 +119,11 @@
 //!
 //! Distance constraints for backbone sub-arcs, disks and cable chords, with exact gradients
 //! in the strains (derivation in `energy/contacts.rs`); the multiplier of a contact is its normal
-//! reaction \[N\] (energy J over distance m). A step never moves any point of the robot farther
-//! than its distance to the obstacles (or half the pair margin when closer), so no feature
-//! passes through an obstacle between iterates — distances to open meshes are unsigned. A
+//! reaction \[N\] (energy J over distance m). No feature passes through an obstacle between
+//! iterates — distances to open meshes are unsigned: a step is taken when no point moves
+//! farther than the robot's distance to the obstacles (or half the pair margin when closer),
+//! or when every feature–obstacle pair passes the distance and separating-plane tests of
+//! `energy/step_guard.rs` (which let a feature in contact slide along a convex obstacle). A
 //! start that already crosses an obstacle (the straight robot through a bent tube) ends in
 //! [`SolveError::Obstructed`] naming the obstacle; start from a clear shape instead. A base
 //! disk inside an obstacle is `Obstructed` at section 0.
@@ -145,6 +147,7 @@ mod lengths;
 mod newton;
 mod problem;
 mod sensitivity;
+mod step_guard;
 
 pub use kinematics::GL_NODES;
 
