@@ -10,7 +10,7 @@ use super::Energy;
 use crate::error::SolveError;
 use crate::method::contact::check_base;
 use crate::method::Method;
-use crate::model::actuation::{Actuation, Drive, Input, LengthMeasure};
+use crate::model::actuation::{Actuation, Drive, LengthMeasure};
 use crate::model::robot::Robot;
 use crate::model::routing::Route;
 use crate::model::scene::Scene;
@@ -233,12 +233,7 @@ impl Energy {
         // Undeformed lengths in the chosen measure (straight backbone, ξ = 0).
         let mut len0 = vec![0.0; nc];
         prob.lengths(&vec![0.0; 4 * nsub], &mut len0);
-        let drives = act.drives(
-            robot,
-            self.name(),
-            &[Input::Shortening, Input::Tension],
-            self.control,
-        )?;
+        let drives = self.kind().drives(robot, act, self.control)?;
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.targets[c] = match drives[c] {
                 Drive::Shorten { length: d, .. } => {

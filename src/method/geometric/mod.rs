@@ -168,7 +168,7 @@ impl Method for Geometric {
             "cable segment length after actuation = (1 - shortening) x undeformed straight chord between holes".to_string(),
         ];
         // Displacement fraction per cable (None: free).
-        let drives = act.drives(robot, self.name(), &[Input::Shortening], Input::Shortening)?;
+        let drives = self.kind().drives(robot, act, Input::Shortening)?;
         let frac: Vec<Option<f64>> = drives
             .iter()
             .map(|d| match d {
