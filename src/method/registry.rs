@@ -58,6 +58,8 @@ pub struct MethodInfo {
     pub obstacles: bool,
     /// Which loads it models.
     pub loads: LoadSupport,
+    /// Whether it models compliant cables (`stiffness`, `pretension` of a cable).
+    pub cable_compliance: bool,
     /// Settings it takes (by name).
     pub settings: &'static [SettingInfo],
     /// Unit of its contact multipliers (`N` where they are reactions, `rad/m` for the
@@ -192,6 +194,7 @@ const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> Met
             tip_force: true,
             tip_moment: true,
         },
+        cable_compliance: false,
         settings: ROD_SETTINGS,
         contact_unit: "",
         resolutions: ROD_RESOLUTIONS,
@@ -207,6 +210,7 @@ const INFO: [MethodInfo; 6] = [
         default_input: Input::Shortening,
         obstacles: true,
         loads: NO_LOADS,
+        cable_compliance: false,
         settings: GEOMETRIC_SETTINGS,
         contact_unit: "rad/m",
         resolutions: DEFAULT_RESOLUTION,
@@ -219,6 +223,7 @@ const INFO: [MethodInfo; 6] = [
         default_input: Input::Shortening,
         obstacles: true,
         loads: NO_LOADS,
+        cable_compliance: false,
         settings: GEOMETRIC_SETTINGS,
         contact_unit: "rad²/m",
         resolutions: DEFAULT_RESOLUTION,
@@ -235,6 +240,7 @@ const INFO: [MethodInfo; 6] = [
             tip_force: true,
             tip_moment: false,
         },
+        cable_compliance: true,
         settings: ENERGY_SETTINGS,
         contact_unit: "N",
         resolutions: DEFAULT_RESOLUTION,
@@ -257,6 +263,7 @@ const INFO: [MethodInfo; 6] = [
         default_input: Input::Shortening,
         obstacles: false,
         loads: NO_LOADS,
+        cable_compliance: false,
         settings: CC_SETTINGS,
         contact_unit: "",
         resolutions: &[
@@ -424,6 +431,26 @@ impl MethodKind {
                     .collect();
                 return refuse(format!(
                     "the model's `{name}` is not modelled by {} (it would be ignored); use {}",
+                    info.name,
+                    by.join(" or ")
+                ));
+            }
+        }
+        if !info.cable_compliance {
+            if let Some(c) = robot
+                .cables
+                .iter()
+                .find(|c| c.stiffness.is_some() || c.pretension > 0.0)
+            {
+                let by: Vec<&str> = Self::ALL
+                    .iter()
+                    .filter(|k| k.info().cable_compliance)
+                    .map(|k| k.name())
+                    .collect();
+                return refuse(format!(
+                    "cable `{}` has a `stiffness` (compliant cable), which {} does not model \
+                     (its cables are inextensible); use {}, or drop the stiffness",
+                    c.name,
                     info.name,
                     by.join(" or ")
                 ));

@@ -82,6 +82,8 @@ pub const TIP_FORCE: Range = range(-1e6, 1e6, "N");
 pub const TIP_MOMENT: Range = range(-1e5, 1e5, "N m");
 /// Cable tension: 0 to 1 MN (cables pull, they do not push).
 pub const TENSION: Range = range(0.0, 1e6, "N");
+/// Axial stiffness of a cable in series with its actuator: 1 mN/m to 1 TN/m.
+pub const CABLE_STIFFNESS: Range = range(1e-3, 1e12, "N/m");
 /// A hole angle (unwrapped): |a| up to 10⁵ rad (covers 10 000 disks turning 2π each).
 pub const ANGLE: Range = range(-1e5, 1e5, "rad");
 /// A helix's turn per disk: at most one full turn either way.

@@ -105,6 +105,53 @@ struct FileCable {
     shorten: Option<f64>,
     shorten_percent: Option<f64>,
     tension: Option<f64>,
+    /// Axial stiffness of cable and actuator \[N/m\] (absent: inextensible).
+    stiffness: Option<f64>,
+    /// Pretension \[N\] (needs `stiffness`).
+    pretension: Option<f64>,
+}
+
+/// Undeformed straight-chord length of `cable` through disks at arc lengths `disk_s` \[m\].
+fn chord_length(cable: &Cable, disk_s: &[f64]) -> f64 {
+    (1..=cable.ends_at)
+        .map(|i| {
+            (cable.hole(i) - cable.hole(i - 1) + Vector3::new(0.0, 0.0, disk_s[i] - disk_s[i - 1]))
+                .norm()
+        })
+        .sum()
+}
+
+/// A cable's `stiffness` and `pretension`, checked (`f` names a field of this cable; the
+/// pretension's stretch must stay below the cable's undeformed length `len`).
+fn compliance(
+    fc: &FileCable,
+    f: &dyn Fn(&str) -> String,
+    len: f64,
+) -> Result<(Option<f64>, f64), ModelError> {
+    let k = fc
+        .stiffness
+        .map(|k| bounds::CABLE_STIFFNESS.check(&f("stiffness"), k))
+        .transpose()?;
+    let t0 = match (fc.pretension, k) {
+        (None, _) => 0.0,
+        (Some(_), None) => {
+            return Err(ModelError::invalid(
+                f("pretension"),
+                "a pretension needs the cable's `stiffness` (it is the tension of a cable tied stretched by pretension/stiffness)",
+            ))
+        }
+        (Some(t), Some(k)) => {
+            let t = bounds::TENSION.check(&f("pretension"), t)?;
+            if t / k >= len {
+                return Err(ModelError::invalid(
+                    f("pretension"),
+                    format!("stretches the cable by {:e} m, not less than its length {len:.6} m", t / k),
+                ));
+            }
+            t
+        }
+    };
+    Ok((k, t0))
 }
 
 fn finite(field: &str, v: f64) -> Result<f64, ModelError> {
@@ -363,7 +410,7 @@ impl FileCable {
                 ))
             }
         };
-        Ok(Cable {
+        let mut cable = Cable {
             name: self.name.clone(),
             ends_at,
             radius: self.radii(ci, ends_at, disk_radius, backbone)?,
@@ -379,7 +426,11 @@ impl FileCable {
                 }),
                 FileAngles::PerDisk(_) => None,
             },
-        })
+            stiffness: None,
+            pretension: 0.0,
+        };
+        (cable.stiffness, cable.pretension) = compliance(self, &f, chord_length(&cable, disk_s))?;
+        Ok(cable)
     }
 
     /// One hole radius per disk `0..=ends_at`, each between the backbone and the disk rim.
@@ -476,13 +527,7 @@ impl FileCable {
             (Some(d), None) => {
                 finite(&f("shorten"), d)?;
                 // Undeformed chord length, to check an absolute shortening against.
-                let chord_len: f64 = (1..=cable.ends_at)
-                    .map(|i| {
-                        (cable.hole(i) - cable.hole(i - 1)
-                            + Vector3::new(0.0, 0.0, disk_s[i] - disk_s[i - 1]))
-                        .norm()
-                    })
-                    .sum();
+                let chord_len = chord_length(cable, disk_s);
                 if d >= chord_len {
                     return Err(ModelError::invalid(
                         f("shorten"),

@@ -135,14 +135,14 @@ pub(super) fn kinematics(xi: &[f64], ell: &[f64], integrals: bool) -> Kin {
 
 /// The obstacles that can matter for this robot, and its feature sizes.
 pub(super) struct World<'a> {
-    scene: &'a Scene,
-    robot: &'a Robot,
+    pub(super) scene: &'a Scene,
+    pub(super) robot: &'a Robot,
     /// Scene indices kept by the robot-level broad phase.
-    near: Vec<usize>,
+    pub(super) near: Vec<usize>,
     /// Pairs farther apart than this are left out of the step \[m\].
-    margin: f64,
+    pub(super) margin: f64,
     /// Sub-arcs per section.
-    m: usize,
+    pub(super) m: usize,
 }
 
 impl<'a> World<'a> {

@@ -34,6 +34,21 @@
 //! multiplier is the energy released per metre of cable paid out: the cable tension \[N\]
 //! (reported in `cables[c].tension`).
 //!
+//! # Compliant cables
+//!
+//! A cable with a `stiffness` `k` (cable and actuator in series, [`crate::model::robot::Cable`])
+//! stretches by `T/k` under tension `T`: the commanded shortening is taken up by the path change
+//! plus the stretch, so its constraint becomes `L_c(ξ) − t_c − λ_c/k_c ≤ 0 ⊥ λ_c ≥ 0` with the
+//! unstretched target `t_c = L_c⁰ − δ_c − T₀_c/k_c` (`T₀` the pretension: the cable was tied
+//! stretched by `T₀/k`). It is the stabilized (elastic) constraint of a spring: eliminating
+//! `λ = k (L − t)₊` gives the potential `½ k (L − t)₊²` (used in the merit). In the step's dual
+//! QP, `1/k` adds to the diagonal (a primal stretch variable costing `½ k s²`); the tip
+//! Jacobian's KKT system gets `−1/k` on the same diagonal (`energy/sensitivity.rs`). `k → ∞`
+//! is the inextensible cable. Cross-checks in `tests/compliance.rs`: the series-spring relation
+//! (a compliant solve equals an inextensible one at the effective shortening `δ − T/k`), the
+//! closed-form pretension of three symmetric cables, and the Jacobian against central
+//! differences.
+//!
 //! Cable length, [`LengthMeasure`]:
 //! * **Path** (default, the rod's measure): the cable runs at `p(s) + R(s) r(s)` with `r(s)` the
 //!   C² routing curve of [`crate::model::routing`]. In the body frame its tangent is
@@ -104,9 +119,11 @@
 //!
 //! Distance constraints for backbone sub-arcs, disks and cable chords, with exact gradients
 //! in the strains (derivation in `energy/contacts.rs`); the multiplier of a contact is its normal
-//! reaction \[N\] (energy J over distance m). A step never moves any point of the robot farther
-//! than its distance to the obstacles (or half the pair margin when closer), so no feature
-//! passes through an obstacle between iterates — distances to open meshes are unsigned. A
+//! reaction \[N\] (energy J over distance m). No feature passes through an obstacle between
+//! iterates — distances to open meshes are unsigned: a step is taken when no point moves
+//! farther than the robot's distance to the obstacles (or half the pair margin when closer),
+//! or when every feature–obstacle pair passes the distance and separating-plane tests of
+//! `energy/step_guard.rs` (which let a feature in contact slide along a convex obstacle). A
 //! start that already crosses an obstacle (the straight robot through a bent tube) ends in
 //! [`SolveError::Obstructed`] naming the obstacle; start from a clear shape instead. A base
 //! disk inside an obstacle is `Obstructed` at section 0.
@@ -130,6 +147,7 @@ mod lengths;
 mod newton;
 mod problem;
 mod sensitivity;
+mod step_guard;
 
 pub use kinematics::GL_NODES;
 

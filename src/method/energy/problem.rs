@@ -45,6 +45,8 @@ pub(super) struct Problem<'a> {
     /// Gauss samples `[c][j][q]` (path measure; empty for sub-arcs the cable does not reach).
     pub(super) nodes: Vec<Vec<[Node; GL_NODES]>>,
     pub(super) targets: Vec<Target>,
+    /// Compliance `1/k` of each cable \[m/N\] (0: inextensible).
+    pub(super) compliance: Vec<f64>,
     /// Block size (4 for paths, 4m for chords) and count.
     pub(super) nb: usize,
     pub(super) nblocks: usize,
@@ -67,16 +69,45 @@ impl Problem<'_> {
         j / self.m + 1
     }
 
-    /// The cable length constraint of displacement-driven cable `c` at path length `len`:
-    /// `L_c − (L_c⁰ − δ_c)` \[m\], ≤ 0 when satisfied (0 when the cable is taut). The one
-    /// place that says what a cable's length must be (the residual, the step's QP row and
-    /// the merit all read it): a cable model with axial compliance changes it here.
+    /// The cable length constraint of displacement-driven cable `c` at path length `len` and
+    /// tension `lam`: `L_c − t_c − λ_c/k_c` \[m\], ≤ 0 when satisfied (0 when the cable is
+    /// taut), with the unstretched target `t_c = L_c⁰ − δ_c − T₀_c/k_c` (module docs of
+    /// [`super`], "Compliant cables"). The one place that says what a cable's length must be:
+    /// the residual reads it with the iterate's tension; the step's QP row reads the rigid part
+    /// (`lam = 0`) and puts `1/k` on its dual diagonal ([`Problem::compliance`]); the merit
+    /// counts a compliant cable as the spring potential [`Problem::spring_energy`].
     #[inline]
-    pub(super) fn cable_gap(&self, c: usize, len: f64) -> f64 {
+    pub(super) fn cable_gap(&self, c: usize, len: f64, lam: f64) -> f64 {
         match self.targets[c] {
-            Target::Length(t) => len - t,
+            Target::Length(t) => len - t - lam * self.compliance[c],
             _ => len,
         }
+    }
+
+    /// Whether cable `c` is a displacement-driven compliant cable (a spring, not a constraint,
+    /// in the merit).
+    #[inline]
+    pub(super) fn is_spring(&self, c: usize) -> bool {
+        self.compliance[c] > 0.0 && matches!(self.targets[c], Target::Length(_))
+    }
+
+    /// Tension of compliant cable `c` at path length `len`, `k (L − t)₊` \[N\] (0 for others).
+    #[inline]
+    pub(super) fn spring_tension(&self, c: usize, len: f64) -> f64 {
+        if self.is_spring(c) {
+            self.cable_gap(c, len, 0.0).max(0.0) / self.compliance[c]
+        } else {
+            0.0
+        }
+    }
+
+    /// Potential of the compliant cables, `Σ ½ k (L − t)₊²` \[J\]: eliminating the tension from
+    /// `L − t − λ/k ≤ 0 ⊥ λ ≥ 0` gives `λ = k (L − t)₊`, the force of this potential.
+    pub(super) fn spring_energy(&self, len: &[f64]) -> f64 {
+        (0..len.len())
+            .filter(|&c| self.is_spring(c))
+            .map(|c| 0.5 * self.spring_tension(c, len[c]) * self.cable_gap(c, len[c], 0.0).max(0.0))
+            .sum()
     }
 
     pub(super) fn energy(&self, xi: &[f64]) -> f64 {
@@ -216,6 +247,7 @@ impl Energy {
             k,
             nodes,
             targets: vec![Target::Free; nc],
+            compliance: robot.cables.iter().map(|c| c.compliance()).collect(),
             nb,
             nblocks,
             stat_scale: rbar / (ei * lmin),
@@ -237,14 +269,15 @@ impl Energy {
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.targets[c] = match drives[c] {
                 Drive::Shorten { length: d, .. } => {
-                    let target = len0[c] - d;
+                    let target = len0[c] - d - cable.pretension_stretch();
                     if target <= 0.0 {
                         return Err(SolveError::Infeasible {
                             cable: cable.name.clone(),
                             section: cable.ends_at,
                             reason: format!(
-                                "shortening {d:.6} m is not less than the cable's undeformed \
-                                 length {:.6} m",
+                                "shortening {d:.6} m (plus the pretension's stretch {:.3e} m) \
+                                 is not less than the cable's undeformed length {:.6} m",
+                                cable.pretension_stretch(),
                                 len0[c]
                             ),
                         });
