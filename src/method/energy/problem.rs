@@ -7,8 +7,8 @@ use super::contacts::{Kin, World};
 use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use super::lengths::Node;
 use super::Energy;
+use crate::contact::broad;
 use crate::error::SolveError;
-use crate::method::contact::check_base;
 use crate::method::Method;
 use crate::model::actuation::{Actuation, Drive, LengthMeasure};
 use crate::model::robot::Robot;
@@ -256,10 +256,7 @@ impl Energy {
         };
         prob.frame_forces = self.dead_loads(robot, &prob.ell)?;
         if !scene.is_empty() {
-            // Broad phase, robot level: only obstacles within reach of the base take part.
-            let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
-            let near = scene.near(&Vector3::zeros(), reach);
-            check_base(robot, scene, &near)?;
+            let near = broad::robot_obstacles(robot, scene)?;
             prob.world = World::new(robot, scene, near, m);
         }
         // Undeformed lengths in the chosen measure (straight backbone, ξ = 0).
