@@ -13,7 +13,7 @@ use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT,
     SolverStatus, SupportedConeT, ZeroConeT,
 };
-use nalgebra::{DMatrix, Matrix6, SymmetricEigen, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix6, SymmetricEigen, Vector3, Vector6};
 
 /// Solution of [`qp_step6`].
 #[derive(Debug, Clone)]
@@ -99,11 +99,55 @@ pub fn qp_step6(
     })
 }
 
-/// Solve the dense QP `min ½ xᵀ H x + gᵀ x  s.t.  E x = e,  G x ≤ h` of any (small) size with
-/// clarabel; `H` must be symmetric positive semidefinite (only its upper triangle is read).
+/// Solve the dense QP `min ½ xᵀ H x + gᵀ x  s.t.  E x = e,  G x ≤ h` of any (small) size;
+/// `H` must be symmetric positive semidefinite (only its upper triangle is read).
 /// `None` when clarabel reports anything but (almost) solved — an infeasible QP included.
 /// Used by the inverse problems ([`crate::reach`]) whose unknowns are the cable inputs.
+///
+/// First the equality-constrained minimizer is found from its KKT system
+/// `[H Eᵀ; E 0] [x; y] = [−g; e]` ([`eq_qp`]); when it keeps every inequality it is the QP's
+/// minimizer (a convex problem whose KKT conditions hold with zero inequality multipliers,
+/// Nocedal & Wright, *Numerical Optimization*, 2nd ed., Thm 16.4), exact to rounding and
+/// ~100× cheaper than an interior-point solve. Otherwise (or when that KKT matrix is singular)
+/// clarabel solves the whole QP.
 pub fn qp_dense(
+    h: &DMatrix<f64>,
+    g: &[f64],
+    eq: (&DMatrix<f64>, &[f64]),
+    ineq: (&DMatrix<f64>, &[f64]),
+) -> Option<Vec<f64>> {
+    if let Some(x) = eq_qp(h, g, eq) {
+        let keeps = (0..ineq.0.nrows()).all(|i| {
+            let gx: f64 = (0..x.len()).map(|j| ineq.0[(i, j)] * x[j]).sum();
+            gx <= ineq.1[i]
+        });
+        if keeps {
+            return Some(x);
+        }
+    }
+    qp_clarabel(h, g, eq, ineq)
+}
+
+/// The minimizer of `½ xᵀ H x + gᵀ x` subject to `E x = e` only, from the KKT system (LU with
+/// full pivoting; `H` read from its upper triangle). `None` when the KKT matrix is singular
+/// (`H` not positive definite on the null space of `E`, or `E` without full row rank) or the
+/// answer is not finite.
+pub fn eq_qp(h: &DMatrix<f64>, g: &[f64], eq: (&DMatrix<f64>, &[f64])) -> Option<Vec<f64>> {
+    let (n, me) = (g.len(), eq.0.nrows());
+    let kkt = DMatrix::from_fn(n + me, n + me, |i, j| match (i < n, j < n) {
+        (true, true) => h[(i.min(j), i.max(j))],
+        (true, false) => eq.0[(j - n, i)],
+        (false, true) => eq.0[(i - n, j)],
+        (false, false) => 0.0,
+    });
+    let rhs = DVector::from_iterator(n + me, g.iter().map(|v| -v).chain(eq.1.iter().copied()));
+    let sol = kkt.full_piv_lu().solve(&rhs)?;
+    let x: Vec<f64> = sol.iter().take(n).copied().collect();
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// [`qp_dense`] by clarabel alone.
+fn qp_clarabel(
     h: &DMatrix<f64>,
     g: &[f64],
     eq: (&DMatrix<f64>, &[f64]),
@@ -364,6 +408,31 @@ mod tests {
             (x[0] - 0.2).abs() < 1e-9 && (x[1] - 0.8).abs() < 1e-9,
             "{x:?}"
         );
+    }
+
+    /// The fast path (inequalities inactive) and clarabel agree, and both match the closed
+    /// form: min ½ xᵀ diag(1, 2, 4) x − (1, 1, 1)ᵀ x s.t. x₀ + x₁ + x₂ = 1, x₀ ≤ 10 has
+    /// x_i = (1 + y)/h_i with y from Σ x_i = 1: (1 + y) · 1.75 = 1.
+    #[test]
+    fn inactive_inequalities_take_the_kkt_solve() {
+        let h = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 2.0, 4.0]));
+        let e = DMatrix::from_row_slice(1, 3, &[1.0, 1.0, 1.0]);
+        let gi = DMatrix::from_row_slice(1, 3, &[1.0, 0.0, 0.0]);
+        let g = [-1.0, -1.0, -1.0];
+        let fast = qp_dense(&h, &g, (&e, &[1.0]), (&gi, &[10.0])).unwrap();
+        let ipm = qp_clarabel(&h, &g, (&e, &[1.0]), (&gi, &[10.0])).unwrap();
+        let c = 1.0 / 1.75;
+        for (i, hi) in [1.0, 2.0, 4.0].iter().enumerate() {
+            assert!((fast[i] - c / hi).abs() < 1e-15, "{fast:?}");
+            assert!((ipm[i] - c / hi).abs() < 1e-8, "{ipm:?}");
+        }
+        // A singular KKT system (H = 0 with no equalities) is left to clarabel.
+        assert!(eq_qp(
+            &DMatrix::zeros(2, 2),
+            &[1.0, 0.0],
+            (&DMatrix::zeros(0, 2), &[])
+        )
+        .is_none());
     }
 
     /// The active set's answer satisfies the KKT conditions of `min ½ λᵀSλ − qᵀλ, λ ≥ 0`:

@@ -23,11 +23,13 @@
 //!   obstacles): Levenberg–Marquardt `min ½|J δ + r|² + ½ μ |δ|²` under the same bounds
 //!   and clearance rows: it ends at the closest reachable tip.
 //!
-//! Both QPs are solved by clarabel ([`crate::numeric::qp::qp_dense`]). Steps are
+//! Both QPs are solved by [`crate::numeric::qp::qp_dense`] (closed form when no inequality
+//! binds, else clarabel). Steps are
 //! backtracked on the exact ℓ1 merit `E(u) + ν (|r| + max(0, margin − d))`, ν = [`MERIT_NU`]
 //! m (above the multipliers: with shortenings of centimetres and tip gains of order one,
 //! the price of the target in effort is ~1e-2 m). Several deterministic starts
-//! ([`ReachOptions::starts`]: the middle of the box, then a Kronecker sequence through it)
+//! ([`ReachOptions::starts`]: every cable pulled a quarter of its range, the middle of the box,
+//! then a Kronecker sequence through it)
 //! guard against local minima; the first that reaches wins.
 //!
 //! The answer is finally solved again exactly as `ccrkit solve` does (cold, through the one
@@ -241,6 +243,9 @@ struct Attempt {
     iterations: usize,
 }
 
+/// An accepted line-search point: actuation, shape, merit, residual, converged.
+type Trial = (Vec<f64>, Shape, f64, f64, bool);
+
 struct Ctx<'a> {
     space: &'a Space,
     target: &'a Target,
@@ -335,6 +340,37 @@ impl Ctx<'_> {
         Ok(qp_dense(&h, &g, (&none, &[]), (&gm, &rhs)))
     }
 
+    /// Backtracking line search along `du` from `(u, shape)` with merit `phi`: the first
+    /// `u + α du` (α = 1, ½, … > 1e-4) that lowers the merit, with its shape, merit, residual
+    /// and whether it converged (moved < 1e-13, or on target and no longer gaining).
+    fn line_search(&mut self, u: &[f64], shape: &Shape, phi: f64, du: &[f64]) -> Option<Trial> {
+        let mut alpha = 1.0;
+        while alpha > 1e-4 {
+            let un: Vec<f64> = self.space.clamp(
+                &u.iter()
+                    .zip(du)
+                    .map(|(a, b)| a + alpha * b)
+                    .collect::<Vec<_>>(),
+            );
+            self.solves += 1;
+            if let Ok(sn) = self.space.solve(&un, Some(shape)) {
+                let (pn, rn) = self.merit(&un, &sn);
+                if pn < phi {
+                    let moved = un
+                        .iter()
+                        .zip(u)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max);
+                    let done =
+                        moved < 1e-13 || (rn <= self.opts.tolerance * 1e-2 && phi - pn < 1e-16);
+                    return Some((un, sn, pn, rn, done));
+                }
+            }
+            alpha *= 0.5;
+        }
+        None
+    }
+
     fn descend(&mut self, u0: &[f64]) -> Result<Attempt, SolveError> {
         let mut u = self.space.clamp(u0);
         let mut shape = self.space.solve(&u, None)?;
@@ -346,36 +382,36 @@ impl Ctx<'_> {
             let Some(du) = self.step(&u, &shape)? else {
                 break;
             };
-            let mut alpha = 1.0;
-            let mut accepted = false;
-            while alpha > 1e-4 {
-                let un: Vec<f64> = self.space.clamp(
-                    &u.iter()
-                        .zip(&du)
-                        .map(|(a, b)| a + alpha * b)
-                        .collect::<Vec<_>>(),
-                );
-                self.solves += 1;
-                if let Ok(sn) = self.space.solve(&un, Some(&shape)) {
-                    let (pn, rn) = self.merit(&un, &sn);
-                    if pn < phi {
-                        let moved = un
-                            .iter()
-                            .zip(&u)
-                            .map(|(a, b)| (a - b).abs())
-                            .fold(0.0, f64::max);
-                        let gain = phi - pn;
-                        (u, shape, phi, res) = (un, sn, pn, rn);
-                        accepted = true;
-                        if moved < 1e-13 || (res <= self.opts.tolerance * 1e-2 && gain < 1e-16) {
-                            alpha = 0.0; // converged
-                        }
-                        break;
-                    }
-                }
-                alpha *= 0.5;
+            // A step this small moves nothing (converged, or stalled where every cable is
+            // slack and the tip does not depend on the inputs): no line search for it.
+            if du.iter().all(|d| d.abs() < 1e-13) {
+                break;
             }
-            if !accepted || alpha == 0.0 {
+            let mut trial = self.line_search(&u, &shape, phi, &du);
+            // A slack cable moves only to save effort (the tip does not depend on it), and a
+            // full such step can cross the point where it turns taut, which no shorter step of
+            // the line search avoids when the answer has it just taut: then the step without
+            // the slack cables' moves.
+            let slack: Vec<bool> = shape
+                .cables
+                .iter()
+                .map(|c| c.slack || c.tension == Some(0.0))
+                .collect();
+            if trial.is_none() && du.iter().zip(&slack).any(|(d, s)| *s && *d != 0.0) {
+                let taut: Vec<f64> = du
+                    .iter()
+                    .zip(&slack)
+                    .map(|(d, s)| if *s { 0.0 } else { *d })
+                    .collect();
+                if taut.iter().any(|d| d.abs() >= 1e-13) {
+                    trial = self.line_search(&u, &shape, phi, &taut);
+                }
+            }
+            let Some((un, sn, pn, rn, done)) = trial else {
+                break;
+            };
+            (u, shape, phi, res) = (un, sn, pn, rn);
+            if done {
                 break;
             }
         }
@@ -389,18 +425,30 @@ impl Ctx<'_> {
     }
 }
 
-/// Start `s` of the search: the middle of the box, then a Kronecker sequence through it.
+/// Start `s` of the search: a quarter of the way up each cable's pulling range, then the
+/// middle of the box, then a Kronecker sequence through it.
+///
+/// The first start pulls every cable (from `max(lo, 0)` a quarter towards `hi`): there every
+/// cable is taut and the tip Jacobian has full rank. The middle of the default limits
+/// (symmetric about zero) is the straight robot with every cable slack, where the tip does not
+/// depend on the inputs and no step leaves it.
 fn start(space: &Space, s: usize) -> Vec<f64> {
     (0..space.dim())
         .map(|c| {
-            let f = if s == 0 {
-                0.5
-            } else {
+            let (lo, hi) = (space.lo[c], space.hi[c]);
+            let f = match s {
+                0 => {
+                    let pull = lo.max(0.0).min(hi);
+                    return pull + 0.25 * (hi - pull);
+                }
+                1 => 0.5,
                 // Fractional parts of multiples of √(prime): equidistributed, deterministic.
-                let primes = [2.0f64, 3.0, 5.0, 7.0, 11.0, 13.0, 17.0, 19.0, 23.0, 29.0];
-                (s as f64 * primes[c % primes.len()].sqrt() + 0.5 * c as f64).fract()
+                _ => {
+                    let primes = [2.0f64, 3.0, 5.0, 7.0, 11.0, 13.0, 17.0, 19.0, 23.0, 29.0];
+                    ((s - 1) as f64 * primes[c % primes.len()].sqrt() + 0.5 * c as f64).fract()
+                }
             };
-            space.lo[c] + f * (space.hi[c] - space.lo[c])
+            lo + f * (hi - lo)
         })
         .collect()
 }

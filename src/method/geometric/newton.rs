@@ -5,7 +5,7 @@ use super::faces::{Candidate, Rejected, Step};
 use super::obstacles::Pair;
 use super::problem::{Pose, SectionData};
 use super::Geometric;
-use crate::method::contact::CONTACT_TOL;
+use crate::contact::CONTACT_TOL;
 use crate::numeric::ad::D2;
 use crate::numeric::kkt::{kkt_step, kkt_step6, multipliers};
 use crate::numeric::qp::qp_step6;
