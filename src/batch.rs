@@ -16,6 +16,7 @@ use crate::error::SolveError;
 use crate::method::run::SolveRequest;
 use crate::method::{solve_stepped, Method, MethodKind};
 use crate::model::actuation::{Actuation, CableDrive, Shortening};
+use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::shape::{DiskFrame, Shape};
@@ -318,20 +319,31 @@ pub fn solve_batch(
     }
     let method = request.prepare()?;
     let scene = request.scene_for(model);
-    let job = Job {
-        model,
+    let blocks = Blocks {
         method: &*method,
         scene: &scene,
-        inputs,
-        opts,
+        chunk: opts.chunk,
+        warm_start: opts.warm_start,
         steps: request.steps,
+        retry_cold: false,
     };
-    let starts: Vec<usize> = (0..inputs.rows).step_by(opts.chunk).collect();
+    let cables = inputs.cables;
     let run = || -> Vec<BatchRow> {
-        starts
-            .par_iter()
-            .flat_map_iter(|&start| job.block(start))
-            .collect()
+        blocks.run(
+            &model.robot,
+            inputs.rows,
+            &|r| inputs.actuation(r),
+            None,
+            &|_, out: &Solved| match &out.result {
+                Ok(s) => BatchRow::solved(s, opts.keep_disks),
+                Err(RowFailure::Error(e)) => {
+                    BatchRow::failed(RowStatus::of(e), e.to_string(), cables, Some(e))
+                }
+                Err(RowFailure::Panic(msg)) => {
+                    BatchRow::failed(RowStatus::Panicked, format!("panic: {msg}"), cables, None)
+                }
+            },
+        )
     };
     let rows = match opts.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
@@ -350,50 +362,109 @@ pub fn solve_batch(
     })
 }
 
-/// What every block shares.
-struct Job<'a> {
-    model: &'a Model,
-    method: &'a dyn Method,
-    scene: &'a Scene,
-    inputs: &'a BatchInputs,
-    opts: &'a BatchOptions,
-    steps: usize,
+/// Why a row of [`Blocks::run`] has no shape.
+#[derive(Debug)]
+pub(crate) enum RowFailure {
+    /// The method's error (of the last attempt).
+    Error(SolveError),
+    /// The method panicked (a bug in ccrkit), with the panic's message.
+    Panic(String),
 }
 
-impl Job<'_> {
-    /// Rows `start..start + chunk`, each warm-started from the last solved one.
-    fn block(&self, start: usize) -> Vec<BatchRow> {
-        let end = (start + self.opts.chunk).min(self.inputs.rows);
-        let cables = self.inputs.cables;
-        let mut last: Option<Shape> = None;
-        let mut out = Vec::with_capacity(end - start);
-        for r in start..end {
-            let act = self.inputs.actuation(r);
-            let robot = &self.model.robot;
-            let warm = last.as_ref().filter(|_| self.opts.warm_start);
-            let solved = catch_unwind(AssertUnwindSafe(|| match warm {
-                Some(w) => self.method.solve(robot, &act, self.scene, Some(w)),
-                None => solve_stepped(self.method, robot, &act, self.scene, self.steps),
-            }));
-            let row = match solved {
-                Ok(Ok(s)) => {
-                    let row = BatchRow::solved(&s, self.opts.keep_disks);
-                    last = Some(s);
-                    row
+/// One row as [`Blocks::run`] solved it.
+#[derive(Debug)]
+pub(crate) struct Solved {
+    /// The shape, or why there is none.
+    pub(crate) result: Result<Shape, RowFailure>,
+    /// Iterations of every attempt (a failed one counts when its error says).
+    pub(crate) iterations: usize,
+}
+
+/// The one block loop of every batch of solves (Python's `solve_batch`, hardware `predict`
+/// and the calibration's passes): rows cut into blocks of `chunk`, blocks in parallel
+/// (rayon), rows of a block in order, each started from the last solved row of its block.
+pub(crate) struct Blocks<'a> {
+    /// The prepared method.
+    pub(crate) method: &'a dyn Method,
+    /// The scene every row is solved in.
+    pub(crate) scene: &'a Scene,
+    /// Rows per block (≥ 1).
+    pub(crate) chunk: usize,
+    /// Start a row from the last solved row of its block.
+    pub(crate) warm_start: bool,
+    /// Continuation steps of a row that starts cold.
+    pub(crate) steps: usize,
+    /// Retry a row whose warm-started solve failed once more, cold.
+    pub(crate) retry_cold: bool,
+}
+
+impl Blocks<'_> {
+    /// Solve `rows` rows of `robot`, row `r` with actuation `act(r)`; `warm[r]`, when given,
+    /// starts row `r` instead of the previous row. `out(r, row)` turns each solved row into the
+    /// caller's result (rows in order).
+    pub(crate) fn run<T: Send>(
+        &self,
+        robot: &Robot,
+        rows: usize,
+        act: &(dyn Fn(usize) -> Actuation + Sync),
+        warm: Option<&[Option<Shape>]>,
+        out: &(dyn Fn(usize, &Solved) -> T + Sync),
+    ) -> Vec<T> {
+        let starts: Vec<usize> = (0..rows).step_by(self.chunk.max(1)).collect();
+        starts
+            .par_iter()
+            .flat_map_iter(|&start| {
+                let end = (start + self.chunk.max(1)).min(rows);
+                let mut last: Option<Shape> = None;
+                let mut block = Vec::with_capacity(end - start);
+                for r in start..end {
+                    let from = warm
+                        .and_then(|w| w.get(r).and_then(Option::as_ref))
+                        .or(last.as_ref().filter(|_| self.warm_start));
+                    let solved = self.row(robot, &act(r), from);
+                    block.push(out(r, &solved));
+                    if let Ok(s) = solved.result {
+                        last = Some(s);
+                    }
                 }
-                Ok(Err(e)) => BatchRow::failed(RowStatus::of(&e), e.to_string(), cables, Some(&e)),
-                Err(p) => {
-                    let msg = p
-                        .downcast_ref::<&str>()
-                        .map(|s| s.to_string())
-                        .or_else(|| p.downcast_ref::<String>().cloned())
-                        .unwrap_or_else(|| "unknown panic".into());
-                    BatchRow::failed(RowStatus::Panicked, format!("panic: {msg}"), cables, None)
-                }
-            };
-            out.push(row);
+                block
+            })
+            .collect()
+    }
+
+    /// One row from `warm` (cold with continuation steps when `None`), retried cold once when
+    /// asked; a panic of the method is caught and reported.
+    fn row(&self, robot: &Robot, act: &Actuation, warm: Option<&Shape>) -> Solved {
+        let attempt = |w: Option<&Shape>| match catch_unwind(AssertUnwindSafe(|| match w {
+            Some(w) => self.method.solve(robot, act, self.scene, Some(w)),
+            None => solve_stepped(self.method, robot, act, self.scene, self.steps),
+        })) {
+            Ok(Ok(s)) => (s.report.iterations, Ok(s)),
+            Ok(Err(e)) => (failed_iterations(&e), Err(RowFailure::Error(e))),
+            Err(p) => {
+                let msg = p
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| p.downcast_ref::<String>().cloned())
+                    .unwrap_or_else(|| "unknown panic".into());
+                (0, Err(RowFailure::Panic(msg)))
+            }
+        };
+        let (mut iterations, mut result) = attempt(warm);
+        if self.retry_cold && warm.is_some() && matches!(result, Err(RowFailure::Error(_))) {
+            let (it, r) = attempt(None);
+            iterations += it;
+            result = r;
         }
-        out
+        Solved { result, iterations }
+    }
+}
+
+/// Iterations a failed solve reports (0 when its error does not say).
+fn failed_iterations(e: &SolveError) -> usize {
+    match e {
+        SolveError::NotConverged { iterations, .. } => *iterations,
+        _ => 0,
     }
 }
 

@@ -14,6 +14,9 @@ use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
 use proptest::prelude::*;
 use std::path::PathBuf;
 
+#[path = "common/scenes.rs"]
+mod scenes;
+
 /// Deepest allowed penetration of any robot feature into any obstacle [m].
 const PENETRATION_TOL: f64 = 1e-6;
 /// Distance of a reported contact point from the surface it lies on [m].
@@ -323,14 +326,19 @@ radius = 0.01
 // ---- scene-file validation: one test per rule, each naming the field ----
 
 fn scene_err(name: &str, body: &str) -> String {
+    match Scene::from_file(scene_file(name, body)) {
+        Ok(_) => panic!("scene `{name}` was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// `body` written to a scene file of the test's own temporary folder.
+fn scene_file(name: &str, body: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ccrkit-obstacles-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join(format!("{name}.toml"));
     std::fs::write(&p, body).unwrap();
-    match Scene::from_file(&p) {
-        Ok(_) => panic!("scene `{name}` was accepted"),
-        Err(e) => e.to_string(),
-    }
+    p
 }
 
 fn assert_names(msg: &str, what: &str) {
@@ -715,4 +723,37 @@ proptest! {
             Err(e) => panic!("unexpected error kind: {e}"),
         }
     }
+}
+
+// ---- large scenes (issue 16 #5: 1000 obstacles parsed and prepared in milliseconds) ----
+
+#[test]
+fn a_generated_scene_of_1000_obstacles_is_read_whole_with_exact_bounds() {
+    let scene = Scene::from_file(scene_file("s1000", &scenes::scene_text(1000, 7))).unwrap();
+    assert_eq!(scene.obstacles.len(), 1000);
+    for (k, o) in scene.obstacles.iter().enumerate() {
+        assert_eq!(o.name, format!("o{k}"));
+        let c = o.pose.translation.vector;
+        // Every bound holds the obstacle's centre; a sphere's bound is centre ± radius.
+        assert!(
+            (0..3).all(|a| o.aabb.0[a] <= c[a] && c[a] <= o.aabb.1[a]),
+            "{}",
+            o.name
+        );
+        if let ccrkit::model::scene::ObstacleKind::Sphere { radius } = o.kind {
+            for a in 0..3 {
+                assert!((o.aabb.0[a] - (c[a] - radius)).abs() < 1e-12);
+                assert!((o.aabb.1[a] - (c[a] + radius)).abs() < 1e-12);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_repeated_name_after_1000_obstacles_is_named() {
+    let text = scenes::scene_text(1000, 7)
+        + "[[obstacles]]\nname = \"o3\"\nshape = \"sphere\"\nradius = 0.01\n";
+    let e = scene_err("dup1000", &text);
+    assert_names(&e, "obstacles[1000].name");
+    assert_names(&e, "o3");
 }

@@ -177,7 +177,6 @@ fn same_seed_same_path() {
 /// waypoints with the articulated export's joint names.
 #[test]
 fn cli_seed_and_trajectory() {
-    let bin = env!("CARGO_BIN_EXE_ccrkit");
     let dir = std::env::temp_dir().join(format!("ccrkit_plan_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let model_text = std::fs::read_to_string(format!("{ROOT}/models/paper/case1.toml")).unwrap();
@@ -197,29 +196,20 @@ fn cli_seed_and_trajectory() {
     };
     let (from, to) = (act(FROM, "from.json"), act(TO, "to.json"));
     let run = |k: usize| {
-        let out = std::process::Command::new(bin)
-            .args([
-                "plan".as_ref(),
-                file.as_os_str(),
-                "--from-actuation".as_ref(),
-                from.as_os_str(),
-                "--to-actuation".as_ref(),
-                to.as_os_str(),
-                "--seed".as_ref(),
-                "3".as_ref(),
-                "--json".as_ref(),
-                "-".as_ref(),
-                "--trajectory".as_ref(),
-                dir.join(format!("t{k}.csv")).as_os_str(),
-            ])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let j = common::ccrkit_json(&[
+            "plan".as_ref(),
+            file.as_os_str(),
+            "--from-actuation".as_ref(),
+            from.as_os_str(),
+            "--to-actuation".as_ref(),
+            to.as_os_str(),
+            "--seed".as_ref(),
+            "3".as_ref(),
+            "--json".as_ref(),
+            "-".as_ref(),
+            "--trajectory".as_ref(),
+            dir.join(format!("t{k}.csv")).as_os_str(),
+        ]);
         j["waypoints"]
             .as_array()
             .unwrap()

@@ -98,7 +98,6 @@ fn round_trip_three_cables_least_effort() {
 /// binary, gives the reported tip to 1e-9 m (with and without an obstacle scene).
 #[test]
 fn forward_check_through_the_binary() {
-    let bin = env!("CARGO_BIN_EXE_ccrkit");
     let dir = std::env::temp_dir().join(format!("ccrkit_reach_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let case1 = std::fs::read_to_string(format!("{ROOT}/models/paper/case1.toml")).unwrap();
@@ -111,19 +110,8 @@ fn forward_check_through_the_binary() {
             format!("--tip={},{},{}", target.x, target.y, target.z),
             "--json=-".into(),
         ];
-        if let Some(s) = &scene {
-            args.push(format!("--scene={s}"));
-        }
-        let out = std::process::Command::new(bin)
-            .args(&args)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        args.extend(scene.iter().map(|s| format!("--scene={s}")));
+        let j = common::ccrkit_json(&args);
         assert_eq!(j["reached"], true);
         let act = j["actuation"].as_array().unwrap();
         let (a, b) = (
@@ -142,19 +130,8 @@ fn forward_check_through_the_binary() {
             "--method=energy".into(),
             "--json=-".into(),
         ];
-        if let Some(s) = &scene {
-            solve.push(format!("--scene={s}"));
-        }
-        let out = std::process::Command::new(bin)
-            .args(&solve)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        solve.extend(scene.iter().map(|s| format!("--scene={s}")));
+        let s = common::ccrkit_json(&solve);
         let tip = s["disks"].as_array().unwrap().last().unwrap()["position"].clone();
         for k in 0..3 {
             let d = tip[k].as_f64().unwrap() - j["tip"][k].as_f64().unwrap();

@@ -12,6 +12,10 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+#[path = "common/urdf_scripts.rs"]
+mod urdf_scripts;
+use urdf_scripts::python;
+
 /// Largest accepted disk position error of the exported chain [m].
 const POSITION_TOL: f64 = 1e-9;
 /// Largest accepted disk rotation error of the exported chain [rad].
@@ -463,11 +467,6 @@ fn missing_check_urdf() -> Option<String> {
     }
 }
 
-/// The Python interpreter: `$PYTHON`, else `python3` (as in `.ci/install-urdf-tools.sh`).
-fn python() -> String {
-    std::env::var("PYTHON").unwrap_or_else(|_| "python3".into())
-}
-
 fn missing_yourdfpy() -> Option<String> {
     match Command::new(python())
         .args(["-c", "import yourdfpy"])
@@ -533,7 +532,6 @@ fn yourdfpy_forward_kinematics_matches_ours() {
         return skip_or_fail(&why);
     }
     let dir = out_dir();
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/urdf_fk.py");
     for (name, robot, shape) in all_shapes() {
         for mode in [UrdfMode::Fixed, UrdfMode::Articulated] {
             let stem = format!("{}-{mode}-py", name.replace(['/', '.'], "_"));
@@ -548,37 +546,11 @@ fn yourdfpy_forward_kinematics_matches_ours() {
                 .map(|s| srdf_state(s, &robot.name))
                 .unwrap_or_default();
             let poses = forward_kinematics(&parsed, &q);
-            let ours: Vec<_> = (0..shape.disks.len())
-                .map(|k| {
-                    let (p, r) = poses[&format!("disk_{k}")];
-                    serde_json::json!({
-                        "link": format!("disk_{k}"),
-                        "position": [p.x, p.y, p.z],
-                        "rotation": [[r[(0,0)], r[(0,1)], r[(0,2)]],
-                                     [r[(1,0)], r[(1,1)], r[(1,2)]],
-                                     [r[(2,0)], r[(2,1)], r[(2,2)]]],
-                    })
-                })
-                .collect();
-            let expected = dir.join(format!("{stem}.expected.json"));
-            std::fs::write(&expected, serde_json::to_string(&ours).expect("json"))
-                .expect("writes expected");
-            let mut cmd = Command::new(python());
-            cmd.arg(&script).arg(&path).arg(&expected);
-            if ex.srdf.is_some() {
-                cmd.arg("--srdf")
-                    .arg(path.with_extension("srdf"))
-                    .arg("--state")
-                    .arg(&robot.name);
-            }
-            let out = cmd.output().expect("python3 runs");
-            let stdout = String::from_utf8_lossy(&out.stdout);
-            println!("{name:<26} {mode:<11}: {}", stdout.trim());
-            assert!(
-                out.status.success(),
-                "yourdfpy FK differs for {name} {mode}:\n{stdout}\n{}",
-                String::from_utf8_lossy(&out.stderr)
+            let ours = urdf_scripts::disks_json(
+                (0..shape.disks.len()).map(|k| poses[&format!("disk_{k}")]),
             );
+            let label = format!("{name:<26} {mode:<11}");
+            urdf_scripts::check_with_script("urdf_fk.py", &path, &ex, &robot.name, &ours, &label);
         }
     }
 }

@@ -7,43 +7,21 @@ EXPECTED.json is a list of {"link", "position" [m], "rotation" (row-major 3x3)} 
 base_link. The joint values are the SRDF group_state NAME (none: all joints fixed). Prints the
 largest position and rotation errors; exits 1 when either exceeds the tolerance, 2 on bad input.
 """
-import argparse
-import json
-import math
 import sys
-import xml.etree.ElementTree as ET
 
 import numpy as np
 import yourdfpy
 
-
-def group_state(srdf_path, name):
-    root = ET.parse(srdf_path).getroot()
-    for gs in root.findall("group_state"):
-        if gs.get("name") == name:
-            return {j.get("name"): float(j.get("value")) for j in gs.findall("joint")}
-    raise SystemExit(f"no group_state named {name!r} in {srdf_path}")
-
-
-def rotation_angle(a, b):
-    # |A - B|_F = 2 sqrt(2) sin(theta / 2): accurate for small angles.
-    s = np.linalg.norm(a - b) / (2.0 * math.sqrt(2.0))
-    return 2.0 * math.asin(min(1.0, s))
+from urdf_common import arguments, expected_disks, joint_values, rotation_angle
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("urdf")
-    ap.add_argument("expected")
-    ap.add_argument("--srdf")
-    ap.add_argument("--state")
-    ap.add_argument("--tol", type=float, default=1e-9)
-    args = ap.parse_args()
+    args = arguments(__doc__)
 
     robot = yourdfpy.URDF.load(
         args.urdf, build_scene_graph=True, load_meshes=False, build_collision_scene_graph=False
     )
-    cfg = group_state(args.srdf, args.state) if args.srdf else {}
+    cfg = joint_values(args)
     unknown = set(cfg) - set(robot.actuated_joint_names)
     if unknown:
         print(f"joints in the SRDF but not actuated in the URDF: {sorted(unknown)}")
@@ -54,8 +32,7 @@ def main():
         return 2
     robot.update_cfg(cfg)
 
-    with open(args.expected) as f:
-        expected = json.load(f)
+    expected = expected_disks(args)
     max_p = max_r = 0.0
     for e in expected:
         t = robot.get_transform(frame_to=e["link"], frame_from="base_link")

@@ -12,9 +12,6 @@ NAME (none: fixed mode, no joints) and mj_kinematics gives each disk body's pose
 Prints the largest position and rotation errors; exits 1 when either exceeds the tolerance,
 2 on bad input.
 """
-import argparse
-import json
-import math
 import os
 import sys
 import tempfile
@@ -23,18 +20,7 @@ import xml.etree.ElementTree as ET
 import mujoco
 import numpy as np
 
-
-def group_state(srdf_path, name):
-    root = ET.parse(srdf_path).getroot()
-    for gs in root.findall("group_state"):
-        if gs.get("name") == name:
-            return {j.get("name"): float(j.get("value")) for j in gs.findall("joint")}
-    raise SystemExit(f"no group_state named {name!r} in {srdf_path}")
-
-
-def rotation_angle(a, b):
-    s = np.linalg.norm(a - b) / (2.0 * math.sqrt(2.0))
-    return 2.0 * math.asin(min(1.0, s))
+from urdf_common import arguments, expected_disks, joint_values, rotation_angle
 
 
 def unfused_copy(urdf_path):
@@ -49,13 +35,7 @@ def unfused_copy(urdf_path):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("urdf")
-    ap.add_argument("expected")
-    ap.add_argument("--srdf")
-    ap.add_argument("--state")
-    ap.add_argument("--tol", type=float, default=1e-9)
-    args = ap.parse_args()
+    args = arguments(__doc__)
 
     # 1. The file as exported loads (raises on zero-mass moving bodies, repeated names).
     mujoco.MjModel.from_xml_path(args.urdf)
@@ -66,7 +46,7 @@ def main():
     finally:
         os.remove(copy)
     data = mujoco.MjData(model)
-    cfg = group_state(args.srdf, args.state) if args.srdf else {}
+    cfg = joint_values(args)
     names = [model.joint(j).name for j in range(model.njnt)]
     if set(names) != set(cfg):
         print(f"joints differ: MuJoCo {sorted(set(names) - set(cfg))}, SRDF {sorted(set(cfg) - set(names))}")
@@ -75,8 +55,7 @@ def main():
         data.qpos[model.jnt_qposadr[j]] = cfg[model.joint(j).name]
     mujoco.mj_kinematics(model, data)
 
-    with open(args.expected) as f:
-        expected = json.load(f)
+    expected = expected_disks(args)
     base = model.body("base_link").id
     rb = data.xmat[base].reshape(3, 3)
     pb = data.xpos[base]

@@ -14,6 +14,10 @@ use std::f64::consts::PI;
 use std::path::Path;
 use std::process::Command;
 
+#[path = "common/urdf_scripts.rs"]
+mod urdf_scripts;
+use urdf_scripts::python;
+
 fn shapes() -> Vec<(String, Robot, Shape)> {
     let mut out = vec![];
     for n in 1..=3 {
@@ -84,10 +88,6 @@ fn every_link_has_mass_and_the_totals_match_closed_forms() {
     }
 }
 
-fn python() -> String {
-    std::env::var("PYTHON").unwrap_or_else(|_| "python3".into())
-}
-
 #[test]
 fn mujoco_loads_exports_and_its_kinematics_match_the_solved_disks() {
     let ok = Command::new(python())
@@ -108,46 +108,22 @@ fn mujoco_loads_exports_and_its_kinematics_match_the_solved_disks() {
     }
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("urdf-mujoco");
     std::fs::create_dir_all(&dir).expect("dir");
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/urdf_mujoco.py");
     for (name, robot, shape) in shapes() {
         for mode in [UrdfMode::Fixed, UrdfMode::Articulated] {
             let path = dir.join(format!("{name}-{mode}.urdf"));
             let ex = export_urdf(&shape, &robot, &opts(mode)).expect("exports");
             ex.write_files(&path).expect("writes");
             // The solved disks themselves, not our own FK of the URDF.
-            let solved: Vec<_> = shape
-                .disks
-                .iter()
-                .enumerate()
-                .map(|(k, d)| {
-                    let (p, r) = (d.position, d.rotation);
-                    serde_json::json!({
-                        "link": format!("disk_{k}"),
-                        "position": [p.x, p.y, p.z],
-                        "rotation": [[r[(0,0)], r[(0,1)], r[(0,2)]],
-                                     [r[(1,0)], r[(1,1)], r[(1,2)]],
-                                     [r[(2,0)], r[(2,1)], r[(2,2)]]],
-                    })
-                })
-                .collect();
-            let expected = dir.join(format!("{name}-{mode}.disks.json"));
-            std::fs::write(&expected, serde_json::to_string(&solved).expect("json"))
-                .expect("writes");
-            let mut cmd = Command::new(python());
-            cmd.arg(&script).arg(&path).arg(&expected);
-            if ex.srdf.is_some() {
-                cmd.arg("--srdf")
-                    .arg(path.with_extension("srdf"))
-                    .arg("--state")
-                    .arg(&robot.name);
-            }
-            let out = cmd.output().expect("python runs");
-            let stdout = String::from_utf8_lossy(&out.stdout);
-            println!("{name:<22} {mode:<11}: {}", stdout.trim());
-            assert!(
-                out.status.success(),
-                "MuJoCo differs or refuses {name} {mode}:\n{stdout}\n{}",
-                String::from_utf8_lossy(&out.stderr)
+            let solved =
+                urdf_scripts::disks_json(shape.disks.iter().map(|d| (d.position, d.rotation)));
+            let label = format!("{name:<22} {mode:<11}");
+            urdf_scripts::check_with_script(
+                "urdf_mujoco.py",
+                &path,
+                &ex,
+                &robot.name,
+                &solved,
+                &label,
             );
         }
     }

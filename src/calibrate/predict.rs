@@ -1,23 +1,27 @@
 //! Batch prediction: solve every row of a [`Dataset`] in-process, in order, each row
 //! warm-started from the previous one, chunks of rows in parallel (rayon), and report the
-//! marker in the measurement frame ([`crate::model::hardware::Hardware::measured_tip`]).
+//! marker in the measurement frame ([`crate::model::hardware::Hardware::measured_tip`]). Each
+//! cable's direction of motion (for the backlash) is taken from the rows in file order,
+//! before they are cut into chunks ([`crate::model::hardware::directions`]).
 //!
-//! Chunks are cut at fixed row counts ([`PredictOptions::chunk`]), not per thread, so the
+//! The rows run on the one block loop of [`crate::batch`] (Python's `solve_batch` runs on it
+//! too). Chunks are cut at fixed row counts ([`PredictOptions::chunk`]), not per thread, so the
 //! result does not depend on the number of threads: the first row of a chunk starts cold (from
 //! the straight robot), every other row from the previous row's shape. A warm-started solve
 //! that fails is retried cold once; a row that still fails gets its error as status, and the
 //! next row starts from the last shape that solved.
 
 use super::data::Dataset;
+use crate::batch::{Blocks, RowFailure, Solved};
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;
 use crate::method::Method;
+use crate::model::hardware::directions;
 use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::shape::Shape;
 use indicatif::ProgressBar;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 
 /// Default rows per chunk.
 pub const DEFAULT_CHUNK: usize = 64;
@@ -39,7 +43,8 @@ pub struct PredictOptions {
 pub struct RowPrediction {
     /// Marker in the measurement frame \[m\] (`Err` when the row did not solve).
     pub tip: Result<Vector3<f64>, SolveError>,
-    /// Solver iterations spent on the row (both attempts).
+    /// Solver iterations spent on the row (both attempts when a warm start failed; a failed
+    /// attempt counts when its error says).
     pub iterations: usize,
 }
 
@@ -52,6 +57,9 @@ impl RowPrediction {
         }
     }
 }
+
+/// What [`Rows::solve_all`] makes of row `i`: its shape or error, and its iterations.
+pub(crate) type RowMap<'a, T> = dyn Fn(usize, Result<&Shape, &SolveError>, usize) -> T + Sync + 'a;
 
 /// A method ready to solve rows of one model.
 pub(crate) struct Rows {
@@ -104,62 +112,46 @@ impl Rows {
         })
     }
 
-    /// Solve one row from `warm` (falling back to a cold start).
-    pub(crate) fn solve(
-        &self,
-        model: &Model,
-        u: &[f64],
-        warm: Option<&Shape>,
-    ) -> (Result<Shape, SolveError>, usize) {
-        let act = model.hardware.actuation(u);
-        let first = self.method.solve(&model.robot, &act, &self.scene, warm);
-        match (first, warm) {
-            (Ok(s), _) => {
-                let it = s.report.iterations;
-                (Ok(s), it)
-            }
-            (Err(e), None) => (Err(e), 0),
-            (Err(_), Some(_)) => {
-                let r = self.method.solve(&model.robot, &act, &self.scene, None);
-                let it = r.as_ref().map(|s| s.report.iterations).unwrap_or(0);
-                (r, it)
-            }
-        }
-    }
-
-    /// Every row of `commands` for `model` (the robot `new` was checked against; its parameters may
-    /// differ), chunks in parallel. `warm[i]`, when given, starts row `i` instead of the
-    /// previous row.
-    pub(crate) fn solve_all(
+    /// Every row of `commands` (with each cable's direction of motion `dirs[i]`, for the
+    /// backlash; empty: none) for `model` (the robot `new` was checked against; its
+    /// parameters may differ) on the one block loop of [`crate::batch`]: chunks in parallel,
+    /// each row warm-started from the previous solved row of its chunk (or from `warm[i]`
+    /// when given), a failed warm start retried cold once. `out(i, row)` maps each row; a
+    /// panic of the method is passed on (a bug in ccrkit, not a row status).
+    pub(crate) fn solve_all<T: Send>(
         &self,
         model: &Model,
         commands: &[Vec<f64>],
+        dirs: &[Vec<f64>],
         warm: Option<&[Option<Shape>]>,
         bar: &ProgressBar,
-    ) -> Vec<(Result<Shape, SolveError>, usize)> {
-        let chunks: Vec<Vec<(Result<Shape, SolveError>, usize)>> = commands
-            .par_chunks(self.chunk)
-            .enumerate()
-            .map(|(k, rows)| {
-                let mut out = Vec::with_capacity(rows.len());
-                let mut last: Option<Shape> = None;
-                for (j, u) in rows.iter().enumerate() {
-                    let i = k * self.chunk + j;
-                    let w = match warm {
-                        Some(ws) => ws[i].as_ref().or(last.as_ref()),
-                        None => last.as_ref(),
-                    };
-                    let (r, it) = self.solve(model, u, w);
-                    if let Ok(s) = &r {
-                        last = Some(s.clone());
-                    }
-                    out.push((r, it));
-                    bar.inc(1);
+        out: &RowMap<'_, T>,
+    ) -> Vec<T> {
+        let blocks = Blocks {
+            method: &*self.method,
+            scene: &self.scene,
+            chunk: self.chunk,
+            warm_start: true,
+            steps: 1,
+            retry_cold: true,
+        };
+        blocks.run(
+            &model.robot,
+            commands.len(),
+            &|i| {
+                let d = dirs.get(i).map_or(&[][..], Vec::as_slice);
+                model.hardware.actuation_moving(&commands[i], d)
+            },
+            warm,
+            &|i, row: &Solved| {
+                bar.inc(1);
+                match &row.result {
+                    Ok(s) => out(i, Ok(s), row.iterations),
+                    Err(RowFailure::Error(e)) => out(i, Err(e), row.iterations),
+                    Err(RowFailure::Panic(msg)) => std::panic::resume_unwind(Box::new(msg.clone())),
                 }
-                out
-            })
-            .collect();
-        chunks.into_iter().flatten().collect()
+            },
+        )
     }
 }
 
@@ -172,14 +164,20 @@ pub fn predict(
 ) -> Result<Vec<RowPrediction>, SolveError> {
     let rows = Rows::new(model, data, opts)?;
     let bar = crate::study::progress_bar(data.len() as u64, opts.progress, "predict");
-    let out = rows
-        .solve_all(model, &data.commands, None, &bar)
-        .into_iter()
-        .map(|(r, iterations)| RowPrediction {
-            tip: r.map(|s| model.hardware.measured_tip(&s)),
+    let dirs = directions(&data.commands);
+    let out = rows.solve_all(
+        model,
+        &data.commands,
+        &dirs,
+        None,
+        &bar,
+        &|_, r, iterations| RowPrediction {
+            tip: r
+                .map(|s| model.hardware.measured_tip(s))
+                .map_err(Clone::clone),
             iterations,
-        })
-        .collect();
+        },
+    );
     bar.finish_and_clear();
     Ok(out)
 }

@@ -7,7 +7,7 @@ use super::geometric::Geometric;
 use super::settings::{canonical, common, Configure, SettingInfo, Settings};
 use super::Method;
 use crate::error::SolveError;
-use crate::model::actuation::Input;
+use crate::model::actuation::{Actuation, Drive, Input};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use std::fmt;
@@ -58,6 +58,8 @@ pub struct MethodInfo {
     pub obstacles: bool,
     /// Which loads it models.
     pub loads: LoadSupport,
+    /// Whether it models compliant cables (`stiffness`, `pretension` of a cable).
+    pub cable_compliance: bool,
     /// Settings it takes (by name).
     pub settings: &'static [SettingInfo],
     /// Unit of its contact multipliers (`N` where they are reactions, `rad/m` for the
@@ -192,6 +194,7 @@ const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> Met
             tip_force: true,
             tip_moment: true,
         },
+        cable_compliance: false,
         settings: ROD_SETTINGS,
         contact_unit: "",
         resolutions: ROD_RESOLUTIONS,
@@ -207,6 +210,7 @@ const INFO: [MethodInfo; 6] = [
         default_input: Input::Shortening,
         obstacles: true,
         loads: NO_LOADS,
+        cable_compliance: false,
         settings: GEOMETRIC_SETTINGS,
         contact_unit: "rad/m",
         resolutions: DEFAULT_RESOLUTION,
@@ -219,6 +223,7 @@ const INFO: [MethodInfo; 6] = [
         default_input: Input::Shortening,
         obstacles: true,
         loads: NO_LOADS,
+        cable_compliance: false,
         settings: GEOMETRIC_SETTINGS,
         contact_unit: "rad²/m",
         resolutions: DEFAULT_RESOLUTION,
@@ -235,6 +240,7 @@ const INFO: [MethodInfo; 6] = [
             tip_force: true,
             tip_moment: false,
         },
+        cable_compliance: true,
         settings: ENERGY_SETTINGS,
         contact_unit: "N",
         resolutions: DEFAULT_RESOLUTION,
@@ -257,6 +263,7 @@ const INFO: [MethodInfo; 6] = [
         default_input: Input::Shortening,
         obstacles: false,
         loads: NO_LOADS,
+        cable_compliance: false,
         settings: CC_SETTINGS,
         contact_unit: "",
         resolutions: &[
@@ -429,6 +436,26 @@ impl MethodKind {
                 ));
             }
         }
+        if !info.cable_compliance {
+            if let Some(c) = robot
+                .cables
+                .iter()
+                .find(|c| c.stiffness.is_some() || c.pretension > 0.0)
+            {
+                let by: Vec<&str> = Self::ALL
+                    .iter()
+                    .filter(|k| k.info().cable_compliance)
+                    .map(|k| k.name())
+                    .collect();
+                return refuse(format!(
+                    "cable `{}` has a `stiffness` (compliant cable), which {} does not model \
+                     (its cables are inextensible); use {}, or drop the stiffness",
+                    c.name,
+                    info.name,
+                    by.join(" or ")
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -440,6 +467,18 @@ impl MethodKind {
             .and_then(|v| super::settings::parse_control(v).ok())
             .filter(|&i| self.accepts(i))
             .unwrap_or(self.info().default_input)
+    }
+
+    /// Each cable's drive under this method: the actuation resolved against the inputs the
+    /// registry lists for it (`MethodInfo::inputs`, the one place they are written), a cable
+    /// that gives both driven by `prefer`.
+    pub fn drives(
+        self,
+        robot: &Robot,
+        act: &Actuation,
+        prefer: Input,
+    ) -> Result<Vec<Drive>, SolveError> {
+        act.drives(robot, self.name(), self.info().inputs, prefer)
     }
 }
 

@@ -24,7 +24,7 @@ pub struct Range {
 impl Range {
     /// `v` when it is finite and inside the range, else an error naming `field`.
     pub fn check(&self, field: &str, v: f64) -> Result<f64, ModelError> {
-        if v.is_finite() && v >= self.lo && v <= self.hi {
+        if self.accepts(v) {
             Ok(v)
         } else {
             Err(ModelError::invalid(
@@ -37,10 +37,18 @@ impl Range {
         }
     }
 
+    /// True when `v` is finite and inside the range.
+    pub fn accepts(&self, v: f64) -> bool {
+        v.is_finite() && v >= self.lo && v <= self.hi
+    }
+
     /// Each component of `v` checked against the range (`field[k]` in the error).
     pub fn check3(&self, field: &str, v: [f64; 3]) -> Result<[f64; 3], ModelError> {
         for (k, x) in v.iter().enumerate() {
-            self.check(&format!("{field}[{k}]"), *x)?;
+            // The field name is formatted only for the error (scenes check thousands).
+            if !self.accepts(*x) {
+                self.check(&format!("{field}[{k}]"), *x)?;
+            }
         }
         Ok(v)
     }
@@ -74,6 +82,8 @@ pub const TIP_FORCE: Range = range(-1e6, 1e6, "N");
 pub const TIP_MOMENT: Range = range(-1e5, 1e5, "N m");
 /// Cable tension: 0 to 1 MN (cables pull, they do not push).
 pub const TENSION: Range = range(0.0, 1e6, "N");
+/// Axial stiffness of a cable in series with its actuator: 1 mN/m to 1 TN/m.
+pub const CABLE_STIFFNESS: Range = range(1e-3, 1e12, "N/m");
 /// A hole angle (unwrapped): |a| up to 10⁵ rad (covers 10 000 disks turning 2π each).
 pub const ANGLE: Range = range(-1e5, 1e5, "rad");
 /// A helix's turn per disk: at most one full turn either way.

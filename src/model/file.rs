@@ -105,6 +105,53 @@ struct FileCable {
     shorten: Option<f64>,
     shorten_percent: Option<f64>,
     tension: Option<f64>,
+    /// Axial stiffness of cable and actuator \[N/m\] (absent: inextensible).
+    stiffness: Option<f64>,
+    /// Pretension \[N\] (needs `stiffness`).
+    pretension: Option<f64>,
+}
+
+/// Undeformed straight-chord length of `cable` through disks at arc lengths `disk_s` \[m\].
+fn chord_length(cable: &Cable, disk_s: &[f64]) -> f64 {
+    (1..=cable.ends_at)
+        .map(|i| {
+            (cable.hole(i) - cable.hole(i - 1) + Vector3::new(0.0, 0.0, disk_s[i] - disk_s[i - 1]))
+                .norm()
+        })
+        .sum()
+}
+
+/// A cable's `stiffness` and `pretension`, checked (`f` names a field of this cable; the
+/// pretension's stretch must stay below the cable's undeformed length `len`).
+fn compliance(
+    fc: &FileCable,
+    f: &dyn Fn(&str) -> String,
+    len: f64,
+) -> Result<(Option<f64>, f64), ModelError> {
+    let k = fc
+        .stiffness
+        .map(|k| bounds::CABLE_STIFFNESS.check(&f("stiffness"), k))
+        .transpose()?;
+    let t0 = match (fc.pretension, k) {
+        (None, _) => 0.0,
+        (Some(_), None) => {
+            return Err(ModelError::invalid(
+                f("pretension"),
+                "a pretension needs the cable's `stiffness` (it is the tension of a cable tied stretched by pretension/stiffness)",
+            ))
+        }
+        (Some(t), Some(k)) => {
+            let t = bounds::TENSION.check(&f("pretension"), t)?;
+            if t / k >= len {
+                return Err(ModelError::invalid(
+                    f("pretension"),
+                    format!("stretches the cable by {:e} m, not less than its length {len:.6} m", t / k),
+                ));
+            }
+            t
+        }
+    };
+    Ok((k, t0))
 }
 
 fn finite(field: &str, v: f64) -> Result<f64, ModelError> {
@@ -160,7 +207,89 @@ impl FileModel {
                 ),
             ));
         }
-        let lengths: Vec<f64> = match (&r.section_length, &r.section_lengths) {
+        let (lengths, disk_s) = r.stations(n)?;
+        let disk_radius = bounds::DISK_RADIUS.check("robot.disk_radius", r.disk_radius)?;
+        let disk_thickness =
+            bounds::DISK_THICKNESS.check("robot.disk_thickness", r.disk_thickness)?;
+        let min_l = lengths.iter().cloned().fold(f64::INFINITY, f64::min);
+        if disk_thickness >= min_l {
+            return Err(ModelError::invalid(
+                "robot.disk_thickness",
+                format!("{disk_thickness} m is not smaller than the shortest section ({min_l} m)"),
+            ));
+        }
+        let backbone = r.backbone.validate(disk_radius)?;
+        let loads = match &self.loads {
+            None => Loads::default(),
+            Some(l) => l.validate()?,
+        };
+
+        let mut cables: Vec<Cable> = Vec::with_capacity(self.cables.len());
+        let mut drives = Vec::with_capacity(self.cables.len());
+        for (ci, fc) in self.cables.iter().enumerate() {
+            if cables.iter().any(|c| c.name == fc.name) && !fc.name.trim().is_empty() {
+                return Err(ModelError::invalid(
+                    format!("cables[{ci}].name"),
+                    format!("two cables are named `{}`", fc.name),
+                ));
+            }
+            let cable = fc.cable(ci, &disk_s, disk_radius, &backbone)?;
+            drives.push(fc.drive(ci, &cable, &disk_s)?);
+            cables.push(cable);
+        }
+
+        let scene = self.scene(dir)?;
+        let robot = Robot {
+            name: self.name,
+            disk_s,
+            disk_radius,
+            disk_thickness,
+            backbone,
+            cables,
+            loads,
+        };
+        let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
+        let limits = super::limits::validate(&self.limits, &robot)?;
+        let mut actuation = Actuation { cables: drives };
+        hardware.fold(&robot, &mut actuation)?;
+        Ok(Model {
+            scene,
+            robot,
+            actuation,
+            hardware,
+            limits,
+            source: None,
+        })
+    }
+
+    /// The inline obstacles merged with the named scene file; obstacle names unique.
+    fn scene(&self, dir: &Path) -> Result<Scene, ModelError> {
+        let mut scene = Scene::from_parts(self.clearance, &self.obstacles, dir, "")?;
+        if let Some(rel) = &self.scene {
+            let other = Scene::from_file(dir.join(rel)).map_err(|e| match e {
+                ModelError::Io { path, reason } => {
+                    ModelError::invalid("scene", format!("cannot read `{path}`: {reason}"))
+                }
+                other => other,
+            })?;
+            scene.merge(other);
+            let mut names: Vec<&str> = scene.obstacles.iter().map(|o| o.name.as_str()).collect();
+            names.sort_unstable();
+            if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+                return Err(ModelError::invalid(
+                    "scene",
+                    format!("two obstacles are named `{}`", w[0]),
+                ));
+            }
+        }
+        Ok(scene)
+    }
+}
+
+impl FileRobot {
+    /// The checked section lengths and the arc length of every disk (`disk_s[0] = 0`).
+    fn stations(&self, n: usize) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
+        let lengths: Vec<f64> = match (&self.section_length, &self.section_lengths) {
             (Some(_), Some(_)) => {
                 return Err(ModelError::invalid(
                     "robot.section_lengths",
@@ -196,7 +325,7 @@ impl FileModel {
         let total = disk_s[n];
         if total > bounds::ROBOT_LENGTH.hi {
             return Err(ModelError::invalid(
-                if r.section_length.is_some() {
+                if self.section_length.is_some() {
                     "robot.section_length"
                 } else {
                     "robot.section_lengths"
@@ -207,145 +336,86 @@ impl FileModel {
                 ),
             ));
         }
-        let disk_radius = bounds::DISK_RADIUS.check("robot.disk_radius", r.disk_radius)?;
-        let disk_thickness =
-            bounds::DISK_THICKNESS.check("robot.disk_thickness", r.disk_thickness)?;
-        let min_l = lengths.iter().cloned().fold(f64::INFINITY, f64::min);
-        if disk_thickness >= min_l {
-            return Err(ModelError::invalid(
-                "robot.disk_thickness",
-                format!("{disk_thickness} m is not smaller than the shortest section ({min_l} m)"),
-            ));
-        }
-        let b = &r.backbone;
+        Ok((lengths, disk_s))
+    }
+}
+
+impl FileBackbone {
+    fn validate(&self, disk_radius: f64) -> Result<Backbone, ModelError> {
         let youngs_modulus =
-            bounds::YOUNGS_MODULUS.check("robot.backbone.youngs_modulus", b.youngs_modulus)?;
-        let poisson_ratio = finite("robot.backbone.poisson_ratio", b.poisson_ratio)?;
+            bounds::YOUNGS_MODULUS.check("robot.backbone.youngs_modulus", self.youngs_modulus)?;
+        let poisson_ratio = finite("robot.backbone.poisson_ratio", self.poisson_ratio)?;
         if !(poisson_ratio > -1.0 && poisson_ratio <= 0.5) {
             return Err(ModelError::invalid(
                 "robot.backbone.poisson_ratio",
                 format!("must lie in (-1, 0.5], got {poisson_ratio}"),
             ));
         }
-        let diameter = bounds::DIAMETER.check("robot.backbone.diameter", b.diameter)?;
+        let diameter = bounds::DIAMETER.check("robot.backbone.diameter", self.diameter)?;
         if diameter >= 2.0 * disk_radius {
             return Err(ModelError::invalid(
                 "robot.backbone.diameter",
                 format!("{diameter} m does not fit inside the disk (radius {disk_radius} m)"),
             ));
         }
-        let density = match b.density {
+        let density = match self.density {
             Some(d) => bounds::DENSITY.check("robot.backbone.density", d)?,
             None => 0.0,
         };
-        let backbone = Backbone {
+        Ok(Backbone {
             youngs_modulus,
             poisson_ratio,
             diameter,
             density,
-        };
+        })
+    }
+}
 
-        let loads = match &self.loads {
-            None => Loads::default(),
-            Some(l) => Loads {
-                gravity: vec3("loads.gravity", l.gravity, bounds::GRAVITY)?,
-                disk_mass: match l.disk_mass {
-                    Some(m) => bounds::DISK_MASS.check("loads.disk_mass", m)?,
-                    None => 0.0,
-                },
-                tip_force: vec3("loads.tip_force", l.tip_force, bounds::TIP_FORCE)?,
-                tip_moment: vec3("loads.tip_moment", l.tip_moment, bounds::TIP_MOMENT)?,
+impl FileLoads {
+    fn validate(&self) -> Result<Loads, ModelError> {
+        Ok(Loads {
+            gravity: vec3("loads.gravity", self.gravity, bounds::GRAVITY)?,
+            disk_mass: match self.disk_mass {
+                Some(m) => bounds::DISK_MASS.check("loads.disk_mass", m)?,
+                None => 0.0,
             },
-        };
+            tip_force: vec3("loads.tip_force", self.tip_force, bounds::TIP_FORCE)?,
+            tip_moment: vec3("loads.tip_moment", self.tip_moment, bounds::TIP_MOMENT)?,
+        })
+    }
+}
 
-        let mut cables = Vec::with_capacity(self.cables.len());
-        let mut drives = Vec::with_capacity(self.cables.len());
-        for (ci, fc) in self.cables.iter().enumerate() {
-            let f = |name: &str| format!("cables[{ci}].{name}");
-            if fc.name.trim().is_empty() {
-                return Err(ModelError::invalid(f("name"), "must not be empty"));
-            }
-            if cables.iter().any(|c: &Cable| c.name == fc.name) {
+impl FileCable {
+    /// The routed cable `cables[ci]`: end disk, hole radii and angles, checked against the disk
+    /// and the backbone.
+    fn cable(
+        &self,
+        ci: usize,
+        disk_s: &[f64],
+        disk_radius: f64,
+        backbone: &Backbone,
+    ) -> Result<Cable, ModelError> {
+        let f = |name: &str| format!("cables[{ci}].{name}");
+        if self.name.trim().is_empty() {
+            return Err(ModelError::invalid(f("name"), "must not be empty"));
+        }
+        let n = disk_s.len() - 1;
+        let ends_at = match self.ends_at {
+            None => n,
+            Some(e) if e >= 1 && e as usize <= n => e as usize,
+            Some(e) => {
                 return Err(ModelError::invalid(
-                    f("name"),
-                    format!("two cables are named `{}`", fc.name),
-                ));
+                    f("ends_at"),
+                    format!("must be a disk between 1 and {n}, got {e}"),
+                ))
             }
-            let ends_at = match fc.ends_at {
-                None => n,
-                Some(e) if e >= 1 && e as usize <= n => e as usize,
-                Some(e) => {
-                    return Err(ModelError::invalid(
-                        f("ends_at"),
-                        format!("must be a disk between 1 and {n}, got {e}"),
-                    ))
-                }
-            };
-            let count = ends_at + 1;
-            let radius = match &fc.radius {
-                FileRadius::One(r) => vec![*r; count],
-                FileRadius::PerDisk(v) => {
-                    if v.len() != count {
-                        return Err(ModelError::invalid(
-                            f("radius"),
-                            format!(
-                                "needs one radius per disk the cable passes (0..={ends_at}: {count}), got {}",
-                                v.len()
-                            ),
-                        ));
-                    }
-                    v.clone()
-                }
-            };
-            for (k, rr) in radius.iter().enumerate() {
-                let field = if matches!(fc.radius, FileRadius::One(_)) {
-                    f("radius")
-                } else {
-                    format!("cables[{ci}].radius[{k}]")
-                };
-                positive(&field, *rr)?;
-                if *rr >= disk_radius {
-                    return Err(ModelError::invalid(
-                        field,
-                        format!("hole radius {rr} m lies beyond the disk (radius {disk_radius} m)"),
-                    ));
-                }
-                if *rr <= backbone.radius() {
-                    return Err(ModelError::invalid(
-                        field,
-                        format!(
-                            "hole radius {rr} m lies inside the backbone (radius {} m)",
-                            backbone.radius()
-                        ),
-                    ));
-                }
-            }
-            let angle: Vec<f64> = match &fc.angles {
-                FileAngles::Rule(FileAngleRule::Straight(a)) => {
-                    vec![bounds::ANGLE.check(&f("angles.straight"), *a)?; count]
-                }
-                FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => {
-                    bounds::ANGLE.check(&f("angles.helix.start"), *start)?;
-                    bounds::HELIX_PER_DISK.check(&f("angles.helix.per_disk"), *per_disk)?;
-                    (0..count).map(|k| start + per_disk * k as f64).collect()
-                }
-                FileAngles::PerDisk(v) => {
-                    if v.len() != count {
-                        return Err(ModelError::invalid(
-                            f("angles"),
-                            format!(
-                                "needs one angle per disk the cable passes (0..={ends_at}: {count}), got {}",
-                                v.len()
-                            ),
-                        ));
-                    }
-                    for (k, a) in v.iter().enumerate() {
-                        bounds::ANGLE.check(&format!("cables[{ci}].angles[{k}]"), *a)?;
-                    }
-                    v.clone()
-                }
-            };
-            let helix = match &fc.angles {
+        };
+        let mut cable = Cable {
+            name: self.name.clone(),
+            ends_at,
+            radius: self.radii(ci, ends_at, disk_radius, backbone)?,
+            angle: self.angles(ci, ends_at)?,
+            helix: match &self.angles {
                 FileAngles::Rule(FileAngleRule::Straight(a)) => Some(Helix {
                     start: *a,
                     per_disk: 0.0,
@@ -355,120 +425,156 @@ impl FileModel {
                     per_disk: *per_disk,
                 }),
                 FileAngles::PerDisk(_) => None,
-            };
-            let cable = Cable {
-                name: fc.name.clone(),
-                ends_at,
-                radius,
-                angle,
-                helix,
-            };
-            // Undeformed chord length, to check an absolute shortening against.
-            let chord_len: f64 = (1..=ends_at)
-                .map(|i| {
-                    (cable.hole(i) - cable.hole(i - 1)
-                        + Vector3::new(0.0, 0.0, disk_s[i] - disk_s[i - 1]))
-                    .norm()
-                })
-                .sum();
-            let shorten = match (fc.shorten, fc.shorten_percent) {
-                (Some(_), Some(_)) => {
-                    return Err(ModelError::invalid(
-                        f("shorten_percent"),
-                        "give either shorten or shorten_percent, not both",
-                    ))
-                }
-                (Some(d), None) => {
-                    finite(&f("shorten"), d)?;
-                    if d >= chord_len {
-                        return Err(ModelError::invalid(
-                            f("shorten"),
-                            format!(
-                                "{d} m is not less than the cable's undeformed length {chord_len:.6} m"
-                            ),
-                        ));
-                    }
-                    if d <= -chord_len {
-                        return Err(ModelError::invalid(
-                            f("shorten"),
-                            format!(
-                                "a payout of {:e} m is not smaller than the cable's undeformed length {chord_len:.6} m",
-                                -d
-                            ),
-                        ));
-                    }
-                    Some(Shortening::Length(d))
-                }
-                (None, Some(p)) => {
-                    finite(&f("shorten_percent"), p)?;
-                    if p >= 100.0 {
-                        return Err(ModelError::invalid(
-                            f("shorten_percent"),
-                            format!("{p} % would shorten the cable to nothing (must be < 100)"),
-                        ));
-                    }
-                    if p <= -100.0 {
-                        return Err(ModelError::invalid(
-                            f("shorten_percent"),
-                            format!("{p} % is not a plausible payout (must be > -100)"),
-                        ));
-                    }
-                    Some(Shortening::Fraction(p / 100.0))
-                }
-                (None, None) => None,
-            };
-            let tension = match fc.tension {
-                Some(t) if t.is_finite() && t < 0.0 => {
-                    return Err(ModelError::invalid(
-                        f("tension"),
-                        format!("cables pull, they do not push: must be >= 0, got {t}"),
-                    ))
-                }
-                Some(t) => Some(bounds::TENSION.check(&f("tension"), t)?),
-                None => None,
-            };
-            cables.push(cable);
-            drives.push(CableDrive { shorten, tension });
-        }
+            },
+            stiffness: None,
+            pretension: 0.0,
+        };
+        (cable.stiffness, cable.pretension) = compliance(self, &f, chord_length(&cable, disk_s))?;
+        Ok(cable)
+    }
 
-        let mut scene = Scene::from_parts(self.clearance, &self.obstacles, dir, "")?;
-        if let Some(rel) = &self.scene {
-            let other = Scene::from_file(dir.join(rel)).map_err(|e| match e {
-                ModelError::Io { path, reason } => {
-                    ModelError::invalid("scene", format!("cannot read `{path}`: {reason}"))
+    /// One hole radius per disk `0..=ends_at`, each between the backbone and the disk rim.
+    fn radii(
+        &self,
+        ci: usize,
+        ends_at: usize,
+        disk_radius: f64,
+        backbone: &Backbone,
+    ) -> Result<Vec<f64>, ModelError> {
+        let count = ends_at + 1;
+        let radius = match &self.radius {
+            FileRadius::One(r) => vec![*r; count],
+            FileRadius::PerDisk(v) => {
+                if v.len() != count {
+                    return Err(ModelError::invalid(
+                        format!("cables[{ci}].radius"),
+                        format!(
+                            "needs one radius per disk the cable passes (0..={ends_at}: {count}), got {}",
+                            v.len()
+                        ),
+                    ));
                 }
-                other => other,
-            })?;
-            scene.merge(other);
-            let mut names: Vec<&str> = scene.obstacles.iter().map(|o| o.name.as_str()).collect();
-            names.sort_unstable();
-            if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+                v.clone()
+            }
+        };
+        for (k, rr) in radius.iter().enumerate() {
+            let field = if matches!(self.radius, FileRadius::One(_)) {
+                format!("cables[{ci}].radius")
+            } else {
+                format!("cables[{ci}].radius[{k}]")
+            };
+            positive(&field, *rr)?;
+            if *rr >= disk_radius {
                 return Err(ModelError::invalid(
-                    "scene",
-                    format!("two obstacles are named `{}`", w[0]),
+                    field,
+                    format!("hole radius {rr} m lies beyond the disk (radius {disk_radius} m)"),
+                ));
+            }
+            if *rr <= backbone.radius() {
+                return Err(ModelError::invalid(
+                    field,
+                    format!(
+                        "hole radius {rr} m lies inside the backbone (radius {} m)",
+                        backbone.radius()
+                    ),
                 ));
             }
         }
-        let robot = Robot {
-            name: self.name,
-            disk_s,
-            disk_radius,
-            disk_thickness,
-            backbone,
-            cables,
-            loads,
-        };
-        let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
-        let limits = super::limits::validate(&self.limits, &robot)?;
-        let mut actuation = Actuation { cables: drives };
-        hardware.fold(&robot, &mut actuation)?;
-        Ok(Model {
-            scene,
-            robot,
-            actuation,
-            hardware,
-            limits,
-            source: None,
+        Ok(radius)
+    }
+
+    /// One hole angle per disk `0..=ends_at`, from a rule or a per-disk table.
+    fn angles(&self, ci: usize, ends_at: usize) -> Result<Vec<f64>, ModelError> {
+        let f = |name: &str| format!("cables[{ci}].{name}");
+        let count = ends_at + 1;
+        Ok(match &self.angles {
+            FileAngles::Rule(FileAngleRule::Straight(a)) => {
+                vec![bounds::ANGLE.check(&f("angles.straight"), *a)?; count]
+            }
+            FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => {
+                bounds::ANGLE.check(&f("angles.helix.start"), *start)?;
+                bounds::HELIX_PER_DISK.check(&f("angles.helix.per_disk"), *per_disk)?;
+                (0..count).map(|k| start + per_disk * k as f64).collect()
+            }
+            FileAngles::PerDisk(v) => {
+                if v.len() != count {
+                    return Err(ModelError::invalid(
+                        f("angles"),
+                        format!(
+                            "needs one angle per disk the cable passes (0..={ends_at}: {count}), got {}",
+                            v.len()
+                        ),
+                    ));
+                }
+                for (k, a) in v.iter().enumerate() {
+                    bounds::ANGLE.check(&format!("cables[{ci}].angles[{k}]"), *a)?;
+                }
+                v.clone()
+            }
         })
+    }
+
+    /// The file's shortening and tension for this cable, bounded by its undeformed length.
+    fn drive(&self, ci: usize, cable: &Cable, disk_s: &[f64]) -> Result<CableDrive, ModelError> {
+        let f = |name: &str| format!("cables[{ci}].{name}");
+        let shorten = match (self.shorten, self.shorten_percent) {
+            (Some(_), Some(_)) => {
+                return Err(ModelError::invalid(
+                    f("shorten_percent"),
+                    "give either shorten or shorten_percent, not both",
+                ))
+            }
+            (Some(d), None) => {
+                finite(&f("shorten"), d)?;
+                // Undeformed chord length, to check an absolute shortening against.
+                let chord_len = chord_length(cable, disk_s);
+                if d >= chord_len {
+                    return Err(ModelError::invalid(
+                        f("shorten"),
+                        format!(
+                            "{d} m is not less than the cable's undeformed length {chord_len:.6} m"
+                        ),
+                    ));
+                }
+                if d <= -chord_len {
+                    return Err(ModelError::invalid(
+                        f("shorten"),
+                        format!(
+                            "a payout of {:e} m is not smaller than the cable's undeformed length {chord_len:.6} m",
+                            -d
+                        ),
+                    ));
+                }
+                Some(Shortening::Length(d))
+            }
+            (None, Some(p)) => {
+                finite(&f("shorten_percent"), p)?;
+                if p >= 100.0 {
+                    return Err(ModelError::invalid(
+                        f("shorten_percent"),
+                        format!("{p} % would shorten the cable to nothing (must be < 100)"),
+                    ));
+                }
+                if p <= -100.0 {
+                    return Err(ModelError::invalid(
+                        f("shorten_percent"),
+                        format!("{p} % is not a plausible payout (must be > -100)"),
+                    ));
+                }
+                Some(Shortening::Fraction(p / 100.0))
+            }
+            (None, None) => None,
+        };
+        let tension = match self.tension {
+            Some(t) if t.is_finite() && t < 0.0 => {
+                return Err(ModelError::invalid(
+                    f("tension"),
+                    format!("cables pull, they do not push: must be >= 0, got {t}"),
+                ))
+            }
+            Some(t) => Some(bounds::TENSION.check(&f("tension"), t)?),
+            None => None,
+        };
+        Ok(CableDrive { shorten, tension })
     }
 }

@@ -15,6 +15,8 @@
 //! ends_at = 9                   # disk where the cable is tied (default: last)
 //! shorten_percent = 4.0         # or shorten = 0.0072 \[m\]
 //! tension = 4.16925             # \[N\]
+//! stiffness = 4000.0            # optional: cable + actuator axial stiffness k \[N/m\] (EA / free length)
+//! pretension = 0.5              # optional, needs stiffness: tension at zero command, straight \[N\]
 //! [hardware]                    # optional: a real robot's gains, offsets and frames
 //! gain = 1.0                    # see [`hardware`] for every field
 //! ```

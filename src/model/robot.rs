@@ -73,9 +73,29 @@ pub struct Cable {
     /// The rule the file declared the angles by (`straight` or `helix`; `None`: a per-disk
     /// table), so the rod can route the cable by its closed form ([`crate::model::routing`]).
     pub helix: Option<crate::model::routing::Helix>,
+    /// Axial stiffness `k` of the cable in series with its actuator \[N/m\] (`None`:
+    /// inextensible). Under displacement control the commanded shortening is taken up by the
+    /// path change plus the stretch `T/k` ([`Cable::compliance`]); methods that cannot honour
+    /// it refuse the model by name.
+    pub stiffness: Option<f64>,
+    /// Pretension `T₀` \[N\] (≥ 0; only with a stiffness): the tension the cable would carry
+    /// at zero command on the straight, undeformed robot. Physically the cable was tied (or the
+    /// servo zeroed) stretched by `T₀/k`: its unstretched length is the undeformed path length
+    /// minus `T₀/k`, so it acts as a shortening of `T₀/k` added to every command.
+    pub pretension: f64,
 }
 
 impl Cable {
+    /// `1/k` \[m/N\]: stretch per newton of tension (0 when inextensible).
+    pub fn compliance(&self) -> f64 {
+        self.stiffness.map_or(0.0, |k| 1.0 / k)
+    }
+
+    /// The shortening the pretension stands for, `T₀/k` \[m\] (0 when inextensible).
+    pub fn pretension_stretch(&self) -> f64 {
+        self.pretension * self.compliance()
+    }
+
     /// Hole position at disk `k` in that disk's own frame (z = 0).
     pub fn hole(&self, k: usize) -> Vector3<f64> {
         let (r, a) = (self.radius[k], self.angle[k]);

@@ -27,3 +27,20 @@ pub fn arc_point(kappa: f64, s: f64) -> nalgebra::Vector3<f64> {
         (kappa * s).sin() / kappa,
     )
 }
+
+/// Runs the `ccrkit` binary with `args` (from the crate root), expects it to succeed (its
+/// standard error in the failure message) and parses its standard output as JSON — the
+/// command's `--json -` output.
+pub fn ccrkit_json<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> serde_json::Value {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ccrkit"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("ccrkit runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on standard output")
+}

@@ -1,10 +1,8 @@
 //! `ccrkit calibrate`: fit a model's hardware parameters to measured tips.
 
-use super::SolveArgs;
+use super::predict::DataArgs;
 use anyhow::{Context, Result};
-use ccrkit::calibrate::data::{unit_scale, DataOptions, Dataset};
 use ccrkit::calibrate::fit::{calibrate, fitted_toml, FitOptions};
-use ccrkit::calibrate::predict::{PredictOptions, DEFAULT_CHUNK};
 use ccrkit::Model;
 use clap::Args;
 use std::path::PathBuf;
@@ -15,48 +13,27 @@ use std::time::Instant;
 pub struct CalibrateArgs {
     /// Model file (TOML) to start from.
     pub file: PathBuf,
-    /// Training data CSV with cable displacements and `tip_x,tip_y,tip_z`.
-    #[arg(long)]
-    pub data: PathBuf,
-    /// Parameters to fit (default: gain.segK and offset.segK per segment, marker.z).
+    /// Parameters to fit (default: gain.segK and offset.segK per segment, compliance, marker.z;
+    /// also backlash[.segK], marker.x/y; see `ccrkit::calibrate::params`).
     #[arg(long, value_delimiter = ',', num_args = 1..)]
     pub fit: Vec<String>,
     /// Write the fitted model here (a file `ccrkit predict` takes).
     #[arg(long)]
     pub out: PathBuf,
-    /// Cable columns in the model's cable order (default: every `servo_*` column).
-    #[arg(long, value_delimiter = ',')]
-    pub columns: Vec<String>,
-    /// Unit of the data: `mm` or `m`.
-    #[arg(long, default_value = "mm")]
-    pub unit: String,
-    /// Rows per parallel chunk.
-    #[arg(long, default_value_t = DEFAULT_CHUNK)]
-    pub chunk: usize,
     /// Most Levenberg–Marquardt iterations.
     #[arg(long, default_value_t = 30)]
     pub max_iterations: usize,
+    /// The training data (with `tip_x,tip_y,tip_z`) and how to solve its rows.
     #[command(flatten)]
-    pub solve: SolveArgs,
+    pub data: DataArgs,
 }
 
 /// Run `ccrkit calibrate`.
 pub fn run(a: CalibrateArgs) -> Result<()> {
-    let unit = unit_scale(&a.unit)?;
     let text = ccrkit::model::read::read_text(&a.file, "model file")?;
     let model = Model::from_file(&a.file)?;
-    let data = Dataset::from_file(
-        &a.data,
-        &DataOptions {
-            columns: a.columns.clone(),
-            unit,
-        },
-    )?;
-    let predict = PredictOptions {
-        request: a.solve.request(1)?,
-        chunk: a.chunk,
-        progress: true,
-    };
+    let (data, unit) = a.data.dataset()?;
+    let predict = a.data.predict_options()?;
     let mut opts = FitOptions::new(predict);
     opts.params = a.fit.clone();
     opts.max_iterations = a.max_iterations;
@@ -69,7 +46,7 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
     );
     println!(
         "iteration  aligned tip RMSE [{}]  damping  data passes",
-        a.unit
+        a.data.unit
     );
     for h in &rep.history {
         println!(
@@ -94,7 +71,7 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
     }
     println!(
         "train RMSE [{}]: {:.3} -> {:.3} (mean {:.3}, median {:.3}, max {:.3})",
-        a.unit,
+        a.data.unit,
         rep.before.rmse / unit,
         rep.after.rmse / unit,
         rep.after.mean / unit,
@@ -105,10 +82,10 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
         "Fitted by `ccrkit calibrate {}` on {} ({} rows): aligned train tip RMSE {:.3} {}.\n\
          Parameters: {}.",
         a.file.display(),
-        a.data.display(),
+        a.data.data.display(),
         rep.rows_used,
         rep.after.rmse / unit,
-        a.unit,
+        a.data.unit,
         rep.params
             .iter()
             .map(|p| p.name.as_str())

@@ -10,17 +10,18 @@ use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// Options of `ccrkit predict`.
+/// What `predict` and `calibrate` share: the data, its columns and unit, the chunking and the
+/// solve options. The method defaults to `energy` here (the geometric method is slow on the
+/// many-disk hardware robots).
 #[derive(Args)]
-pub struct PredictArgs {
-    /// Model file (TOML); its `[hardware]` table maps commands and frames.
-    pub file: PathBuf,
-    /// Data CSV: one row per sample, cable displacements (and optionally `tip_x,tip_y,tip_z`).
+#[command(mut_arg("method", |a| a
+    .default_value("energy")
+    .help("Method: see `ccrkit methods` (default energy here: geometric is slow on these robots)")))]
+pub struct DataArgs {
+    /// Data CSV: one row per sample, cable displacements (and `tip_x,tip_y,tip_z` to compare
+    /// or fit to).
     #[arg(long)]
     pub data: PathBuf,
-    /// Output CSV: `tip_x,tip_y,tip_z,status`, one row per input row, in the data's unit.
-    #[arg(long)]
-    pub out: PathBuf,
     /// Cable columns in the model's cable order (default: every `servo_*` column in file order).
     #[arg(long, value_delimiter = ',')]
     pub columns: Vec<String>,
@@ -34,22 +35,44 @@ pub struct PredictArgs {
     pub solve: SolveArgs,
 }
 
+impl DataArgs {
+    /// The data (read and checked) and the unit's size in metres.
+    pub fn dataset(&self) -> Result<(Dataset, f64)> {
+        let unit = unit_scale(&self.unit)?;
+        let opts = DataOptions {
+            columns: self.columns.clone(),
+            unit,
+        };
+        Ok((Dataset::from_file(&self.data, &opts)?, unit))
+    }
+
+    /// The prediction options (request checked, progress bar on).
+    pub fn predict_options(&self) -> Result<PredictOptions> {
+        Ok(PredictOptions {
+            request: self.solve.request(1)?,
+            chunk: self.chunk,
+            progress: true,
+        })
+    }
+}
+
+/// Options of `ccrkit predict`.
+#[derive(Args)]
+pub struct PredictArgs {
+    /// Model file (TOML); its `[hardware]` table maps commands and frames.
+    pub file: PathBuf,
+    /// Output CSV: `tip_x,tip_y,tip_z,status`, one row per input row, in the data's unit.
+    #[arg(long)]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub data: DataArgs,
+}
+
 /// Run `ccrkit predict`.
 pub fn run(a: PredictArgs) -> Result<()> {
-    let unit = unit_scale(&a.unit)?;
     let model = Model::from_file(&a.file)?;
-    let data = Dataset::from_file(
-        &a.data,
-        &DataOptions {
-            columns: a.columns.clone(),
-            unit,
-        },
-    )?;
-    let opts = PredictOptions {
-        request: a.solve.request(1)?,
-        chunk: a.chunk,
-        progress: true,
-    };
+    let (data, unit) = a.data.dataset()?;
+    let opts = a.data.predict_options()?;
     let t = Instant::now();
     let rows = predict(&model, &data, &opts)?;
     let wall = t.elapsed().as_secs_f64();
@@ -80,7 +103,7 @@ pub fn run(a: PredictArgs) -> Result<()> {
         if let Some(s) = ErrorStats::of(&e) {
             println!(
                 "mean-offset-aligned tip error [{}]: rmse {:.3}  mean {:.3}  median {:.3}  max {:.3}  over {} rows",
-                a.unit, s.rmse / unit, s.mean / unit, s.median / unit, s.max / unit, s.n
+                a.data.unit, s.rmse / unit, s.mean / unit, s.median / unit, s.max / unit, s.n
             );
         }
     }

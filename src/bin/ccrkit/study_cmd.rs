@@ -2,8 +2,9 @@
 
 use super::create_dir;
 use anyhow::{Context, Result};
-use ccrkit::{study, Model};
-use clap::Subcommand;
+use ccrkit::study::{self, figures};
+use ccrkit::Model;
+use clap::{Args, Subcommand};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -11,81 +12,93 @@ use std::time::Instant;
 pub(crate) enum StudyCommand {
     /// Median solve time and error against a converged Cosserat reference, for every method
     /// and resolution setting: DIR/speed_accuracy.csv, .svg, .png.
-    SpeedAccuracy {
-        /// Model file (TOML).
-        file: PathBuf,
-        /// Output folder.
-        #[arg(long)]
-        out: PathBuf,
-        /// Solves per setting (median time).
-        #[arg(long, default_value_t = 5)]
-        repeats: usize,
-        /// Only these methods (comma-separated; default: all).
-        #[arg(long, value_delimiter = ',')]
-        methods: Vec<String>,
-    },
+    SpeedAccuracy(SpeedAccuracyArgs),
     /// Converged/failed map over the inputs of the first two driven cables, per method, cold and
     /// with continuation: DIR/stability.csv and DIR/stability_METHOD.{svg,png}.
-    Stability {
-        /// Model file (TOML).
-        file: PathBuf,
-        /// Output folder.
-        #[arg(long)]
-        out: PathBuf,
-        /// Grid points per axis.
-        #[arg(long, default_value_t = 40)]
-        grid: usize,
-        /// Largest shortening swept (percent of the cable length).
-        #[arg(long, default_value_t = 18.0)]
-        max_percent: f64,
-        /// Largest tension swept, as a multiple of the file's.
-        #[arg(long, default_value_t = 10.0)]
-        tension_factor: f64,
-        /// Input swept: `auto` (tension for the rods, shortening otherwise), `shortening`, `tension`.
-        #[arg(long, default_value = "auto")]
-        input: String,
-        /// Only these methods (comma-separated; default: all).
-        #[arg(long, value_delimiter = ',')]
-        methods: Vec<String>,
-    },
+    Stability(StabilityArgs),
     /// Sample the driven cables' inputs (Halton), solve in parallel, write the tip cloud:
     /// DIR/workspace.csv (or workspace_shard_K_of_N.csv) and DIR/workspace.{svg,png}.
-    Workspace {
-        /// Model file (TOML).
-        file: PathBuf,
-        /// Output folder.
-        #[arg(long)]
-        out: PathBuf,
-        /// Samples in the whole sweep.
-        #[arg(long, default_value_t = 1000)]
-        samples: usize,
-        /// Method: see `ccrkit methods`.
-        #[arg(long, default_value = "geometric")]
-        method: String,
-        /// Solve only this share, `k/N` (blocks of --chunk samples, block j to shard j % N).
-        #[arg(long)]
-        shard: Option<String>,
-        /// Largest shortening sampled (percent).
-        #[arg(long, default_value_t = 10.0)]
-        max_percent: f64,
-        /// Largest tension sampled, as a multiple of the file's.
-        #[arg(long, default_value_t = 3.0)]
-        tension_factor: f64,
-        /// Input sampled: `auto`, `shortening`, `tension`.
-        #[arg(long, default_value = "auto")]
-        input: String,
-        /// Samples per block (warm starts stay inside a block; keep it equal across shards).
-        #[arg(long, default_value_t = 32)]
-        chunk: usize,
-    },
+    Workspace(WorkspaceArgs),
     /// Join workspace shards into one CSV sorted by sample index.
-    Merge {
-        /// Output CSV.
-        out: PathBuf,
-        /// Shard CSVs.
-        #[arg(required = true)]
-        inputs: Vec<PathBuf>,
-    },
+    Merge(MergeArgs),
+}
+
+#[derive(Args)]
+pub(crate) struct SpeedAccuracyArgs {
+    /// Model file (TOML).
+    file: PathBuf,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Solves per setting (median time).
+    #[arg(long, default_value_t = 5)]
+    repeats: usize,
+    /// Only these methods (comma-separated; default: all).
+    #[arg(long, value_delimiter = ',')]
+    methods: Vec<String>,
+}
+
+#[derive(Args)]
+pub(crate) struct StabilityArgs {
+    /// Model file (TOML).
+    file: PathBuf,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Grid points per axis.
+    #[arg(long, default_value_t = 40)]
+    grid: usize,
+    /// Largest shortening swept (percent of the cable length).
+    #[arg(long, default_value_t = 18.0)]
+    max_percent: f64,
+    /// Largest tension swept, as a multiple of the file's.
+    #[arg(long, default_value_t = 10.0)]
+    tension_factor: f64,
+    /// Input swept: `auto` (tension for the rods, shortening otherwise), `shortening`, `tension`.
+    #[arg(long, default_value = "auto")]
+    input: String,
+    /// Only these methods (comma-separated; default: all).
+    #[arg(long, value_delimiter = ',')]
+    methods: Vec<String>,
+}
+
+#[derive(Args)]
+pub(crate) struct WorkspaceArgs {
+    /// Model file (TOML).
+    file: PathBuf,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Samples in the whole sweep.
+    #[arg(long, default_value_t = 1000)]
+    samples: usize,
+    /// Method: see `ccrkit methods`.
+    #[arg(long, default_value = "geometric")]
+    method: String,
+    /// Solve only this share, `k/N` (blocks of --chunk samples, block j to shard j % N).
+    #[arg(long)]
+    shard: Option<String>,
+    /// Largest shortening sampled (percent).
+    #[arg(long, default_value_t = 10.0)]
+    max_percent: f64,
+    /// Largest tension sampled, as a multiple of the file's.
+    #[arg(long, default_value_t = 3.0)]
+    tension_factor: f64,
+    /// Input sampled: `auto`, `shortening`, `tension`.
+    #[arg(long, default_value = "auto")]
+    input: String,
+    /// Samples per block (warm starts stay inside a block; keep it equal across shards).
+    #[arg(long, default_value_t = 32)]
+    chunk: usize,
+}
+
+#[derive(Args)]
+pub(crate) struct MergeArgs {
+    /// Output CSV.
+    out: PathBuf,
+    /// Shard CSVs.
+    #[arg(required = true)]
+    inputs: Vec<PathBuf>,
 }
 
 fn parse_input(s: &str) -> Result<Option<study::Input>> {
@@ -107,159 +120,170 @@ fn methods_or_all(m: Vec<String>) -> Vec<String> {
 
 /// Runs one study subcommand.
 pub(crate) fn run(cmd: StudyCommand) -> Result<()> {
-    use study::figures;
     match cmd {
-        StudyCommand::SpeedAccuracy {
-            file,
-            out,
-            repeats,
-            methods,
-        } => {
-            let model = Model::from_file(&file)?;
-            create_dir(&out)?;
-            let opts = study::SpeedAccuracyOptions {
-                repeats,
-                methods: methods_or_all(methods),
-                progress: true,
-            };
-            let rows = study::speed_accuracy(&model, &opts)?;
-            let front = study::speed_accuracy_front(&rows);
+        StudyCommand::SpeedAccuracy(a) => speed_accuracy(a),
+        StudyCommand::Stability(a) => stability(a),
+        StudyCommand::Workspace(a) => workspace(a),
+        StudyCommand::Merge(a) => merge(a),
+    }
+}
+
+/// `ccrkit study speed-accuracy`: the speed–accuracy study and its table.
+fn speed_accuracy(a: SpeedAccuracyArgs) -> Result<()> {
+    let SpeedAccuracyArgs {
+        file,
+        out,
+        repeats,
+        methods,
+    } = a;
+    let model = Model::from_file(&file)?;
+    create_dir(&out)?;
+    let opts = study::SpeedAccuracyOptions {
+        repeats,
+        methods: methods_or_all(methods),
+        progress: true,
+    };
+    let rows = study::speed_accuracy(&model, &opts)?;
+    let front = study::speed_accuracy_front(&rows);
+    println!(
+        "{:<20} {:<20} {:<13} {:>12} {:>13} {:>13} {:>6}",
+        "method", "setting", "input", "time [ms]", "tip err [m]", "rms err [m]", "pareto"
+    );
+    for (r, f) in rows.iter().zip(&front) {
+        if r.status.is_ok() {
             println!(
-                "{:<20} {:<20} {:<13} {:>12} {:>13} {:>13} {:>6}",
-                "method", "setting", "input", "time [ms]", "tip err [m]", "rms err [m]", "pareto"
+                "{:<20} {:<20} {:<13} {:>12.4} {:>13.3e} {:>13.3e} {:>6}",
+                r.method,
+                r.setting,
+                r.reference,
+                r.median_time_s * 1e3,
+                r.tip_error_m,
+                r.rms_error_m,
+                if *f { "*" } else { "" }
             );
-            for (r, f) in rows.iter().zip(&front) {
-                if r.status.is_ok() {
-                    println!(
-                        "{:<20} {:<20} {:<13} {:>12.4} {:>13.3e} {:>13.3e} {:>6}",
-                        r.method,
-                        r.setting,
-                        r.reference,
-                        r.median_time_s * 1e3,
-                        r.tip_error_m,
-                        r.rms_error_m,
-                        if *f { "*" } else { "" }
-                    );
-                } else {
-                    println!("{:<20} {:<20} {}", r.method, r.setting, r.status);
-                }
-            }
-            let csv = out.join("speed_accuracy.csv");
-            study::write_text(&csv, &study::speed_accuracy_csv(&rows))?;
-            let title = format!("{}: speed against accuracy", model.robot.name);
-            for ext in ["svg", "png"] {
-                figures::speed_accuracy_figure(
-                    &rows,
-                    &title,
-                    &out.join(format!("speed_accuracy.{ext}")),
-                )?;
-            }
-            eprintln!("wrote {} (+ .svg, .png)", csv.display());
-            Ok(())
-        }
-        StudyCommand::Stability {
-            file,
-            out,
-            grid,
-            max_percent,
-            tension_factor,
-            input,
-            methods,
-        } => {
-            let model = Model::from_file(&file)?;
-            create_dir(&out)?;
-            let opts = study::StabilityOptions {
-                grid,
-                max_fraction: max_percent / 100.0,
-                tension_factor,
-                input: parse_input(&input)?,
-                methods: methods_or_all(methods),
-                progress: true,
-            };
-            let t = Instant::now();
-            let st = study::stability(&model, &opts)?;
-            let secs = t.elapsed().as_secs_f64();
-            study::write_text(&out.join("stability.csv"), &study::stability_csv(&st))?;
-            print_stability_summary(&st);
-            for m in &opts.methods {
-                for ext in ["svg", "png"] {
-                    figures::stability_figure(&st, m, &out.join(format!("stability_{m}.{ext}")))?;
-                }
-            }
-            eprintln!(
-                "wrote {} and one map per method ({} solves in {secs:.1} s)",
-                out.join("stability.csv").display(),
-                st.points.len()
-            );
-            Ok(())
-        }
-        StudyCommand::Workspace {
-            file,
-            out,
-            samples,
-            method,
-            shard,
-            max_percent,
-            tension_factor,
-            input,
-            chunk,
-        } => {
-            let model = Model::from_file(&file)?;
-            create_dir(&out)?;
-            let shard: Option<study::Shard> = shard.map(|s| s.parse()).transpose()?;
-            let opts = study::WorkspaceOptions {
-                samples,
-                method,
-                input: parse_input(&input)?,
-                max_fraction: max_percent / 100.0,
-                tension_factor,
-                shard,
-                chunk,
-                progress: true,
-            };
-            let ws = study::workspace(&model, &opts)?;
-            let stem = match shard {
-                Some(s) => format!("workspace_shard_{}_of_{}", s.index, s.count),
-                None => "workspace".to_string(),
-            };
-            let csv = out.join(format!("{stem}.csv"));
-            study::write_text(&csv, &study::workspace_csv(&ws))?;
-            let ok = ws.samples.iter().filter(|s| s.status.is_ok()).count();
-            println!(
-                "{}: {} samples ({} ok) in {:.2} s: {:.1} solves/s on {} threads",
-                ws.method,
-                ws.samples.len(),
-                ok,
-                ws.elapsed_s,
-                ws.throughput(),
-                rayon::current_num_threads()
-            );
-            let title = format!("{} — {}", model.robot.name, ws.method);
-            for ext in ["svg", "png"] {
-                figures::workspace_figure(&ws, &title, &out.join(format!("{stem}.{ext}")))?;
-            }
-            eprintln!("wrote {} (+ .svg, .png)", csv.display());
-            Ok(())
-        }
-        StudyCommand::Merge { out, inputs } => {
-            let texts = inputs
-                .iter()
-                .map(|p| {
-                    // Capped: a device or a huge file ends in a named error, not a hang.
-                    ccrkit::model::read::read_text(p, "study CSV")
-                        .with_context(|| format!("reading {}", p.display()))
-                })
-                .collect::<Result<Vec<_>>>()?;
-            let merged = study::merge_csv(&texts)?;
-            study::write_text(&out, &merged)?;
-            eprintln!(
-                "wrote {} ({} rows)",
-                out.display(),
-                merged.lines().count().saturating_sub(1)
-            );
-            Ok(())
+        } else {
+            println!("{:<20} {:<20} {}", r.method, r.setting, r.status);
         }
     }
+    let csv = out.join("speed_accuracy.csv");
+    study::write_text(&csv, &study::speed_accuracy_csv(&rows))?;
+    let title = format!("{}: speed against accuracy", model.robot.name);
+    for ext in ["svg", "png"] {
+        figures::speed_accuracy_figure(&rows, &title, &out.join(format!("speed_accuracy.{ext}")))?;
+    }
+    eprintln!("wrote {} (+ .svg, .png)", csv.display());
+    Ok(())
+}
+
+/// `ccrkit study stability`: the stability maps and their summary.
+fn stability(a: StabilityArgs) -> Result<()> {
+    let StabilityArgs {
+        file,
+        out,
+        grid,
+        max_percent,
+        tension_factor,
+        input,
+        methods,
+    } = a;
+    let model = Model::from_file(&file)?;
+    create_dir(&out)?;
+    let opts = study::StabilityOptions {
+        grid,
+        max_fraction: max_percent / 100.0,
+        tension_factor,
+        input: parse_input(&input)?,
+        methods: methods_or_all(methods),
+        progress: true,
+    };
+    let t = Instant::now();
+    let st = study::stability(&model, &opts)?;
+    let secs = t.elapsed().as_secs_f64();
+    study::write_text(&out.join("stability.csv"), &study::stability_csv(&st))?;
+    print_stability_summary(&st);
+    for m in &opts.methods {
+        for ext in ["svg", "png"] {
+            figures::stability_figure(&st, m, &out.join(format!("stability_{m}.{ext}")))?;
+        }
+    }
+    eprintln!(
+        "wrote {} and one map per method ({} solves in {secs:.1} s)",
+        out.join("stability.csv").display(),
+        st.points.len()
+    );
+    Ok(())
+}
+
+/// `ccrkit study workspace`: the workspace sweep (or one shard of it) and its throughput.
+fn workspace(a: WorkspaceArgs) -> Result<()> {
+    let WorkspaceArgs {
+        file,
+        out,
+        samples,
+        method,
+        shard,
+        max_percent,
+        tension_factor,
+        input,
+        chunk,
+    } = a;
+    let model = Model::from_file(&file)?;
+    create_dir(&out)?;
+    let shard: Option<study::Shard> = shard.map(|s| s.parse()).transpose()?;
+    let opts = study::WorkspaceOptions {
+        samples,
+        method,
+        input: parse_input(&input)?,
+        max_fraction: max_percent / 100.0,
+        tension_factor,
+        shard,
+        chunk,
+        progress: true,
+    };
+    let ws = study::workspace(&model, &opts)?;
+    let stem = match shard {
+        Some(s) => format!("workspace_shard_{}_of_{}", s.index, s.count),
+        None => "workspace".to_string(),
+    };
+    let csv = out.join(format!("{stem}.csv"));
+    study::write_text(&csv, &study::workspace_csv(&ws))?;
+    let ok = ws.samples.iter().filter(|s| s.status.is_ok()).count();
+    println!(
+        "{}: {} samples ({} ok) in {:.2} s: {:.1} solves/s on {} threads",
+        ws.method,
+        ws.samples.len(),
+        ok,
+        ws.elapsed_s,
+        ws.throughput(),
+        rayon::current_num_threads()
+    );
+    let title = format!("{} — {}", model.robot.name, ws.method);
+    for ext in ["svg", "png"] {
+        figures::workspace_figure(&ws, &title, &out.join(format!("{stem}.{ext}")))?;
+    }
+    eprintln!("wrote {} (+ .svg, .png)", csv.display());
+    Ok(())
+}
+
+/// `ccrkit study merge`: workspace shards joined into one CSV.
+fn merge(a: MergeArgs) -> Result<()> {
+    let MergeArgs { out, inputs } = a;
+    let texts = inputs
+        .iter()
+        .map(|p| {
+            // Capped: a device or a huge file ends in a named error, not a hang.
+            ccrkit::model::read::read_text(p, "study CSV")
+                .with_context(|| format!("reading {}", p.display()))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let merged = study::merge_csv(&texts)?;
+    study::write_text(&out, &merged)?;
+    eprintln!(
+        "wrote {} ({} rows)",
+        out.display(),
+        merged.lines().count().saturating_sub(1)
+    );
+    Ok(())
 }
 
 fn print_stability_summary(st: &study::Stability) {

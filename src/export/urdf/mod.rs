@@ -236,14 +236,13 @@ pub fn export_urdf(
             1.0
         }
     };
-    let disk_part = |k: usize| inertia::disk(robot).scaled(share(k));
     links.push(disk_link(robot, shape, 0, opts, None, share(0)));
     let mut values = Vec::new();
     for i in 1..=n {
-        let (prev, next) = (&disks[i - 1], &disks[i]);
-        let t = prev.rotation.transpose() * (next.position - prev.position);
         match opts.mode {
             UrdfMode::Fixed => {
+                let (prev, next) = (&disks[i - 1], &disks[i]);
+                let t = prev.rotation.transpose() * (next.position - prev.position);
                 let back = next.rotation.transpose() * (prev.position - next.position);
                 joints.push(fixed_joint(
                     &format!("disk_{}_to_disk_{}", i - 1, i),
@@ -255,91 +254,7 @@ pub fn export_urdf(
                 links.push(disk_link(robot, shape, i, opts, Some(back), share(i)));
             }
             UrdfMode::Articulated => {
-                let l0 = robot.section_length(i);
-                let q = SectionJoints::from_frames(prev, next, l0);
-                let sec = format!("section_{i}");
-                let bend_x_link = format!("{sec}_bend_x_link");
-                let chord_link = format!("{sec}_chord");
-                let chord_end = format!("{sec}_chord_end");
-                let tilt_x_link = format!("{sec}_tilt_x_link");
-                let tilt_y_link = format!("{sec}_tilt_y_link");
-                let disk = disk_link_name(i);
-                let (x, y, z) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
-                let bend = (-FRAC_PI_2, FRAC_PI_2);
-                let revolute = urdf_rs::JointType::Revolute;
-                let specs = [
-                    JointSpec::new("bend_x", &bend_x_link, revolute.clone(), x, q.bend_x, bend),
-                    JointSpec::new("bend_y", &chord_link, revolute.clone(), y, q.bend_y, bend),
-                    JointSpec {
-                        offset_z: l0,
-                        ..JointSpec::new(
-                            "extension",
-                            &chord_end,
-                            urdf_rs::JointType::Prismatic,
-                            z,
-                            q.extension,
-                            (-0.5 * l0, 0.5 * l0),
-                        )
-                    },
-                    JointSpec::new("tilt_x", &tilt_x_link, revolute.clone(), x, q.tilt_x, bend),
-                    JointSpec::new("tilt_y", &tilt_y_link, revolute.clone(), y, q.tilt_y, bend),
-                    JointSpec::new("twist", &disk, revolute, z, q.twist, (-PI, PI)),
-                ];
-                let mut parent = disk_link_name(i - 1);
-                for spec in specs {
-                    let jname = format!("{sec}_{}", spec.what);
-                    let (lo, hi) = spec.limits;
-                    joints.push(urdf_rs::Joint {
-                        name: jname.clone(),
-                        joint_type: spec.joint_type,
-                        origin: pose([0.0, 0.0, spec.offset_z], [0.0; 3]),
-                        parent: urdf_rs::LinkName { link: parent },
-                        child: urdf_rs::LinkName {
-                            link: spec.child.to_string(),
-                        },
-                        axis: urdf_rs::Axis {
-                            xyz: urdf_rs::Vec3(spec.axis),
-                        },
-                        // Limits always contain the solved value.
-                        limit: limit(lo.min(spec.value), hi.max(spec.value)),
-                        calibration: None,
-                        dynamics: None,
-                        mimic: None,
-                        safety_controller: None,
-                    });
-                    values.push(JointValue {
-                        name: jname,
-                        value: spec.value,
-                    });
-                    parent = spec.child.to_string();
-                }
-                links.push(mass_link(&bend_x_link, disk_part(i - 1)));
-                let mut chord = mass_link(
-                    &chord_link,
-                    inertia::backbone(
-                        robot,
-                        i,
-                        &Vector3::zeros(),
-                        &Vector3::new(0.0, 0.0, t.norm()),
-                    ),
-                );
-                let c = t.norm();
-                if c > MIN_CYLINDER_LENGTH {
-                    add_cylinder(
-                        &mut chord,
-                        &format!("{sec}_backbone"),
-                        &Vector3::zeros(),
-                        &Vector3::new(0.0, 0.0, c),
-                        robot.backbone.radius(),
-                        &backbone_material(),
-                        true,
-                    );
-                }
-                links.push(chord);
-                links.push(mass_link(&chord_end, disk_part(i)));
-                links.push(mass_link(&tilt_x_link, disk_part(i)));
-                links.push(mass_link(&tilt_y_link, disk_part(i)));
-                links.push(disk_link(robot, shape, i, opts, None, share(i)));
+                articulated_section(robot, shape, opts, i, &mut links, &mut joints, &mut values)
             }
         }
     }
@@ -368,6 +283,115 @@ pub fn export_urdf(
         srdf,
         json,
     })
+}
+
+/// The six joints and links of articulated section `i` (bend x/y, extension, tilt x/y, twist),
+/// appended to `links`, `joints` and `values`.
+fn articulated_section(
+    robot: &Robot,
+    shape: &Shape,
+    opts: &UrdfOptions,
+    i: usize,
+    links: &mut Vec<urdf_rs::Link>,
+    joints: &mut Vec<urdf_rs::Joint>,
+    values: &mut Vec<JointValue>,
+) {
+    let n = robot.sections();
+    let (prev, next) = (&shape.disks[i - 1], &shape.disks[i]);
+    let t = prev.rotation.transpose() * (next.position - prev.position);
+    // Share of a disk's mass on each link whose origin is its centre (see `inertia`).
+    let share = |k: usize| 1.0 / inertia::shares_at_disk(k, n) as f64;
+    let disk_part = |k: usize| inertia::disk(robot).scaled(share(k));
+    let l0 = robot.section_length(i);
+    let q = SectionJoints::from_frames(prev, next, l0);
+    let sec = format!("section_{i}");
+    let bend_x_link = format!("{sec}_bend_x_link");
+    let chord_link = format!("{sec}_chord");
+    let chord_end = format!("{sec}_chord_end");
+    let tilt_x_link = format!("{sec}_tilt_x_link");
+    let tilt_y_link = format!("{sec}_tilt_y_link");
+    let disk = disk_link_name(i);
+    let (x, y, z) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+    let bend = (-FRAC_PI_2, FRAC_PI_2);
+    let revolute = urdf_rs::JointType::Revolute;
+    let specs = [
+        JointSpec::new("bend_x", &bend_x_link, revolute.clone(), x, q.bend_x, bend),
+        JointSpec::new("bend_y", &chord_link, revolute.clone(), y, q.bend_y, bend),
+        JointSpec {
+            offset_z: l0,
+            ..JointSpec::new(
+                "extension",
+                &chord_end,
+                urdf_rs::JointType::Prismatic,
+                z,
+                q.extension,
+                (-0.5 * l0, 0.5 * l0),
+            )
+        },
+        JointSpec::new("tilt_x", &tilt_x_link, revolute.clone(), x, q.tilt_x, bend),
+        JointSpec::new("tilt_y", &tilt_y_link, revolute.clone(), y, q.tilt_y, bend),
+        JointSpec::new("twist", &disk, revolute, z, q.twist, (-PI, PI)),
+    ];
+    let mut parent = disk_link_name(i - 1);
+    for spec in specs {
+        let jname = format!("{sec}_{}", spec.what);
+        joints.push(movable_joint(&spec, &jname, parent));
+        values.push(JointValue {
+            name: jname,
+            value: spec.value,
+        });
+        parent = spec.child.to_string();
+    }
+    links.push(mass_link(&bend_x_link, disk_part(i - 1)));
+    let mut chord = mass_link(
+        &chord_link,
+        inertia::backbone(
+            robot,
+            i,
+            &Vector3::zeros(),
+            &Vector3::new(0.0, 0.0, t.norm()),
+        ),
+    );
+    let c = t.norm();
+    if c > MIN_CYLINDER_LENGTH {
+        add_cylinder(
+            &mut chord,
+            &format!("{sec}_backbone"),
+            &Vector3::zeros(),
+            &Vector3::new(0.0, 0.0, c),
+            robot.backbone.radius(),
+            &backbone_material(),
+            true,
+        );
+    }
+    links.push(chord);
+    links.push(mass_link(&chord_end, disk_part(i)));
+    links.push(mass_link(&tilt_x_link, disk_part(i)));
+    links.push(mass_link(&tilt_y_link, disk_part(i)));
+    links.push(disk_link(robot, shape, i, opts, None, share(i)));
+}
+
+/// The URDF joint of `spec`, from `parent` to the spec's child.
+fn movable_joint(spec: &JointSpec, name: &str, parent: String) -> urdf_rs::Joint {
+    let (lo, hi) = spec.limits;
+    urdf_rs::Joint {
+        name: name.to_string(),
+        joint_type: spec.joint_type.clone(),
+        origin: pose([0.0, 0.0, spec.offset_z], [0.0; 3]),
+        parent: urdf_rs::LinkName { link: parent },
+        child: urdf_rs::LinkName {
+            link: spec.child.to_string(),
+        },
+        axis: urdf_rs::Axis {
+            xyz: urdf_rs::Vec3(spec.axis),
+        },
+        // Limits always contain the solved value.
+        limit: limit(lo.min(spec.value), hi.max(spec.value)),
+        calibration: None,
+        dynamics: None,
+        mimic: None,
+        safety_controller: None,
+    }
 }
 
 /// One movable joint of an articulated section; its parent is the previous joint's child.

@@ -105,7 +105,10 @@
 //! A frictionless cable carries one tension along its whole length, so in this model a cable is
 //! slack everywhere or nowhere: `slack_sections` of a slack cable lists all its sections
 //! `1..=ends_at` (section-wise slackness exists only in the section-by-section geometric
-//! model).
+//! model). The inextensible rod cannot take every set of shortenings: cables tied at one disk
+//! whose holes balance about the axis bound each other's lengths from below (see
+//! `inextensible.rs`): such shortenings are reported [`SolveError::Infeasible`] with the proof,
+//! and one cable of each such group starts slack (all taut is singular at the straight rod).
 //!
 //! # Numbers (paper cases, force control, full model, spline routing)
 //!
@@ -131,10 +134,13 @@
 //! exact shooting Jacobian) · `integrate` (RK4 over sections, jumps at the disks, one
 //! shooting pass) · `adaptive` (Dormand–Prince over stretches between jumps) · `problem`
 //! (what is fixed during a solve, global balance) · `shooting` (Newton with Broyden updates,
-//! load continuation) · `warm` (the start from a previous shape) · `solve` (the `Method`
-//! entry: slack active set, shape assembly).
+//! load continuation) · `warm` (the start from a previous shape) · `inextensible` (balanced
+//! cable groups of the Kirchhoff rod under displacement control: proven infeasible
+//! shortenings, the slack start) · `solve` (the `Method` entry: slack active set, shape
+//! assembly).
 
 mod adaptive;
+mod inextensible;
 mod integrate;
 mod problem;
 mod rhs;

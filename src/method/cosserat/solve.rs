@@ -1,6 +1,7 @@
 //! The `Method` entry of the rod: the slack active set over length-controlled cables around
 //! the shooting solve, and the assembly of the shape from the converged pass.
 
+use super::inextensible::{slack_start, Group};
 use super::problem::{LoadCase, Problem, Trace};
 use super::shooting::{Newton, Setup};
 use super::warm::Warm;
@@ -41,6 +42,15 @@ impl Method for Cosserat {
             .collect();
         let mut slack = vec![false; nc];
         let mut warm = Warm::read(warm, self.name(), prob.len_l, &length_cables, &mut slack);
+        // Inextensible rod: balanced cable groups prove some shortenings infeasible and need
+        // one cable slack (`inextensible.rs`).
+        let groups = prob.balanced_groups();
+        prob.check_inextensible(&groups)?;
+        for g in &groups {
+            if g.cables.iter().all(|&c| !slack[c]) {
+                slack[slack_start(&prob, g)] = true;
+            }
+        }
         // Active set over slack cables.
         let mut total_it = 0usize;
         let max_rounds = 2 * nc + 3;
@@ -94,7 +104,7 @@ impl Method for Cosserat {
                 jac,
             } = sol;
             total_it += it;
-            if !self.update_active_set(&prob, &x, &setup, &length_cables, &mut slack) {
+            if !self.update_active_set(&prob, &x, &setup, &length_cables, &groups, &mut slack) {
                 let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, start, notes);
                 shape.report.warm = jac.map(|jacobian| WarmState::Rod { jacobian });
                 return Ok(shape);
@@ -114,13 +124,16 @@ impl Method for Cosserat {
 impl Cosserat {
     /// Complementarity at a converged `x`: the taut cable with the most negative tension
     /// becomes slack; else every slack cable whose path comes out longer than its length
-    /// becomes taut. True if the set changed.
+    /// becomes taut; a balanced group of the inextensible rod that this would make all taut
+    /// (`inextensible.rs`) slackens instead its previously taut member of least tension.
+    /// True if the set changed.
     fn update_active_set(
         &self,
         prob: &Problem,
         x: &DVector<f64>,
         setup: &Setup,
         length_cables: &[usize],
+        groups: &[Group],
         slack: &mut [bool],
     ) -> bool {
         let tau = prob.tensions(x, setup, 1.0);
@@ -143,6 +156,14 @@ impl Cosserat {
                 if setup.slack[c] && shot.len[c] > prob.target(c, 1.0) + tol_len {
                     slack[c] = false;
                     changed = true;
+                }
+            }
+            for g in groups {
+                if g.cables.iter().all(|&c| !slack[c]) {
+                    let keep = g.cables.iter().copied().filter(|&c| !setup.slack[c]);
+                    if let Some(c) = keep.min_by(|&a, &b| tau[a].total_cmp(&tau[b])) {
+                        slack[c] = true;
+                    }
                 }
             }
         }

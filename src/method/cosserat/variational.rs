@@ -472,4 +472,42 @@ impl Cosserat {
         }
         Ok(Some((f, jv, jc)))
     }
+
+    /// Diagnostic for tests: the start point `x` of [`Self::shooting_jacobians`] (every
+    /// length-controlled cable taut at `tension_guess`, global-balance base wrench) and the
+    /// central-difference Jacobian of the shooting residual there, for any robot (also where
+    /// the variational one is not available, e.g. cables tied at inner disks).
+    #[doc(hidden)]
+    pub fn shooting_jacobian_fd(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        tension_guess: f64,
+        rel_step: f64,
+    ) -> Result<(DVector<f64>, DMatrix<f64>), SolveError> {
+        let (prob, _) = self.problem(robot, act)?;
+        let unknown: Vec<usize> = (0..robot.cables.len())
+            .filter(|&c| matches!(prob.modes[c], Drive::Shorten { .. }))
+            .collect();
+        let setup = Setup {
+            slack: vec![false; robot.cables.len()],
+            unknown,
+        };
+        let mut x = DVector::zeros(6 + setup.unknown.len());
+        for j in 0..setup.unknown.len() {
+            x[6 + j] = tension_guess;
+        }
+        prob.balance_guess(&mut x, &setup, 1.0);
+        let mut jc = DMatrix::zeros(x.len(), x.len());
+        for col in 0..x.len() {
+            let h = rel_step * x[col].abs().max(prob.fscale);
+            let mut xp = x.clone();
+            xp[col] += h;
+            let fp = prob.residual(&xp, &setup, 1.0);
+            xp[col] -= 2.0 * h;
+            let fm = prob.residual(&xp, &setup, 1.0);
+            jc.set_column(col, &((fp - fm) / (2.0 * h)));
+        }
+        Ok((x, jc))
+    }
 }

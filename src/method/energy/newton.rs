@@ -336,7 +336,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let (prob, w) = (self.prob, &self.w);
         let mut feas = 0.0f64;
         for &c in &self.cable_rows {
-            let r = prob.cable_gap(c, w.len[c]);
+            let r = prob.cable_gap(c, w.len[c], self.lam[c]);
             feas = feas.max(if self.lam[c] > 0.0 {
                 r.abs()
             } else {
@@ -443,11 +443,16 @@ impl<'p, 'a> Sqp<'p, 'a> {
     }
 
     /// Constraint row `r` of the step's QP: gradient, sign, value (`≤ 0` when satisfied).
-    /// Cables first (length − target), then contacts (clearance − distance, gradient negated).
+    /// Cables first (length − target, the rigid part: a compliant cable's `−λ/k` is on the
+    /// dual's diagonal), then contacts (clearance − distance, gradient negated).
     fn row(&self, r: usize) -> (&[f64], f64, f64) {
         if r < self.cable_rows.len() {
             let c = self.cable_rows[r];
-            (&self.w.grad[c], 1.0, self.prob.cable_gap(c, self.w.len[c]))
+            (
+                &self.w.grad[c],
+                1.0,
+                self.prob.cable_gap(c, self.w.len[c], 0.0),
+            )
         } else {
             let p = &self.pairs[r - self.cable_rows.len()];
             (&p.grad, -1.0, self.clearance - p.dist)
@@ -456,8 +461,10 @@ impl<'p, 'a> Sqp<'p, 'a> {
 
     /// The QP of this step in its dual: rows a_r, values c_r ≤ 0 ([`Sqp::row`]). With
     /// z = H⁻¹ ∇f and y_r = H⁻¹ a_r the step is −z − Σ λ_r y_r (into `dxi`), where λ ≥ 0
-    /// minimizes ½ λᵀ S λ − qᵀ λ, S = [a_rᵀ y_s], q_r = c_r − a_rᵀ z. Returns the new
-    /// multipliers (cables, then contacts); `None` if the QP cycles.
+    /// minimizes ½ λᵀ (S + C) λ − qᵀ λ, S = [a_rᵀ y_s], q_r = c_r − a_rᵀ z, C the diagonal of
+    /// the cables' compliances `1/k` (a compliant row `a·d + c − λ/k ≤ 0` is the primal QP
+    /// with a stretch `s` costing `½ k s²`; eliminating `s = λ/k` puts `1/k` on the dual's
+    /// diagonal). Returns the new multipliers (cables, then contacts); `None` if the QP cycles.
     fn dual_step(&mut self) -> Option<Vec<f64>> {
         let prob = self.prob;
         let nrow = self.cable_rows.len() + self.pairs.len();
@@ -481,6 +488,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 s_mat[r * nrow + s] = sign * dot(a, &ys[s]);
             }
             lam_new[r] = if r < self.cable_rows.len() {
+                s_mat[r * nrow + r] += prob.compliance[self.cable_rows[r]];
                 self.lam[self.cable_rows[r]]
             } else {
                 self.mu[r - self.cable_rows.len()]
@@ -500,11 +508,14 @@ impl<'p, 'a> Sqp<'p, 'a> {
         ok.then_some(lam_new)
     }
 
-    /// Summed violation of the constraints at lengths `len` and pairs `ps` \[m\].
+    /// Summed violation of the constraints at lengths `len` and pairs `ps` \[m\] (compliant
+    /// cables are springs in the merit, not constraints).
     fn violation(&self, len: &[f64], ps: &[Pair]) -> f64 {
         let mut v = 0.0;
         for &c in &self.cable_rows {
-            v += self.prob.cable_gap(c, len[c]).max(0.0);
+            if !self.prob.is_spring(c) {
+                v += self.prob.cable_gap(c, len[c], 0.0).max(0.0);
+            }
         }
         for p in ps {
             v += (self.clearance - p.dist).max(0.0);
@@ -512,10 +523,11 @@ impl<'p, 'a> Sqp<'p, 'a> {
         v
     }
 
-    /// The ℓ1 merit `E + V + Σ T L + pen · violation`.
+    /// The ℓ1 merit `E + V + Σ T L + Σ ½ k (L − t)₊² + pen · violation` (the compliant
+    /// cables' springs, [`Problem::spring_energy`]).
     fn merit(&self, x: &[f64], kin: Option<&Kin>, len: &[f64], ps: &[Pair], pen: f64) -> f64 {
         let prob = self.prob;
-        let mut f = prob.energy(x) + prob.load_potential(kin);
+        let mut f = prob.energy(x) + prob.load_potential(kin) + prob.spring_energy(len);
         for c in 0..prob.robot.cables.len() {
             if let Target::Tension(t) = prob.targets[c] {
                 f += t * len[c];
@@ -530,7 +542,13 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let prob = self.prob;
         let pen = 2.0 * lam_new.iter().cloned().fold(0.0, f64::max) + 1e-3;
         let phi0 = self.merit(&self.xi, self.kin.as_ref(), &self.w.len, &self.pairs, pen);
-        let dphi = dot(&self.w.gobj, &self.dxi) - pen * self.violation(&self.w.len, &self.pairs);
+        let springs: f64 = self
+            .cable_rows
+            .iter()
+            .map(|&c| prob.spring_tension(c, self.w.len[c]) * dot(&self.w.grad[c], &self.dxi))
+            .sum();
+        let dphi =
+            dot(&self.w.gobj, &self.dxi) + springs - pen * self.violation(&self.w.len, &self.pairs);
         // Near the solution the merit changes below round-off (or below the noise of
         // parry's distances, with contacts): take the full step.
         let noise = if self.pairs.is_empty() {
@@ -553,18 +571,28 @@ impl<'p, 'a> Sqp<'p, 'a> {
             let kin_trial = prob
                 .needs_frames()
                 .then(|| contacts::kinematics(&self.trial, &prob.ell, false));
+            let (trial_pairs, trial_clear) = match (self.world, &kin_trial) {
+                (Some(wd), Some(k)) if stretch_ok => wd.pairs(k),
+                _ => (vec![], f64::INFINITY),
+            };
+            // No feature may pass through an obstacle between two iterates (distances to
+            // open meshes are unsigned: a jump through a wall would look clear): either no
+            // point moves farther than the robot's distance to the obstacles (or half the
+            // pair margin when closer; features near an obstacle are held by their
+            // linearized constraints), or every feature–obstacle pair passes the tests of
+            // `energy/step_guard.rs` (distances, separating planes).
             let near_enough = match (self.world, &self.kin, &kin_trial) {
                 (Some(wd), Some(k0), Some(k1)) => {
                     wd.max_move(k0, k1) <= self.clear.max(0.5 * wd.margin())
+                        || wd.step_is_clear(
+                            (k0, &self.pairs, self.clear),
+                            (k1, &trial_pairs, trial_clear),
+                        )
                 }
                 _ => true,
             };
             if stretch_ok && near_enough {
                 prob.lengths(&self.trial, &mut self.trial_len);
-                let trial_pairs = match (self.world, &kin_trial) {
-                    (Some(wd), Some(k)) => wd.pairs(k).0,
-                    _ => vec![],
-                };
                 let phi = self.merit(
                     &self.trial,
                     kin_trial.as_ref(),

@@ -7,16 +7,29 @@ use super::contacts::{Kin, World};
 use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use super::lengths::Node;
 use super::Energy;
+use crate::contact::broad;
 use crate::error::SolveError;
-use crate::method::contact::check_base;
 use crate::method::Method;
-use crate::model::actuation::{Actuation, Drive, Input, LengthMeasure};
+use crate::model::actuation::{Actuation, Drive, LengthMeasure};
 use crate::model::robot::Robot;
 use crate::model::routing::Route;
 use crate::model::scene::Scene;
 use crate::numeric::so3::log_so3;
 use crate::shape::DiskFrame;
 use nalgebra::Vector3;
+use std::borrow::Cow;
+
+/// Routing samples of one cable, `[j][q]` (sub-arc, Gauss node).
+pub(super) type NodeRow = Vec<[Node; GL_NODES]>;
+
+/// What an energy solve needs of the robot alone (with the settings): computed once per
+/// robot by [`crate::method::Method::prepare`], shared by every solve of it.
+pub(super) struct RobotPart {
+    /// Routing samples `[c][j][q]` (path measure; empty for chords).
+    pub(super) nodes: Vec<NodeRow>,
+    /// Undeformed length of every cable in the chosen measure \[m\].
+    pub(super) len0: Vec<f64>,
+}
 
 /// What a cable imposes in this method, from its resolved [`Drive`]: a length constraint
 /// (its target length in the chosen measure), a constant tension, or nothing.
@@ -43,8 +56,10 @@ pub(super) struct Problem<'a> {
     /// Diagonal stiffness of each variable (ℓ·EI, ℓ·EI, ℓ·GJ, ℓ·EA).
     pub(super) k: Vec<f64>,
     /// Gauss samples `[c][j][q]` (path measure; empty for sub-arcs the cable does not reach).
-    pub(super) nodes: Vec<Vec<[Node; GL_NODES]>>,
+    pub(super) nodes: Cow<'a, [NodeRow]>,
     pub(super) targets: Vec<Target>,
+    /// Compliance `1/k` of each cable \[m/N\] (0: inextensible).
+    pub(super) compliance: Vec<f64>,
     /// Block size (4 for paths, 4m for chords) and count.
     pub(super) nb: usize,
     pub(super) nblocks: usize,
@@ -67,16 +82,45 @@ impl Problem<'_> {
         j / self.m + 1
     }
 
-    /// The cable length constraint of displacement-driven cable `c` at path length `len`:
-    /// `L_c − (L_c⁰ − δ_c)` \[m\], ≤ 0 when satisfied (0 when the cable is taut). The one
-    /// place that says what a cable's length must be (the residual, the step's QP row and
-    /// the merit all read it): a cable model with axial compliance changes it here.
+    /// The cable length constraint of displacement-driven cable `c` at path length `len` and
+    /// tension `lam`: `L_c − t_c − λ_c/k_c` \[m\], ≤ 0 when satisfied (0 when the cable is
+    /// taut), with the unstretched target `t_c = L_c⁰ − δ_c − T₀_c/k_c` (module docs of
+    /// [`super`], "Compliant cables"). The one place that says what a cable's length must be:
+    /// the residual reads it with the iterate's tension; the step's QP row reads the rigid part
+    /// (`lam = 0`) and puts `1/k` on its dual diagonal ([`Problem::compliance`]); the merit
+    /// counts a compliant cable as the spring potential [`Problem::spring_energy`].
     #[inline]
-    pub(super) fn cable_gap(&self, c: usize, len: f64) -> f64 {
+    pub(super) fn cable_gap(&self, c: usize, len: f64, lam: f64) -> f64 {
         match self.targets[c] {
-            Target::Length(t) => len - t,
+            Target::Length(t) => len - t - lam * self.compliance[c],
             _ => len,
         }
+    }
+
+    /// Whether cable `c` is a displacement-driven compliant cable (a spring, not a constraint,
+    /// in the merit).
+    #[inline]
+    pub(super) fn is_spring(&self, c: usize) -> bool {
+        self.compliance[c] > 0.0 && matches!(self.targets[c], Target::Length(_))
+    }
+
+    /// Tension of compliant cable `c` at path length `len`, `k (L − t)₊` \[N\] (0 for others).
+    #[inline]
+    pub(super) fn spring_tension(&self, c: usize, len: f64) -> f64 {
+        if self.is_spring(c) {
+            self.cable_gap(c, len, 0.0).max(0.0) / self.compliance[c]
+        } else {
+            0.0
+        }
+    }
+
+    /// Potential of the compliant cables, `Σ ½ k (L − t)₊²` \[J\]: eliminating the tension from
+    /// `L − t − λ/k ≤ 0 ⊥ λ ≥ 0` gives `λ = k (L − t)₊`, the force of this potential.
+    pub(super) fn spring_energy(&self, len: &[f64]) -> f64 {
+        (0..len.len())
+            .filter(|&c| self.is_spring(c))
+            .map(|c| 0.5 * self.spring_tension(c, len[c]) * self.cable_gap(c, len[c], 0.0).max(0.0))
+            .sum()
     }
 
     pub(super) fn energy(&self, xi: &[f64]) -> f64 {
@@ -171,12 +215,34 @@ impl Problem<'_> {
 }
 
 impl Energy {
+    /// The problem of one solve of `robot` (its routing samples computed here).
     pub(super) fn setup<'a>(
         &'a self,
         robot: &'a Robot,
         act: &Actuation,
         scene: &'a Scene,
     ) -> Result<Problem<'a>, SolveError> {
+        let part = self.robot_part(robot)?;
+        self.setup_from(robot, act, scene, Cow::Owned(part.nodes), &part.len0)
+    }
+
+    /// Routing samples and undeformed cable lengths of `robot` (straight backbone, ξ = 0).
+    pub(super) fn robot_part(&self, robot: &Robot) -> Result<RobotPart, SolveError> {
+        let mut prob = self.bare(robot, Cow::Owned(vec![]));
+        if self.cable_length == LengthMeasure::Path {
+            prob.nodes = Cow::Owned(self.gauss_nodes(robot, &prob.ell)?);
+        }
+        let mut len0 = vec![0.0; robot.cables.len()];
+        prob.lengths(&vec![0.0; prob.nvar()], &mut len0);
+        Ok(RobotPart {
+            nodes: prob.nodes.into_owned(),
+            len0,
+        })
+    }
+
+    /// The sub-arcs, stiffnesses and block layout of `robot`, with the routing samples
+    /// `nodes`; every cable free, no loads, no obstacles.
+    fn bare<'a>(&'a self, robot: &'a Robot, nodes: Cow<'a, [NodeRow]>) -> Problem<'a> {
         let m = self.sub_arcs;
         let n = robot.sections();
         let nsub = n * m;
@@ -191,11 +257,6 @@ impl Energy {
                 k.extend_from_slice(&[l * ei, l * ei, l * gj, l * ea]);
             }
         }
-        let nc = robot.cables.len();
-        let nodes = match self.cable_length {
-            LengthMeasure::Path => self.gauss_nodes(robot, &ell)?,
-            LengthMeasure::Chord => vec![],
-        };
         let (nb, nblocks) = match self.cable_length {
             LengthMeasure::Path => (4, nsub),
             LengthMeasure::Chord => (4 * m, n),
@@ -207,7 +268,7 @@ impl Energy {
             .fold(0.0f64, |a, &r| a.max(r));
         let rbar = if rbar > 0.0 { rbar } else { robot.disk_radius };
         let lmin = ell.iter().cloned().fold(f64::INFINITY, f64::min);
-        let mut prob = Problem {
+        Problem {
             robot,
             set: self,
             m,
@@ -215,41 +276,45 @@ impl Energy {
             ell,
             k,
             nodes,
-            targets: vec![Target::Free; nc],
+            targets: vec![Target::Free; robot.cables.len()],
+            compliance: robot.cables.iter().map(|c| c.compliance()).collect(),
             nb,
             nblocks,
             stat_scale: rbar / (ei * lmin),
             world: None,
             frame_forces: vec![],
-        };
+        }
+    }
+
+    /// The problem of one solve from the robot's prepared part (`nodes`, `len0` of
+    /// [`Energy::robot_part`]): dead loads, obstacles within reach, what each cable imposes.
+    pub(super) fn setup_from<'a>(
+        &'a self,
+        robot: &'a Robot,
+        act: &Actuation,
+        scene: &'a Scene,
+        nodes: Cow<'a, [NodeRow]>,
+        len0: &[f64],
+    ) -> Result<Problem<'a>, SolveError> {
+        let mut prob = self.bare(robot, nodes);
         prob.frame_forces = self.dead_loads(robot, &prob.ell)?;
         if !scene.is_empty() {
-            // Broad phase, robot level: only obstacles within reach of the base take part.
-            let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
-            let near = scene.near(&Vector3::zeros(), reach);
-            check_base(robot, scene, &near)?;
-            prob.world = World::new(robot, scene, near, m);
+            let near = broad::robot_obstacles(robot, scene)?;
+            prob.world = World::new(robot, scene, near, self.sub_arcs);
         }
-        // Undeformed lengths in the chosen measure (straight backbone, ξ = 0).
-        let mut len0 = vec![0.0; nc];
-        prob.lengths(&vec![0.0; 4 * nsub], &mut len0);
-        let drives = act.drives(
-            robot,
-            self.name(),
-            &[Input::Shortening, Input::Tension],
-            self.control,
-        )?;
+        let drives = self.kind().drives(robot, act, self.control)?;
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.targets[c] = match drives[c] {
                 Drive::Shorten { length: d, .. } => {
-                    let target = len0[c] - d;
+                    let target = len0[c] - d - cable.pretension_stretch();
                     if target <= 0.0 {
                         return Err(SolveError::Infeasible {
                             cable: cable.name.clone(),
                             section: cable.ends_at,
                             reason: format!(
-                                "shortening {d:.6} m is not less than the cable's undeformed \
-                                 length {:.6} m",
+                                "shortening {d:.6} m (plus the pretension's stretch {:.3e} m) \
+                                 is not less than the cable's undeformed length {:.6} m",
+                                cable.pretension_stretch(),
                                 len0[c]
                             ),
                         });

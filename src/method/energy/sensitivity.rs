@@ -25,8 +25,10 @@
 //! [ A  0  ] [ dλ ] = [ −∂c_A/∂u   ]        tension T_c:                    rhs (−∇L_c, 0)
 //! ```
 //!
-//! (a slack cable's shortening moves nothing: its column is zero). With `H` block diagonal it
-//! is solved by the Schur complement `S = A H⁻¹ Aᵀ` (one block solve per active row), else by
+//! (a slack cable's shortening moves nothing: its column is zero). A compliant cable's row reads
+//! `L − t − λ/k = 0`, so its `dλ` enters its own row: the lower-right block is `−C`,
+//! `C = diag(1/k)` (0 for rigid cables and contacts). With `H` block diagonal it
+//! is solved by the Schur complement `S = A H⁻¹ Aᵀ + C` (one block solve per active row), else by
 //! a dense LU of the whole matrix. The tip position and tangent `t = R e_z` move along `dξ`
 //! as their directional derivatives, by first-order forward AD ([`D1`]) through the product
 //! of sub-arc exponentials (exact, one pass per column).
@@ -120,10 +122,26 @@ impl Problem<'_> {
         for (p, _) in pressing {
             rows.push(p.grad.iter().map(|g| -g).collect());
         }
+        // Compliance of each active row (cables `1/k`, contacts 0).
+        let mut soft: Vec<f64> = taut.iter().map(|&c| self.compliance[c]).collect();
+        soft.resize(rows.len(), 0.0);
         let hess = self.lagrangian_hessian(xi, w, kin, pressing);
         let stable = Some(match &hess {
             Hessian::Blocks(_) => true,
-            Hessian::Dense(h) => reduced_positive_definite(h, &rows),
+            Hessian::Dense(h) => {
+                // A compliant row is a spring: `H + k a aᵀ` on the null space of the rigid rows.
+                let mut h = h.clone();
+                let mut rigid = vec![];
+                for (row, &c) in rows.iter().zip(&soft) {
+                    if c > 0.0 {
+                        let a = DVector::from_column_slice(row);
+                        h += (&a * a.transpose()) / c;
+                    } else {
+                        rigid.push(row.clone());
+                    }
+                }
+                reduced_positive_definite(&h, &rigid)
+            }
         });
         let nrow = rows.len();
         let mut cols = vec![];
@@ -155,7 +173,7 @@ impl Problem<'_> {
                 Target::Free => {}
             }
         }
-        let jacobian = self.tip_jacobian(xi, &hess, &rows, &cols);
+        let jacobian = self.tip_jacobian(xi, &hess, &rows, &soft, &cols);
         Sensitivity { stable, jacobian }
     }
 
@@ -277,18 +295,20 @@ impl Problem<'_> {
     }
 
     /// Solve the KKT system for every column and map `dξ` to the tip (module docs); `None`
-    /// if the system is singular or the result is not finite.
+    /// if the system is singular or the result is not finite. `soft[a]` is row `a`'s
+    /// compliance (`−1/k` on the KKT matrix's diagonal, module docs).
     fn tip_jacobian(
         &self,
         xi: &[f64],
         hess: &Hessian,
         rows: &[Vec<f64>],
+        soft: &[f64],
         cols: &[Column],
     ) -> Option<TipJacobian> {
         let (nv, k) = (self.nvar(), rows.len());
         let dxis: Vec<Vec<f64>> = match hess {
             Hessian::Blocks(f) => {
-                // Schur complement: Y = H⁻¹ Aᵀ, S = A Y, dλ = S⁻¹ (A H⁻¹ r − s).
+                // Schur complement: Y = H⁻¹ Aᵀ, S = A Y + C, dλ = S⁻¹ (A H⁻¹ r − s).
                 let ys: Vec<Vec<f64>> = rows
                     .iter()
                     .map(|r| {
@@ -302,6 +322,7 @@ impl Problem<'_> {
                     for b in 0..k {
                         s[a * k + b] = dot(&rows[a], &ys[b]);
                     }
+                    s[a * k + a] += soft[a];
                 }
                 let mut out = Vec::with_capacity(cols.len());
                 for col in cols {
@@ -326,6 +347,7 @@ impl Problem<'_> {
                         m[(nv + a, i)] = rows[a][i];
                         m[(i, nv + a)] = rows[a][i];
                     }
+                    m[(nv + a, nv + a)] = -soft[a];
                 }
                 let lu = m.lu();
                 let mut out = Vec::with_capacity(cols.len());

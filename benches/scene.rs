@@ -1,0 +1,31 @@
+//! Reading a scene of 1000 obstacles (issue 16 #5): the TOML parse, every obstacle validated,
+//! its parry shape and bounds built — all `Scene::from_file` does before a method sees it —
+//! beside an empty scene file. The scene is written by the generator the tests use.
+//!
+//! `cargo bench --bench scene`
+
+use ccrkit::Scene;
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+
+#[path = "../tests/common/scenes.rs"]
+mod scenes;
+
+fn bench(c: &mut Criterion) {
+    let dir = std::env::temp_dir().join(format!("ccrkit-bench-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut grp = c.benchmark_group("scene_read");
+    for n in [0, 1000] {
+        let path = dir.join(format!("scene{n}.toml"));
+        std::fs::write(&path, scenes::scene_text(n, 7)).unwrap();
+        assert_eq!(Scene::from_file(&path).unwrap().obstacles.len(), n);
+        grp.bench_function(format!("{n}_obstacles"), |b| {
+            b.iter(|| black_box(Scene::from_file(&path).unwrap()))
+        });
+    }
+    grp.finish();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
