@@ -68,9 +68,10 @@
 //! # Files
 //!
 //! `mod.rs` the settings and the section loop (base to tip) · `problem.rs` the eq. 1–2 section
-//! problem and its derivatives · `faces.rs` the taut-set and face search and the certificate ·
+//! problem and its derivatives · `derivatives.rs` their closed forms · `faces.rs` the taut-set and face search and the certificate ·
 //! `feasibility.rs` proofs that no pose exists · `newton.rs` Newton–KKT on one face · `obstacles.rs` the obstacles one section sees.
 
+mod derivatives;
 mod faces;
 mod feasibility;
 mod newton;

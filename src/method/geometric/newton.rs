@@ -52,7 +52,14 @@ impl Geometric {
                     escape: None,
                 })
             };
-            let (f, c) = data.eval::<D2<6>>(&pose, face, active, squared);
+            // Near obstacles the candidate converges only to CONTACT_STEP_TOL (parry's noise),
+            // so arithmetic that differs at rounding level moves it by ~1e-9 m: contact
+            // sections keep the dual numbers the recorded tips were solved with.
+            let (f, c) = if data.world.is_some() {
+                data.eval::<D2<6>>(&pose, face, active, squared)
+            } else {
+                data.eval_d2(&pose, face, active, squared)
+            };
             if !f.v.is_finite() || c.iter().any(|x| !x.v.is_finite()) {
                 return reject(last_res);
             }
