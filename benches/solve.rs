@@ -27,9 +27,27 @@ fn paper_cases(c: &mut Criterion) {
     }
 }
 
+/// The literal method next to an obstacle (issue 16 #6): case I in the wall scene.
+fn wall_scene(c: &mut Criterion) {
+    let m = method_by_name("geometric").expect("method");
+    let model = Model::from_file("models/paper/case1.toml").expect("model");
+    let scene = Scene::from_file("models/scenes/wall.toml").expect("scene");
+    c.bench_function("geometric/case1-wall", |b| {
+        b.iter(|| {
+            m.solve(
+                black_box(&model.robot),
+                black_box(&model.actuation),
+                &scene,
+                None,
+            )
+            .expect("solve")
+        })
+    });
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
-    targets = paper_cases
+    targets = paper_cases, wall_scene
 }
 criterion_main!(benches);
