@@ -16,7 +16,6 @@
 //! one arm in each `match` of this file (see `CONTRIBUTING.md`).
 
 pub mod constant_curvature;
-pub(crate) mod contact;
 pub mod cosserat;
 pub mod energy;
 pub mod geometric;

@@ -7,10 +7,10 @@ use super::contacts::{Kin, World};
 use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use super::lengths::Node;
 use super::Energy;
+use crate::contact::broad;
 use crate::error::SolveError;
-use crate::method::contact::check_base;
 use crate::method::Method;
-use crate::model::actuation::{Actuation, Drive, Input, LengthMeasure};
+use crate::model::actuation::{Actuation, Drive, LengthMeasure};
 use crate::model::robot::Robot;
 use crate::model::routing::Route;
 use crate::model::scene::Scene;
@@ -299,18 +299,10 @@ impl Energy {
         let mut prob = self.bare(robot, nodes);
         prob.frame_forces = self.dead_loads(robot, &prob.ell)?;
         if !scene.is_empty() {
-            // Broad phase, robot level: only obstacles within reach of the base take part.
-            let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
-            let near = scene.near(&Vector3::zeros(), reach);
-            check_base(robot, scene, &near)?;
+            let near = broad::robot_obstacles(robot, scene)?;
             prob.world = World::new(robot, scene, near, self.sub_arcs);
         }
-        let drives = act.drives(
-            robot,
-            self.name(),
-            &[Input::Shortening, Input::Tension],
-            self.control,
-        )?;
+        let drives = self.kind().drives(robot, act, self.control)?;
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.targets[c] = match drives[c] {
                 Drive::Shorten { length: d, .. } => {
