@@ -161,3 +161,68 @@ impl World<'_> {
         true
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::energy::contacts::kinematics;
+    use crate::model::Model;
+
+    /// Case 1 (straight) beside a thin wall (2 mm thick box) whose face is at `x = face`.
+    fn straight_beside_wall(face: f64) -> (Model, Vec<f64>) {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/models/paper/case1.toml"
+        ))
+        .expect("case 1");
+        let model = Model::from_toml_str(&format!(
+            "{text}\n[[obstacles]]\nname = \"sheet\"\nshape = \"box\"\n\
+             position = [{}, 0.0, 0.1]\nhalf_extents = [0.001, 0.3, 0.3]\n",
+            face + 0.001
+        ))
+        .expect("model");
+        let m = 4;
+        let ell = (0..model.robot.sections() * m)
+            .map(|j| model.robot.section_length(j / m + 1) / m as f64)
+            .collect();
+        (model, ell)
+    }
+
+    /// The same frames moved rigidly by `d`.
+    fn shifted(k: &Kin, d: Vector3<f64>) -> Kin {
+        Kin {
+            rot: k.rot.clone(),
+            pos: k.pos.iter().map(|p| p + d).collect(),
+            m_int: vec![],
+            n_int: vec![],
+        }
+    }
+
+    /// A jump of the whole robot through the thin wall is refused, although it ends clear of
+    /// it; the same distance moved along the wall (the disks 7 mm from it, within the pair
+    /// margin) is taken, where the old test (every point moves less than the clearance or
+    /// half the margin) refused it.
+    #[test]
+    fn refuses_a_jump_through_a_wall_and_takes_a_slide_along_it() {
+        let (model, ell) = straight_beside_wall(0.019);
+        let wd = World::new(&model.robot, &model.scene, vec![0], 4).expect("world");
+        let k0 = kinematics(&vec![0.0; 4 * ell.len()], &ell, false);
+        let (p0, c0) = wd.pairs(&k0);
+        assert!(p0.iter().any(|p| matches!(p.feat, Feat::Disk(_))));
+        assert!((c0 - 0.007).abs() < 1e-9, "clearance {c0}");
+        let through = shifted(&k0, Vector3::new(0.07, 0.0, 0.0));
+        let (p1, c1) = wd.pairs(&through);
+        assert!(c1 > 0.0, "the jump ends clear of the wall: {c1}");
+        assert!(!wd.step_is_clear((&k0, &p0, c0), (&through, &p1, c1)));
+        let slide = shifted(&k0, Vector3::new(0.0, 0.0, 0.02));
+        let (p1, c1) = wd.pairs(&slide);
+        assert!(wd.max_move(&k0, &slide) > c0.max(0.5 * wd.margin()));
+        assert!(wd.step_is_clear((&k0, &p0, c0), (&slide, &p1, c1)));
+        // Towards the wall by more than the clearance: the disks would end inside it (seen by
+        // the signed distance), the backbone and the cables still short of it.
+        let into = shifted(&k0, Vector3::new(0.009, 0.0, 0.0));
+        let (p1, c1) = wd.pairs(&into);
+        assert!(c1 < 0.0);
+        assert!(wd.step_is_clear((&k0, &p0, c0), (&into, &p1, c1)));
+    }
+}
