@@ -90,45 +90,30 @@ fn main() -> Result<()> {
             )
         };
         let (train, val) = (read("train")?, read("val")?);
-        // Fit on train only.
-        let t = Instant::now();
-        let rep = calibrate(&nominal, &train, &FitOptions::new(options()))?;
-        let fit_s = t.elapsed().as_secs_f64();
-        println!("\nFTDCR {v}: calibrated on train ({} rows, {} left out) in {fit_s:.1} s, {} iterations ({})", rep.rows_used, rep.rows_excluded, rep.history.len() - 1, rep.stop);
-        for h in &rep.history {
-            println!(
-                "  iteration {:>2}: train RMSE {:.3} mm",
-                h.iteration,
-                1e3 * h.rmse
-            );
-        }
-        for p in &rep.params {
-            let k = if p.unit == "m" { 1e3 } else { 1.0 };
-            let u = if p.unit == "m" { "mm" } else { "" };
-            let sig = p
-                .sigma
-                .map(|s| format!("{:.4}", k * s))
-                .unwrap_or_else(|| "singular".into());
-            println!(
-                "  {:<10} {:>9.4} ± {sig} {u}  (nominal {:.4})",
-                p.name,
-                k * p.value,
-                k * p.initial
-            );
-        }
+        // Fit on train only: the default set (per-segment gain and offset, one cable
+        // compliance, the marker), then the same plus one common backlash (9 scalars, the
+        // protocol's limit), started from the first fit.
         let text = std::fs::read_to_string(&file)?;
-        let fitted_path = dir.join(format!("ftdcr_{v}_fitted.toml"));
-        std::fs::write(
-            &fitted_path,
-            fitted_toml(
-                &text,
-                &rep.model,
-                &format!("hardware_fit example: {v} fitted on train"),
-            )?,
+        let default = FitOptions::new(options());
+        let fitted = fit(v, "fitted", &nominal, &train, &default, &text, &dir)?;
+        let mut with_backlash = FitOptions::new(options());
+        with_backlash.params = ccrkit::calibrate::params::default_names(&nominal.robot);
+        with_backlash.params.push("backlash".into());
+        let backlash = fit(
+            v,
+            "fitted_backlash",
+            &fitted,
+            &train,
+            &with_backlash,
+            &text,
+            &dir,
         )?;
-        let fitted = Model::from_file(&fitted_path)?;
         let mut val_pred = vec![];
-        for (name, model) in [("nominal", &nominal), ("fitted", &fitted)] {
+        for (name, model) in [
+            ("nominal", &nominal),
+            ("fitted (8 parameters)", &fitted),
+            ("fitted + backlash (9)", &backlash),
+        ] {
             let (pt, ft) = tips(model, &train)?;
             let (pv, fv) = tips(model, &val)?;
             let (et, _, _) = errors(&pt, &train);
@@ -197,6 +182,69 @@ fn main() -> Result<()> {
     Ok(())
 }
 
+/// Calibrate `start` on `train` with `opts`, print the report, write and reload the fitted
+/// model (`DIR/ftdcr_{v}_{label}.toml`).
+fn fit(
+    v: &str,
+    label: &str,
+    start: &Model,
+    train: &Dataset,
+    opts: &FitOptions,
+    text: &str,
+    dir: &Path,
+) -> Result<Model> {
+    let t = Instant::now();
+    let rep = calibrate(start, train, opts)?;
+    let fit_s = t.elapsed().as_secs_f64();
+    println!("\nFTDCR {v} {label}: calibrated on train ({} rows, {} left out) in {fit_s:.1} s, {} iterations, {} passes over the data ({})", rep.rows_used, rep.rows_excluded, rep.history.len() - 1, rep.history.last().map_or(0, |h| h.passes), rep.stop);
+    for h in &rep.history {
+        println!(
+            "  iteration {:>2}: train RMSE {:.3} mm",
+            h.iteration,
+            1e3 * h.rmse
+        );
+    }
+    for p in &rep.params {
+        if p.unit == "m/N" {
+            // Compliance 1/k: show the stiffness too.
+            let sig = p
+                .sigma
+                .map(|s| format!("{s:.3e}"))
+                .unwrap_or_else(|| "singular".into());
+            println!(
+                "  {:<10} {:>9.3e} ± {sig} m/N  (k = {:.0} N/m; nominal {:.3e})",
+                p.name,
+                p.value,
+                1.0 / p.value,
+                p.initial
+            );
+            continue;
+        }
+        let k = if p.unit == "m" { 1e3 } else { 1.0 };
+        let u = if p.unit == "m" { "mm" } else { "" };
+        let sig = p
+            .sigma
+            .map(|s| format!("{:.4}", k * s))
+            .unwrap_or_else(|| "singular".into());
+        println!(
+            "  {:<10} {:>9.4} ± {sig} {u}  (nominal {:.4})",
+            p.name,
+            k * p.value,
+            k * p.initial
+        );
+    }
+    let fitted_path = dir.join(format!("ftdcr_{v}_{label}.toml"));
+    std::fs::write(
+        &fitted_path,
+        fitted_toml(
+            text,
+            &rep.model,
+            &format!("hardware_fit example: {v} {label} on train"),
+        )?,
+    )?;
+    Ok(Model::from_file(&fitted_path)?)
+}
+
 /// Two panels (top view x–y, side view x–z) in mm: measured in grey, predictions in colour.
 fn draw(
     path: &Path,
@@ -209,7 +257,11 @@ fn draw(
     let root = SVGBackend::new(path, (1100, 560)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 18))?;
-    let colours = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
+    let colours = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+    ];
     let views: [(&str, &str, Projection); 2] = [
         ("top view", "y [mm]", |p| (1e3 * p.x, 1e3 * p.y)),
         ("side view", "z [mm]", |p| (1e3 * p.x, 1e3 * p.z)),

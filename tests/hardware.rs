@@ -315,7 +315,7 @@ mod batch {
     }
 
     /// Calibration recovers known parameters: tips made by the model with chosen gains,
-    /// offsets and marker (plus a frame shift the metric removes) are fitted back from the
+    /// offsets, cable compliance and marker (plus a frame shift the metric removes) are fitted back from the
     /// nominal model to 1e-5 relative, RMSE to ~0, and the written model reproduces them.
     #[test]
     fn calibrate_recovers_known_parameters() {
@@ -331,6 +331,9 @@ mod batch {
         set(&mut truth, 1, 0.97, 0.0004);
         set(&mut truth, 2, 1.06, 0.0001);
         truth.hardware.marker.z = 0.005;
+        for c in truth.robot.cables.iter_mut() {
+            c.stiffness = Some(4000.0);
+        }
         truth.hardware.base_position += Vector3::new(0.002, -0.001, 0.003);
         let mut d = v4_rows(6);
         let p = predict(&truth, &d, &opts(64)).expect("truth");
@@ -351,7 +354,17 @@ mod batch {
             rep.after.rmse,
             rep.stop
         );
-        let want = [0.85, 0.97, 1.06, -0.0003, 0.0004, 0.0001, 0.005];
+        let want = [
+            0.85,
+            0.97,
+            1.06,
+            -0.0003,
+            0.0004,
+            0.0001,
+            1.0 / 4000.0,
+            0.005,
+        ];
+        assert_eq!(rep.params.len(), want.len());
         for (f, w) in rep.params.iter().zip(want) {
             assert!(
                 (f.value - w).abs() < 1e-5 * w.abs().max(1e-3),

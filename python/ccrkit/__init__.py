@@ -7,6 +7,8 @@ A thin layer over ccrkit's Rust core (``ccrkit._native``, built with PyO3 and ma
     shape = model.solve("energy")                       # the file's actuation
     shape = model.solve("energy", shorten=[0.007, 0.005], sub_arcs=8)
     batch = ccrkit.solve_batch(model, shorten=rows)     # rows: (N, cables) [m]
+    r = model.reach([0.06, 0.057, 0.151])               # least-effort actuation to a tip
+    p = model.with_scene("scene.toml").plan(to_tip=[...], seed=1)   # a clear path to it
 
 Units are SI (metres, newtons, radians). Every error is a ``ccrkit.SolveError``.
 numpy is imported only when an array is made, so ``import ccrkit`` stays fast.
@@ -20,10 +22,14 @@ from ._native import (
     InvalidInput,
     Model,
     ModelError,
+    NoPath,
     NotConverged,
     Obstructed,
+    Plan,
+    Reach,
     Shape,
     SolveError,
+    Unreachable,
     Unsupported,
     methods,
 )
@@ -37,11 +43,15 @@ __all__ = [
     "InvalidInput",
     "Model",
     "ModelError",
+    "NoPath",
     "NotConverged",
     "Obstructed",
+    "Plan",
+    "Reach",
     "STATUSES",
     "Shape",
     "SolveError",
+    "Unreachable",
     "Unsupported",
     "methods",
     "solve_batch",

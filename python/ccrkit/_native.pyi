@@ -25,6 +25,10 @@ class SolveError(Exception):
     residual: Optional[float]
     obstacle: Optional[str]
     path: Optional[str]
+    target: Optional[List[float]]
+    closest: Optional[List[float]]
+    distance: Optional[float]
+    samples: Optional[int]
 
 class InvalidInput(SolveError):
     """An input or setting is not valid (``field`` names it)."""
@@ -43,6 +47,15 @@ class Obstructed(SolveError):
 
 class Unsupported(SolveError):
     """The method cannot represent this robot, load or obstacle (``method``)."""
+
+class Unreachable(SolveError):
+    """reach found no actuation putting the tip on the target: ``target``, ``closest`` (the
+    closest tip found), ``distance`` [m]; ``result`` is that closest answer."""
+
+    result: Reach
+
+class NoPath(SolveError):
+    """plan found no clear path to the goal (``samples`` drawn, ``reason``)."""
 
 class ExportError(SolveError):
     """An export cannot be written (``path``)."""
@@ -138,6 +151,113 @@ class Model:
         cables: bool = False,
         name: Optional[str] = None,
     ) -> List[str]: ...
+
+    def reach(
+        self,
+        tip: _Vec,
+        tangent: Optional[_Vec] = None,
+        *,
+        method: str = "energy",
+        margin: Optional[float] = None,
+        allow_contact: bool = False,
+        tolerance: float = 1e-7,
+        starts: int = 8,
+        max_iterations: int = 60,
+        require: bool = True,
+        **settings: _Setting,
+    ) -> Reach:
+        """Least-effort actuation (sum of shorten² [m²]) within the model's limits putting the
+        tip on ``tip`` [m] (and the tip tangent along ``tangent``), ``margin`` [m] clear of the
+        obstacles unless ``allow_contact``; ``ccrkit reach``. Raises ``Unreachable`` when not
+        reached, unless ``require=False``."""
+    def plan(
+        self,
+        to_tip: Optional[_Vec] = None,
+        to_actuation: Optional[_Vec] = None,
+        from_actuation: Optional[_Vec] = None,
+        *,
+        method: str = "energy",
+        seed: int = 1,
+        margin: Optional[float] = None,
+        max_samples: int = 5000,
+        roadmap: Optional[_Path] = None,
+        **settings: _Setting,
+    ) -> Plan:
+        """A clear path of actuations from ``from_actuation`` (default: the file's) to one
+        goal, ``to_tip`` [m] or ``to_actuation`` [m]; ``ccrkit plan`` (RRT-Connect, or a query
+        of the ``roadmap`` file). Raises ``NoPath`` when none is found."""
+
+class Reach:
+    """The answer of ``Model.reach`` (or the closest one, ``reached == False``)."""
+
+    @property
+    def reached(self) -> bool: ...
+    @property
+    def target(self) -> npt.NDArray[np.float64]:
+        """(3,) target tip [m]."""
+    @property
+    def tip(self) -> npt.NDArray[np.float64]:
+        """(3,) tip of the answer [m]."""
+    @property
+    def tip_error_m(self) -> float: ...
+    @property
+    def tangent_error_rad(self) -> Optional[float]: ...
+    @property
+    def shorten(self) -> npt.NDArray[np.float64]:
+        """(cables,) shortenings [m]."""
+    @property
+    def tensions(self) -> npt.NDArray[np.float64]:
+        """(cables,) tensions of the answer [N], NaN where none."""
+    @property
+    def effort_m2(self) -> float: ...
+    @property
+    def min_clearance_m(self) -> Optional[float]: ...
+    @property
+    def shape(self) -> Shape: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def starts(self) -> int: ...
+    @property
+    def solves(self) -> int: ...
+    @property
+    def sensitivities(self) -> str:
+        """``exact`` or ``finite-differences``."""
+    @property
+    def reason(self) -> str: ...
+    def to_json(self) -> str:
+        """The command line's ``ccrkit reach --json`` text."""
+
+class Plan:
+    """The answer of ``Model.plan``: waypoints clear of the obstacles by the margin."""
+
+    @property
+    def shorten(self) -> npt.NDArray[np.float64]:
+        """(waypoints, cables) shortenings [m]."""
+    @property
+    def tips(self) -> npt.NDArray[np.float64]:
+        """(waypoints, 3) tips [m]."""
+    @property
+    def clearances(self) -> npt.NDArray[np.float64]:
+        """(waypoints,) measured clearance of each waypoint [m]."""
+    @property
+    def shapes(self) -> List[Shape]: ...
+    @property
+    def cables(self) -> List[str]: ...
+    @property
+    def margin_m(self) -> float: ...
+    @property
+    def min_clearance_m(self) -> float: ...
+    @property
+    def certified_clearance_m(self) -> float: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def statistics(self) -> Dict[str, Any]: ...
+    def to_json(self) -> str:
+        """The command line's ``ccrkit plan --json`` text."""
+    def trajectory_csv(self) -> str:
+        """The command line's ``ccrkit plan --trajectory`` text."""
 
 def methods() -> List[Dict[str, Any]]: ...
 def _solve_batch(

@@ -1,7 +1,8 @@
 //! ccrkit's errors as Python exceptions: one base, `ccrkit.SolveError`, and one subclass per
 //! kind of the core's errors. Every instance carries `kind`, `field` and `reason` (the field or
 //! thing the error names, and why), plus the kind's own attributes (`cable`, `section`,
-//! `method`, `iterations`, `residual`, `obstacle`, `path`); absent ones are `None`.
+//! `method`, `iterations`, `residual`, `obstacle`, `path`, and the inverse problems' `target`,
+//! `closest`, `distance`, `samples`); absent ones are `None`.
 
 use ccrkit::export::ExportError as CoreExportError;
 use ccrkit::{ModelError as CoreModelError, SolveError as CoreSolveError};
@@ -55,6 +56,19 @@ create_exception!(
 );
 create_exception!(
     ccrkit,
+    Unreachable,
+    SolveError,
+    "reach found no actuation putting the tip on the target (target, closest: the closest tip \
+     found, distance [m]; result: that closest answer as a ccrkit.Reach, when raised by reach)."
+);
+create_exception!(
+    ccrkit,
+    NoPath,
+    SolveError,
+    "plan found no clear path to the goal (samples drawn, reason)."
+);
+create_exception!(
+    ccrkit,
     ExportError,
     SolveError,
     "An export cannot be written (field: the option or disk, path)."
@@ -73,6 +87,10 @@ struct Attrs {
     residual: Option<f64>,
     obstacle: Option<String>,
     path: Option<String>,
+    target: Option<[f64; 3]>,
+    closest: Option<[f64; 3]>,
+    distance: Option<f64>,
+    samples: Option<usize>,
 }
 
 fn raise<T: pyo3::PyTypeInfo>(py: Python<'_>, msg: String, a: Attrs) -> PyErr {
@@ -90,6 +108,10 @@ fn raise<T: pyo3::PyTypeInfo>(py: Python<'_>, msg: String, a: Attrs) -> PyErr {
         d.set_item("residual", a.residual)?;
         d.set_item("obstacle", a.obstacle)?;
         d.set_item("path", a.path)?;
+        d.set_item("target", a.target.map(|v| v.to_vec()))?;
+        d.set_item("closest", a.closest.map(|v| v.to_vec()))?;
+        d.set_item("distance", a.distance)?;
+        d.set_item("samples", a.samples)?;
         for (k, v) in d.iter() {
             value.setattr(k.cast::<pyo3::types::PyString>()?, v)?;
         }
@@ -179,25 +201,32 @@ pub fn solve_error(py: Python<'_>, e: &CoreSolveError) -> PyErr {
                 ..Default::default()
             },
         ),
-        // The inverse problems' kinds (reach, plan) are not bound yet; raised as the base
-        // class with the core's message as the reason.
-        CoreSolveError::Unreachable { distance, .. } => raise::<SolveError>(
+        CoreSolveError::Unreachable {
+            target,
+            closest,
+            distance,
+            reason,
+        } => raise::<Unreachable>(
             py,
             msg,
             Attrs {
                 kind,
                 field: Some("tip".into()),
-                reason: format!("unreachable: closest tip {distance:.3e} m away"),
+                reason,
+                target: Some(target),
+                closest: Some(closest),
+                distance: Some(distance),
                 ..Default::default()
             },
         ),
-        CoreSolveError::NoPath { reason, .. } => raise::<SolveError>(
+        CoreSolveError::NoPath { samples, reason } => raise::<NoPath>(
             py,
             msg,
             Attrs {
                 kind,
                 field: Some("plan".into()),
                 reason,
+                samples: Some(samples),
                 ..Default::default()
             },
         ),
@@ -289,5 +318,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Obstructed", py.get_type::<Obstructed>())?;
     m.add("Unsupported", py.get_type::<Unsupported>())?;
     m.add("ExportError", py.get_type::<ExportError>())?;
+    m.add("Unreachable", py.get_type::<Unreachable>())?;
+    m.add("NoPath", py.get_type::<NoPath>())?;
     Ok(())
 }

@@ -4,6 +4,7 @@
 //! only converts arguments and results and maps errors to Python exceptions.
 
 mod errors;
+mod inverse;
 mod model;
 mod shape;
 
@@ -186,6 +187,8 @@ fn batch_dict<'py>(
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_class::<Shape>()?;
+    m.add_class::<inverse::Reach>()?;
+    m.add_class::<inverse::Plan>()?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(_solve_batch, m)?)?;
     errors::register(m)?;

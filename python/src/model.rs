@@ -1,11 +1,14 @@
 //! `ccrkit.Model`: a parsed, validated model file, kept with its text so that it pickles.
 
 use crate::errors::{export_error, invalid, model_error, solve_error};
+use crate::inverse::{Plan, PlanArgs, Reach};
 use crate::shape::Shape;
 use ccrkit::batch::BatchInputs;
 use ccrkit::export::{export_urdf, UrdfOptions};
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
+use ccrkit::plan::PlanOptions;
+use ccrkit::reach::ReachOptions;
 use ccrkit::Scene;
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike1};
 use pyo3::prelude::*;
@@ -284,6 +287,78 @@ impl Model {
         let export = export_urdf(&shape.inner, &self.inner.robot, &opts)
             .map_err(|e| export_error(py, &e))?;
         export.write_files(&path).map_err(|e| export_error(py, &e))
+    }
+
+    /// The least-effort actuation (Σ shorten² [m²]) within the model's `[limits]` that puts
+    /// the tip on `tip` [m] (and the tip tangent along `tangent`, normalized, if given),
+    /// keeping every feature `margin` [m] (default: the scene's `clearance`) clear of the
+    /// model's obstacles, or touching them with `allow_contact`; `ccrkit reach`. Raises
+    /// `Unreachable` (closest tip, distance, and the closest answer as `result`) when not
+    /// reached, unless `require=False`. Other keywords are the method's settings.
+    #[pyo3(signature = (tip, tangent=None, *, method="energy", margin=None, allow_contact=false, tolerance=1e-7, starts=8, max_iterations=60, require=true, **settings))]
+    #[allow(clippy::too_many_arguments)]
+    fn reach(
+        &self,
+        py: Python<'_>,
+        tip: PyArrayLike1<'_, f64, AllowTypeChange>,
+        tangent: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+        method: &str,
+        margin: Option<f64>,
+        allow_contact: bool,
+        tolerance: f64,
+        starts: usize,
+        max_iterations: usize,
+        require: bool,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Reach> {
+        let request =
+            SolveRequest::new(method_kind(py, method)?).with_settings(settings_from(settings)?);
+        let opts = ReachOptions {
+            allow_contact,
+            tolerance,
+            max_iterations,
+            starts,
+            margin,
+        };
+        crate::inverse::reach(py, &self.inner, tip, tangent, request, opts, require)
+    }
+
+    /// A path of actuations from `from_actuation` (default: the file's) to `to_tip` [m] or
+    /// `to_actuation` [m] along which every feature keeps `margin` (default: the scene's
+    /// `clearance`) from the model's obstacles; `ccrkit plan`. RRT-Connect with `seed`, or a
+    /// query of the roadmap file `roadmap` (`ccrkit roadmap build`). Raises `NoPath` when
+    /// none is found. Other keywords are the method's settings.
+    #[pyo3(signature = (to_tip=None, to_actuation=None, from_actuation=None, *, method="energy", seed=1, margin=None, max_samples=5000, roadmap=None, **settings))]
+    #[allow(clippy::too_many_arguments)]
+    fn plan(
+        &self,
+        py: Python<'_>,
+        to_tip: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+        to_actuation: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+        from_actuation: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+        method: &str,
+        seed: u64,
+        margin: Option<f64>,
+        max_samples: usize,
+        roadmap: Option<PathBuf>,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Plan> {
+        let request =
+            SolveRequest::new(method_kind(py, method)?).with_settings(settings_from(settings)?);
+        let opts = PlanOptions {
+            seed,
+            margin,
+            max_samples,
+            ..PlanOptions::default()
+        };
+        let args = PlanArgs {
+            to_tip,
+            to_actuation,
+            from_actuation,
+            roadmap,
+            opts,
+        };
+        crate::inverse::plan(py, &self.inner, request, args)
     }
 
     /// Pickling: the TOML text, its base directory, the source file and the added scenes.

@@ -31,7 +31,7 @@ def test_stubs_cover_the_native_module():
     top, members = declared()
     public = {n for n in dir(_native) if not n.startswith("__")}
     assert public <= top, public - top
-    for cls in ("Model", "Shape"):
+    for cls in ("Model", "Shape", "Reach", "Plan"):
         attrs = {n for n in dir(getattr(_native, cls)) if not n.startswith("_")}
         assert attrs <= members[cls], (cls, attrs - members[cls])
     try:

@@ -8,10 +8,8 @@
 //! model's `base_position` is moved by the final mean offset, so its predictions need no
 //! alignment on the training data.
 //!
-//! **Jacobian.** Forward differences `∂r/∂x_k ≈ (r(x + h_k e_k) − r(x)) / h_k`,
-//! `h_k = 10⁻⁴ × scale_k` (gain 10⁻⁴, lengths 0.1 µm: ≥ 10³ times the energy solver's 10⁻¹⁰ m
-//! tolerance), each row of the perturbed solve warm-started from that row's solution at `x`
-//! (one or two Newton steps).
+//! **Jacobian** (`calibrate/jacobian.rs`): from the solver's exact tip sensitivities where the
+//! method reports them (energy), else forward differences of warm-started solves.
 //!
 //! **Step.** Marquardt's scaled damping (Marquardt 1963; Nocedal & Wright, *Numerical
 //! Optimization*, 2nd ed., §10.3): `(JᵀJ + λ diag(JᵀJ)) δ = −Jᵀr` in scaled variables
@@ -36,10 +34,11 @@ use super::params::{default_names, parse_all, Param};
 use super::predict::{PredictOptions, Rows};
 use super::{aligned_errors, ErrorStats};
 use crate::error::SolveError;
+use crate::model::hardware::directions;
 use crate::model::Model;
 use crate::shape::Shape;
 use indicatif::ProgressBar;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DVector, Vector3};
 
 /// How to fit.
 #[derive(Debug, Clone)]
@@ -116,24 +115,28 @@ pub struct FitReport {
     pub model: Model,
 }
 
-struct Eval {
-    shapes: Vec<Option<Shape>>,
-    r: DVector<f64>,
-    mean_offset: Vector3<f64>,
+/// The residual at one point: every row's shape, the aligned residuals, the mean offset.
+pub(super) struct Eval {
+    pub(super) shapes: Vec<Option<Shape>>,
+    pub(super) r: DVector<f64>,
+    pub(super) mean_offset: Vector3<f64>,
 }
 
-struct Fitter<'a> {
-    rows: Rows,
-    base: &'a Model,
-    params: Vec<Param>,
-    commands: Vec<Vec<f64>>,
-    tips: Vec<Vector3<f64>>,
-    bar: ProgressBar,
-    passes: usize,
+/// The fit's state: the rows used, their commands and measured tips, the parameters.
+pub(super) struct Fitter<'a> {
+    pub(super) rows: Rows,
+    pub(super) base: &'a Model,
+    pub(super) params: Vec<Param>,
+    pub(super) commands: Vec<Vec<f64>>,
+    /// Each used row's direction of motion per cable (from the whole file, in order).
+    pub(super) dirs: Vec<Vec<f64>>,
+    pub(super) tips: Vec<Vector3<f64>>,
+    pub(super) bar: ProgressBar,
+    pub(super) passes: usize,
 }
 
 impl Fitter<'_> {
-    fn model_at(&self, x: &DVector<f64>) -> Model {
+    pub(super) fn model_at(&self, x: &DVector<f64>) -> Model {
         let mut m = self.base.clone();
         for (p, v) in self.params.iter().zip(x.iter()) {
             p.set(&mut m, v * p.scale());
@@ -141,13 +144,26 @@ impl Fitter<'_> {
         m
     }
 
-    /// Residuals at `x` (`None` if a row fails).
-    fn eval(&mut self, x: &DVector<f64>, warm: Option<&[Option<Shape>]>) -> Option<Eval> {
+    /// Residuals at `x` (`None` if a row fails or a value lies outside the model).
+    pub(super) fn eval(
+        &mut self,
+        x: &DVector<f64>,
+        warm: Option<&[Option<Shape>]>,
+    ) -> Option<Eval> {
+        let inside = self
+            .params
+            .iter()
+            .zip(x.iter())
+            .all(|(p, v)| p.admissible(v * p.scale()));
+        if !inside {
+            return None;
+        }
         let m = self.model_at(x);
         self.passes += 1;
         let out = self.rows.solve_all(
             &m,
             &self.commands,
+            &self.dirs,
             warm,
             &ProgressBar::hidden(),
             &|_, r, _| r.ok().cloned(),
@@ -171,29 +187,6 @@ impl Fitter<'_> {
             mean_offset: off,
         })
     }
-
-    fn jacobian(&mut self, x: &DVector<f64>, at: &Eval) -> Result<DMatrix<f64>, SolveError> {
-        let mut j = DMatrix::zeros(at.r.len(), x.len());
-        for k in 0..x.len() {
-            let h = 1e-4;
-            let mut xp = x.clone();
-            xp[k] += h;
-            let e = match self.eval(&xp, Some(&at.shapes)) {
-                Some(e) => e,
-                None => {
-                    xp[k] = x[k] - h;
-                    let e = self.eval(&xp, Some(&at.shapes)).ok_or_else(|| SolveError::InvalidInput {
-                        field: format!("fit `{}`", self.params[k].name),
-                        reason: "rows fail to solve on both sides of the current value (finite differences)".into(),
-                    })?;
-                    j.set_column(k, &((&at.r - &e.r) / h));
-                    continue;
-                }
-            };
-            j.set_column(k, &((&e.r - &at.r) / h));
-        }
-        Ok(j)
-    }
 }
 
 fn rmse(r: &DVector<f64>) -> f64 {
@@ -206,161 +199,197 @@ pub fn calibrate(
     data: &Dataset,
     opts: &FitOptions,
 ) -> Result<FitReport, SolveError> {
-    let names = if opts.params.is_empty() {
-        default_names(&model.robot)
-    } else {
-        opts.params.clone()
-    };
-    let params = parse_all(&names, &model.robot)?;
-    let tips = data.tips.clone().ok_or_else(|| SolveError::InvalidInput {
-        field: "data".into(),
-        reason: "has no tip_x, tip_y, tip_z columns to fit to".into(),
-    })?;
-    if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) || opts.max_iterations == 0 {
-        return Err(SolveError::InvalidInput {
-            field: "tolerance / max_iterations".into(),
-            reason: "need a tolerance > 0 and at least one iteration".into(),
-        });
-    }
-    let rows = Rows::new(model, data, &opts.predict)?;
-    // Rows that do not solve at the start are left out (and counted).
-    let first = rows.solve_all(
-        model,
-        &data.commands,
-        None,
-        &ProgressBar::hidden(),
-        &|_, r, _| r.is_ok(),
-    );
-    let used: Vec<usize> = (0..first.len()).filter(|&i| first[i]).collect();
-    if used.len() < params.len() + 2 {
-        return Err(SolveError::InvalidInput {
-            field: "data".into(),
-            reason: format!(
-                "only {} of {} rows solve at the start",
-                used.len(),
-                first.len()
-            ),
-        });
-    }
-    let bar = crate::study::progress_bar(
-        opts.max_iterations as u64,
-        opts.predict.progress,
-        "calibrate",
-    );
-    let mut f = Fitter {
-        rows,
-        base: model,
-        params,
-        commands: used.iter().map(|&i| data.commands[i].clone()).collect(),
-        tips: used.iter().map(|&i| tips[i]).collect(),
-        bar,
-        passes: 0,
-    };
-    let mut x = DVector::from_iterator(
+    let (mut f, used) = Fitter::new(model, data, opts)?;
+    let x0 = DVector::from_iterator(
         f.params.len(),
         f.params.iter().map(|p| p.get(model) / p.scale()),
     );
-    let x0 = x.clone();
-    let mut cur = f.eval(&x, None).ok_or_else(|| SolveError::InvalidInput {
+    let start = f.eval(&x0, None).ok_or_else(|| SolveError::InvalidInput {
         field: "data".into(),
         reason: "a row that solved cold failed when solved in sequence".into(),
     })?;
-    let before = ErrorStats::of(&aligned_errors_of(&cur.r)).unwrap_or(ErrorStats {
+    let before = ErrorStats::of(&aligned_errors_of(&start.r)).unwrap_or(ErrorStats {
         n: 0,
         rmse: 0.0,
         mean: 0.0,
         median: 0.0,
         max: 0.0,
     });
-    let mut history = vec![Iteration {
-        iteration: 0,
-        rmse: rmse(&cur.r),
-        lambda: 0.0,
-        passes: f.passes,
-    }];
-    let mut lambda = 1e-3;
-    let mut stop = format!("{} iterations", opts.max_iterations);
-    let mut jac = f.jacobian(&x, &cur)?;
-    for it in 1..=opts.max_iterations {
-        let a = jac.transpose() * &jac;
-        let g = jac.transpose() * &cur.r;
-        let cost = cur.r.norm_squared();
-        let mut accepted = None;
-        while lambda <= 1e10 {
-            let mut m = a.clone();
-            for k in 0..m.nrows() {
-                m[(k, k)] += lambda * a[(k, k)].max(1e-12);
-            }
-            let Some(ch) = m.cholesky() else {
-                lambda *= 4.0;
-                continue;
-            };
-            let xt = &x - ch.solve(&g);
-            match f.eval(&xt, Some(&cur.shapes)) {
-                Some(e) if e.r.norm_squared() < cost => {
-                    accepted = Some((xt, e));
-                    break;
-                }
-                _ => lambda *= 4.0,
-            }
-        }
-        let Some((xt, e)) = accepted else {
-            stop = "no descent left (damping above 1e10)".into();
-            break;
-        };
-        let rel = (cost - e.r.norm_squared()) / cost.max(f64::MIN_POSITIVE);
-        x = xt;
-        cur = e;
-        history.push(Iteration {
-            iteration: it,
-            rmse: rmse(&cur.r),
-            lambda,
-            passes: f.passes,
-        });
-        f.bar.set_position(it as u64);
-        f.bar
-            .set_message(format!("calibrate rmse {:.3} mm", 1e3 * rmse(&cur.r)));
-        lambda = (lambda / 3.0).max(1e-9);
-        if rel < opts.tolerance {
-            stop = format!("cost fell by {rel:.1e} < {:.0e}", opts.tolerance);
-            break;
-        }
-        jac = f.jacobian(&x, &cur)?;
-    }
+    let (x, cur, history, stop) = f.levenberg_marquardt(x0.clone(), start, opts)?;
     f.bar.finish_and_clear();
-    // Uncertainties at the final point.
-    let jac = f.jacobian(&x, &cur)?;
-    let dof = (cur.r.len() as f64 - 3.0 - x.len() as f64).max(1.0);
-    let s2 = cur.r.norm_squared() / dof;
-    let cov = (jac.transpose() * &jac).try_inverse();
+    let params = f.uncertainties(&x0, &x, &cur)?;
     let mut fitted_model = f.model_at(&x);
     fitted_model.hardware.base_position -= cur.mean_offset;
-    let params = f
-        .params
-        .iter()
-        .enumerate()
-        .map(|(k, p)| Fitted {
-            name: p.name.clone(),
-            unit: p.unit(),
-            initial: x0[k] * p.scale(),
-            value: x[k] * p.scale(),
-            sigma: cov
-                .as_ref()
-                .map(|c| (s2 * c[(k, k)]).max(0.0).sqrt() * p.scale())
-                .filter(|s| s.is_finite()),
-        })
-        .collect();
     let after = ErrorStats::of(&aligned_errors_of(&cur.r)).unwrap_or(before);
     Ok(FitReport {
         params,
         history,
         before,
         after,
-        rows_used: used.len(),
-        rows_excluded: data.len() - used.len(),
+        rows_used: used,
+        rows_excluded: data.len() - used,
         stop,
         model: fitted_model,
     })
+}
+
+impl<'a> Fitter<'a> {
+    /// Check the options and data, and keep the rows that solve at the start (the others are
+    /// left out and counted); the number of rows kept.
+    pub(super) fn new(
+        model: &'a Model,
+        data: &Dataset,
+        opts: &FitOptions,
+    ) -> Result<(Self, usize), SolveError> {
+        let names = if opts.params.is_empty() {
+            default_names(&model.robot)
+        } else {
+            opts.params.clone()
+        };
+        let params = parse_all(&names, &model.robot)?;
+        let tips = data.tips.clone().ok_or_else(|| SolveError::InvalidInput {
+            field: "data".into(),
+            reason: "has no tip_x, tip_y, tip_z columns to fit to".into(),
+        })?;
+        if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) || opts.max_iterations == 0 {
+            return Err(SolveError::InvalidInput {
+                field: "tolerance / max_iterations".into(),
+                reason: "need a tolerance > 0 and at least one iteration".into(),
+            });
+        }
+        let rows = Rows::new(model, data, &opts.predict)?;
+        let dirs = directions(&data.commands);
+        let first = rows.solve_all(
+            model,
+            &data.commands,
+            &dirs,
+            None,
+            &ProgressBar::hidden(),
+            &|_, r, _| r.is_ok(),
+        );
+        let used: Vec<usize> = (0..first.len()).filter(|&i| first[i]).collect();
+        if used.len() < params.len() + 2 {
+            return Err(SolveError::InvalidInput {
+                field: "data".into(),
+                reason: format!(
+                    "only {} of {} rows solve at the start",
+                    used.len(),
+                    first.len()
+                ),
+            });
+        }
+        let bar = crate::study::progress_bar(
+            opts.max_iterations as u64,
+            opts.predict.progress,
+            "calibrate",
+        );
+        let f = Fitter {
+            rows,
+            base: model,
+            params,
+            commands: used.iter().map(|&i| data.commands[i].clone()).collect(),
+            dirs: used.iter().map(|&i| dirs[i].clone()).collect(),
+            tips: used.iter().map(|&i| tips[i]).collect(),
+            bar,
+            passes: 0,
+        };
+        Ok((f, used.len()))
+    }
+
+    /// Marquardt's damped Gauss–Newton iterations from `x` (module docs): the final point, its
+    /// evaluation, the cost per iteration and why it stopped.
+    fn levenberg_marquardt(
+        &mut self,
+        mut x: DVector<f64>,
+        mut cur: Eval,
+        opts: &FitOptions,
+    ) -> Result<(DVector<f64>, Eval, Vec<Iteration>, String), SolveError> {
+        let mut history = vec![Iteration {
+            iteration: 0,
+            rmse: rmse(&cur.r),
+            lambda: 0.0,
+            passes: self.passes,
+        }];
+        let mut lambda = 1e-3;
+        let mut stop = format!("{} iterations", opts.max_iterations);
+        let mut jac = self.jacobian(&x, &cur)?;
+        for it in 1..=opts.max_iterations {
+            let a = jac.transpose() * &jac;
+            let g = jac.transpose() * &cur.r;
+            let cost = cur.r.norm_squared();
+            let mut accepted = None;
+            while lambda <= 1e10 {
+                let mut m = a.clone();
+                for k in 0..m.nrows() {
+                    m[(k, k)] += lambda * a[(k, k)].max(1e-12);
+                }
+                let Some(ch) = m.cholesky() else {
+                    lambda *= 4.0;
+                    continue;
+                };
+                let xt = &x - ch.solve(&g);
+                match self.eval(&xt, Some(&cur.shapes)) {
+                    Some(e) if e.r.norm_squared() < cost => {
+                        accepted = Some((xt, e));
+                        break;
+                    }
+                    _ => lambda *= 4.0,
+                }
+            }
+            let Some((xt, e)) = accepted else {
+                stop = "no descent left (damping above 1e10)".into();
+                break;
+            };
+            let rel = (cost - e.r.norm_squared()) / cost.max(f64::MIN_POSITIVE);
+            x = xt;
+            cur = e;
+            history.push(Iteration {
+                iteration: it,
+                rmse: rmse(&cur.r),
+                lambda,
+                passes: self.passes,
+            });
+            self.bar.set_position(it as u64);
+            self.bar
+                .set_message(format!("calibrate rmse {:.3} mm", 1e3 * rmse(&cur.r)));
+            lambda = (lambda / 3.0).max(1e-9);
+            if rel < opts.tolerance {
+                stop = format!("cost fell by {rel:.1e} < {:.0e}", opts.tolerance);
+                break;
+            }
+            jac = self.jacobian(&x, &cur)?;
+        }
+        Ok((x, cur, history, stop))
+    }
+
+    /// The fitted parameters with their standard errors at the final point `x` (started at
+    /// `x0`; module docs, "Uncertainty").
+    fn uncertainties(
+        &mut self,
+        x0: &DVector<f64>,
+        x: &DVector<f64>,
+        cur: &Eval,
+    ) -> Result<Vec<Fitted>, SolveError> {
+        let jac = self.jacobian(x, cur)?;
+        let dof = (cur.r.len() as f64 - 3.0 - x.len() as f64).max(1.0);
+        let s2 = cur.r.norm_squared() / dof;
+        let cov = (jac.transpose() * &jac).try_inverse();
+        Ok(self
+            .params
+            .iter()
+            .enumerate()
+            .map(|(k, p)| Fitted {
+                name: p.name.clone(),
+                unit: p.unit(),
+                initial: x0[k] * p.scale(),
+                value: x[k] * p.scale(),
+                sigma: cov
+                    .as_ref()
+                    .map(|c| (s2 * c[(k, k)]).max(0.0).sqrt() * p.scale())
+                    .filter(|s| s.is_finite()),
+            })
+            .collect())
+    }
 }
 
 /// Per-row error norms of an aligned residual vector.
@@ -373,8 +402,9 @@ fn aligned_errors_of(r: &DVector<f64>) -> Vec<f64> {
     aligned_errors(&sim, &vec![Vector3::zeros(); n])
 }
 
-/// The text of a model file with `[hardware]` replaced by `model`'s (comments are lost;
-/// `header` is written first as comment lines).
+/// The text of a model file with `[hardware]` replaced by `model`'s and each cable's
+/// `stiffness` set to `model`'s where it has one (comments are lost; `header` is written
+/// first as comment lines).
 pub fn fitted_toml(original: &str, model: &Model, header: &str) -> Result<String, SolveError> {
     let mut t: toml::Table = toml::from_str(original).map_err(|e| SolveError::InvalidInput {
         field: "model".into(),
@@ -384,6 +414,14 @@ pub fn fitted_toml(original: &str, model: &Model, header: &str) -> Result<String
         "hardware".into(),
         toml::Value::Table(model.hardware.to_toml()),
     );
+    // Fitted cable stiffnesses go to their cables (file order = robot order).
+    if let Some(toml::Value::Array(cables)) = t.get_mut("cables") {
+        for (fc, c) in cables.iter_mut().zip(&model.robot.cables) {
+            if let (toml::Value::Table(fc), Some(k)) = (fc, c.stiffness) {
+                fc.insert("stiffness".into(), toml::Value::Float(k));
+            }
+        }
+    }
     let body = toml::to_string(&t).map_err(|e| SolveError::InvalidInput {
         field: "model".into(),
         reason: format!("cannot write TOML: {e}"),

@@ -9,6 +9,7 @@
 
 pub mod data;
 pub mod fit;
+mod jacobian;
 pub mod params;
 pub mod predict;
 

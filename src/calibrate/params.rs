@@ -5,6 +5,14 @@
 //! | `gain`, `gain.segK`, `gain.CABLE` | [`Hardware::gain`] of every cable / of segment K / of one cable | – |
 //! | `offset`, `offset.segK`, `offset.CABLE` | [`Hardware::offset`] (slack) of the same groups | m |
 //! | `marker.x`, `marker.y`, `marker.z` | [`Hardware::marker`] in the tip frame | m |
+//! | `backlash`, `backlash.segK`, `backlash.CABLE` | [`Hardware::backlash`] of the same groups | m |
+//! | `compliance`, `compliance.segK`, `compliance.CABLE` | `1/k` of the cables' [`Cable::stiffness`] (0: inextensible) | m/N |
+//!
+//! The compliance `1/k` rather than the stiffness `k` is fitted: the stretch `T/k` is linear in
+//! it, and 0 (the inextensible cable, the nominal models) is inside its range. A trial value
+//! < 0 (or a gain ≤ 0) is outside the model and rejected as a step that does not descend. A
+//! cable's `pretension` is not a separate parameter: it acts as a shortening `T₀/k`, which
+//! `offset` already fits.
 //!
 //! Segment K is the K-th group of cables tied at the same disk, in order of that disk from the
 //! base (the FTDCR models: seg0 = the three cables tied at the end of the proximal segment).
@@ -14,6 +22,8 @@
 //! [`Hardware::gain`]: crate::model::hardware::Hardware::gain
 //! [`Hardware::offset`]: crate::model::hardware::Hardware::offset
 //! [`Hardware::marker`]: crate::model::hardware::Hardware::marker
+//! [`Cable::stiffness`]: crate::model::robot::Cable::stiffness
+//! [`Hardware::backlash`]: crate::model::hardware::Hardware::backlash
 
 use crate::error::SolveError;
 use crate::model::robot::Robot;
@@ -37,6 +47,10 @@ pub enum Target {
     Offset(Group),
     /// Marker coordinate (0, 1, 2 = x, y, z) in the tip frame \[m\].
     Marker(usize),
+    /// Cable compliance `1/k` \[m/N\] (0: inextensible).
+    Compliance(Group),
+    /// Backlash width \[m\].
+    Backlash(Group),
 }
 
 /// A named, fittable parameter.
@@ -48,12 +62,14 @@ pub struct Param {
     pub target: Target,
 }
 
-/// Default parameters: per-segment gain and offset, and the marker along the tip axis
-/// (7 scalars for a 3-segment robot; at most 9, the benchmark protocol's limit).
+/// Default parameters: per-segment gain and offset, one common cable compliance and the
+/// marker along the tip axis (8 scalars for a 3-segment robot; at most 9, the benchmark
+/// protocol's limit).
 pub fn default_names(robot: &Robot) -> Vec<String> {
     let n = segments(robot).len();
     let mut v: Vec<String> = (0..n).map(|k| format!("gain.seg{k}")).collect();
     v.extend((0..n).map(|k| format!("offset.seg{k}")));
+    v.push("compliance".into());
     v.push("marker.z".into());
     v
 }
@@ -106,6 +122,8 @@ impl Param {
         let target = match head {
             "gain" => Target::Gain(group(tail)?),
             "offset" => Target::Offset(group(tail)?),
+            "compliance" => Target::Compliance(group(tail)?),
+            "backlash" => Target::Backlash(group(tail)?),
             "marker" => match tail {
                 Some("x") => Target::Marker(0),
                 Some("y") => Target::Marker(1),
@@ -114,7 +132,8 @@ impl Param {
             },
             _ => {
                 return Err(bad(
-                    "unknown parameter: gain[.segK|.CABLE], offset[.segK|.CABLE], marker.x|y|z"
+                    "unknown parameter: gain[.segK|.CABLE], offset[.segK|.CABLE], \
+                     compliance[.segK|.CABLE], backlash[.segK|.CABLE], marker.x|y|z"
                         .into(),
                 ))
             }
@@ -129,7 +148,17 @@ impl Param {
     pub fn scale(&self) -> f64 {
         match self.target {
             Target::Gain(_) => 1.0,
-            Target::Offset(_) | Target::Marker(_) => 1e-3,
+            Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => 1e-3,
+            Target::Compliance(_) => 1e-4,
+        }
+    }
+
+    /// Whether `v` lies inside the model (gain > 0, compliance ≥ 0).
+    pub fn admissible(&self, v: f64) -> bool {
+        match self.target {
+            Target::Gain(_) => v > 0.0,
+            Target::Compliance(_) | Target::Backlash(_) => v >= 0.0,
+            Target::Offset(_) | Target::Marker(_) => true,
         }
     }
 
@@ -137,11 +166,12 @@ impl Param {
     pub fn unit(&self) -> &'static str {
         match self.target {
             Target::Gain(_) => "-",
-            Target::Offset(_) | Target::Marker(_) => "m",
+            Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => "m",
+            Target::Compliance(_) => "m/N",
         }
     }
 
-    fn cables(g: &Group, n: usize) -> Vec<usize> {
+    pub(crate) fn cables(g: &Group, n: usize) -> Vec<usize> {
         match g {
             Group::All => (0..n).collect(),
             Group::Cables(c) => c.clone(),
@@ -160,12 +190,23 @@ impl Param {
             Target::Gain(g) => mean(&hw.gain, g),
             Target::Offset(g) => mean(&hw.offset, g),
             Target::Marker(k) => hw.marker[*k],
+            Target::Backlash(g) => mean(&hw.backlash, g),
+            Target::Compliance(g) => {
+                let c: Vec<f64> = model.robot.cables.iter().map(|c| c.compliance()).collect();
+                mean(&c, g)
+            }
         }
     }
 
-    /// Set the parameter to `v` in `model`.
+    /// Set the parameter to `v` in `model` (a compliance ≤ 0 makes the cables inextensible).
     pub fn set(&self, model: &mut Model, v: f64) {
         let n = model.robot.cables.len();
+        if let Target::Compliance(g) = &self.target {
+            for c in Self::cables(g, n) {
+                model.robot.cables[c].stiffness = (v > 0.0).then(|| 1.0 / v);
+            }
+            return;
+        }
         let hw = &mut model.hardware;
         match &self.target {
             Target::Gain(g) => Self::cables(g, n).into_iter().for_each(|c| hw.gain[c] = v),
@@ -173,6 +214,10 @@ impl Param {
                 .into_iter()
                 .for_each(|c| hw.offset[c] = v),
             Target::Marker(k) => hw.marker[*k] = v,
+            Target::Backlash(g) => Self::cables(g, n)
+                .into_iter()
+                .for_each(|c| hw.backlash[c] = v),
+            Target::Compliance(_) => {}
         }
     }
 }
@@ -187,7 +232,10 @@ pub fn parse_all(names: &[String], robot: &Robot) -> Result<Vec<Param>, SolveErr
     for (i, a) in ps.iter().enumerate() {
         for b in &ps[..i] {
             let overlap = match (&a.target, &b.target) {
-                (Target::Gain(x), Target::Gain(y)) | (Target::Offset(x), Target::Offset(y)) => {
+                (Target::Gain(x), Target::Gain(y))
+                | (Target::Offset(x), Target::Offset(y))
+                | (Target::Compliance(x), Target::Compliance(y))
+                | (Target::Backlash(x), Target::Backlash(y)) => {
                     let (cx, cy) = (Param::cables(x, n), Param::cables(y, n));
                     cx.iter().any(|c| cy.contains(c))
                 }

@@ -1,6 +1,8 @@
 //! Batch prediction: solve every row of a [`Dataset`] in-process, in order, each row
 //! warm-started from the previous one, chunks of rows in parallel (rayon), and report the
-//! marker in the measurement frame ([`crate::model::hardware::Hardware::measured_tip`]).
+//! marker in the measurement frame ([`crate::model::hardware::Hardware::measured_tip`]). Each
+//! cable's direction of motion (for the backlash) is taken from the rows in file order,
+//! before they are cut into chunks ([`crate::model::hardware::directions`]).
 //!
 //! The rows run on the one block loop of [`crate::batch`] (Python's `solve_batch` runs on it
 //! too). Chunks are cut at fixed row counts ([`PredictOptions::chunk`]), not per thread, so the
@@ -14,6 +16,7 @@ use crate::batch::{Blocks, RowFailure, Solved};
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;
 use crate::method::Method;
+use crate::model::hardware::directions;
 use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::shape::Shape;
@@ -109,7 +112,8 @@ impl Rows {
         })
     }
 
-    /// Every row of `commands` for `model` (the robot `new` was checked against; its
+    /// Every row of `commands` (with each cable's direction of motion `dirs[i]`, for the
+    /// backlash; empty: none) for `model` (the robot `new` was checked against; its
     /// parameters may differ) on the one block loop of [`crate::batch`]: chunks in parallel,
     /// each row warm-started from the previous solved row of its chunk (or from `warm[i]`
     /// when given), a failed warm start retried cold once. `out(i, row)` maps each row; a
@@ -118,6 +122,7 @@ impl Rows {
         &self,
         model: &Model,
         commands: &[Vec<f64>],
+        dirs: &[Vec<f64>],
         warm: Option<&[Option<Shape>]>,
         bar: &ProgressBar,
         out: &RowMap<'_, T>,
@@ -133,7 +138,10 @@ impl Rows {
         blocks.run(
             &model.robot,
             commands.len(),
-            &|i| model.hardware.actuation(&commands[i]),
+            &|i| {
+                let d = dirs.get(i).map_or(&[][..], Vec::as_slice);
+                model.hardware.actuation_moving(&commands[i], d)
+            },
             warm,
             &|i, row: &Solved| {
                 bar.inc(1);
@@ -156,14 +164,20 @@ pub fn predict(
 ) -> Result<Vec<RowPrediction>, SolveError> {
     let rows = Rows::new(model, data, opts)?;
     let bar = crate::study::progress_bar(data.len() as u64, opts.progress, "predict");
-    let out = rows.solve_all(model, &data.commands, None, &bar, &|_, r, iterations| {
-        RowPrediction {
+    let dirs = directions(&data.commands);
+    let out = rows.solve_all(
+        model,
+        &data.commands,
+        &dirs,
+        None,
+        &bar,
+        &|_, r, iterations| RowPrediction {
             tip: r
                 .map(|s| model.hardware.measured_tip(s))
                 .map_err(Clone::clone),
             iterations,
-        }
-    });
+        },
+    );
     bar.finish_and_clear();
     Ok(out)
 }

@@ -138,12 +138,7 @@ impl Method for ConstantCurvature {
         let start = Instant::now();
         let name = self.name().to_string();
         self.kind().check_support(robot, scene)?;
-        let drives = act.drives(
-            robot,
-            &name,
-            &[Input::Shortening, Input::Tension],
-            self.control,
-        )?;
+        let drives = self.kind().drives(robot, act, self.control)?;
         let n = robot.sections();
         let len = robot.length();
         let ei = robot.backbone.ei();

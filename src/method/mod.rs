@@ -16,7 +16,6 @@
 //! one arm in each `match` of this file (see `CONTRIBUTING.md`).
 
 pub mod constant_curvature;
-pub(crate) mod contact;
 pub mod cosserat;
 pub mod energy;
 pub mod geometric;
@@ -53,6 +52,46 @@ pub trait Method: Send + Sync {
         scene: &Scene,
         warm: Option<&Shape>,
     ) -> Result<Shape, SolveError>;
+
+    /// This method readied for `robot`: what depends on the robot and the settings alone
+    /// (e.g. the energy model's routing samples) is computed once, so repeated solves of the
+    /// same robot ([`SolveRequest`](run::SolveRequest) repeats, continuation steps) skip it.
+    /// The default readies nothing.
+    fn prepare<'a>(&'a self, robot: &'a Robot) -> Result<Box<dyn Prepared + 'a>, SolveError> {
+        Ok(Box::new(Unprepared {
+            method: self,
+            robot,
+        }))
+    }
+}
+
+/// A method readied for one robot ([`Method::prepare`]): solves that robot for any
+/// actuation and scene, as [`Method::solve`] does.
+pub trait Prepared: Send + Sync {
+    /// Solve the prepared robot (same contract as [`Method::solve`]).
+    fn solve(
+        &self,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError>;
+}
+
+/// [`Method::prepare`] of a method with nothing to prepare.
+struct Unprepared<'a, M: ?Sized> {
+    method: &'a M,
+    robot: &'a Robot,
+}
+
+impl<M: Method + ?Sized> Prepared for Unprepared<'_, M> {
+    fn solve(
+        &self,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError> {
+        self.method.solve(self.robot, act, scene, warm)
+    }
 }
 
 /// Solve along a path of actuations: every displacement and tension scaled by `k/steps` for
@@ -66,12 +105,22 @@ pub fn solve_stepped(
     scene: &Scene,
     steps: usize,
 ) -> Result<Shape, SolveError> {
+    solve_stepped_prepared(&*method.prepare(robot)?, act, scene, steps)
+}
+
+/// [`solve_stepped`] on a method already [prepared](Method::prepare) for the robot.
+pub fn solve_stepped_prepared(
+    method: &dyn Prepared,
+    act: &Actuation,
+    scene: &Scene,
+    steps: usize,
+) -> Result<Shape, SolveError> {
     let steps = steps.max(1);
     let mut shape: Option<Shape> = None;
     let mut iterations = 0;
     for k in 1..=steps {
         let a = act.scaled(k as f64 / steps as f64);
-        let s = method.solve(robot, &a, scene, shape.as_ref())?;
+        let s = method.solve(&a, scene, shape.as_ref())?;
         iterations += s.report.iterations;
         shape = Some(s);
     }

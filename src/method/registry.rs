@@ -7,7 +7,7 @@ use super::geometric::Geometric;
 use super::settings::{canonical, common, Configure, SettingInfo, Settings};
 use super::Method;
 use crate::error::SolveError;
-use crate::model::actuation::Input;
+use crate::model::actuation::{Actuation, Drive, Input};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use std::fmt;
@@ -467,6 +467,18 @@ impl MethodKind {
             .and_then(|v| super::settings::parse_control(v).ok())
             .filter(|&i| self.accepts(i))
             .unwrap_or(self.info().default_input)
+    }
+
+    /// Each cable's drive under this method: the actuation resolved against the inputs the
+    /// registry lists for it (`MethodInfo::inputs`, the one place they are written), a cable
+    /// that gives both driven by `prefer`.
+    pub fn drives(
+        self,
+        robot: &Robot,
+        act: &Actuation,
+        prefer: Input,
+    ) -> Result<Vec<Drive>, SolveError> {
+        act.drives(robot, self.name(), self.info().inputs, prefer)
     }
 }
 

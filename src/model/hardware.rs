@@ -9,6 +9,7 @@
 //! base_position = [0, 0, 0]     # robot base origin in the measurement frame [m]
 //! base_rotation = [0, 0, 0]     # rotation vector (axis × angle) base → measurement [rad]
 //! marker = [0, 0, 0]            # marker position in the tip disk's frame [m]
+//! backlash = 0.0                # [m], one number or one per cable (sequences only)
 //! ```
 //!
 //! **Actuation.** A cable's `shorten` in the file (and each row's displacement in
@@ -19,6 +20,16 @@
 //! [`Actuation`] when the file is read, so every displacement-driven method honours them; a cable
 //! that also gives a tension, or gives no displacement, is refused by name (the gain and
 //! offset act on displacements only, and must not be silently dropped by a force-driven method).
+//!
+//! **Backlash.** In a sequence of commands (`ccrkit predict`, `ccrkit calibrate`: rows in file
+//! order) friction in the transmission makes the cable lag the servo: the model is driven by
+//! `δ = g·u − o − ½ b s`, with `s = +1` while the command last moved up (pulling), `−1` after
+//! it last moved down, 0 before it moved ([`directions`]). That is a direction-dependent offset
+//! of half the backlash width `b` per cable (a dead band of width `b` whose centre follows the
+//! direction of motion). A command changes the direction only when it moves by more than
+//! [`DIRECTION_DEADBAND`] from where the direction last changed, so the one-tick jitter of a
+//! servo holding still does not flip it. A single solve (`ccrkit solve`) has no sequence:
+//! `s = 0`.
 //!
 //! **Frames.** Methods work in the robot base frame (disk 0 at the origin, z along the
 //! undeformed backbone). A measured tip is `p_meas = R_b (p_tip + R_tip m) + t_b` with the tip
@@ -57,6 +68,8 @@ pub(super) struct FileHardware {
     base_rotation: Option<[f64; 3]>,
     #[serde(default)]
     marker: Option<[f64; 3]>,
+    #[serde(default)]
+    backlash: Option<PerCable>,
 }
 
 /// Validated hardware description (see the module docs).
@@ -72,6 +85,45 @@ pub struct Hardware {
     pub base_rotation: Vector3<f64>,
     /// Marker in the tip disk's frame \[m\].
     pub marker: Vector3<f64>,
+    /// Backlash width per cable \[m\] (≥ 0; module docs).
+    pub backlash: Vec<f64>,
+}
+
+/// Smallest move of a command \[m\] that changes its direction of motion (module docs): 40 µm,
+/// 2.6 encoder ticks of the FTDCR servos (15.3 µm per tick on a 10 mm spool), above the
+/// one-tick jitter of a servo holding still.
+pub const DIRECTION_DEADBAND: f64 = 4e-5;
+
+/// The direction of motion `s ∈ {−1, 0, +1}` of every cable in every row of a sequence of
+/// commands (rows in order, one value per cable; module docs).
+pub fn directions(commands: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let n = commands.first().map_or(0, Vec::len);
+    let mut dir = vec![0.0; n];
+    let mut anchor: Vec<f64> = commands.first().cloned().unwrap_or_default();
+    commands
+        .iter()
+        .map(|u| {
+            for c in 0..n.min(u.len()) {
+                let d = u[c] - anchor[c];
+                let moved = if d > DIRECTION_DEADBAND {
+                    1.0
+                } else if d < -DIRECTION_DEADBAND {
+                    -1.0
+                } else {
+                    0.0
+                };
+                // Follow the command while it keeps its direction; turn when it moves back
+                // by more than the dead band from its extreme.
+                if moved != 0.0 && moved != dir[c] {
+                    dir[c] = moved;
+                }
+                if moved != 0.0 || (u[c] - anchor[c]) * dir[c] > 0.0 {
+                    anchor[c] = u[c];
+                }
+            }
+            dir.clone()
+        })
+        .collect()
 }
 
 fn per_cable(
@@ -124,6 +176,7 @@ impl Hardware {
             base_position: Vector3::zeros(),
             base_rotation: Vector3::zeros(),
             marker: Vector3::zeros(),
+            backlash: vec![0.0; cables],
         }
     }
 
@@ -163,7 +216,21 @@ impl Hardware {
                 ));
             }
         }
+        let backlash = per_cable("hardware.backlash", &f.backlash, n, 0.0)?;
+        for (c, b) in backlash.iter().enumerate() {
+            let len = robot.undeformed_chord_length(c);
+            if *b < 0.0 || *b >= len {
+                return Err(ModelError::invalid(
+                    format!("hardware.backlash[{c}]"),
+                    format!(
+                        "must lie in [0, {len:.6}) m (cable `{}`'s length), got {b}",
+                        robot.cables[c].name
+                    ),
+                ));
+            }
+        }
         Ok(Hardware {
+            backlash,
             gain,
             offset,
             base_position: vec3("hardware.base_position", f.base_position)?,
@@ -211,13 +278,24 @@ impl Hardware {
     /// The model's actuation for commanded displacements `u` \[m\] (one per cable, robot order):
     /// every cable displacement-driven by [`Hardware::shortening`], no tensions.
     pub fn actuation(&self, u: &[f64]) -> Actuation {
+        self.actuation_moving(u, &[])
+    }
+
+    /// [`Hardware::actuation`] in a sequence, with each cable's direction of motion `dir`
+    /// ([`directions`]; missing entries count as 0): `δ = g·u − o − ½ b s` (module docs).
+    pub fn actuation_moving(&self, u: &[f64], dir: &[f64]) -> Actuation {
         Actuation {
             cables: u
                 .iter()
                 .enumerate()
-                .map(|(c, &x)| super::actuation::CableDrive {
-                    shorten: Some(Shortening::Length(self.shortening(c, x))),
-                    tension: None,
+                .map(|(c, &x)| {
+                    let s = dir.get(c).copied().unwrap_or(0.0);
+                    super::actuation::CableDrive {
+                        shorten: Some(Shortening::Length(
+                            self.shortening(c, x) - 0.5 * self.backlash[c] * s,
+                        )),
+                        tension: None,
+                    }
                 })
                 .collect(),
         }
@@ -244,6 +322,41 @@ impl Hardware {
         t.insert("base_position".into(), arr(self.base_position.as_slice()));
         t.insert("base_rotation".into(), arr(self.base_rotation.as_slice()));
         t.insert("marker".into(), arr(self.marker.as_slice()));
+        if self.backlash.iter().any(|b| *b != 0.0) {
+            t.insert("backlash".into(), arr(&self.backlash));
+        }
         t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Directions by hand: a pull, a one-tick jitter while holding (no flip), a release, a
+    /// small return inside the dead band (no flip), a pull past it.
+    #[test]
+    fn directions_follow_moves_beyond_the_dead_band() {
+        let tick = 1.534e-5;
+        let u = [
+            0.0,
+            1e-3,
+            2e-3,
+            2e-3 - tick,
+            2e-3,
+            1e-3,
+            1e-3 + 3e-5,
+            1e-3 + 1e-4,
+        ];
+        let rows: Vec<Vec<f64>> = u.iter().map(|&x| vec![x, 0.0]).collect();
+        let d: Vec<f64> = directions(&rows).iter().map(|r| r[0]).collect();
+        assert_eq!(d, [0.0, 1.0, 1.0, 1.0, 1.0, -1.0, -1.0, 1.0]);
+        assert!(directions(&rows).iter().all(|r| r[1] == 0.0));
+        // The backlash shifts the shortening by half its width against the motion.
+        let mut hw = Hardware::identity(2);
+        hw.backlash = vec![4e-4, 0.0];
+        let a = hw.actuation_moving(&[1e-3, 1e-3], &[1.0, 1.0]);
+        assert_eq!(a.cables[0].shorten, Some(Shortening::Length(1e-3 - 2e-4)));
+        assert_eq!(a.cables[1].shorten, Some(Shortening::Length(1e-3)));
     }
 }

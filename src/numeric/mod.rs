@@ -3,5 +3,6 @@
 pub mod ad;
 pub mod dense;
 pub mod kkt;
+pub mod ode;
 pub mod qp;
 pub mod so3;

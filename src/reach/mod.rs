@@ -28,8 +28,8 @@ mod solve;
 pub use sens::{sensitivity, TipSens, FD_STEP};
 pub use solve::{reach, reach_in, CableActuation, Reach, ReachOptions, Target};
 
+use crate::contact::features;
 use crate::error::SolveError;
-use crate::method::contact::{ppose, pvec, y_to_z};
 use crate::method::run::SolveRequest;
 use crate::method::{Method, MethodKind};
 use crate::model::actuation::{Actuation, CableDrive, Input, Shortening};
@@ -39,7 +39,7 @@ use crate::model::Model;
 use crate::shape::Shape;
 use nalgebra::Vector3;
 use parry3d::query::ClosestPoints;
-use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
+use parry3d::shape::Shape as PShape;
 
 /// The actuation space of a robot: its cables' shortenings within their limits, a method that
 /// solves a point of it, and the obstacles to keep clear of.
@@ -241,10 +241,10 @@ fn features(robot: &Robot, shape: &Shape) -> Vec<Feature> {
     for (k, d) in shape.disks.iter().enumerate() {
         out.push((
             format!("disk {k}"),
-            Box::new(Cylinder::new(robot.disk_thickness / 2.0, r)),
+            Box::new(features::disk(robot)),
             d.position - ext,
             d.position + ext,
-            ppose(&(d.rotation * y_to_z()), &d.position),
+            features::disk_pose(&d.rotation, &d.position),
         ));
     }
     let rb = robot.backbone.radius();
@@ -253,7 +253,7 @@ fn features(robot: &Robot, shape: &Shape) -> Vec<Feature> {
         let (a, b) = (w[0], w[1]);
         out.push((
             format!("backbone {j}"),
-            Box::new(Capsule::new(pvec(&a), pvec(&b), rb)),
+            Box::new(features::backbone(&a, &b, rb)),
             a.inf(&b) - Vector3::repeat(rb),
             a.sup(&b) + Vector3::repeat(rb),
             id,
@@ -264,7 +264,7 @@ fn features(robot: &Robot, shape: &Shape) -> Vec<Feature> {
             let (a, b) = (w[0], w[1]);
             out.push((
                 format!("cable {} {}", c.name, k + 1),
-                Box::new(Segment::new(pvec(&a), pvec(&b))),
+                Box::new(features::chord(&a, &b)),
                 a.inf(&b),
                 a.sup(&b),
                 id,

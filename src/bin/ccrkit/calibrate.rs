@@ -13,7 +13,8 @@ use std::time::Instant;
 pub struct CalibrateArgs {
     /// Model file (TOML) to start from.
     pub file: PathBuf,
-    /// Parameters to fit (default: gain.segK and offset.segK per segment, marker.z).
+    /// Parameters to fit (default: gain.segK and offset.segK per segment, compliance, marker.z;
+    /// also backlash[.segK], marker.x/y; see `ccrkit::calibrate::params`).
     #[arg(long, value_delimiter = ',', num_args = 1..)]
     pub fit: Vec<String>,
     /// Write the fitted model here (a file `ccrkit predict` takes).

@@ -300,7 +300,6 @@ impl Cosserat {
         robot: &'a Robot,
         act: &Actuation,
     ) -> Result<(Problem<'a>, Vec<String>), SolveError> {
-        let name = self.name().to_string();
         let nc = robot.cables.len();
         self.validate(nc)?;
         let bb = &robot.backbone;
@@ -324,12 +323,7 @@ impl Cosserat {
                 None => format!("RK4 {} steps/section", self.steps_per_section),
             }
         )];
-        let drives = act.drives(
-            robot,
-            &name,
-            &[Input::Shortening, Input::Tension],
-            self.control,
-        )?;
+        let drives = self.kind().drives(robot, act, self.control)?;
         for (c, cable) in robot.cables.iter().enumerate() {
             let mode = drives[c];
             if mode == Drive::Free {

@@ -32,6 +32,16 @@ pub(super) struct Fail {
     pub(super) detail: String,
 }
 
+impl Fail {
+    fn new(iterations: usize, residual: f64, detail: impl Into<String>) -> Self {
+        Fail {
+            iterations,
+            residual,
+            detail: detail.into(),
+        }
+    }
+}
+
 impl Problem<'_> {
     pub(super) fn residual(&self, x: &DVector<f64>, setup: &Setup, lam: f64) -> DVector<f64> {
         self.residual_tip(x, setup, lam).0
@@ -163,11 +173,11 @@ impl Problem<'_> {
         self.mesh.borrow_mut().frozen = self.set.adaptive.is_some();
         let norm_inf = |v: &DVector<f64>| v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         if !f[0].is_finite() {
-            return Err(Fail {
-                iterations: 0,
-                residual: f64::NAN,
-                detail: "integration failed at the start point".into(),
-            });
+            return Err(Fail::new(
+                0,
+                f64::NAN,
+                "integration failed at the start point",
+            ));
         }
         if norm_inf(&f) <= tol {
             let residual = norm_inf(&f);
@@ -190,19 +200,11 @@ impl Problem<'_> {
         };
         for it in 1..=self.set.max_iterations {
             if self.over_budget() {
-                return Err(Fail {
-                    iterations: it - 1,
-                    residual: norm_inf(&f),
-                    detail: self.budget_detail(),
-                });
+                return Err(Fail::new(it - 1, norm_inf(&f), self.budget_detail()));
             }
             let Some(dx) = jac.clone().lu().solve(&(-&f)) else {
                 if fresh {
-                    return Err(Fail {
-                        iterations: it,
-                        residual: norm_inf(&f),
-                        detail: "singular Jacobian".into(),
-                    });
+                    return Err(Fail::new(it, norm_inf(&f), "singular Jacobian"));
                 }
                 jac = self.jacobian(&x, &f, setup, lam);
                 fresh = true;
@@ -230,11 +232,7 @@ impl Problem<'_> {
                         self.mesh.borrow_mut().frozen = true;
                         r = norm_inf(&f);
                         if !r.is_finite() {
-                            return Err(Fail {
-                                iterations: it,
-                                residual: r,
-                                detail: "integration failed on the adapted mesh".into(),
-                            });
+                            return Err(Fail::new(it, r, "integration failed on the adapted mesh"));
                         }
                     }
                     if r <= tol {
@@ -248,22 +246,18 @@ impl Problem<'_> {
                 }
                 None => {
                     if fresh {
-                        return Err(Fail {
-                            iterations: it,
-                            residual: norm_inf(&f),
-                            detail: "line search failed".into(),
-                        });
+                        return Err(Fail::new(it, norm_inf(&f), "line search failed"));
                     }
                     jac = self.jacobian(&x, &f, setup, lam);
                     fresh = true;
                 }
             }
         }
-        Err(Fail {
-            iterations: self.set.max_iterations,
-            residual: norm_inf(&f),
-            detail: "iteration limit".into(),
-        })
+        Err(Fail::new(
+            self.set.max_iterations,
+            norm_inf(&f),
+            "iteration limit",
+        ))
     }
 
     /// Backtracking line search along `dx` from `x` (residual `f`): the first of 12 halvings

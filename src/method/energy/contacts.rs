@@ -44,13 +44,14 @@
 //! convergence is therefore linear near the solution rather than quadratic.
 
 use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
-use crate::method::contact::{nvec, polish, ppose, pvec, query, y_to_z, Witness};
+use crate::contact::features::{self, Touching};
+use crate::contact::{broad, Witness};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3};
 use parry3d::math::Pose as PPose;
-use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
+use parry3d::shape::Shape as PShape;
 
 /// A robot feature.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -135,14 +136,14 @@ pub(super) fn kinematics(xi: &[f64], ell: &[f64], integrals: bool) -> Kin {
 
 /// The obstacles that can matter for this robot, and its feature sizes.
 pub(super) struct World<'a> {
-    scene: &'a Scene,
-    robot: &'a Robot,
+    pub(super) scene: &'a Scene,
+    pub(super) robot: &'a Robot,
     /// Scene indices kept by the robot-level broad phase.
-    near: Vec<usize>,
+    pub(super) near: Vec<usize>,
     /// Pairs farther apart than this are left out of the step \[m\].
-    margin: f64,
+    pub(super) margin: f64,
     /// Sub-arcs per section.
-    m: usize,
+    pub(super) m: usize,
 }
 
 impl<'a> World<'a> {
@@ -222,10 +223,67 @@ impl<'a> World<'a> {
     /// [`World::pairs`] restricted to the pairs `only` (by [`Pair::key`]) when given: the
     /// other feature–obstacle pairs are not queried (their distances do not bound `clear`).
     pub fn pairs_among(&self, kin: &Kin, only: Option<&[(usize, Feat)]>) -> (Vec<Pair>, f64) {
-        let mut clear = f64::INFINITY;
-        // Robot-level pass: the bounds of every frame origin grown by the largest feature
-        // reach (disk radius, half a sub-arc); obstacles farther than the margin from them
-        // only bound `clear`.
+        let (lo, hi) = self.robot_box(kin);
+        let (candidates, clear) = broad::within_box(self.scene, &self.near, &lo, &hi, self.margin);
+        let mut q = Collect {
+            world: self,
+            kin,
+            candidates,
+            only,
+            clear,
+            out: vec![],
+        };
+        let robot = self.robot;
+        let m = self.m;
+        let nsub = kin.pos.len() - 1;
+        let rb = robot.backbone.radius();
+        let (rd, ht) = (robot.disk_radius, robot.disk_thickness / 2.0);
+        let identity = PPose::IDENTITY;
+        for j in 1..=nsub {
+            let (pa, pb) = (kin.pos[j - 1], kin.pos[j]);
+            q.feature(
+                Feat::Backbone(j),
+                &features::backbone(&pa, &pb, rb),
+                &identity,
+                (0.5 * (pa + pb), 0.5 * (pb - pa).norm() + rb),
+                Ends::Segment((j - 1, pa), (j, pb)),
+            );
+        }
+        let disk = features::disk(robot);
+        for k in 1..=robot.sections() {
+            let f = k * m;
+            q.feature(
+                Feat::Disk(k),
+                &disk,
+                &features::disk_pose(&kin.rot[f], &kin.pos[f]),
+                (kin.pos[f], (rd * rd + ht * ht).sqrt()),
+                Ends::Rigid(f),
+            );
+        }
+        for (c, cable) in robot.cables.iter().enumerate() {
+            for i in 1..=cable.ends_at {
+                let (fa, fb) = ((i - 1) * m, i * m);
+                let pa = kin.pos[fa] + kin.rot[fa] * cable.hole(i - 1);
+                let pb = kin.pos[fb] + kin.rot[fb] * cable.hole(i);
+                if (pb - pa).norm() == 0.0 {
+                    continue;
+                }
+                q.feature(
+                    Feat::Cable(c, i),
+                    &features::chord(&pa, &pb),
+                    &identity,
+                    (0.5 * (pa + pb), 0.5 * (pb - pa).norm()),
+                    Ends::Segment((fa, pa), (fb, pb)),
+                );
+            }
+        }
+        (q.out, q.clear)
+    }
+
+    /// Robot-level box: the bounds of every frame origin grown by the largest feature reach
+    /// (disk radius, half a sub-arc); obstacles farther than the margin from it only bound
+    /// `clear`.
+    fn robot_box(&self, kin: &Kin) -> (Vector3<f64>, Vector3<f64>) {
         let grow = self.robot.disk_radius.max(self.robot.backbone.radius())
             + kin
                 .pos
@@ -238,167 +296,115 @@ impl<'a> World<'a> {
             hi = hi.sup(p);
         }
         let g3 = Vector3::repeat(grow);
-        let (lo, hi) = (lo - g3, hi + g3);
-        let mut candidates = Vec::with_capacity(self.near.len());
-        for &k in &self.near {
-            let gap = self.scene.bounds_gap(k, &lo, &hi);
-            if gap > self.margin {
-                clear = clear.min(gap);
-            } else {
-                candidates.push(k);
+        (lo - g3, hi + g3)
+    }
+
+    /// `∂d/∂ξ` of a witness at `a` with normal `n` (from the obstacle to the robot) on a
+    /// feature moving as `ends` (a segment's point at fraction `t` moves as
+    /// `(1 − t) ∂a + t ∂b`; module docs).
+    fn grad(kin: &Kin, ends: Ends, a: &Vector3<f64>, n: &Vector3<f64>) -> Vec<f64> {
+        let mut grad = vec![0.0; 4 * (kin.pos.len() - 1)];
+        match ends {
+            Ends::Rigid(f) => Self::point_grad(kin, f, a, n, 1.0, &mut grad),
+            Ends::Segment((fa, pa), (fb, pb)) => {
+                let t = features::segment_fraction(a, &pa, &pb);
+                Self::point_grad(kin, fa, &pa, n, 1.0 - t, &mut grad);
+                Self::point_grad(kin, fb, &pb, n, t, &mut grad);
             }
         }
-        let robot = self.robot;
-        let m = self.m;
-        let nsub = kin.pos.len() - 1;
-        let with_grad = !kin.m_int.is_empty();
-        let nv = 4 * nsub;
-        let rb = robot.backbone.radius();
-        let (rd, ht) = (robot.disk_radius, robot.disk_thickness / 2.0);
-        let mut out = vec![];
-        let identity = PPose::IDENTITY;
-        // (feature, shape, pose, bounding-ball centre and radius, ends (frame, point) of a
-        // segment or the carrying frame of a rigid feature)
-        let mut query_feature = |feat: Feat,
-                                 g: &dyn PShape,
-                                 gpose: &PPose,
-                                 center: Vector3<f64>,
-                                 radius: f64,
-                                 ends: Ends| {
-            for &k in &candidates {
-                if only.is_some_and(|keys| !keys.contains(&(k, feat))) {
-                    continue;
-                }
-                let o = &self.scene.obstacles[k];
-                // Bounds farther than the margin: no query, their distance bounds `clear`.
-                let lower = self.scene.bounds_distance(k, &center) - radius;
-                if lower > self.margin {
-                    clear = clear.min(lower);
-                    continue;
-                }
-                let Some(ct) = query(gpose, g, &o.parry_pose, &*o.shape, self.margin) else {
-                    clear = clear.min(self.margin);
-                    continue;
-                };
-                clear = clear.min(ct.dist);
-                let mut a = nvec(ct.point1);
-                let mut n = -nvec(ct.normal1);
-                let mut po = nvec(ct.point2);
-                let mut dist = ct.dist;
-                let rough = Witness {
-                    robot: a,
-                    obstacle: po,
-                    normal: n,
-                    dist,
-                };
-                if let Some(w) = polish(g, gpose, &*o.shape, &o.parry_pose, &rough) {
-                    (a, po, n, dist) = (w.robot, w.obstacle, w.normal, w.dist);
-                }
-                if let Ends::Rigid(f) = ends {
-                    // The iterative query places the witness on a disk rim to ~1e-6 only; for
-                    // a convex feature it is exactly the support point along the normal.
-                    let (r, p) = (&kin.rot[f], &kin.pos[f]);
-                    let u = -(r.transpose() * n);
-                    let uxy = (u.x * u.x + u.y * u.y).sqrt();
-                    if uxy > 1e-6 {
-                        let l = Vector3::new(rd * u.x / uxy, rd * u.y / uxy, ht * u.z.signum());
-                        a = p + r * l;
-                    }
-                }
-                let mut grad = vec![];
-                if with_grad {
-                    grad = vec![0.0; nv];
-                    match ends {
-                        Ends::Rigid(f) => Self::point_grad(kin, f, &a, &n, 1.0, &mut grad),
-                        Ends::Segment((fa, pa), (fb, pb)) => {
-                            let d = pb - pa;
-                            let t = if d.norm_squared() > 0.0 {
-                                ((a - pa).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
-                            } else {
-                                1.0
-                            };
-                            Self::point_grad(kin, fa, &pa, &n, 1.0 - t, &mut grad);
-                            Self::point_grad(kin, fb, &pb, &n, t, &mut grad);
-                        }
-                    }
-                }
-                out.push(Pair {
-                    obstacle: k,
-                    feat,
-                    dist,
-                    grad,
-                    point_robot: a,
-                    point_obstacle: po,
-                    normal: n,
-                });
-            }
-        };
-        for j in 1..=nsub {
-            let (pa, pb) = (kin.pos[j - 1], kin.pos[j]);
-            query_feature(
-                Feat::Backbone(j),
-                &Capsule::new(pvec(&pa), pvec(&pb), rb),
-                &identity,
-                0.5 * (pa + pb),
-                0.5 * (pb - pa).norm() + rb,
-                Ends::Segment((j - 1, pa), (j, pb)),
-            );
-        }
-        let disk = Cylinder::new(ht, rd);
-        for k in 1..=robot.sections() {
-            let f = k * m;
-            query_feature(
-                Feat::Disk(k),
-                &disk,
-                &ppose(&(kin.rot[f] * y_to_z()), &kin.pos[f]),
-                kin.pos[f],
-                (rd * rd + ht * ht).sqrt(),
-                Ends::Rigid(f),
-            );
-        }
-        for (c, cable) in robot.cables.iter().enumerate() {
-            for i in 1..=cable.ends_at {
-                let (fa, fb) = ((i - 1) * m, i * m);
-                let pa = kin.pos[fa] + kin.rot[fa] * cable.hole(i - 1);
-                let pb = kin.pos[fb] + kin.rot[fb] * cable.hole(i);
-                if (pb - pa).norm() == 0.0 {
-                    continue;
-                }
-                query_feature(
-                    Feat::Cable(c, i),
-                    &Segment::new(pvec(&pa), pvec(&pb)),
-                    &identity,
-                    0.5 * (pa + pb),
-                    0.5 * (pb - pa).norm(),
-                    Ends::Segment((fa, pa), (fb, pb)),
-                );
-            }
-        }
-        (out, clear)
+        grad
     }
 
     /// The pair as a reported contact with multiplier `mu` \[N\].
     pub fn contact(&self, p: &Pair, mu: f64) -> Contact {
-        let arr = |v: &Vector3<f64>| [v.x, v.y, v.z];
-        let (feature, disk, section) = match p.feat {
-            Feat::Backbone(j) => ("backbone".to_string(), None, Some((j - 1) / self.m + 1)),
-            Feat::Disk(k) => ("disk".to_string(), Some(k), None),
-            Feat::Cable(c, i) => (
-                format!("cable:{}", self.robot.cables[c].name),
-                None,
-                Some(i),
-            ),
+        let feature = match p.feat {
+            Feat::Backbone(j) => Touching::Backbone {
+                section: (j - 1) / self.m + 1,
+            },
+            Feat::Disk(k) => Touching::Disk { disk: k },
+            Feat::Cable(c, i) => Touching::Cable {
+                name: &self.robot.cables[c].name,
+                section: i,
+            },
         };
-        Contact {
-            obstacle: self.scene.obstacles[p.obstacle].name.clone(),
+        let w = Witness {
+            robot: p.point_robot,
+            obstacle: p.point_obstacle,
+            normal: p.normal,
+            dist: p.dist,
+        };
+        features::record(
+            self.scene.obstacles[p.obstacle].name.clone(),
             feature,
-            disk,
-            section,
-            point_robot: arr(&p.point_robot),
-            point_obstacle: arr(&p.point_obstacle),
-            normal: arr(&p.normal),
-            distance: p.dist,
-            multiplier: mu,
+            &w,
+            mu,
+        )
+    }
+}
+
+/// The pairs of one [`World::pairs_among`] call, gathered feature by feature.
+struct Collect<'w, 'a> {
+    world: &'w World<'a>,
+    kin: &'w Kin,
+    /// Obstacles the robot-level pass kept.
+    candidates: Vec<usize>,
+    only: Option<&'w [(usize, Feat)]>,
+    /// Lower bound on the distance between the robot and the obstacles so far \[m\].
+    clear: f64,
+    out: Vec<Pair>,
+}
+
+impl Collect<'_, '_> {
+    /// Query feature `feat` (shape `g` at `gpose`, inside the ball `(centre, radius)`, moving
+    /// as `ends`) against every candidate obstacle.
+    fn feature(
+        &mut self,
+        feat: Feat,
+        g: &dyn PShape,
+        gpose: &PPose,
+        (center, radius): (Vector3<f64>, f64),
+        ends: Ends,
+    ) {
+        let (world, kin) = (self.world, self.kin);
+        let (scene, margin) = (world.scene, world.margin);
+        let robot = world.robot;
+        for &k in &self.candidates {
+            if self.only.is_some_and(|keys| !keys.contains(&(k, feat))) {
+                continue;
+            }
+            let o = &scene.obstacles[k];
+            // Bounds farther than the margin: no query, their distance bounds `clear`.
+            let lower = scene.bounds_distance(k, &center) - radius;
+            if lower > margin {
+                self.clear = self.clear.min(lower);
+                continue;
+            }
+            let Some((w, raw)) = features::witness(g, gpose, &*o.shape, &o.parry_pose, margin)
+            else {
+                self.clear = self.clear.min(margin);
+                continue;
+            };
+            self.clear = self.clear.min(raw);
+            let mut a = w.robot;
+            if let Ends::Rigid(f) = ends {
+                let (rd, ht) = (robot.disk_radius, robot.disk_thickness / 2.0);
+                a = features::disk_support(&kin.rot[f], &kin.pos[f], &w.normal, rd, ht)
+                    .unwrap_or(a);
+            }
+            let grad = if kin.m_int.is_empty() {
+                vec![]
+            } else {
+                World::grad(kin, ends, &a, &w.normal)
+            };
+            self.out.push(Pair {
+                obstacle: k,
+                feat,
+                dist: w.dist,
+                grad,
+                point_robot: a,
+                point_obstacle: w.obstacle,
+                normal: w.normal,
+            });
         }
     }
 }

@@ -119,9 +119,11 @@
 //!
 //! Distance constraints for backbone sub-arcs, disks and cable chords, with exact gradients
 //! in the strains (derivation in `energy/contacts.rs`); the multiplier of a contact is its normal
-//! reaction \[N\] (energy J over distance m). A step never moves any point of the robot farther
-//! than its distance to the obstacles (or half the pair margin when closer), so no feature
-//! passes through an obstacle between iterates — distances to open meshes are unsigned. A
+//! reaction \[N\] (energy J over distance m). No feature passes through an obstacle between
+//! iterates — distances to open meshes are unsigned: a step is taken when no point moves
+//! farther than the robot's distance to the obstacles (or half the pair margin when closer),
+//! or when every feature–obstacle pair passes the distance and separating-plane tests of
+//! `energy/step_guard.rs` (which let a feature in contact slide along a convex obstacle). A
 //! start that already crosses an obstacle (the straight robot through a bent tube) ends in
 //! [`SolveError::Obstructed`] naming the obstacle; start from a clear shape instead. A base
 //! disk inside an obstacle is `Obstructed` at section 0.
@@ -145,6 +147,7 @@ mod lengths;
 mod newton;
 mod problem;
 mod sensitivity;
+mod step_guard;
 
 pub use kinematics::GL_NODES;
 
@@ -153,13 +156,14 @@ use crate::method::settings::{
     parse_choice, parse_control, parse_count, parse_in, parse_length, parse_routing, Configure,
     MAX_ITERATIONS,
 };
-use crate::method::{Method, MethodKind};
+use crate::method::{Method, MethodKind, Prepared};
 use crate::model::actuation::{Actuation, Input, LengthMeasure};
 use crate::model::robot::Robot;
 use crate::model::routing::RoutingFit;
 use crate::model::scene::Scene;
 use crate::shape::Shape;
-use problem::{Problem, Target};
+use problem::{Problem, RobotPart, Target};
+use std::borrow::Cow;
 use std::time::Instant;
 
 /// Settings of the whole-robot energy method.
@@ -257,6 +261,39 @@ impl Method for Energy {
         warm: Option<&Shape>,
     ) -> Result<Shape, SolveError> {
         let start = Instant::now();
+        let prepared = self.ready(robot)?;
+        let mut shape = prepared.solve_at(act, scene, warm, start)?;
+        shape.report.solve_time_s = start.elapsed().as_secs_f64();
+        Ok(shape)
+    }
+
+    fn prepare<'a>(&'a self, robot: &'a Robot) -> Result<Box<dyn Prepared + 'a>, SolveError> {
+        Ok(Box::new(self.ready(robot)?))
+    }
+}
+
+/// The energy model readied for one robot: the settings checked, the routing samples at the
+/// Gauss nodes and the undeformed cable lengths computed once ([`Method::prepare`]).
+struct ReadyEnergy<'a> {
+    set: &'a Energy,
+    robot: &'a Robot,
+    part: RobotPart,
+}
+
+impl Prepared for ReadyEnergy<'_> {
+    fn solve(
+        &self,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError> {
+        self.solve_at(act, scene, warm, Instant::now())
+    }
+}
+
+impl Energy {
+    /// Check the settings and compute what depends on the robot alone.
+    fn ready<'a>(&'a self, robot: &'a Robot) -> Result<ReadyEnergy<'a>, SolveError> {
         if self.sub_arcs == 0 {
             return Err(SolveError::InvalidInput {
                 field: "sub_arcs".into(),
@@ -281,11 +318,35 @@ impl Method for Energy {
                 reason: format!("must be in (0, 1], got {}", self.min_stretch),
             });
         }
-        let prob = self.setup(robot, act, scene)?;
-        self.kind().check_support(robot, scene)?;
+        Ok(ReadyEnergy {
+            set: self,
+            robot,
+            part: self.robot_part(robot)?,
+        })
+    }
+}
+
+impl ReadyEnergy<'_> {
+    /// One solve, its time counted from `start`.
+    fn solve_at(
+        &self,
+        act: &Actuation,
+        scene: &Scene,
+        warm: Option<&Shape>,
+        start: Instant,
+    ) -> Result<Shape, SolveError> {
+        let (set, robot) = (self.set, self.robot);
+        let prob = set.setup_from(
+            robot,
+            act,
+            scene,
+            Cow::Borrowed(&self.part.nodes),
+            &self.part.len0,
+        )?;
+        set.kind().check_support(robot, scene)?;
         let mut notes = vec![format!(
             "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
-            self.sub_arcs, self.cable_length, self.routing
+            set.sub_arcs, set.cable_length, set.routing
         )];
         if !prob.frame_forces.is_empty() {
             notes.push(
@@ -315,8 +376,8 @@ impl Method for Energy {
                 scene.obstacles.len()
             ));
         }
-        let sol = self.newton(&prob, warm)?;
-        Ok(self.build_shape(&prob, sol, start, notes))
+        let sol = set.newton(&prob, warm)?;
+        Ok(set.build_shape(&prob, sol, start, notes))
     }
 }
 

@@ -571,18 +571,28 @@ impl<'p, 'a> Sqp<'p, 'a> {
             let kin_trial = prob
                 .needs_frames()
                 .then(|| contacts::kinematics(&self.trial, &prob.ell, false));
+            let (trial_pairs, trial_clear) = match (self.world, &kin_trial) {
+                (Some(wd), Some(k)) if stretch_ok => wd.pairs(k),
+                _ => (vec![], f64::INFINITY),
+            };
+            // No feature may pass through an obstacle between two iterates (distances to
+            // open meshes are unsigned: a jump through a wall would look clear): either no
+            // point moves farther than the robot's distance to the obstacles (or half the
+            // pair margin when closer; features near an obstacle are held by their
+            // linearized constraints), or every feature–obstacle pair passes the tests of
+            // `energy/step_guard.rs` (distances, separating planes).
             let near_enough = match (self.world, &self.kin, &kin_trial) {
                 (Some(wd), Some(k0), Some(k1)) => {
                     wd.max_move(k0, k1) <= self.clear.max(0.5 * wd.margin())
+                        || wd.step_is_clear(
+                            (k0, &self.pairs, self.clear),
+                            (k1, &trial_pairs, trial_clear),
+                        )
                 }
                 _ => true,
             };
             if stretch_ok && near_enough {
                 prob.lengths(&self.trial, &mut self.trial_len);
-                let trial_pairs = match (self.world, &kin_trial) {
-                    (Some(wd), Some(k)) => wd.pairs(k).0,
-                    _ => vec![],
-                };
                 let phi = self.merit(
                     &self.trial,
                     kin_trial.as_ref(),

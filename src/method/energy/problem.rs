@@ -7,16 +7,29 @@ use super::contacts::{Kin, World};
 use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use super::lengths::Node;
 use super::Energy;
+use crate::contact::broad;
 use crate::error::SolveError;
-use crate::method::contact::check_base;
 use crate::method::Method;
-use crate::model::actuation::{Actuation, Drive, Input, LengthMeasure};
+use crate::model::actuation::{Actuation, Drive, LengthMeasure};
 use crate::model::robot::Robot;
 use crate::model::routing::Route;
 use crate::model::scene::Scene;
 use crate::numeric::so3::log_so3;
 use crate::shape::DiskFrame;
 use nalgebra::Vector3;
+use std::borrow::Cow;
+
+/// Routing samples of one cable, `[j][q]` (sub-arc, Gauss node).
+pub(super) type NodeRow = Vec<[Node; GL_NODES]>;
+
+/// What an energy solve needs of the robot alone (with the settings): computed once per
+/// robot by [`crate::method::Method::prepare`], shared by every solve of it.
+pub(super) struct RobotPart {
+    /// Routing samples `[c][j][q]` (path measure; empty for chords).
+    pub(super) nodes: Vec<NodeRow>,
+    /// Undeformed length of every cable in the chosen measure \[m\].
+    pub(super) len0: Vec<f64>,
+}
 
 /// What a cable imposes in this method, from its resolved [`Drive`]: a length constraint
 /// (its target length in the chosen measure), a constant tension, or nothing.
@@ -43,7 +56,7 @@ pub(super) struct Problem<'a> {
     /// Diagonal stiffness of each variable (ℓ·EI, ℓ·EI, ℓ·GJ, ℓ·EA).
     pub(super) k: Vec<f64>,
     /// Gauss samples `[c][j][q]` (path measure; empty for sub-arcs the cable does not reach).
-    pub(super) nodes: Vec<Vec<[Node; GL_NODES]>>,
+    pub(super) nodes: Cow<'a, [NodeRow]>,
     pub(super) targets: Vec<Target>,
     /// Compliance `1/k` of each cable \[m/N\] (0: inextensible).
     pub(super) compliance: Vec<f64>,
@@ -202,12 +215,34 @@ impl Problem<'_> {
 }
 
 impl Energy {
+    /// The problem of one solve of `robot` (its routing samples computed here).
     pub(super) fn setup<'a>(
         &'a self,
         robot: &'a Robot,
         act: &Actuation,
         scene: &'a Scene,
     ) -> Result<Problem<'a>, SolveError> {
+        let part = self.robot_part(robot)?;
+        self.setup_from(robot, act, scene, Cow::Owned(part.nodes), &part.len0)
+    }
+
+    /// Routing samples and undeformed cable lengths of `robot` (straight backbone, ξ = 0).
+    pub(super) fn robot_part(&self, robot: &Robot) -> Result<RobotPart, SolveError> {
+        let mut prob = self.bare(robot, Cow::Owned(vec![]));
+        if self.cable_length == LengthMeasure::Path {
+            prob.nodes = Cow::Owned(self.gauss_nodes(robot, &prob.ell)?);
+        }
+        let mut len0 = vec![0.0; robot.cables.len()];
+        prob.lengths(&vec![0.0; prob.nvar()], &mut len0);
+        Ok(RobotPart {
+            nodes: prob.nodes.into_owned(),
+            len0,
+        })
+    }
+
+    /// The sub-arcs, stiffnesses and block layout of `robot`, with the routing samples
+    /// `nodes`; every cable free, no loads, no obstacles.
+    fn bare<'a>(&'a self, robot: &'a Robot, nodes: Cow<'a, [NodeRow]>) -> Problem<'a> {
         let m = self.sub_arcs;
         let n = robot.sections();
         let nsub = n * m;
@@ -222,11 +257,6 @@ impl Energy {
                 k.extend_from_slice(&[l * ei, l * ei, l * gj, l * ea]);
             }
         }
-        let nc = robot.cables.len();
-        let nodes = match self.cable_length {
-            LengthMeasure::Path => self.gauss_nodes(robot, &ell)?,
-            LengthMeasure::Chord => vec![],
-        };
         let (nb, nblocks) = match self.cable_length {
             LengthMeasure::Path => (4, nsub),
             LengthMeasure::Chord => (4 * m, n),
@@ -238,7 +268,7 @@ impl Energy {
             .fold(0.0f64, |a, &r| a.max(r));
         let rbar = if rbar > 0.0 { rbar } else { robot.disk_radius };
         let lmin = ell.iter().cloned().fold(f64::INFINITY, f64::min);
-        let mut prob = Problem {
+        Problem {
             robot,
             set: self,
             m,
@@ -246,31 +276,33 @@ impl Energy {
             ell,
             k,
             nodes,
-            targets: vec![Target::Free; nc],
+            targets: vec![Target::Free; robot.cables.len()],
             compliance: robot.cables.iter().map(|c| c.compliance()).collect(),
             nb,
             nblocks,
             stat_scale: rbar / (ei * lmin),
             world: None,
             frame_forces: vec![],
-        };
+        }
+    }
+
+    /// The problem of one solve from the robot's prepared part (`nodes`, `len0` of
+    /// [`Energy::robot_part`]): dead loads, obstacles within reach, what each cable imposes.
+    pub(super) fn setup_from<'a>(
+        &'a self,
+        robot: &'a Robot,
+        act: &Actuation,
+        scene: &'a Scene,
+        nodes: Cow<'a, [NodeRow]>,
+        len0: &[f64],
+    ) -> Result<Problem<'a>, SolveError> {
+        let mut prob = self.bare(robot, nodes);
         prob.frame_forces = self.dead_loads(robot, &prob.ell)?;
         if !scene.is_empty() {
-            // Broad phase, robot level: only obstacles within reach of the base take part.
-            let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
-            let near = scene.near(&Vector3::zeros(), reach);
-            check_base(robot, scene, &near)?;
-            prob.world = World::new(robot, scene, near, m);
+            let near = broad::robot_obstacles(robot, scene)?;
+            prob.world = World::new(robot, scene, near, self.sub_arcs);
         }
-        // Undeformed lengths in the chosen measure (straight backbone, ξ = 0).
-        let mut len0 = vec![0.0; nc];
-        prob.lengths(&vec![0.0; 4 * nsub], &mut len0);
-        let drives = act.drives(
-            robot,
-            self.name(),
-            &[Input::Shortening, Input::Tension],
-            self.control,
-        )?;
+        let drives = self.kind().drives(robot, act, self.control)?;
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.targets[c] = match drives[c] {
                 Drive::Shorten { length: d, .. } => {

@@ -4,8 +4,8 @@
 
 use super::problem::{Pose, SectionData};
 use super::{Geometric, Objective};
+use crate::contact::CONTACT_TOL;
 use crate::error::SolveError;
-use crate::method::contact::CONTACT_TOL;
 use crate::method::Method;
 use crate::numeric::qp::disc_sum_scale;
 use crate::numeric::so3::{exp_so3, orthonormalize};

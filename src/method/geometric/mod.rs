@@ -68,17 +68,18 @@
 //! # Files
 //!
 //! `mod.rs` the settings and the section loop (base to tip) · `problem.rs` the eq. 1–2 section
-//! problem and its derivatives · `faces.rs` the taut-set and face search and the certificate ·
+//! problem and its derivatives · `derivatives.rs` their closed forms · `faces.rs` the taut-set and face search and the certificate ·
 //! `feasibility.rs` proofs that no pose exists · `newton.rs` Newton–KKT on one face · `obstacles.rs` the obstacles one section sees.
 
+mod derivatives;
 mod faces;
 mod feasibility;
 mod newton;
 mod obstacles;
 mod problem;
 
+use crate::contact::broad;
 use crate::error::SolveError;
-use crate::method::contact::check_base;
 use crate::method::output::cable_paths;
 use crate::method::settings::{parse_count, parse_in, Configure, MAX_ITERATIONS};
 use crate::method::{Method, MethodKind};
@@ -168,7 +169,7 @@ impl Method for Geometric {
             "cable segment length after actuation = (1 - shortening) x undeformed straight chord between holes".to_string(),
         ];
         // Displacement fraction per cable (None: free).
-        let drives = act.drives(robot, self.name(), &[Input::Shortening], Input::Shortening)?;
+        let drives = self.kind().drives(robot, act, Input::Shortening)?;
         let frac: Vec<Option<f64>> = drives
             .iter()
             .map(|d| match d {
@@ -188,10 +189,7 @@ impl Method for Geometric {
         let mut slack_sections: Vec<Vec<usize>> = vec![vec![]; robot.cables.len()];
         let mut prev_rel: Option<Pose> = None;
         let (mut total_it, mut worst) = (0usize, 0.0f64);
-        // Broad phase, robot level: only obstacles within reach of the base take part.
-        let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
-        let relevant = scene.near(&Vector3::zeros(), reach);
-        check_base(robot, scene, &relevant)?;
+        let relevant = broad::robot_obstacles(robot, scene)?;
         let warm_rel = warm.filter(|w| w.disks.len() == n + 1).map(relative_poses);
         let mut contacts = vec![];
         let mut strict = true;

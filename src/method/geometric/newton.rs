@@ -5,7 +5,7 @@ use super::faces::{Candidate, Rejected, Step};
 use super::obstacles::Pair;
 use super::problem::{Pose, SectionData};
 use super::Geometric;
-use crate::method::contact::CONTACT_TOL;
+use crate::contact::CONTACT_TOL;
 use crate::numeric::ad::D2;
 use crate::numeric::kkt::{kkt_step, kkt_step6, multipliers};
 use crate::numeric::qp::qp_step6;
@@ -52,7 +52,14 @@ impl Geometric {
                     escape: None,
                 })
             };
-            let (f, c) = data.eval::<D2<6>>(&pose, face, active, squared);
+            // Near obstacles the candidate converges only to CONTACT_STEP_TOL (parry's noise),
+            // so arithmetic that differs at rounding level moves it by ~1e-9 m: contact
+            // sections keep the dual numbers the recorded tips were solved with.
+            let (f, c) = if data.world.is_some() {
+                data.eval::<D2<6>>(&pose, face, active, squared)
+            } else {
+                data.eval_d2(&pose, face, active, squared)
+            };
             if !f.v.is_finite() || c.iter().any(|x| !x.v.is_finite()) {
                 return reject(last_res);
             }

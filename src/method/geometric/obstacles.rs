@@ -3,13 +3,14 @@
 //! section's variables.
 
 use super::problem::Pose;
-use crate::method::contact::{nvec, polish, ppose, pvec, query, y_to_z, Witness};
+use crate::contact::features::{self, Touching};
+use crate::contact::Witness;
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3, Vector6};
 use parry3d::math::Pose as PPose;
-use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
+use parry3d::shape::{Cylinder, Shape as PShape};
 
 /// A robot feature of one section.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,30 +44,22 @@ impl Pair {
         section: usize,
         mu: f64,
     ) -> Contact {
-        let arr = |v: &Vector3<f64>| [v.x, v.y, v.z];
-        let (feature, disk, sec) = match self.feature {
-            Feature::Backbone => ("backbone".to_string(), None, Some(section)),
-            Feature::Disk => ("disk".to_string(), Some(section), None),
-            Feature::Cable(c) => (
-                format!(
-                    "cable:{}",
-                    world.map_or(String::new(), |w| w.cable_names[c].clone())
-                ),
-                None,
-                Some(section),
-            ),
+        let feature = match self.feature {
+            Feature::Backbone => Touching::Backbone { section },
+            Feature::Disk => Touching::Disk { disk: section },
+            Feature::Cable(c) => Touching::Cable {
+                name: world.map_or("", |w| &w.cable_names[c]),
+                section,
+            },
         };
-        Contact {
-            obstacle: world.map_or(String::new(), |w| w.name(self.obstacle)),
-            feature,
-            disk,
-            section: sec,
-            point_robot: arr(&self.point_robot),
-            point_obstacle: arr(&self.point_obstacle),
-            normal: arr(&self.normal),
-            distance: self.dist,
-            multiplier: mu,
-        }
+        let w = Witness {
+            robot: self.point_robot,
+            obstacle: self.point_obstacle,
+            normal: self.normal,
+            dist: self.dist,
+        };
+        let obstacle = world.map_or(String::new(), |w| w.name(self.obstacle));
+        features::record(obstacle, feature, &w, mu)
     }
 }
 
@@ -165,9 +158,9 @@ impl SectionWorld {
         let ri = r * pose.q;
         let identity = PPose::IDENTITY;
         let mut out = vec![];
-        let backbone = Capsule::new(pvec(&self.x_prev), pvec(&x0), self.backbone_radius);
+        let backbone = features::backbone(&self.x_prev, &x0, self.backbone_radius);
         let disk = Cylinder::new(self.half_thickness, self.disk_radius);
-        let disk_pose = ppose(&(ri * y_to_z()), &x0);
+        let disk_pose = features::disk_pose(&ri, &x0);
         // (cable, hole at disk i−1, hole at disk i, that hole in disk i's frame)
         type Chord = (usize, Vector3<f64>, Vector3<f64>, Vector3<f64>);
         let chords: Vec<Chord> = self
@@ -177,42 +170,20 @@ impl SectionWorld {
             .collect();
         for (k, (shape, opose)) in self.shapes.iter().enumerate() {
             let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
-                let Some(ct) = query(gpose, g, opose, &**shape, self.margin) else {
+                let Some((w, _)) = features::witness(g, gpose, &**shape, opose, self.margin) else {
                     return;
                 };
-                let mut a = nvec(ct.point1);
-                let mut n = nvec(ct.normal1);
-                let mut po = nvec(ct.point2);
-                let mut dist = ct.dist;
-                let rough = Witness {
-                    robot: a,
-                    obstacle: po,
-                    normal: -n,
-                    dist,
-                };
-                if let Some(w) = polish(g, gpose, &**shape, opose, &rough) {
-                    (a, po, n, dist) = (w.robot, w.obstacle, -w.normal, w.dist);
-                }
+                // `n` from the robot towards the obstacle.
+                let (mut a, po, n, dist) = (w.robot, w.obstacle, -w.normal, w.dist);
                 if feature == Feature::Disk {
-                    // The iterative query places the witness on the rim to ~1e-6 only; for a
-                    // convex feature it is exactly the support point along the normal.
-                    let u = ri.transpose() * n;
-                    let uxy = (u.x * u.x + u.y * u.y).sqrt();
-                    if uxy > 1e-6 {
-                        let l = Vector3::new(
-                            self.disk_radius * u.x / uxy,
-                            self.disk_radius * u.y / uxy,
-                            self.half_thickness * u.z.signum(),
-                        );
-                        a = x0 + ri * l;
-                    }
+                    let (rd, ht) = (self.disk_radius, self.half_thickness);
+                    a = features::disk_support(&ri, &x0, &w.normal, rd, ht).unwrap_or(a);
                 }
                 let rn = r.transpose() * n;
                 let qrn = pose.q.transpose() * rn;
                 let (gp, gw) = match feature {
                     Feature::Backbone => {
-                        let d = x0 - self.x_prev;
-                        let t = ((a - self.x_prev).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+                        let t = features::segment_fraction(&a, &self.x_prev, &x0);
                         (-t * rn, Vector3::zeros())
                     }
                     Feature::Disk => {
@@ -221,12 +192,7 @@ impl SectionWorld {
                     }
                     Feature::Cable(j) => {
                         let (_, hp, hc, h) = chords[j];
-                        let d = hc - hp;
-                        let t = if d.norm_squared() > 0.0 {
-                            ((a - hp).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
-                        } else {
-                            1.0
-                        };
+                        let t = features::segment_fraction(&a, &hp, &hc);
                         (-t * rn, t * qrn.cross(&h))
                     }
                 };
@@ -244,11 +210,7 @@ impl SectionWorld {
             push(Feature::Disk, &disk, &disk_pose);
             for (j, (_, hp, hc, _)) in chords.iter().enumerate() {
                 if (hc - hp).norm() > 0.0 {
-                    push(
-                        Feature::Cable(j),
-                        &Segment::new(pvec(hp), pvec(hc)),
-                        &identity,
-                    );
+                    push(Feature::Cable(j), &features::chord(hp, hc), &identity);
                 }
             }
         }

@@ -1,18 +1,11 @@
-//! Distance queries shared by the methods that handle obstacles (the geometric section solver
-//! and the whole-robot energy model): parry3d poses and vectors from nalgebra ones, a contact
-//! query that stays on GJK near touching, and the base-disk check.
-//!
-//! Robot features are the same for every method: backbone pieces are capsules of the
-//! backbone radius, disks are thin cylinders (parry's cylinder axis is its local y, the disk
-//! normal is local z, hence [`y_to_z`]) and cable chords are segments.
+//! The parry3d bridge: parry poses and vectors from nalgebra ones, a contact query that stays
+//! on GJK near touching (EPA recovery for barely overlapping shapes), and the polish of GJK's
+//! witness points by alternating projections.
 
-use crate::error::SolveError;
-use crate::model::robot::Robot;
-use crate::model::scene::Scene;
 use nalgebra::{Matrix3, Vector3};
 use parry3d::math::{Pose as PPose, Vector as PVec};
 use parry3d::query::Contact as PContact;
-use parry3d::shape::{Cylinder, Shape as PShape};
+use parry3d::shape::Shape as PShape;
 
 /// Robot features within this of an obstacle are queried again moved this far away \[m\].
 pub(crate) const SEPARATION_SHIFT: f64 = 1e-3;
@@ -173,32 +166,4 @@ pub(crate) fn polish(
         normal: gap / len,
         dist: len - shift,
     })
-}
-
-/// The base disk must not lie inside (or within the clearance of) an obstacle.
-pub(crate) fn check_base(
-    robot: &Robot,
-    scene: &Scene,
-    relevant: &[usize],
-) -> Result<(), SolveError> {
-    let disk = Cylinder::new(robot.disk_thickness / 2.0, robot.disk_radius);
-    let pose = ppose(&y_to_z(), &Vector3::zeros());
-    for &k in relevant {
-        let o = &scene.obstacles[k];
-        if let Ok(Some(ct)) =
-            parry3d::query::contact(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance)
-        {
-            if ct.dist < scene.clearance - CONTACT_TOL {
-                return Err(SolveError::Obstructed {
-                    obstacle: o.name.clone(),
-                    section: 0,
-                    reason: format!(
-                        "the base disk lies inside or within the clearance of this obstacle (distance {:.3e} m)",
-                        ct.dist
-                    ),
-                });
-            }
-        }
-    }
-    Ok(())
 }

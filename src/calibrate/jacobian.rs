@@ -1,0 +1,203 @@
+//! The Jacobian of the calibration residual (`fit.rs`) in the scaled parameters.
+//!
+//! **From the solver's sensitivities** (when every row's shape carries a tip Jacobian in the
+//! cables' shortenings, as the energy model's do, and every parameter is one of gain, offset,
+//! compliance, backlash, `marker.z` with the marker on the tip axis). The measured marker is
+//! `s = R_b (p + m_z t) + t_b` (`model/hardware.rs`), so with the reported `∂p/∂δ_c`,
+//! `∂t/∂δ_c`: `∂s/∂δ_c = R_b (∂p/∂δ_c + m_z ∂t/∂δ_c)`. Each parameter moves the rows through
+//! the cable's shortening `δ_c = g_c u_c − o_c − ½ b_c s_c` (`s_c` its direction of motion) or through its length constraint
+//! `L_c − L_c⁰ + δ_c + T₀_c/k_c − λ_c/k_c = 0` (`energy` module docs, "Compliant cables"):
+//!
+//! ```text
+//! ∂s/∂g_c = u_c ∂s/∂δ_c      ∂s/∂o_c = −∂s/∂δ_c      ∂s/∂(1/k_c) = (T₀_c − λ_c) ∂s/∂δ_c
+//! ∂s/∂b_c = −½ s_c ∂s/∂δ_c  ∂s/∂m_z = R_b t
+//! ```
+//!
+//! (the compliance enters the constraint as a shortening of `(T₀ − λ)/k`, and the implicit
+//! function theorem treats both alike). The aligned residual `r_i = s_i − mean_j(s_j − m_j) −
+//! m_i` then has `∂r_i = ∂s_i − mean_j ∂s_j`. One pass over the data per Jacobian instead of
+//! one per parameter; a unit test checks it against the finite differences below.
+//!
+//! **Finite differences** otherwise: `∂r/∂x_k ≈ (r(x + h e_k) − r(x)) / h`, `h = 10⁻⁴` in
+//! scaled variables (gain 10⁻⁴, lengths 0.1 µm, compliance 10⁻⁸ m/N: ≥ 10³ times the energy
+//! solver's 10⁻¹⁰ m tolerance), each row of the perturbed solve warm-started from that row's
+//! solution at `x` (one or two Newton steps); backwards where the forward point fails.
+
+use super::fit::{Eval, Fitter};
+use super::params::{Param, Target};
+use crate::error::SolveError;
+use crate::model::actuation::Input;
+use crate::model::Model;
+use crate::shape::Shape;
+use nalgebra::{DMatrix, DVector, Vector3};
+
+impl Fitter<'_> {
+    /// The residual's Jacobian at `x` (evaluated as `at`), module docs.
+    pub(super) fn jacobian(
+        &mut self,
+        x: &DVector<f64>,
+        at: &Eval,
+    ) -> Result<DMatrix<f64>, SolveError> {
+        match self.sensitivity_jacobian(x, at) {
+            Some(j) => Ok(j),
+            None => self.difference_jacobian(x, at),
+        }
+    }
+
+    /// From the rows' tip sensitivities; `None` where they do not give every column.
+    pub(super) fn sensitivity_jacobian(&self, x: &DVector<f64>, at: &Eval) -> Option<DMatrix<f64>> {
+        let m = self.model_at(x);
+        let n = at.shapes.len();
+        let np = self.params.len();
+        let mut ds = Vec::with_capacity(n);
+        for ((shape, u), dir) in at.shapes.iter().zip(&self.commands).zip(&self.dirs) {
+            ds.push(tip_derivatives(&m, &self.params, shape.as_ref()?, u, dir)?);
+        }
+        let mut j = DMatrix::zeros(3 * n, np);
+        for k in 0..np {
+            let mean = ds.iter().map(|d| d[k]).sum::<Vector3<f64>>() / n.max(1) as f64;
+            let scale = self.params[k].scale();
+            for (i, d) in ds.iter().enumerate() {
+                j.fixed_view_mut::<3, 1>(3 * i, k)
+                    .copy_from(&((d[k] - mean) * scale));
+            }
+        }
+        Some(j)
+    }
+
+    /// Forward differences (backwards where the forward point fails), module docs.
+    pub(super) fn difference_jacobian(
+        &mut self,
+        x: &DVector<f64>,
+        at: &Eval,
+    ) -> Result<DMatrix<f64>, SolveError> {
+        let h = 1e-4;
+        let mut j = DMatrix::zeros(at.r.len(), x.len());
+        for k in 0..x.len() {
+            let mut xp = x.clone();
+            xp[k] += h;
+            if let Some(e) = self.eval(&xp, Some(&at.shapes)) {
+                j.set_column(k, &((&e.r - &at.r) / h));
+                continue;
+            }
+            xp[k] = x[k] - h;
+            let e = self
+                .eval(&xp, Some(&at.shapes))
+                .ok_or_else(|| SolveError::InvalidInput {
+                    field: format!("fit `{}`", self.params[k].name),
+                    reason:
+                        "rows fail to solve on both sides of the current value (finite differences)"
+                            .into(),
+                })?;
+            j.set_column(k, &((&at.r - &e.r) / h));
+        }
+        Ok(j)
+    }
+}
+
+/// `∂s/∂x_k` (SI parameters) of one row's measured marker (module docs); `None` when the
+/// shape has no sensitivities for every cable's shortening, or a parameter is not covered.
+fn tip_derivatives(
+    model: &Model,
+    params: &[Param],
+    shape: &Shape,
+    u: &[f64],
+    dir: &[f64],
+) -> Option<Vec<Vector3<f64>>> {
+    let hw = &model.hardware;
+    if hw.marker.x != 0.0 || hw.marker.y != 0.0 {
+        return None;
+    }
+    let jac = shape.report.jacobian.as_ref()?;
+    let nc = model.robot.cables.len();
+    let rb = hw.base_matrix();
+    let mut dsd: Vec<Option<Vector3<f64>>> = vec![None; nc];
+    for (col, (name, input)) in jac.inputs.iter().enumerate() {
+        if input != Input::Shortening.name() {
+            return None;
+        }
+        let c = model.robot.cable_index(name)?;
+        let dp = Vector3::from(jac.position[col]) + hw.marker.z * Vector3::from(jac.tangent[col]);
+        dsd[c] = Some(rb * dp);
+    }
+    let dsd: Vec<Vector3<f64>> = dsd.into_iter().collect::<Option<_>>()?;
+    let sum = |g, f: &dyn Fn(usize) -> Option<f64>| -> Option<Vector3<f64>> {
+        Param::cables(g, nc)
+            .into_iter()
+            .map(|c| Some(dsd[c] * f(c)?))
+            .sum()
+    };
+    params
+        .iter()
+        .map(|p| match &p.target {
+            Target::Gain(g) => sum(g, &|c| Some(u[c])),
+            Target::Offset(g) => sum(g, &|_| Some(-1.0)),
+            Target::Backlash(g) => sum(g, &|c| Some(-0.5 * dir.get(c).copied().unwrap_or(0.0))),
+            Target::Compliance(g) => sum(g, &|c| {
+                Some(model.robot.cables[c].pretension - shape.cables[c].tension?)
+            }),
+            Target::Marker(2) => {
+                let tip = shape.disks.last()?;
+                Some(rb * tip.rotation.column(2).into_owned())
+            }
+            Target::Marker(_) => None,
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::calibrate::data::{DataOptions, Dataset};
+    use crate::calibrate::fit::{FitOptions, Fitter};
+    use crate::calibrate::predict::PredictOptions;
+    use crate::method::run::SolveRequest;
+    use crate::method::{MethodKind, Settings};
+    use crate::model::Model;
+    use nalgebra::DVector;
+
+    /// The Jacobian from the solver's sensitivities equals finite differences of full solves
+    /// (FTDCR v4 train rows, compliant cables, every default parameter).
+    #[test]
+    fn sensitivity_jacobian_matches_finite_differences() {
+        let root = env!("CARGO_MANIFEST_DIR");
+        let mut model =
+            Model::from_file(format!("{root}/models/hardware/ftdcr_v4.toml")).expect("v4");
+        for (c, cable) in model.robot.cables.iter_mut().enumerate() {
+            cable.stiffness = Some(3000.0 + 100.0 * c as f64);
+            cable.pretension = 0.2;
+        }
+        model.hardware.marker.z = 0.01;
+        model.hardware.gain[4] = 0.9;
+        model.hardware.backlash = vec![3e-4; 9];
+        let data = Dataset::from_file(
+            format!("{root}/models/hardware/data/v4/tdcr_sysid_20260511-183002_train.csv"),
+            &DataOptions::default(),
+        )
+        .expect("data");
+        let idx: Vec<usize> = (0..data.len()).step_by(40).collect();
+        let data = data.select(&idx);
+        let mut s = Settings::new();
+        s.push("sub-arcs", "1");
+        let mut opts = FitOptions::new(PredictOptions {
+            request: SolveRequest::new(MethodKind::Energy).with_settings(s),
+            chunk: 8,
+            progress: false,
+        });
+        opts.params = crate::calibrate::params::default_names(&model.robot);
+        opts.params.push("backlash".into());
+        let (mut f, _) = Fitter::new(&model, &data, &opts).expect("fitter");
+        let x = DVector::from_iterator(
+            f.params.len(),
+            f.params.iter().map(|p| p.get(&model) / p.scale()),
+        );
+        let at = f.eval(&x, None).expect("evaluates");
+        let js = f.sensitivity_jacobian(&x, &at).expect("sensitivities");
+        let jd = f.difference_jacobian(&x, &at).expect("differences");
+        for k in 0..x.len() {
+            let (a, b) = (js.column(k), jd.column(k));
+            let err = (a - b).norm() / b.norm().max(1e-12);
+            println!("{}: relative difference {err:.2e}", f.params[k].name);
+            assert!(err < 1e-3, "{}: {err:e}", f.params[k].name);
+        }
+    }
+}

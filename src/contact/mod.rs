@@ -1,0 +1,23 @@
+//! Contact between the robot and obstacles, written once for every method that handles
+//! obstacles (the geometric section solver and the whole-robot energy model; reach and plan
+//! draw the same features).
+//!
+//! * [`features`]: the robot features as parry shapes — backbone pieces are capsules of the
+//!   backbone radius, disks thin cylinders (parry's cylinder axis is its local y, the disk
+//!   normal local z, hence [`y_to_z`]), cable chords segments — the witness of one
+//!   feature–obstacle pair, the exact support point on a disk rim, the fraction along a
+//!   segment, and the reported [`crate::shape::Contact`] record;
+//! * [`parry`]: the parry3d bridge (GJK query that stays on GJK near touching, EPA recovery,
+//!   witness polish);
+//! * [`broad`]: the broad phase (obstacles within reach of the robot, bounds against a box)
+//!   and the base-disk check.
+//!
+//! What stays in a method is how its variables move a feature (the gradient of a distance):
+//! `method/geometric/obstacles.rs` in one section's pose, `method/energy/contacts.rs` in the
+//! strains of every sub-arc.
+
+pub(crate) mod broad;
+pub(crate) mod features;
+pub(crate) mod parry;
+
+pub(crate) use parry::{nvec, polish, ppose, pvec, query, y_to_z, Witness, CONTACT_TOL};

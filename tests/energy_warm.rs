@@ -1,0 +1,89 @@
+//! Warm starts of the energy model are never worse than cold ones: on the paper cases a solve
+//! started from the solution of a nearby actuation (2 % and 10 % smaller shortenings) takes no
+//! more Newton iterations than the same solve from the straight robot, and reaches the same
+//! shape. (Speed itself is measured by `cargo bench --bench energy`, pairs `cold` / `warm-2pct`.)
+//! A method prepared once for a robot ([`Method::prepare`]: the routing samples computed
+//! once) solves exactly as the one-off solve does.
+
+use ccrkit::method::energy::Energy;
+use ccrkit::{Method, Model, Scene};
+
+#[test]
+fn warm_starts_take_no_more_iterations_than_cold() {
+    let scene = Scene::empty();
+    let method = Energy::default();
+    for case in 1..=3 {
+        let path = format!(
+            "{}/models/paper/case{case}.toml",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let model = Model::from_file(path).expect("paper model");
+        let cold = method
+            .solve(&model.robot, &model.actuation, &scene, None)
+            .expect("cold solve");
+        for frac in [0.98, 0.9] {
+            let before = method
+                .solve(&model.robot, &model.actuation.scaled(frac), &scene, None)
+                .expect("previous solve");
+            let warm = method
+                .solve(&model.robot, &model.actuation, &scene, Some(&before))
+                .expect("warm solve");
+            println!(
+                "case {case}, warm from {frac}: cold {} iterations, warm {}",
+                cold.report.iterations, warm.report.iterations
+            );
+            assert!(
+                warm.report.iterations <= cold.report.iterations,
+                "case {case} from {frac}: warm {} > cold {} iterations",
+                warm.report.iterations,
+                cold.report.iterations
+            );
+            let (a, b) = (cold.tip(), warm.tip());
+            assert!((a - b).norm() < 1e-9, "case {case}: tips {a} vs {b}");
+        }
+    }
+}
+
+/// Solves through [`Method::prepare`] (reused across actuations, warm starts and scenes) are
+/// bit for bit those of [`Method::solve`].
+#[test]
+fn prepared_solves_equal_one_off_solves() {
+    let wall = Scene::from_file(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/models/scenes/wall.toml"
+    ))
+    .expect("wall");
+    for case in 1..=3 {
+        let path = format!(
+            "{}/models/paper/case{case}.toml",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let model = Model::from_file(path).expect("paper model");
+        let method = Energy::default();
+        let prepared = method.prepare(&model.robot).expect("prepare");
+        let mut prev = None;
+        for frac in [0.5, 0.98, 1.0] {
+            let act = model.actuation.scaled(frac);
+            for scene in [Scene::empty(), wall.clone()] {
+                if case > 1 && !scene.is_empty() {
+                    continue;
+                }
+                // Warm from the last obstacle-free shape (which may cross the wall: cold there).
+                let warm = if scene.is_empty() {
+                    prev.as_ref()
+                } else {
+                    None
+                };
+                let a = method.solve(&model.robot, &act, &scene, warm);
+                let b = prepared.solve(&act, &scene, warm);
+                let (a, b) = (a.expect("one-off"), b.expect("prepared"));
+                assert_eq!(a.disks, b.disks, "case {case} at {frac}");
+                assert_eq!(a.report.iterations, b.report.iterations);
+                assert_eq!(a.report.residual, b.report.residual);
+                if scene.is_empty() {
+                    prev = Some(b);
+                }
+            }
+        }
+    }
+}
