@@ -1,8 +1,10 @@
 //! Cosserat rod solve times on the paper cases: cold start, and warm start from a solution of
-//! a slightly different actuation (tensions 2 % lower), at the default settings (3 RK4 steps
+//! a slightly different actuation (tensions 2 % lower; under displacement control,
+//! shortenings 2 % lower), at the default settings (3 RK4 steps
 //! per section, more where a route bends: the resolution that keeps the tip within 0.01 mm of
 //! the converged rod). `CCRKIT_BENCH_STEPS=N` sets the base steps per section instead.
 
+use ccrkit::actuation::{Input, Shortening};
 use ccrkit::method::cosserat::Cosserat;
 use ccrkit::{Method, Model, Scene};
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -39,6 +41,22 @@ fn bench(c: &mut Criterion) {
         });
         c.bench_function(&format!("cosserat/case{n}/warm"), |b| {
             b.iter(|| black_box(m.solve(robot, act, &scene, Some(&warm)).expect("solves")))
+        });
+        // Displacement control: warm from the solution for shortenings 2 % lower.
+        let md = m.clone().with_control(Input::Shortening);
+        let mut near = act.clone();
+        for d in &mut near.cables {
+            d.shorten = d.shorten.map(|s| match s {
+                Shortening::Length(x) => Shortening::Length(0.98 * x),
+                Shortening::Fraction(x) => Shortening::Fraction(0.98 * x),
+            });
+        }
+        let warm = md.solve(robot, &near, &scene, None).expect("solves");
+        c.bench_function(&format!("cosserat/case{n}/displacement/cold"), |b| {
+            b.iter(|| black_box(md.solve(robot, act, &scene, None).expect("solves")))
+        });
+        c.bench_function(&format!("cosserat/case{n}/displacement/warm"), |b| {
+            b.iter(|| black_box(md.solve(robot, act, &scene, Some(&warm)).expect("solves")))
         });
     }
 }

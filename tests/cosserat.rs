@@ -486,3 +486,45 @@ fn warm_start_two_percent_away_needs_one_iteration() {
         assert!(warm.tip_distance(&cold) < 1e-8, "case {n}");
     }
 }
+
+/// Issue 16 #4: displacement control, warm start from the solution for shortenings 2 % lower
+/// (the displacement benchmark's warm start, `benches/cosserat.rs`): at most 2 Newton
+/// iterations, and the same answer as a cold solve.
+#[test]
+fn displacement_warm_start_two_percent_away_needs_at_most_two_iterations() {
+    use ccrkit::actuation::{Input, Shortening};
+    for n in 1..=3 {
+        let model = paper(n);
+        for m in [Cosserat::full(), Cosserat::kirchhoff()] {
+            let m = m.with_control(Input::Shortening);
+            let mut near = model.actuation.clone();
+            for d in &mut near.cables {
+                d.shorten = d.shorten.map(|s| match s {
+                    Shortening::Length(x) => Shortening::Length(0.98 * x),
+                    Shortening::Fraction(x) => Shortening::Fraction(0.98 * x),
+                });
+            }
+            let scene = Scene::empty();
+            let from = m.solve(&model.robot, &near, &scene, None).expect("near");
+            let warm = m
+                .solve(&model.robot, &model.actuation, &scene, Some(&from))
+                .expect("warm");
+            let cold = solve(&m, &model);
+            eprintln!(
+                "case {n} {}: cold {} iterations, warm {} iterations, tip {:.2e} m apart",
+                m.name(),
+                cold.report.iterations,
+                warm.report.iterations,
+                warm.tip_distance(&cold)
+            );
+            assert!(warm.report.residual <= m.tolerance);
+            assert!(warm.tip_distance(&cold) < 1e-8, "case {n}");
+            assert!(
+                warm.report.iterations <= 2,
+                "case {n} {}: {}",
+                m.name(),
+                warm.report.iterations
+            );
+        }
+    }
+}

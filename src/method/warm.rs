@@ -15,6 +15,12 @@ pub enum WarmState {
     Rod {
         /// The Jacobian.
         jacobian: DMatrix<f64>,
+        /// The length-controlled taut cables whose tensions are the unknowns after the
+        /// base wrench, in column order.
+        unknown: Vec<usize>,
+        /// Their length targets \[m\] (undeformed length minus shortening), in the same order:
+        /// with the Jacobian they predict the start for new shortenings.
+        targets: Vec<f64>,
     },
 }
 

@@ -80,7 +80,8 @@ impl Method for Cosserat {
                 }
                 None => warm.start(&prob, &setup, &mut x0),
             }
-            let jac0 = if prev.is_none() {
+            // A predicted start (new shortenings) gets a fresh exact Jacobian there instead.
+            let jac0 = if prev.is_none() && !warm.predicted {
                 warm.jac.as_ref()
             } else {
                 None
@@ -105,10 +106,18 @@ impl Method for Cosserat {
             } = sol;
             total_it += it;
             if !self.update_active_set(&prob, &x, &setup, &length_cables, &groups, &mut slack) {
-                let stable = prob.focal_stable(&x, &setup);
+                // The focal-point pass also gives the exact Jacobian at the answer, a better
+                // warm start than Newton's last (Broyden-updated) one.
+                let (stable, exact) = prob.focal_stable(&x, &setup);
+                let jac = exact.or(jac);
                 let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, start, notes);
                 shape.report.stable = stable;
-                shape.report.warm = jac.map(|jacobian| WarmState::Rod { jacobian });
+                let targets = setup.unknown.iter().map(|&c| prob.target(c, 1.0)).collect();
+                shape.report.warm = jac.map(|jacobian| WarmState::Rod {
+                    jacobian,
+                    unknown: setup.unknown.clone(),
+                    targets,
+                });
                 return Ok(shape);
             }
             prev = Some((x, setup));

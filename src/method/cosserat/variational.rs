@@ -13,6 +13,9 @@ use crate::model::robot::Robot;
 use crate::numeric::so3::hat;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
+/// Residual, exact Jacobian, tip, and "no focal point found" of one variational pass.
+type JacPass = (DVector<f64>, DMatrix<f64>, Vector3<f64>, bool);
+
 /// Most tangent directions of the variational equations: 6 base-wrench unknowns plus one
 /// tension per cable.
 const MAXD: usize = 6 + MAX_CABLES;
@@ -503,27 +506,26 @@ impl Problem<'_> {
     /// held (module docs, "Stability"), `Some(false)` when it has one and every tension is
     /// given (force control), `None` where the test cannot decide: no variational pass
     /// (adaptive steps, point loads at inner disks), or a focal point under displacement
-    /// control (fixed cable lengths can still hold a shape that fixed tensions cannot).
-    pub(super) fn focal_stable(&self, x: &DVector<f64>, setup: &Setup) -> Option<bool> {
-        let tau = self.tensions(x, setup, 1.0);
-        if !self.var_ok(setup, &tau, 1.0) {
-            return None;
+    /// control (fixed cable lengths can still hold a shape that fixed tensions cannot). The
+    /// same pass gives the exact shooting Jacobian at `x` (second item), which warm starts
+    /// carry.
+    pub(super) fn focal_stable(
+        &self,
+        x: &DVector<f64>,
+        setup: &Setup,
+    ) -> (Option<bool>, Option<DMatrix<f64>>) {
+        let Some((f, jac, _, ok)) = self.jac_pass(x, setup, 1.0, true) else {
+            return (None, None);
+        };
+        if !f[0].is_finite() {
+            return (None, None);
         }
-        let mut var = Var::new(self, 6);
-        var.focal = true;
-        let n0 = Vector3::new(x[0], x[1], x[2]);
-        let m0 = Vector3::new(x[3], x[4], x[5]) * self.len_l;
-        let ld = LoadCase { tau, lam: 1.0 };
-        let mut trace = super::problem::Trace::default();
-        let shot = self.shoot(&n0, &m0, &ld, Some(&mut trace), Some(&mut var));
-        if !shot.resid.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        match (var.focal_ok, setup.unknown.is_empty()) {
+        let stable = match (ok, setup.unknown.is_empty()) {
             (true, _) => Some(true),
             (false, true) => Some(false),
             (false, false) => None,
-        }
+        };
+        (stable, Some(jac))
     }
 
     /// Residual, exact Jacobian (variational equations integrated with the state in the same
@@ -537,12 +539,20 @@ impl Problem<'_> {
         setup: &Setup,
         lam: f64,
     ) -> Option<(DVector<f64>, DMatrix<f64>, Vector3<f64>)> {
+        self.jac_pass(x, setup, lam, false)
+            .map(|(f, j, tip, _)| (f, j, tip))
+    }
+
+    /// [`Self::residual_jac`], and with `focal` the focal-point test along the same pass
+    /// (last item: no focal point found).
+    fn jac_pass(&self, x: &DVector<f64>, setup: &Setup, lam: f64, focal: bool) -> Option<JacPass> {
         let tau = self.tensions(x, setup, lam);
         if !self.var_ok(setup, &tau, lam) {
             return None;
         }
         let k = x.len();
         let mut var = Var::new(self, k);
+        var.focal = focal;
         for (j, &c) in setup.unknown.iter().enumerate() {
             var.tcab[6 + j] = c;
             var.tg.tcab[6 + j] = c;
@@ -568,7 +578,7 @@ impl Problem<'_> {
         if f.iter().chain(jac.iter()).any(|v| !v.is_finite()) {
             f.fill(f64::NAN);
         }
-        Some((f, jac, shot.tip))
+        Some((f, jac, shot.tip, var.focal_ok))
     }
 }
 

@@ -19,6 +19,10 @@ pub(super) struct Warm {
     pub(super) jac: Option<DMatrix<f64>>,
     /// The shape came from this method (its base wrench carries this discretization).
     pub(super) same: bool,
+    /// The warm solution's unknown cables and their length targets.
+    targets: Option<(Vec<usize>, Vec<f64>)>,
+    /// The start was moved by the predictor step ([`Warm::start`]).
+    pub(super) predicted: bool,
 }
 
 /// Load ratio of tensions `tn` to `tw` along `tw`'s ray: `tn·tw / tw·tw` (1 without load).
@@ -46,12 +50,17 @@ impl Warm {
         // A warm start from this method also carries its last Jacobian (`report.warm`) and
         // the offset of its base wrench from the global balance.
         let same = warm.is_some_and(|w| w.method == name);
-        let jac = warm.filter(|_| same).and_then(|w| match &w.report.warm {
-            Some(WarmState::Rod { jacobian }) if jacobian.nrows() >= 6 && jacobian.is_square() => {
-                Some(jacobian.clone())
-            }
-            _ => None,
-        });
+        let (jac, targets) = match warm.filter(|_| same).map(|w| &w.report.warm) {
+            Some(Some(WarmState::Rod {
+                jacobian,
+                unknown,
+                targets,
+            })) if jacobian.nrows() >= 6 && jacobian.is_square() => (
+                Some(jacobian.clone()),
+                Some((unknown.clone(), targets.clone())),
+            ),
+            _ => (None, None),
+        };
         let mut x = None;
         let mut tensions = None;
         if let Some(w) = warm.filter(|w| w.cables.len() == nc) {
@@ -91,6 +100,38 @@ impl Warm {
             tensions,
             jac,
             same,
+            targets,
+            predicted: false,
+        }
+    }
+
+    /// Predictor for new length targets (displacement control): the warm solution `x_w`
+    /// solves `F(x_w; ℓ_w) = 0`, and `F` depends on the targets only through its length rows,
+    /// `F_j = k_ℓ (ℓ_j − ℓ_target,j)`, so `F(x_w; ℓ_new) = k_ℓ (ℓ_w − ℓ_new)` is known without
+    /// integrating, and the Newton step with the warm Jacobian,
+    /// `x₀ = x_w − J_w⁻¹ F(x_w; ℓ_new)`, is the first-order sensitivity `∂x/∂ℓ_target` applied
+    /// to the change. Only when the unknown cables are the warm solution's. True if `x0`
+    /// moved.
+    fn predict(&self, prob: &Problem, setup: &Setup, x0: &mut DVector<f64>) -> bool {
+        let (Some(j), Some((unknown, targets))) = (&self.jac, &self.targets) else {
+            return false;
+        };
+        if *unknown != setup.unknown || j.nrows() != x0.len() || unknown.is_empty() {
+            return false;
+        }
+        let mut f = DVector::zeros(x0.len());
+        for (k, (&c, &t)) in unknown.iter().zip(targets).enumerate() {
+            f[6 + k] = prob.kl[c] * (t - prob.target(c, 1.0));
+        }
+        if f.iter().all(|v| *v == 0.0) {
+            return false;
+        }
+        match j.clone().lu().solve(&f) {
+            Some(dx) if dx.iter().all(|v| v.is_finite()) => {
+                *x0 -= dx;
+                true
+            }
+            _ => false,
         }
     }
 
@@ -116,6 +157,10 @@ impl Warm {
         }
         for (j, &c) in setup.unknown.iter().enumerate() {
             x0[6 + j] = tens[c];
+        }
+        if self.predict(prob, setup, x0) {
+            self.predicted = true;
+            return;
         }
         if !prob.shape_free_loads() {
             return;
