@@ -8,7 +8,7 @@
 //! model's `base_position` is moved by the final mean offset, so its predictions need no
 //! alignment on the training data.
 //!
-//! **Jacobian** ([`super::jacobian`]): from the solver's exact tip sensitivities where the
+//! **Jacobian** (`calibrate/jacobian.rs`): from the solver's exact tip sensitivities where the
 //! method reports them (energy), else forward differences of warm-started solves.
 //!
 //! **Step.** Marquardt's scaled damping (Marquardt 1963; Nocedal & Wright, *Numerical

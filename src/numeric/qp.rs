@@ -10,8 +10,8 @@
 use crate::numeric::dense::small_solve;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT,
-    SolverStatus, SupportedConeT, ZeroConeT,
+    DefaultSettingsBuilder, DefaultSolution, DefaultSolver, IPSolver, NonnegativeConeT,
+    SecondOrderConeT, SolverStatus, SupportedConeT, ZeroConeT,
 };
 use nalgebra::{DMatrix, DVector, Matrix6, SymmetricEigen, Vector3, Vector6};
 
@@ -73,22 +73,7 @@ pub fn qp_step6(
     if !in_rows.is_empty() {
         cones.push(NonnegativeConeT(in_rows.len()));
     }
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .tol_gap_abs(1e-12)
-        .tol_gap_rel(1e-12)
-        .tol_feas(1e-12)
-        .build()
-        .ok()?;
-    let mut solver = DefaultSolver::new(&p, g.as_slice(), &a, &b, &cones, settings).ok()?;
-    solver.solve();
-    let sol = &solver.solution;
-    if !matches!(
-        sol.status,
-        SolverStatus::Solved | SolverStatus::AlmostSolved
-    ) {
-        return None;
-    }
+    let sol = clarabel_solve(&p, g.as_slice(), &a, &b, &cones, 1e-12)?;
     if sol.x.iter().any(|v| !v.is_finite()) {
         return None;
     }
@@ -188,24 +173,8 @@ fn qp_clarabel(
     if mi > 0 {
         cones.push(NonnegativeConeT(mi));
     }
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .tol_gap_abs(1e-14)
-        .tol_gap_rel(1e-12)
-        .tol_feas(1e-12)
-        .build()
-        .ok()?;
-    let mut solver = DefaultSolver::new(&p, g, &a, &b, &cones, settings).ok()?;
-    solver.solve();
-    let sol = &solver.solution;
-    if !matches!(
-        sol.status,
-        SolverStatus::Solved | SolverStatus::AlmostSolved
-    ) || sol.x.iter().any(|v| !v.is_finite())
-    {
-        return None;
-    }
-    Some(sol.x.clone())
+    let sol = clarabel_solve(&p, g, &a, &b, &cones, 1e-14)?;
+    sol.x.iter().all(|v| v.is_finite()).then_some(sol.x)
 }
 
 /// Minimize `½ λᵀ S λ − qᵀ λ` over `λ ≥ 0` (`S`: `n × n`, symmetric positive semidefinite,
@@ -360,24 +329,36 @@ pub fn disc_sum_scale(
     b[..3].copy_from_slice(target.as_slice());
     let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(3)];
     cones.extend(discs.iter().map(|_| SecondOrderConeT(3)));
+    let sol = clarabel_solve(&p, &q, &a, &b, &cones, 1e-12)?;
+    sol.x[0].is_finite().then_some(sol.x[0])
+}
+
+/// Clarabel on `min ½ xᵀ P x + qᵀ x  s.t.  A x + s = b, s ∈ cones` (`P` upper triangle) with
+/// the tolerances a Newton step needs: duality gap `gap_abs` absolute and 1e-12 relative,
+/// feasibility 1e-12. Its solution when clarabel reports solved or almost solved, else `None`
+/// (the callers check the entries they use for finiteness).
+fn clarabel_solve(
+    p: &CscMatrix<f64>,
+    q: &[f64],
+    a: &CscMatrix<f64>,
+    b: &[f64],
+    cones: &[SupportedConeT<f64>],
+    gap_abs: f64,
+) -> Option<DefaultSolution<f64>> {
     let settings = DefaultSettingsBuilder::default()
         .verbose(false)
-        .tol_gap_abs(1e-12)
+        .tol_gap_abs(gap_abs)
         .tol_gap_rel(1e-12)
         .tol_feas(1e-12)
         .build()
         .ok()?;
-    let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?;
+    let mut solver = DefaultSolver::new(p, q, a, b, cones, settings).ok()?;
     solver.solve();
-    let sol = &solver.solution;
-    if !matches!(
-        sol.status,
+    matches!(
+        solver.solution.status,
         SolverStatus::Solved | SolverStatus::AlmostSolved
-    ) || !sol.x[0].is_finite()
-    {
-        return None;
-    }
-    Some(sol.x[0])
+    )
+    .then_some(solver.solution)
 }
 
 #[cfg(test)]

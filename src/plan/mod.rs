@@ -271,6 +271,21 @@ pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>,
 }
 
 /// A start or goal, solved and checked (named `field` in errors).
+/// The solved, checked start (default: the model's actuation) and goal of a plan: what both
+/// planners begin with.
+pub(crate) fn endpoints(
+    ck: &mut Checker,
+    model: &Model,
+    start: Option<Vec<f64>>,
+    goal: &Goal,
+) -> Result<(Node, Node), SolveError> {
+    let start = start.unwrap_or_else(|| actuation_of(model, &model.actuation));
+    let goal_u = goal_actuation(ck.space, model, goal, ck.margin)?;
+    let s = endpoint(ck, &start, "start")?;
+    let g = endpoint(ck, &goal_u, "goal")?;
+    Ok((s, g))
+}
+
 pub(crate) fn endpoint(ck: &mut Checker, u: &[f64], field: &str) -> Result<Node, SolveError> {
     let space = ck.space;
     if !space.contains(u) {
@@ -372,11 +387,8 @@ pub fn plan(
     let t0 = Instant::now();
     let space = Space::new(model, request, false)?;
     let margin = opts.margin.unwrap_or(space.margin);
-    let start = start.unwrap_or_else(|| actuation_of(model, &model.actuation));
-    let goal_u = goal_actuation(&space, model, goal, margin)?;
     let mut ck = Checker::new(&space, margin);
-    let s = endpoint(&mut ck, &start, "start")?;
-    let g = endpoint(&mut ck, &goal_u, "goal")?;
+    let (s, g) = endpoints(&mut ck, model, start, goal)?;
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);
     let range = space
         .lo

@@ -12,7 +12,7 @@
 //! that fail are dropped and the search repeated ([`super::PlanStats::edges_repaired`]).
 
 use super::edge::{dist, Checker, EdgeCheck, Node};
-use super::{actuation_of, endpoint, finish, goal_actuation, Goal, Plan, PlanOptions, PlanStats};
+use super::{endpoints, finish, Goal, Plan, PlanOptions, PlanStats};
 use crate::error::{ModelError, SolveError};
 use crate::method::run::SolveRequest;
 use crate::model::scene::Scene;
@@ -325,11 +325,8 @@ impl Roadmap {
         self.check_fits(&space, request)?;
         let margin = opts.margin.unwrap_or(space.margin);
         let trusted = margin == self.margin && scene_fingerprint(&space.scene) == self.scene;
-        let start = start.unwrap_or_else(|| actuation_of(model, &model.actuation));
-        let goal_u = goal_actuation(&space, model, goal, margin)?;
         let mut ck = Checker::new(&space, margin);
-        let s = endpoint(&mut ck, &start, "start")?;
-        let g = endpoint(&mut ck, &goal_u, "goal")?;
+        let (s, g) = endpoints(&mut ck, model, start, goal)?;
         let mut rng = XorShiftRng::seed_from_u64(opts.seed);
         let mut stats = PlanStats {
             planner: "roadmap",

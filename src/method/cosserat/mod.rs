@@ -87,12 +87,33 @@
 //! [`SolveError::NotConverged`] with the iterations spent and the last residual. Every solve
 //! is also bounded by [`WORK_BUDGET`] right-hand-side evaluations, whatever the section count.
 //!
-//! **Stability.** `report.stable` is `None` (unknown) for the rod. A converged shooting
-//! solution is an equilibrium, but whether it is stable is a second-variation question. For
-//! rods it is answered by a conjugate-point test along `s` (Manning, Rogers & Maddocks 1998;
-//! Till & Rucker, IEEE T-RO 2017, applied it to continuum robots). The shooting Jacobian at the
-//! tip cannot settle it on its own, and that test is not implemented. The energy model reports
-//! `stable`; a shape the two models disagree on should be checked against it.
+//! **Stability** (`report.stable`): a focal-point test, the Jacobi condition of the second
+//! variation for a rod clamped at `s = 0` with a free (loaded) tip (Manning, Rogers &
+//! Maddocks, Proc. R. Soc. A 454, 1998; Till & Rucker, "Elastic stability of Cosserat rods
+//! and parallel continuum robots", IEEE T-RO 33(3), 2017; Dhanakoti, "Stability of
+//! cantilever-like structures", arXiv:2407.07601, 2024). Tendons of fixed tension are
+//! conservative (their potential is `−τ ℓ_i`, `ℓ_i = ∫ |ṗ_i|`, a local function of the strains),
+//! gravity and the tip wrench are dead loads, so the rod + cables are a Lagrangian problem in
+//! `s` and the variational equations of the shooting pass are its Jacobi equations. The six
+//! Jacobi fields of the base wrench (`δp = δθ = 0` at the clamp) give at each disk `s`
+//! `U = ∂(p, θ)(s)/∂(n₀, m₀)` and `W = ∂(n̄, m̄)(s)/∂(n₀, m₀)`, where `(n̄, m̄)` is the momentum
+//! conjugate to `(p, θ)`: the wrench of the rod *and of the cables cut at `s`*
+//! (`n + Σ τ R t`, `m + Σ τ (R r) × (R t)`; at the tip, the wrench after the ties). The fields
+//! span a Lagrangian plane, so `C(s) = U W⁻¹` — the compliance of the base part `[0, s]` to a
+//! wrench at `s` — is symmetric (to 1e-7 relative in the tests). It starts positive
+//! definite (`C ≈ s·diag(1/GA, 1/GA, 1/EA, 1/EI, 1/EI, 1/GJ)` near the clamp, positive
+//! semidefinite for the inextensible rod) and an eigenvalue leaves through `+∞` and comes
+//! back from `−∞` at each focal point (`W` singular: a neutral mode of the base part with a
+//! free end). The answer is stable iff there is none on `(0, L]`: `stable = Some(true)` when
+//! `C` is positive semidefinite (eigenvalues ≥ −1e-9 of the largest) at every disk. The
+//! disks sample `s`; a focal point between disks shows at the next one, where the eigenvalue
+//! is still far below zero. Euler's column: `C = tan(ks)/k` for `k² = P/EI`, first focal
+//! point at `ks = π/2`, i.e. `P_cr = π² EI/(4L²)` (test `tests/cosserat_stability.rs`).
+//! With a length-controlled cable the test holds its tension fixed, which admits more
+//! perturbations than fixed lengths do: no focal point proves the displacement-controlled
+//! answer stable too, a focal point does not prove it unstable (`None`). Also `None` where the
+//! variational pass is not run (adaptive steps, point loads at inner disks, e.g. the FTDCR's
+//! ties at disks 10 and 20).
 
 //! # Cable length and slack (displacement control)
 //!

@@ -105,7 +105,9 @@ impl Method for Cosserat {
             } = sol;
             total_it += it;
             if !self.update_active_set(&prob, &x, &setup, &length_cables, &groups, &mut slack) {
+                let stable = prob.focal_stable(&x, &setup);
                 let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, start, notes);
+                shape.report.stable = stable;
                 shape.report.warm = jac.map(|jacobian| WarmState::Rod { jacobian });
                 return Ok(shape);
             }

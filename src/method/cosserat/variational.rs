@@ -11,7 +11,7 @@ use crate::error::SolveError;
 use crate::model::actuation::{Actuation, Drive, LengthMeasure};
 use crate::model::robot::Robot;
 use crate::numeric::so3::hat;
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
 /// Most tangent directions of the variational equations: 6 base-wrench unknowns plus one
 /// tension per cable.
@@ -56,6 +56,40 @@ pub(super) struct Var {
     /// RK4 stage scratch (tangents of the stage slopes and of `|ṗ_c|`).
     kt: [[State; MAXD]; 4],
     lt: [[Buf; MAXD]; 4],
+    /// Track focal points at the disks (module docs, "Stability"; needs the 6 wrench columns).
+    focal: bool,
+    /// No focal point found so far.
+    focal_ok: bool,
+}
+
+impl Var {
+    /// Tangents for `nd` directions, all zero; the first 6 start from the base wrench.
+    fn new(prob: &Problem, nd: usize) -> Box<Var> {
+        let mut var = Box::new(Var {
+            nd,
+            tg: Tangents::new(),
+            hole: [[Vector3::zeros(); MAX_CABLES]; MAXD],
+            tcab: [usize::MAX; MAXD],
+            y: [State::zeros(); MAXD],
+            path: [[0.0; MAX_CABLES]; MAXD],
+            chord: [[0.0; MAX_CABLES]; MAXD],
+            resid: [Vector6::zeros(); MAXD],
+            len: [[0.0; MAX_CABLES]; MAXD],
+            kt: [[State::zeros(); MAXD]; 4],
+            lt: [[[0.0; MAX_CABLES]; MAXD]; 4],
+            focal: false,
+            focal_ok: true,
+        });
+        var.tg.nd = nd;
+        for i in 0..3 {
+            var.y[i][12 + i] = match prob.set.model {
+                RodModel::Full => 1.0 / prob.kse[i],
+                RodModel::Kirchhoff => 1.0,
+            };
+            var.y[3 + i][15 + i] = prob.len_l / prob.kbt[i];
+        }
+        var
+    }
 }
 
 /// The right-hand side at one point, as the tangents need it.
@@ -361,6 +395,135 @@ impl Problem<'_> {
                 LengthMeasure::Chord => vr.chord[d],
             };
         }
+        if vr.focal && vr.focal_ok {
+            vr.focal_ok = self.no_focal_point(k, y, ld, vr);
+        }
+    }
+
+    /// The focal-point test at one disk `s` (module docs, "Stability"): with the 6 Jacobi
+    /// fields of the base wrench, `U = ∂(p, θ)(s)/∂(n₀, m₀)` (`θ`: spatial rotation,
+    /// `δR Rᵀ = θ̂`) and `W = ∂(n, m)(s)/∂(n₀, m₀)` (after the tip's point loads at the tip),
+    /// true when `W` is regular and the compliance `C = U W⁻¹` of the base part `[0, s]` to a
+    /// wrench at `s` is positive definite (its symmetric part: `C` is symmetric up to the
+    /// integration error, the fields spanning a Lagrangian plane).
+    fn no_focal_point(&self, k: usize, y: &State, ld: &LoadCase, vr: &Var) -> bool {
+        let tip = k == self.robot.sections();
+        let r = rot_of(y);
+        let w = v3(y, 12);
+        let u = v3(y, 15);
+        let v = match self.set.model {
+            RodModel::Full => w,
+            RodModel::Kirchhoff => E3,
+        };
+        let mut um = Matrix6::zeros();
+        let mut wm = Matrix6::zeros();
+        for d in 0..6 {
+            let ty = vr.y[d];
+            let dr_m = Matrix3::from_column_slice(&ty.as_slice()[3..12]);
+            let om = dr_m * r.transpose();
+            let dth = Vector3::new(
+                om[(2, 1)] - om[(1, 2)],
+                om[(0, 2)] - om[(2, 0)],
+                om[(1, 0)] - om[(0, 1)],
+            ) * 0.5;
+            let (dn, dm) = if tip {
+                let e = vr.resid[d];
+                (
+                    Vector3::new(e[0], e[1], e[2]),
+                    Vector3::new(e[3], e[4], e[5]) * self.len_l,
+                )
+            } else {
+                let dw = v3(&ty, 12);
+                let dn = match self.set.model {
+                    RodModel::Full => {
+                        dr_m * self.kse.component_mul(&(w - E3)) + r * self.kse.component_mul(&dw)
+                    }
+                    RodModel::Kirchhoff => dw,
+                };
+                let du = v3(&ty, 15);
+                let mut dm = dr_m * self.kbt.component_mul(&u) + r * self.kbt.component_mul(&du);
+                // The cables passing `s` are cut with the rod: the momentum conjugate to
+                // `(p, θ)` is the wrench of rod and cables, `n + Σ τ R t`,
+                // `m + Σ τ (R r) × (R t)` (what the tip's tie forces add at `L`).
+                let dv = match self.set.model {
+                    RodModel::Full => dw,
+                    RodModel::Kirchhoff => Vector3::zeros(),
+                };
+                let mut dn = dn;
+                for (c, cable) in self.robot.cables.iter().enumerate() {
+                    let tau = ld.tau[c];
+                    if cable.ends_at <= k || tau == 0.0 {
+                        continue;
+                    }
+                    let rp = self.eval_route(c, self.robot.disk_s[k], k);
+                    let pd = u.cross(&rp.r) + rp.dr + v;
+                    let nrm = pd.norm();
+                    let t = pd / nrm;
+                    let dpd = du.cross(&rp.r) + dv;
+                    let dt = (dpd - t * t.dot(&dpd)) / nrm;
+                    let f = r * t * tau;
+                    let df = (dr_m * t + r * dt) * tau;
+                    dn += df;
+                    dm += (dr_m * rp.r).cross(&f) + (r * rp.r).cross(&df);
+                }
+                (dn, dm)
+            };
+            let col_u = [ty[0], ty[1], ty[2], dth.x, dth.y, dth.z];
+            let col_w = [dn.x, dn.y, dn.z, dm.x, dm.y, dm.z];
+            for i in 0..6 {
+                um[(i, d)] = col_u[i];
+                wm[(i, d)] = col_w[i];
+            }
+        }
+        let Some(wi) = wm.try_inverse() else {
+            return false;
+        };
+        // In units of length per force: `∂(p, L θ)/∂(n, m/L)`, then relative to its largest
+        // entry; the inextensible rod's straight state has a zero eigenvalue (an axial force
+        // moves nothing), so the test is "no eigenvalue below −1e-9".
+        let mut c = um * wi;
+        let l = self.len_l;
+        for i in 0..3 {
+            for j in 0..3 {
+                c[(3 + i, j)] *= l;
+                c[(i, 3 + j)] *= l;
+                c[(3 + i, 3 + j)] *= l * l;
+            }
+        }
+        let sym = (c + c.transpose()) * 0.5;
+        let top = sym.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if !(top.is_finite() && top > 0.0) {
+            return false;
+        }
+        let eig = nalgebra::SymmetricEigen::new(sym / top).eigenvalues;
+        eig.iter().all(|&e| e >= -1e-9)
+    }
+
+    /// `Some(true)` when the converged `x` has no focal point along the rod with its tensions
+    /// held (module docs, "Stability"), `Some(false)` when it has one and every tension is
+    /// given (force control), `None` where the test cannot decide: no variational pass
+    /// (adaptive steps, point loads at inner disks), or a focal point under displacement
+    /// control (fixed cable lengths can still hold a shape that fixed tensions cannot).
+    pub(super) fn focal_stable(&self, x: &DVector<f64>, setup: &Setup) -> Option<bool> {
+        let tau = self.tensions(x, setup, 1.0);
+        if !self.var_ok(setup, &tau, 1.0) {
+            return None;
+        }
+        let mut var = Var::new(self, 6);
+        var.focal = true;
+        let n0 = Vector3::new(x[0], x[1], x[2]);
+        let m0 = Vector3::new(x[3], x[4], x[5]) * self.len_l;
+        let ld = LoadCase { tau, lam: 1.0 };
+        let mut trace = super::problem::Trace::default();
+        let shot = self.shoot(&n0, &m0, &ld, Some(&mut trace), Some(&mut var));
+        if !shot.resid.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        match (var.focal_ok, setup.unknown.is_empty()) {
+            (true, _) => Some(true),
+            (false, true) => Some(false),
+            (false, false) => None,
+        }
     }
 
     /// Residual, exact Jacobian (variational equations integrated with the state in the same
@@ -379,30 +542,10 @@ impl Problem<'_> {
             return None;
         }
         let k = x.len();
-        let mut var = Box::new(Var {
-            nd: k,
-            tg: Tangents::new(),
-            hole: [[Vector3::zeros(); MAX_CABLES]; MAXD],
-            tcab: [usize::MAX; MAXD],
-            y: [State::zeros(); MAXD],
-            path: [[0.0; MAX_CABLES]; MAXD],
-            chord: [[0.0; MAX_CABLES]; MAXD],
-            resid: [Vector6::zeros(); MAXD],
-            len: [[0.0; MAX_CABLES]; MAXD],
-            kt: [[State::zeros(); MAXD]; 4],
-            lt: [[[0.0; MAX_CABLES]; MAXD]; 4],
-        });
-        var.tg.nd = k;
+        let mut var = Var::new(self, k);
         for (j, &c) in setup.unknown.iter().enumerate() {
             var.tcab[6 + j] = c;
             var.tg.tcab[6 + j] = c;
-        }
-        for i in 0..3 {
-            var.y[i][12 + i] = match self.set.model {
-                RodModel::Full => 1.0 / self.kse[i],
-                RodModel::Kirchhoff => 1.0,
-            };
-            var.y[3 + i][15 + i] = self.len_l / self.kbt[i];
         }
         let n0 = Vector3::new(x[0], x[1], x[2]);
         let m0 = Vector3::new(x[3], x[4], x[5]) * self.len_l;

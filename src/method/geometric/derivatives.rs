@@ -26,8 +26,7 @@
 //!   (differentiate `∂θ/∂a = −s/r²`, `∂θ/∂w = a ŵ/r²`); its square `θ²` has
 //!   `2θγ` and `2γγᵀ + 2θΓ`.
 //!
-//! Faces whose equations fix the rotation, the gauge equation, and a squared angle on its
-//! small-angle branch keep the dual-number path ([`SectionData::eval`]), which the test below
+//! The gauge equation and a squared angle on its small-angle branch keep the dual-number path ([`SectionData::eval`]), which the test below
 //! also checks this one against.
 
 use super::problem::SectionData;
@@ -126,6 +125,27 @@ fn lift(q: &Matrix3<f64>, has_p: bool, h: Option<&Vector3<f64>>, l: &Local) -> D
     d
 }
 
+/// The three equations `Q = I` of a face with every coupler zero (see [`SectionData::eval`]):
+/// the axial part of `Q exp([δω]×)`, `½ (c₁_z − c₂_y, c₂_x − c₀_z, c₀_y − c₁_x)` with
+/// `c_k = Q exp([δω]×) e_k`; each component is linear in `c_k` (`γ` a unit vector, `Γ = 0`).
+fn axial(q: &Matrix3<f64>) -> [D2<6>; 3] {
+    let component = |k: usize, r: usize| {
+        let e = Vector3::ith(k, 1.0);
+        let local = Local {
+            v: (q * e)[r],
+            g: Vector3::ith(r, 1.0),
+            h: Matrix3::zeros(),
+        };
+        lift(q, false, Some(&e), &local)
+    };
+    let half = |a: D2<6>, b: D2<6>| (a + b * -1.0) * 0.5;
+    [
+        half(component(1, 2), component(2, 1)),
+        half(component(2, 0), component(0, 2)),
+        half(component(0, 1), component(1, 0)),
+    ]
+}
+
 impl SectionData {
     /// [`SectionData::eval`] in [`D2`], from the closed forms above.
     pub(super) fn eval_d2(
@@ -143,7 +163,7 @@ impl SectionData {
                 let (u, v) = (V3::<f64>::cst(&term.dir), V3::<f64>::cst(&v));
                 face & (1 << t) == 0 && squared_angle(&u, &v) < 1e-12
             });
-        if fixed_rotation || self.gauge.is_some() || small_squared {
+        if self.gauge.is_some() || small_squared {
             return self.eval::<D2<6>>(pose, face, active, squared_obj);
         }
         let mut obj = D2::<6>::cst(0.0);
@@ -155,6 +175,12 @@ impl SectionData {
             cons.push(lift(q, true, Some(&k.h), &norm(&chord)) + (-k.length));
         }
         for (t, term) in self.terms.iter().enumerate() {
+            if fixed_rotation && !term.tangent {
+                if t == 1 {
+                    cons.extend(axial(q));
+                }
+                continue;
+            }
             let (v, h) = if term.tangent {
                 (pose.p, None)
             } else {
@@ -181,8 +207,8 @@ mod tests {
 
     use super::super::problem::{Pose, SectionData};
 
-    /// The closed forms equal the dual-number derivatives on every face of a 3-cable section,
-    /// both objectives, at poses off the kinks.
+    /// The closed forms equal the dual-number derivatives on every face of a 3-cable section
+    /// (including the faces that fix the rotation), both objectives, at poses off the kinks.
     #[test]
     fn closed_forms_equal_dual_numbers() {
         let text = "name = \"t\"\n[robot]\nsections = 3\nsection_length = 0.02\ndisk_radius = 0.012\ndisk_thickness = 0.002\nbackbone = { youngs_modulus = 1.1e9, poisson_ratio = 0.3, diameter = 0.003 }\n\
@@ -201,9 +227,6 @@ mod tests {
         let active = [0usize, 2];
         for squared in [false, true] {
             for face in 0..(1u32 << data.terms.len()) {
-                if data.rotation_fixed(face) {
-                    continue;
-                }
                 let (fa, ca) = data.eval_d2(&pose, face, &active, squared);
                 let (fg, cg) =
                     data.eval::<crate::numeric::ad::D2<6>>(&pose, face, &active, squared);
