@@ -1,13 +1,14 @@
 //! Inverse problems (issue 13 measures): reach on the paper robot (energy) without obstacles
 //! and next to the wall; a cold RRT-Connect plan and a roadmap query around a ball blocking
-//! the straight path (case 1), and a cold plan inside the vessel (two-segment robot).
+//! the straight path (case 1), and a cold plan inside the vessel (two-segment robot) whose
+//! straight actuation path leaves the tube.
 //!
 //! `cargo bench --bench reach`
 
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::MethodKind;
 use ccrkit::plan::roadmap::{build, BuildOptions};
-use ccrkit::plan::{plan, Goal, PlanOptions};
+use ccrkit::plan::{plan, read_actuation, Goal, PlanOptions};
 use ccrkit::reach::{reach, ReachOptions, Space, Target};
 use ccrkit::{Model, Scene};
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -100,26 +101,19 @@ fn bench_plan(c: &mut Criterion) {
             .unwrap()
         })
     });
-    // Inside the vessel: from the least-effort shape with the tip on the centre line to the
-    // one with the tip 5 mm off it (both found once, outside the timing).
+    // Inside the vessel: the example's query (`models/plan/vessel_*.json`), whose straight
+    // actuation path leaves the tube.
     let model = Model::from_file(format!("{ROOT}/models/plan/two_segment.toml")).unwrap();
     let scene = Scene::from_file(format!("{ROOT}/models/plan/vessel.toml")).unwrap();
     let req = energy().with_scene(Some(scene));
-    let (r, l) = (0.11, model.robot.length());
-    let axis = Vector3::new(r * (1.0 - (l / r).cos()), 0.0, r * (l / r).sin());
-    let go = |tip| {
-        reach(
+    let read = |f: &str| {
+        read_actuation(
+            std::path::Path::new(&format!("{ROOT}/models/plan/{f}")),
             &model,
-            &req,
-            &Target { tip, tangent: None },
-            &ReachOptions::default(),
         )
         .unwrap()
-        .require_reached()
-        .unwrap()
-        .u
     };
-    let (s, t) = (go(axis), go(axis + Vector3::new(0.0, 0.005, 0.0)));
+    let (s, t) = (read("vessel_start.json"), read("vessel_goal.json"));
     g.sample_size(10);
     g.bench_function("vessel_cold", |b| {
         b.iter(|| {

@@ -1,20 +1,22 @@
 //! A two-segment tendon robot (FTDCR v4 layout, `models/plan/two_segment.toml`) inside the
-//! bent tube of `models/meshes/vessel.obj` (`models/plan/vessel.toml`, 1 mm margin): from the
-//! least-effort shape whose tip lies on the tube's centre line to a tip 5 mm off it, planned
-//! with RRT-Connect (cold) and with a roadmap. Writes the path's figure, the plan as JSON and
-//! the trajectory (joint values of the articulated URDF export) to OUT_DIR (default
-//! `target/plan_vessel`).
+//! bent tube of `models/meshes/vessel.obj` (`models/plan/vessel.toml`, 1 mm margin), planned
+//! cold with RRT-Connect between two actuations inside the tube (`models/plan/vessel_start.json`,
+//! `vessel_goal.json`: admissible seeded uniform samples of the limits box) whose straight
+//! actuation path leaves the tube — the planner must find a detour (checked here: the straight
+//! edge is refused). Then a roadmap query (the roadmap in the tube is nearly empty: uniform
+//! samples of the 6-cable box rarely lie inside it, so it may find no path; printed either way).
+//! Writes the path's figure, the plan as JSON and the trajectory (joint values of the
+//! articulated URDF export) to OUT_DIR (default `target/plan_vessel`).
 //!
 //! `cargo run --release --example plan_vessel [OUT_DIR]`
 
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::MethodKind;
 use ccrkit::plan::roadmap::{build, BuildOptions};
-use ccrkit::plan::{plan, Goal, PlanOptions};
+use ccrkit::plan::{plan, read_actuation, Checker, EdgeCheck, Goal, PlanOptions};
 use ccrkit::plot::{plot_rows, Row};
-use ccrkit::reach::{reach, ReachOptions, Target};
+use ccrkit::reach::Space;
 use ccrkit::{Model, Scene};
-use nalgebra::Vector3;
 use std::path::PathBuf;
 
 fn main() -> anyhow::Result<()> {
@@ -28,33 +30,41 @@ fn main() -> anyhow::Result<()> {
     let model = Model::from_file(format!("{root}/models/plan/two_segment.toml"))?;
     let scene = Scene::from_file(format!("{root}/models/plan/vessel.toml"))?;
     let req = SolveRequest::new(MethodKind::Energy).with_scene(Some(scene.clone()));
-    // The tube's centre line at the robot's length: (R (1 − cos θ), 0, R sin θ), θ = L / R.
-    let (r, l) = (0.11, model.robot.length());
-    let th = l / r;
-    let on_axis = Vector3::new(r * (1.0 - th.cos()), 0.0, r * th.sin());
-    let start = reach(
+    let dir = PathBuf::from(format!("{root}/models/plan"));
+    let start = read_actuation(&dir.join("vessel_start.json"), &model)?;
+    let goal = read_actuation(&dir.join("vessel_goal.json"), &model)?;
+    // The straight actuation path: refused (it leaves the tube).
+    let space = Space::new(&model, &req, false)?;
+    let mut ck = Checker::new(&space, space.margin);
+    let (a, b) = (ck.node(&start, None), ck.node(&goal, None));
+    let (Some(a), Some(b)) = (a, b) else {
+        anyhow::bail!("start or goal is not clear of the tube by the margin");
+    };
+    let straight = ck.edge(&a, &b);
+    println!(
+        "start tip {:.2?} mm, goal tip {:.2?} mm, straight actuation path: {}",
+        (a.shape.tip() * 1e3).as_slice(),
+        (b.shape.tip() * 1e3).as_slice(),
+        if straight == EdgeCheck::Blocked {
+            "leaves the tube (refused)"
+        } else {
+            "clear"
+        }
+    );
+    let opts = PlanOptions::default();
+    let p = plan(
         &model,
         &req,
-        &Target {
-            tip: on_axis,
-            tangent: None,
-        },
-        &ReachOptions::default(),
-    )?
-    .require_reached()?;
+        Some(start.clone()),
+        &Goal::Actuation(goal.clone()),
+        &opts,
+    )?;
     println!(
-        "start: tip on the centre line, clearance {:.2} mm, {} solves",
-        start.min_clearance_m.unwrap_or(f64::NAN) * 1e3,
-        start.solves
-    );
-    let goal = on_axis + Vector3::new(0.0, 0.005, 0.0);
-    let opts = PlanOptions::default();
-    let p = plan(&model, &req, Some(start.u.clone()), &Goal::Tip(goal), &opts)?;
-    println!(
-        "plan (cold, RRT-Connect): {} waypoints, clearance {:.2} mm measured, {:.2} mm certified, {} solves, {:.0} ms",
+        "plan (cold, RRT-Connect): {} waypoints, clearance {:.2} mm measured, {:.2} mm certified, {} samples, {} solves, {:.0} ms",
         p.waypoints.len(),
         p.min_clearance_m * 1e3,
         p.certified_clearance_m * 1e3,
+        p.stats.samples,
         p.stats.checks.solves,
         p.stats.time_s * 1e3
     );
@@ -70,13 +80,21 @@ fn main() -> anyhow::Result<()> {
         rm.edges.len(),
         rm.build_time_s
     );
-    let q = rm.query(&model, &req, Some(start.u.clone()), &Goal::Tip(goal), &opts)?;
-    println!(
-        "plan (roadmap): {} waypoints, clearance {:.2} mm, {:.0} ms",
-        q.waypoints.len(),
-        q.min_clearance_m * 1e3,
-        q.stats.time_s * 1e3
-    );
+    match rm.query(
+        &model,
+        &req,
+        Some(start.clone()),
+        &Goal::Actuation(goal.clone()),
+        &opts,
+    ) {
+        Ok(q) => println!(
+            "plan (roadmap): {} waypoints, clearance {:.2} mm, {:.0} ms",
+            q.waypoints.len(),
+            q.min_clearance_m * 1e3,
+            q.stats.time_s * 1e3
+        ),
+        Err(e) => println!("plan (roadmap): {e}"),
+    }
     let n = p.waypoints.len();
     let picks = [0, n / 3, 2 * n / 3, n - 1];
     let shapes: Vec<(&ccrkit::Shape, String)> = picks

@@ -150,6 +150,58 @@ fn blocked_straight_path_forces_a_detour() {
     );
 }
 
+/// The vessel example's query (`models/plan/vessel_*.json`, two-segment robot in the bent
+/// tube): the straight actuation path leaves the tube (some point of it, solved and checked
+/// with parry here, is closer than the margin), the planner finds a detour, and the dense
+/// re-check passes.
+#[test]
+fn vessel_query_needs_a_detour() {
+    let mut model = Model::from_file(format!("{ROOT}/models/plan/two_segment.toml")).unwrap();
+    model
+        .scene
+        .merge(Scene::from_file(format!("{ROOT}/models/plan/vessel.toml")).unwrap());
+    let read = |f: &str| {
+        ccrkit::plan::read_actuation(
+            std::path::Path::new(&format!("{ROOT}/models/plan/{f}")),
+            &model,
+        )
+        .unwrap()
+    };
+    let (from, to) = (read("vessel_start.json"), read("vessel_goal.json"));
+    let space = Space::new(&model, &energy(), false).unwrap();
+    let margin = space.margin;
+    let worst_straight = (0..=16)
+        .map(|k| {
+            let f = k as f64 / 16.0;
+            let u: Vec<f64> = from.iter().zip(&to).map(|(a, b)| a + f * (b - a)).collect();
+            parry_clearance(&model, &space.solve(&u, None).unwrap(), &space.scene)
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        worst_straight < margin,
+        "straight path clearance {worst_straight:.3e} m"
+    );
+    let mut ck = Checker::new(&space, margin);
+    let a = ck.node(&from, None).unwrap();
+    let b = ck.node(&to, None).unwrap();
+    assert_eq!(ck.edge(&a, &b), EdgeCheck::Blocked);
+    let p = plan(
+        &model,
+        &energy(),
+        Some(from.clone()),
+        &Goal::Actuation(to.clone()),
+        &PlanOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(p.waypoints[0].u, from);
+    assert_eq!(p.waypoints[p.waypoints.len() - 1].u, to);
+    let worst = dense_recheck(&model, &p);
+    eprintln!(
+        "vessel detour: {} waypoints, straight path {worst_straight:.3e} m, dense re-check {worst:.3e} m",
+        p.waypoints.len()
+    );
+}
+
 #[test]
 fn same_seed_same_path() {
     let model = ball_model();
