@@ -598,31 +598,11 @@ impl Cosserat {
         rel_step: f64,
     ) -> Result<Option<JacobianCheck>, SolveError> {
         let (prob, _) = self.problem(robot, act)?;
-        let unknown: Vec<usize> = (0..robot.cables.len())
-            .filter(|&c| matches!(prob.modes[c], Drive::Shorten { .. }))
-            .collect();
-        let setup = Setup {
-            slack: vec![false; robot.cables.len()],
-            unknown,
-        };
-        let mut x = DVector::zeros(6 + setup.unknown.len());
-        for j in 0..setup.unknown.len() {
-            x[6 + j] = tension_guess;
-        }
-        prob.balance_guess(&mut x, &setup, 1.0);
+        let (setup, x) = cold_start(&prob, robot, tension_guess);
         let Some((f, jv, _)) = prob.residual_jac(&x, &setup, 1.0) else {
             return Ok(None);
         };
-        let mut jc = DMatrix::zeros(x.len(), x.len());
-        for col in 0..x.len() {
-            let h = rel_step * x[col].abs().max(prob.fscale);
-            let mut xp = x.clone();
-            xp[col] += h;
-            let fp = prob.residual(&xp, &setup, 1.0);
-            xp[col] -= 2.0 * h;
-            let fm = prob.residual(&xp, &setup, 1.0);
-            jc.set_column(col, &((fp - fm) / (2.0 * h)));
-        }
+        let jc = central_jacobian(&prob, &setup, &x, rel_step);
         Ok(Some((f, jv, jc)))
     }
 
@@ -639,28 +619,46 @@ impl Cosserat {
         rel_step: f64,
     ) -> Result<(DVector<f64>, DMatrix<f64>), SolveError> {
         let (prob, _) = self.problem(robot, act)?;
-        let unknown: Vec<usize> = (0..robot.cables.len())
-            .filter(|&c| matches!(prob.modes[c], Drive::Shorten { .. }))
-            .collect();
-        let setup = Setup {
-            slack: vec![false; robot.cables.len()],
-            unknown,
-        };
-        let mut x = DVector::zeros(6 + setup.unknown.len());
-        for j in 0..setup.unknown.len() {
-            x[6 + j] = tension_guess;
-        }
-        prob.balance_guess(&mut x, &setup, 1.0);
-        let mut jc = DMatrix::zeros(x.len(), x.len());
-        for col in 0..x.len() {
-            let h = rel_step * x[col].abs().max(prob.fscale);
-            let mut xp = x.clone();
-            xp[col] += h;
-            let fp = prob.residual(&xp, &setup, 1.0);
-            xp[col] -= 2.0 * h;
-            let fm = prob.residual(&xp, &setup, 1.0);
-            jc.set_column(col, &((fp - fm) / (2.0 * h)));
-        }
+        let (setup, x) = cold_start(&prob, robot, tension_guess);
+        let jc = central_jacobian(&prob, &setup, &x, rel_step);
         Ok((x, jc))
     }
+}
+
+/// The cold start point of the test diagnostics: every length-controlled cable taut at
+/// `tension_guess`, the base wrench from global balance.
+fn cold_start(prob: &Problem<'_>, robot: &Robot, tension_guess: f64) -> (Setup, DVector<f64>) {
+    let unknown: Vec<usize> = (0..robot.cables.len())
+        .filter(|&c| matches!(prob.modes[c], Drive::Shorten { .. }))
+        .collect();
+    let setup = Setup {
+        slack: vec![false; robot.cables.len()],
+        unknown,
+    };
+    let mut x = DVector::zeros(6 + setup.unknown.len());
+    for j in 0..setup.unknown.len() {
+        x[6 + j] = tension_guess;
+    }
+    prob.balance_guess(&mut x, &setup, 1.0);
+    (setup, x)
+}
+
+/// Central differences of the shooting residual at `x`, step `rel_step·max(|x_j|, fscale)`.
+fn central_jacobian(
+    prob: &Problem<'_>,
+    setup: &Setup,
+    x: &DVector<f64>,
+    rel_step: f64,
+) -> DMatrix<f64> {
+    let mut jc = DMatrix::zeros(x.len(), x.len());
+    for col in 0..x.len() {
+        let h = rel_step * x[col].abs().max(prob.fscale);
+        let mut xp = x.clone();
+        xp[col] += h;
+        let fp = prob.residual(&xp, setup, 1.0);
+        xp[col] -= 2.0 * h;
+        let fm = prob.residual(&xp, setup, 1.0);
+        jc.set_column(col, &((fp - fm) / (2.0 * h)));
+    }
+    jc
 }
