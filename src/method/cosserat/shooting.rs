@@ -298,11 +298,7 @@ impl Problem<'_> {
                 Err(e) => {
                     total += e.iterations;
                     if self.over_budget() {
-                        return Err(Fail {
-                            iterations: total,
-                            residual: e.residual,
-                            detail: self.budget_detail(),
-                        });
+                        return Err(Fail::new(total, e.residual, self.budget_detail()));
                     }
                 }
             }
@@ -310,11 +306,7 @@ impl Problem<'_> {
         let mut x = DVector::zeros(x0.len());
         let (mut lam, mut dl) = (0.0f64, 0.25f64);
         let mut steps = 0;
-        let mut last = Fail {
-            iterations: total,
-            residual: f64::NAN,
-            detail: "continuation".into(),
-        };
+        let mut last = Fail::new(total, f64::NAN, "continuation");
         while lam < 1.0 {
             let l1 = (lam + dl).min(1.0);
             let mut xs = x.clone();
@@ -336,24 +328,24 @@ impl Problem<'_> {
                 Err(e) => {
                     total += e.iterations;
                     if self.over_budget() {
-                        return Err(Fail {
-                            iterations: total,
-                            residual: e.residual,
-                            detail: format!(
+                        return Err(Fail::new(
+                            total,
+                            e.residual,
+                            format!(
                                 "continuation at load factor {lam:.4}: {}",
                                 self.budget_detail()
                             ),
-                        });
+                        ));
                     }
                     dl *= 0.5;
-                    last = Fail {
-                        iterations: total,
-                        residual: e.residual,
-                        detail: format!(
+                    last = Fail::new(
+                        total,
+                        e.residual,
+                        format!(
                             "continuation stalled at load factor {lam:.4} ({})",
                             e.detail
                         ),
-                    };
+                    );
                     if dl < 1.0 / 512.0 {
                         return Err(last);
                     }
