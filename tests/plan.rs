@@ -107,6 +107,32 @@ fn dense_recheck(model: &Model, p: &Plan) -> f64 {
     worst
 }
 
+/// Asserts that the straight edge `from`–`to` is `Blocked` at `margin`, then plans it with the
+/// default options and asserts that the path starts at `from` and ends at `to`.
+fn plan_past_blocked_edge(
+    model: &Model,
+    space: &Space,
+    margin: f64,
+    from: &[f64],
+    to: &[f64],
+) -> Plan {
+    let mut ck = Checker::new(space, margin);
+    let a = ck.node(from, None).unwrap();
+    let b = ck.node(to, None).unwrap();
+    assert_eq!(ck.edge(&a, &b), EdgeCheck::Blocked);
+    let p = plan(
+        model,
+        &energy(),
+        Some(from.to_vec()),
+        &Goal::Actuation(to.to_vec()),
+        &PlanOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(p.waypoints[0].u, from);
+    assert_eq!(p.waypoints[p.waypoints.len() - 1].u, to);
+    p
+}
+
 const FROM: [f64; 2] = [0.014, 0.0];
 const TO: [f64; 2] = [0.0, 0.014];
 
@@ -117,20 +143,7 @@ fn blocked_straight_path_forces_a_detour() {
     // The straight line is blocked: its midpoint's shape meets the ball (parry, here).
     let mid = space.solve(&[0.007, 0.007], None).unwrap();
     assert!(parry_clearance(&model, &mid, &space.scene) < 0.0005);
-    let mut ck = Checker::new(&space, 0.0005);
-    let a = ck.node(&FROM, None).unwrap();
-    let b = ck.node(&TO, None).unwrap();
-    assert_eq!(ck.edge(&a, &b), EdgeCheck::Blocked);
-    let p = plan(
-        &model,
-        &energy(),
-        Some(FROM.to_vec()),
-        &Goal::Actuation(TO.to_vec()),
-        &PlanOptions::default(),
-    )
-    .unwrap();
-    assert_eq!(p.waypoints[0].u, FROM.to_vec());
-    assert_eq!(p.waypoints[p.waypoints.len() - 1].u, TO.to_vec());
+    let p = plan_past_blocked_edge(&model, &space, 0.0005, &FROM, &TO);
     // A detour: some waypoint leaves the straight line by more than 1 mm of actuation.
     let off = p
         .waypoints
@@ -181,20 +194,7 @@ fn vessel_query_needs_a_detour() {
         worst_straight < margin,
         "straight path clearance {worst_straight:.3e} m"
     );
-    let mut ck = Checker::new(&space, margin);
-    let a = ck.node(&from, None).unwrap();
-    let b = ck.node(&to, None).unwrap();
-    assert_eq!(ck.edge(&a, &b), EdgeCheck::Blocked);
-    let p = plan(
-        &model,
-        &energy(),
-        Some(from.clone()),
-        &Goal::Actuation(to.clone()),
-        &PlanOptions::default(),
-    )
-    .unwrap();
-    assert_eq!(p.waypoints[0].u, from);
-    assert_eq!(p.waypoints[p.waypoints.len() - 1].u, to);
+    let p = plan_past_blocked_edge(&model, &space, margin, &from, &to);
     let worst = dense_recheck(&model, &p);
     eprintln!(
         "vessel detour: {} waypoints, straight path {worst_straight:.3e} m, dense re-check {worst:.3e} m",
