@@ -210,3 +210,67 @@ fn compliant_ftdcr_rod_matches_the_energy_model() {
     // rigid FTDCR samples differ by 0.003–2.2 mm (`tests/cosserat_refs.rs`).
     assert!(worst[1] < 2e-3, "kirchhoff {:e} m from energy", worst[1]);
 }
+
+/// The exact (variational) shooting Jacobian with compliant cables, against central
+/// differences of the residual (relative 1e-6, as `tests/cosserat.rs` checks the rigid one),
+/// and against the rigid cables' Jacobian at the same point: they differ only by
+/// `−k_ℓ/k` on each cable's own tension column, `k_ℓ = EI/(r̄² L)` (module docs, "Shooting").
+/// The one-cable robot (`k_ℓ/k` ≈ 49, larger than the column's rigid entries) and paper
+/// case I with both cables compliant.
+#[test]
+fn compliant_variational_jacobian_matches_central_differences() {
+    let case1 = std::fs::read_to_string(format!(
+        "{}/models/paper/case1.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("case I");
+    let soft1 = case1
+        .replace(
+            "tension = 4.169250",
+            "tension = 4.169250\nstiffness = 800.0\npretension = 0.5",
+        )
+        .replace(
+            "tension = 3.825900",
+            "tension = 3.825900\nstiffness = 1500.0",
+        );
+    let pairs = [
+        (
+            one_cable(2e11, "stiffness = 500.0\npretension = 1.5"),
+            one_cable(2e11, ""),
+        ),
+        (soft1, case1),
+    ];
+    for (soft, rigid) in &pairs {
+        let soft = Model::from_toml_str(soft).expect("compliant model");
+        let rigid = Model::from_toml_str(rigid).expect("rigid model");
+        assert!(soft.robot.cables.iter().all(|c| c.stiffness.is_some()));
+        let robot = &soft.robot;
+        for rod in rods() {
+            let jac = |m: &Model| {
+                rod.shooting_jacobians(&m.robot, &m.actuation, 2.0, 1e-4)
+                    .expect("valid")
+                    .expect("variational Jacobian available")
+            };
+            let (f, jv, jc) = jac(&soft);
+            assert!(f.iter().all(|v| v.is_finite()));
+            let scale = jc.abs().max();
+            let err = (&jv - &jc).abs().max();
+            let (_, jr, _) = jac(&rigid);
+            let mut want = jr.clone();
+            for (j, cable) in robot.cables.iter().enumerate() {
+                let rbar = cable.radius.iter().sum::<f64>() / cable.radius.len() as f64;
+                let kl = robot.backbone.ei() / (rbar * rbar * robot.length());
+                want[(6 + j, 6 + j)] -= kl / cable.stiffness.expect("compliant");
+            }
+            let off = (&jv - &want).abs().max();
+            eprintln!(
+                "{} cables {}: vs central differences {err:.2e}, vs rigid − k_l/k {off:.2e}, \
+                 scale {scale:.2e}",
+                robot.cables.len(),
+                rod.name()
+            );
+            assert!(err <= 1e-6 * scale, "{}: {err:e} vs {scale:e}", rod.name());
+            assert!(off <= 1e-12 * scale, "{}: {off:e} vs {scale:e}", rod.name());
+        }
+    }
+}
