@@ -128,6 +128,8 @@
 //! equation becomes `k_ℓ (ℓ − t − τ/k)` and its Jacobian gains `−k_ℓ/k` on the cable's own
 //! tension column. A compliant solve at shortening `d` is therefore the inextensible solve
 //! at `d + T₀/k − τ/k` (`tests/cosserat_compliance.rs`). Under force control k changes nothing.
+//! The stability test above still proves stability: a spring's potential `½ k (ℓ − t)²` adds
+//! `k δℓ² ≥ 0` to the fixed-tension second variation the test checks.
 //! Cables pull only: an active set makes a cable whose tension comes out negative slack
 //! (tension 0, length equation dropped), and re-tensions a slack cable whose path comes out
 //! longer than its length. The answer has `τ ≥ 0` and slack cables no longer than their length.
