@@ -201,7 +201,7 @@ const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> Met
             tip_force: true,
             tip_moment: true,
         },
-        cable_compliance: false,
+        cable_compliance: true,
         settings: ROD_SETTINGS,
         contact_unit: "",
         resolutions: ROD_RESOLUTIONS,

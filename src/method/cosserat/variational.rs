@@ -554,10 +554,11 @@ impl Problem<'_> {
             }
         }
         for (j, &c) in setup.unknown.iter().enumerate() {
-            f[6 + j] = self.kl[c] * (shot.len[c] - self.target(c, lam));
+            f[6 + j] = self.length_row(c, shot.len[c], x[6 + j], lam);
             for d in 0..k {
                 jac[(6 + j, d)] = self.kl[c] * var.len[d][c];
             }
+            jac[(6 + j, 6 + j)] -= self.kl[c] * self.compliance[c];
         }
         if f.iter().chain(jac.iter()).any(|v| !v.is_finite()) {
             f.fill(f64::NAN);
