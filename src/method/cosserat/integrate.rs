@@ -6,36 +6,10 @@ use super::problem::{LoadCase, Problem, Shot, Trace};
 use super::variational::Var;
 use super::{put3, rot_of, v3, Buf, RodModel, State, E3, MAX_CABLES};
 use crate::model::actuation::LengthMeasure;
+use crate::numeric::ode::rk4;
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 impl Problem<'_> {
-    /// One classical RK4 step from `s` of size `h`; path lengths accumulate in `len`.
-    #[inline]
-    pub(super) fn rk4(
-        &self,
-        s: f64,
-        h: f64,
-        y: &mut State,
-        sec: usize,
-        ld: &LoadCase,
-        len: &mut Buf,
-    ) {
-        let (mut l1, mut l2, mut l3, mut l4) = (
-            [0.0; MAX_CABLES],
-            [0.0; MAX_CABLES],
-            [0.0; MAX_CABLES],
-            [0.0; MAX_CABLES],
-        );
-        let k1 = self.rucker_webster(s, y, sec, ld, &mut l1);
-        let k2 = self.rucker_webster(s + 0.5 * h, &(*y + k1 * (0.5 * h)), sec, ld, &mut l2);
-        let k3 = self.rucker_webster(s + 0.5 * h, &(*y + k2 * (0.5 * h)), sec, ld, &mut l3);
-        let k4 = self.rucker_webster(s + h, &(*y + k3 * h), sec, ld, &mut l4);
-        *y += (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
-        for c in 0..self.robot.cables.len() {
-            len[c] += (l1[c] + 2.0 * (l2[c] + l3[c]) + l4[c]) * (h / 6.0);
-        }
-    }
-
     /// Integrate section `sec` with its fixed RK4 steps (and the tangents, if `var`).
     pub(super) fn section(
         &self,
@@ -54,11 +28,26 @@ impl Problem<'_> {
             let s = s0 + j as f64 * h;
             match var.as_deref_mut() {
                 Some(vr) => self.rk4_t(s, h, y, sec, ld, len, vr),
-                None => self.rk4(s, h, y, sec, ld, len),
+                None => {
+                    // Path lengths are a quadrature beside the state: the same stages, weighed alike.
+                    let mut lr = [[0.0; MAX_CABLES]; 4];
+                    *y += rk4::step(s, h, *y, |i, si, yi| {
+                        self.rucker_webster(si, yi, sec, ld, &mut lr[i])
+                    });
+                    self.add_rk4_lengths(len, &lr, h);
+                }
             }
             if let Some(t) = trace.as_deref_mut() {
                 t.backbone.push(v3(y, 0));
             }
+        }
+    }
+
+    /// `len[c] += h (ṗ₁ + 2ṗ₂ + 2ṗ₃ + ṗ₄)/6` from the four stages' path-length rates `lr`.
+    #[inline]
+    pub(super) fn add_rk4_lengths(&self, len: &mut Buf, lr: &[Buf; 4], h: f64) {
+        for c in 0..self.robot.cables.len() {
+            len[c] += rk4::increment(&[lr[0][c], lr[1][c], lr[2][c], lr[3][c]], h);
         }
     }
 

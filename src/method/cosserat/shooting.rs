@@ -115,19 +115,9 @@ impl Problem<'_> {
         setup: &Setup,
         lam: f64,
     ) -> DMatrix<f64> {
-        match self.residual_jac(x, setup, lam) {
-            Some((_, j, _)) => j,
-            None => self.fd_jacobian(x, f, setup, lam),
+        if let Some((_, j, _)) = self.residual_jac(x, setup, lam) {
+            return j;
         }
-    }
-
-    fn fd_jacobian(
-        &self,
-        x: &DVector<f64>,
-        f: &DVector<f64>,
-        setup: &Setup,
-        lam: f64,
-    ) -> DMatrix<f64> {
         let k = x.len();
         let mut j = DMatrix::zeros(k, k);
         let mut xp = x.clone();
@@ -196,7 +186,8 @@ impl Problem<'_> {
         } else if setup.unknown.is_empty() && tip.iter().all(|v| v.is_finite()) {
             (self.transport_jacobian(&tip), false)
         } else {
-            (self.fd_jacobian(&x, &f, setup, lam), true)
+            // (The variational pass already declined at `x`: this is the difference one.)
+            (self.jacobian(&x, &f, setup, lam), true)
         };
         for it in 1..=self.set.max_iterations {
             if self.over_budget() {
