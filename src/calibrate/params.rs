@@ -62,6 +62,9 @@ pub struct Param {
     pub target: Target,
 }
 
+/// Smallest gain a fit step may set (a gain ≤ 0 reverses the cable; [`Param::project`]).
+pub const MIN_GAIN: f64 = 1e-3;
+
 /// Default parameters: per-segment gain and offset, one common cable compliance and the
 /// marker along the tip axis (8 scalars for a 3-segment robot; at most 9, the benchmark
 /// protocol's limit).
@@ -159,6 +162,17 @@ impl Param {
             Target::Gain(_) => v > 0.0,
             Target::Compliance(_) | Target::Backlash(_) => v >= 0.0,
             Target::Offset(_) | Target::Marker(_) => true,
+        }
+    }
+
+    /// The admissible value nearest to `v` ([`Param::admissible`]): a compliance or backlash
+    /// below 0 becomes 0, a gain below [`MIN_GAIN`] becomes [`MIN_GAIN`]; others unchanged.
+    /// The fit projects each trial step with it (`fit.rs`).
+    pub fn project(&self, v: f64) -> f64 {
+        match self.target {
+            Target::Gain(_) => v.max(MIN_GAIN),
+            Target::Compliance(_) | Target::Backlash(_) => v.max(0.0),
+            Target::Offset(_) | Target::Marker(_) => v,
         }
     }
 
