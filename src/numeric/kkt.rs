@@ -186,14 +186,51 @@ pub fn kkt_step6(
     c: &[f64],
     reg: f64,
 ) -> Option<KktStep6> {
-    use nalgebra::{Matrix6, Vector6};
-    let k = rows.len();
-    if k > 6 {
+    if rows.len() > 6 {
         return None;
     }
+    kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c))
+}
+
+/// [`kkt_step6`] with the range/null split of the constraint rows by Gram–Schmidt instead of
+/// an eigendecomposition of `AᵀA` (issue 16: that eigendecomposition was ~14 % of a literal
+/// solve). `[Y Z]` is then another orthonormal basis of the same row space and null space, so
+/// the step, the multipliers and the reduced Hessian's eigenvalues are the same in exact
+/// arithmetic (the null-space method does not depend on the basis chosen). When a row is
+/// (numerically) dependent on the previous ones — its Gram–Schmidt remainder `ρ` has
+/// `ρ² ≤ RANK_TOL`, the same threshold the eigenvalues of the row-normalized `AᵀA` are held
+/// to — it falls back to [`kkt_step6`], whose least-squares range step handles redundant rows.
+pub fn kkt_step6_gs(
+    h: &nalgebra::Matrix6<f64>,
+    g: &nalgebra::Vector6<f64>,
+    rows: &[nalgebra::Vector6<f64>],
+    c: &[f64],
+    reg: f64,
+) -> Option<KktStep6> {
+    if rows.len() > 6 {
+        return None;
+    }
+    match gram_schmidt_split6(rows, c) {
+        Some(split) => kkt_step6_from(h, g, rows, reg, split),
+        None => kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c)),
+    }
+}
+
+/// The range step `Y d_y` (least-squares `A x = −c`, row-normalized), an orthonormal basis of
+/// the null space (first `nz` entries) and the rank.
+type Split6 = (
+    nalgebra::Vector6<f64>,
+    [nalgebra::Vector6<f64>; 6],
+    usize,
+    usize,
+);
+
+/// The split from the eigenvectors of the row-normalized `AᵀA`.
+fn eigen_split6(rows: &[nalgebra::Vector6<f64>], c: &[f64]) -> Split6 {
+    use nalgebra::{Matrix6, Vector6};
     let mut m = Matrix6::zeros();
     let mut atc = Vector6::zeros();
-    for i in 0..k {
+    for i in 0..rows.len() {
         let s = rows[i].norm();
         if s > 0.0 {
             let r = rows[i] / s;
@@ -215,6 +252,81 @@ pub fn kkt_step6(
             nz += 1;
         }
     }
+    (x_range, z, nz, rank)
+}
+
+/// The split by modified Gram–Schmidt (twice, for orthogonality to rounding) of the
+/// row-normalized rows `r_i = Σ_{j≤i} L_ij q_j`: the range step is `x = Σ y_j q_j` with
+/// `L y = −c` (forward substitution), and the null space is completed from the unit vectors,
+/// taking at each round the one with the largest remainder (at least `1/√6` of its length).
+/// `None` when a row is dependent on the previous ones (see [`kkt_step6_gs`]).
+fn gram_schmidt_split6(rows: &[nalgebra::Vector6<f64>], c: &[f64]) -> Option<Split6> {
+    use nalgebra::{Matrix6, Vector6};
+    let k = rows.len();
+    let mut q = [Vector6::zeros(); 6];
+    let mut l = Matrix6::zeros();
+    let mut y = Vector6::zeros();
+    for i in 0..k {
+        let s = rows[i].norm();
+        if s == 0.0 || !s.is_finite() {
+            return None;
+        }
+        let mut v = rows[i] / s;
+        for _ in 0..2 {
+            for j in 0..i {
+                let d = q[j].dot(&v);
+                l[(i, j)] += d;
+                v -= q[j] * d;
+            }
+        }
+        let n = v.norm();
+        if n * n <= RANK_TOL {
+            return None;
+        }
+        l[(i, i)] = n;
+        q[i] = v / n;
+        let mut rhs = -c[i] / s;
+        for j in 0..i {
+            rhs -= l[(i, j)] * y[j];
+        }
+        y[i] = rhs / n;
+    }
+    let mut x_range = Vector6::zeros();
+    for j in 0..k {
+        x_range += q[j] * y[j];
+    }
+    let mut z = [Vector6::zeros(); 6];
+    let mut used = [false; 6];
+    for nz in 0..6 - k {
+        let remainder = |e: usize| {
+            let mut v = Vector6::ith(e, 1.0);
+            for _ in 0..2 {
+                for b in q[..k].iter().chain(z[..nz].iter()) {
+                    v -= b * b.dot(&v);
+                }
+            }
+            v
+        };
+        let (e, v) = (0..6)
+            .filter(|&e| !used[e])
+            .map(|e| (e, remainder(e)))
+            .max_by(|a, b| a.1.norm().total_cmp(&b.1.norm()))?;
+        used[e] = true;
+        z[nz] = v.normalize();
+    }
+    Some((x_range, z, 6 - k, k))
+}
+
+/// The null-space Newton step and multipliers from a range/null split.
+fn kkt_step6_from(
+    h: &nalgebra::Matrix6<f64>,
+    g: &nalgebra::Vector6<f64>,
+    rows: &[nalgebra::Vector6<f64>],
+    reg: f64,
+    (x_range, z, nz, rank): Split6,
+) -> Option<KktStep6> {
+    use nalgebra::{Matrix6, Vector6};
+    let k = rows.len();
     let mut dx = x_range;
     let mut min_eig = f64::INFINITY;
     if nz > 0 {
