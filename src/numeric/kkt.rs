@@ -189,7 +189,7 @@ pub fn kkt_step6(
     if rows.len() > 6 {
         return None;
     }
-    kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c))
+    kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c), false)
 }
 
 /// [`kkt_step6`] with the range/null split of the constraint rows by Gram–Schmidt instead of
@@ -211,8 +211,8 @@ pub fn kkt_step6_gs(
         return None;
     }
     match gram_schmidt_split6(rows, c) {
-        Some(split) => kkt_step6_from(h, g, rows, reg, split),
-        None => kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c)),
+        Some(split) => kkt_step6_from(h, g, rows, reg, split, true),
+        None => kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c), false),
     }
 }
 
@@ -295,38 +295,50 @@ fn gram_schmidt_split6(rows: &[nalgebra::Vector6<f64>], c: &[f64]) -> Option<Spl
     for j in 0..k {
         x_range += q[j] * y[j];
     }
+    // Remainders of the unit vectors against the row space (twice, for orthogonality); each
+    // round takes the largest, and the others lose their component along it.
+    let mut rem: [Vector6<f64>; 6] = std::array::from_fn(|e| {
+        let mut v = Vector6::ith(e, 1.0);
+        for _ in 0..2 {
+            for b in &q[..k] {
+                v -= b * b.dot(&v);
+            }
+        }
+        v
+    });
     let mut z = [Vector6::zeros(); 6];
     let mut used = [false; 6];
     for nz in 0..6 - k {
-        let remainder = |e: usize| {
-            let mut v = Vector6::ith(e, 1.0);
-            for _ in 0..2 {
-                for b in q[..k].iter().chain(z[..nz].iter()) {
-                    v -= b * b.dot(&v);
-                }
-            }
-            v
-        };
-        let (e, v) = (0..6)
+        let e = (0..6)
             .filter(|&e| !used[e])
-            .map(|e| (e, remainder(e)))
-            .max_by(|a, b| a.1.norm().total_cmp(&b.1.norm()))?;
+            .max_by(|&a, &b| rem[a].norm_squared().total_cmp(&rem[b].norm_squared()))?;
         used[e] = true;
+        let mut v = rem[e];
+        for b in q[..k].iter().chain(z[..nz].iter()) {
+            v -= b * b.dot(&v);
+        }
         z[nz] = v.normalize();
+        for (o, r) in rem.iter_mut().enumerate() {
+            if !used[o] {
+                *r -= z[nz] * z[nz].dot(r);
+            }
+        }
     }
     Some((x_range, z, 6 - k, k))
 }
 
-/// The null-space Newton step and multipliers from a range/null split.
+/// The null-space Newton step and multipliers from a range/null split. `exact_size`: the
+/// reduced Hessian's eigendecomposition on its own `nz × nz` size ([`reduced_step`]) rather
+/// than padded to 6 × 6 (kept for [`kkt_step6`], whose results recorded tips depend on).
 fn kkt_step6_from(
     h: &nalgebra::Matrix6<f64>,
     g: &nalgebra::Vector6<f64>,
     rows: &[nalgebra::Vector6<f64>],
     reg: f64,
     (x_range, z, nz, rank): Split6,
+    exact_size: bool,
 ) -> Option<KktStep6> {
     use nalgebra::{Matrix6, Vector6};
-    let k = rows.len();
     let mut dx = x_range;
     let mut min_eig = f64::INFINITY;
     if nz > 0 {
@@ -345,6 +357,14 @@ fn kkt_step6_from(
                     hr[(a, b)] = z[a].dot(&hz[b]);
                 }
             }
+        }
+        if exact_size {
+            let (dz, lam_min) = reduced_step(&hr, &rhs, nz, reg);
+            min_eig = lam_min;
+            for a in 0..nz {
+                dx += z[a] * dz[a];
+            }
+            return multipliers6(g, h, rows, dx, min_eig, rank);
         }
         let fro = hr.norm();
         let pad = 2.0 * fro + 1.0;
@@ -366,7 +386,59 @@ fn kkt_step6_from(
             dx += z[a] * dz[a];
         }
     }
-    // Multipliers: (A Aᵀ) λ = −A (g + H dx), padded to 6×6 with the identity.
+    multipliers6(g, h, rows, dx, min_eig, rank)
+}
+
+/// `Σ_j v_j (v_j·rhs) / max(|λ_j|, reg)` over the eigenpairs of the leading `nz × nz` block
+/// of `hr`, decomposed at its own size (1 × 1 in closed form), and the smallest `λ_j`.
+fn reduced_step(
+    hr: &nalgebra::Matrix6<f64>,
+    rhs: &nalgebra::Vector6<f64>,
+    nz: usize,
+    reg: f64,
+) -> (nalgebra::Vector6<f64>, f64) {
+    use nalgebra::{Matrix2, Matrix3, Matrix4, Matrix5, Matrix6, Vector6};
+    let mut dz = Vector6::zeros();
+    let mut min_eig = f64::INFINITY;
+    macro_rules! sized {
+        ($n:literal, $m:ty) => {{
+            let e = nalgebra::SymmetricEigen::new(<$m>::from_fn(|a, b| hr[(a, b)]));
+            for j in 0..$n {
+                let lam = e.eigenvalues[j];
+                min_eig = min_eig.min(lam);
+                let v = e.eigenvectors.column(j);
+                let coef = (0..$n).map(|a| v[a] * rhs[a]).sum::<f64>() / lam.abs().max(reg);
+                for a in 0..$n {
+                    dz[a] += v[a] * coef;
+                }
+            }
+        }};
+    }
+    match nz {
+        1 => {
+            min_eig = hr[(0, 0)];
+            dz[0] = rhs[0] / min_eig.abs().max(reg);
+        }
+        2 => sized!(2, Matrix2<f64>),
+        3 => sized!(3, Matrix3<f64>),
+        4 => sized!(4, Matrix4<f64>),
+        5 => sized!(5, Matrix5<f64>),
+        _ => sized!(6, Matrix6<f64>),
+    }
+    (dz, min_eig)
+}
+
+/// Multipliers `(A Aᵀ) λ = −A (g + H dx)` (padded to 6 × 6 with the identity) and the step.
+fn multipliers6(
+    g: &nalgebra::Vector6<f64>,
+    h: &nalgebra::Matrix6<f64>,
+    rows: &[nalgebra::Vector6<f64>],
+    dx: nalgebra::Vector6<f64>,
+    min_eig: f64,
+    rank: usize,
+) -> Option<KktStep6> {
+    use nalgebra::{Matrix6, Vector6};
+    let k = rows.len();
     let r = g + h * dx;
     let mut aat = Matrix6::identity();
     let mut b = Vector6::zeros();
