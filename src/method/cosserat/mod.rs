@@ -113,13 +113,23 @@
 //! perturbations than fixed lengths do: no focal point proves the displacement-controlled
 //! answer stable too, a focal point does not prove it unstable (`None`). Also `None` where the
 //! variational pass is not run (adaptive steps, point loads at inner disks, e.g. the FTDCR's
-//! ties at disks 10 and 20).
+//! ties at disks 10 and 20). The test costs one variational pass per solve; the setting
+//! `stability = skip` leaves it out, and `stable` is then `None` meaning *not checked* (the
+//! report's notes say `stability not checked`).
 
 //! # Cable length and slack (displacement control)
 //!
 //! A cable's length is either the routed path `∫ |ṗ_i| ds` (integrated with the states,
 //! default) or the straight chords between its holes at the disks (the geometric model's
 //! measure). The target is the undeformed length in the same measure minus the shortening.
+//! **Compliant cables** (a cable's `stiffness` k and `pretension` T₀, [`crate::robot::Cable`]):
+//! the cable is a spring in series, so its path is its free length plus its stretch,
+//! `ℓ = t + τ/k` with `t = ℓ⁰ − d − T₀/k` (the energy model's `L − t − λ/k`); the length
+//! equation becomes `k_ℓ (ℓ − t − τ/k)` and its Jacobian gains `−k_ℓ/k` on the cable's own
+//! tension column. A compliant solve at shortening `d` is therefore the inextensible solve
+//! at `d + T₀/k − τ/k` (`tests/cosserat_compliance.rs`). Under force control k changes nothing.
+//! The stability test above still proves stability: a spring's potential `½ k (ℓ − t)²` adds
+//! `k δℓ² ≥ 0` to the fixed-tension second variation the test checks.
 //! Cables pull only: an active set makes a cable whose tension comes out negative slack
 //! (tension 0, length equation dropped), and re-tensions a slack cable whose path comes out
 //! longer than its length. The answer has `τ ≥ 0` and slack cables no longer than their length.

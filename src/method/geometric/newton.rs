@@ -91,7 +91,6 @@ impl Geometric {
                 .map(|p| clearance - p.dist)
                 .fold(0.0f64, f64::max);
             last_res = res.max(worst_gap);
-            let stat = stationarity(&g, &rows, &step.lambda, &pairs, &mu);
             // With active contacts the step carries the ~1e-8 m noise of parry's iterative
             // distance queries on smooth shapes: converge at CONTACT_STEP_TOL there.
             let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
@@ -106,6 +105,15 @@ impl Geometric {
                 if mu.iter().any(|m| *m < -1e-9) {
                     return reject(last_res);
                 }
+                // A vertex whose rows are dependent (an unshortened taut cable on its
+                // degenerate face, `degenerate.rs`): the multipliers that certify it, if any.
+                let lambda = if rows.len() == 7 && pairs.is_empty() {
+                    data.vertex_multipliers(face, active, &g, &rows)
+                        .unwrap_or(step.lambda)
+                } else {
+                    step.lambda
+                };
+                let stat = stationarity(&g, &rows, &lambda, &pairs, &mu);
                 let stat_tol = if in_contact {
                     CONTACT_STAT_TOL * (1.0 + mu_max)
                 } else {
@@ -117,7 +125,7 @@ impl Geometric {
                     face,
                     active,
                     squared,
-                    &step.lambda,
+                    &lambda,
                     (stat, stat_tol),
                     step.min_reduced_eigenvalue,
                     res,
