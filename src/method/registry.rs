@@ -143,6 +143,13 @@ const ROD_SETTINGS: &[SettingInfo] = &[
     },
     common::max_iterations("50"),
     common::tolerance("1e-9", "shooting residual [N]"),
+    SettingInfo {
+        name: "stability",
+        values: "check | skip",
+        default: "check",
+        help: "focal-point stability test of the answer; skip: report.stable is None (not \
+               checked), one variational pass saved",
+    },
 ];
 
 const CC_SETTINGS: &[SettingInfo] = &[common::control("displacement")];

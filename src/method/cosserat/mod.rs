@@ -113,7 +113,9 @@
 //! perturbations than fixed lengths do: no focal point proves the displacement-controlled
 //! answer stable too, a focal point does not prove it unstable (`None`). Also `None` where the
 //! variational pass is not run (adaptive steps, point loads at inner disks, e.g. the FTDCR's
-//! ties at disks 10 and 20).
+//! ties at disks 10 and 20). The test costs one variational pass per solve; the setting
+//! `stability = skip` leaves it out, and `stable` is then `None` meaning *not checked* (the
+//! report's notes say `stability not checked`).
 
 //! # Cable length and slack (displacement control)
 //!
