@@ -50,7 +50,7 @@ pub struct Stats {
     pub solves: usize,
     /// Nodes refused (too close, tension out of limits, solve failed).
     pub nodes_rejected: usize,
-    /// Edges checked.
+    /// Edges checked (an edge met again is not checked again).
     pub edges_checked: usize,
     /// Edges refused.
     pub edges_rejected: usize,
@@ -73,6 +73,19 @@ pub enum EdgeCheck {
     Blocked,
 }
 
+/// An edge's key in the memo: the bit patterns of its two ends, in order.
+type EdgeKey = (Vec<u64>, Vec<u64>);
+
+fn edge_key(a: &[f64], b: &[f64]) -> EdgeKey {
+    let bits = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let (ka, kb) = (bits(a), bits(b));
+    if ka <= kb {
+        (ka, kb)
+    } else {
+        (kb, ka)
+    }
+}
+
 /// Node and edge checks in one actuation space.
 pub struct Checker<'a> {
     /// The space.
@@ -81,6 +94,9 @@ pub struct Checker<'a> {
     pub margin: f64,
     /// Counters.
     pub stats: Stats,
+    /// Edges already checked (either direction): a path's edges are checked when found and
+    /// again by the final validation, which then costs nothing.
+    memo: std::collections::HashMap<EdgeKey, EdgeCheck>,
 }
 
 impl<'a> Checker<'a> {
@@ -90,7 +106,14 @@ impl<'a> Checker<'a> {
             space,
             margin,
             stats: Stats::default(),
+            memo: std::collections::HashMap::new(),
         }
+    }
+
+    /// Record the outcome of a check of the edge `a`–`b` made earlier under the same space
+    /// and margin (a roadmap's validated edges), so [`Checker::edge`] returns it unchecked.
+    pub fn trust_edge(&mut self, a: &[f64], b: &[f64], check: EdgeCheck) {
+        self.memo.insert(edge_key(a, b), check);
     }
 
     /// Solve and check `u` (warm-started from `warm`); `None` when it is not admissible.
@@ -118,13 +141,19 @@ impl<'a> Checker<'a> {
         })
     }
 
-    /// Check the straight edge from `a` to `b` (see the module docs).
+    /// Check the straight edge from `a` to `b` (see the module docs); an edge checked before
+    /// (either direction) is not checked again.
     pub fn edge(&mut self, a: &Node, b: &Node) -> EdgeCheck {
+        let key = edge_key(&a.u, &b.u);
+        if let Some(out) = self.memo.get(&key) {
+            return out.clone();
+        }
         self.stats.edges_checked += 1;
         let out = self.edge_inner(a, b);
         if out == EdgeCheck::Blocked {
             self.stats.edges_rejected += 1;
         }
+        self.memo.insert(key, out.clone());
         out
     }
 

@@ -150,7 +150,7 @@ pub struct PlanJson {
     pub statistics: PlanStats,
 }
 
-fn finite(x: f64) -> Option<f64> {
+pub(crate) fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 

@@ -22,13 +22,15 @@
 //! shape). With contact allowed, shapes are solved with the obstacles (the robot may press on
 //! them) and no clearance is required.
 
+mod clear;
 mod sens;
 mod solve;
+
+pub use clear::{clearance, Clearance};
 
 pub use sens::{sensitivity, TipSens, FD_STEP};
 pub use solve::{reach, reach_in, CableActuation, Reach, ReachOptions, Target};
 
-use crate::contact::features;
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;
 use crate::method::{Method, MethodKind};
@@ -38,8 +40,6 @@ use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::shape::Shape;
 use nalgebra::Vector3;
-use parry3d::query::ClosestPoints;
-use parry3d::shape::Shape as PShape;
 
 /// The actuation space of a robot: its cables' shortenings within their limits, a method that
 /// solves a point of it, and the obstacles to keep clear of.
@@ -210,119 +210,6 @@ impl Space {
                 .is_none_or(|c| c.distance >= self.margin);
         clear && self.tension_violation(shape).is_none()
     }
-}
-
-/// The smallest distance between the robot and the obstacles, and where.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Clearance {
-    /// Signed distance \[m\] (negative: penetration depth, for convex obstacles).
-    pub distance: f64,
-    /// Obstacle name.
-    pub obstacle: String,
-    /// Robot feature: `disk K`, `backbone J` (between backbone samples J and J+1) or
-    /// `cable NAME K` (chord from disk K−1 to K).
-    pub feature: String,
-}
-
-/// A robot feature: label, parry shape, bounding box (min, max), pose.
-type Feature = (
-    String,
-    Box<dyn PShape>,
-    Vector3<f64>,
-    Vector3<f64>,
-    parry3d::math::Pose,
-);
-
-/// Robot features of `shape` as parry shapes with their poses and bounding boxes.
-fn features(robot: &Robot, shape: &Shape) -> Vec<Feature> {
-    let mut out: Vec<Feature> = Vec::new();
-    let r = robot.disk_radius;
-    let ext = Vector3::repeat(r + robot.disk_thickness);
-    for (k, d) in shape.disks.iter().enumerate() {
-        out.push((
-            format!("disk {k}"),
-            Box::new(features::disk(robot)),
-            d.position - ext,
-            d.position + ext,
-            features::disk_pose(&d.rotation, &d.position),
-        ));
-    }
-    let rb = robot.backbone.radius();
-    let id = parry3d::math::Pose::IDENTITY;
-    for (j, w) in shape.backbone.windows(2).enumerate() {
-        let (a, b) = (w[0], w[1]);
-        out.push((
-            format!("backbone {j}"),
-            Box::new(features::backbone(&a, &b, rb)),
-            a.inf(&b) - Vector3::repeat(rb),
-            a.sup(&b) + Vector3::repeat(rb),
-            id,
-        ));
-    }
-    for c in &shape.cables {
-        for (k, w) in c.points.windows(2).enumerate() {
-            let (a, b) = (w[0], w[1]);
-            out.push((
-                format!("cable {} {}", c.name, k + 1),
-                Box::new(features::chord(&a, &b)),
-                a.inf(&b),
-                a.sup(&b),
-                id,
-            ));
-        }
-    }
-    out
-}
-
-/// Smallest signed distance between any feature of `shape` and any obstacle of `scene`
-/// (parry3d; `None` for an empty scene). Feature–obstacle pairs whose bounding boxes are
-/// farther apart than the best distance so far are skipped (the box gap is a lower bound).
-pub fn clearance(robot: &Robot, shape: &Shape, scene: &Scene) -> Option<Clearance> {
-    if scene.is_empty() {
-        return None;
-    }
-    let mut best = Clearance {
-        distance: f64::INFINITY,
-        obstacle: String::new(),
-        feature: String::new(),
-    };
-    for (label, g, lo, hi, gp) in features(robot, shape) {
-        for (k, o) in scene.obstacles.iter().enumerate() {
-            if scene.bounds_gap(k, &lo, &hi) >= best.distance {
-                continue;
-            }
-            // Closest points within the best distance so far: parry prunes the rest of a
-            // mesh's BVH against it, so only pairs that can lower the minimum cost much.
-            let bound = if best.distance.is_finite() {
-                best.distance
-            } else {
-                f64::MAX
-            };
-            let mut d =
-                match parry3d::query::closest_points(&gp, &*g, &o.parry_pose, &*o.shape, bound) {
-                    Ok(ClosestPoints::Disjoint) => continue,
-                    Ok(ClosestPoints::WithinMargin(a, b)) => (a - b).length(),
-                    Ok(ClosestPoints::Intersecting) => 0.0,
-                    Err(_) => parry3d::query::distance(&gp, &*g, &o.parry_pose, &*o.shape)
-                        .map_or(0.0, |d| d.distance),
-                };
-            if d <= 0.0 {
-                if let Ok(Some(ct)) =
-                    parry3d::query::contact(&gp, &*g, &o.parry_pose, &*o.shape, 0.0)
-                {
-                    d = ct.dist.min(0.0);
-                }
-            }
-            if d < best.distance {
-                best = Clearance {
-                    distance: d,
-                    obstacle: o.name.clone(),
-                    feature: label.clone(),
-                };
-            }
-        }
-    }
-    Some(best)
 }
 
 /// An upper bound on how far any point of any robot feature of shape `a` lies from the

@@ -19,9 +19,16 @@ pub(crate) enum RoadmapCommand {
         /// Output roadmap file (JSON).
         #[arg(long)]
         out: PathBuf,
-        /// Samples drawn.
+        /// Uniform samples drawn.
         #[arg(long, default_value_t = BuildOptions::default().samples)]
         samples: usize,
+        /// Samples drawn around admissible nodes (Gaussian steps; biases the roadmap to the
+        /// free space).
+        #[arg(long, default_value_t = BuildOptions::default().expand)]
+        expand: usize,
+        /// Standard deviation of an expansion step, as a fraction of each cable's range.
+        #[arg(long, default_value_t = BuildOptions::default().spread)]
+        spread: f64,
         /// Neighbours each node tries to connect to.
         #[arg(long, default_value_t = BuildOptions::default().neighbours)]
         neighbours: usize,
@@ -38,6 +45,8 @@ pub(crate) fn run(cmd: RoadmapCommand) -> Result<()> {
             inverse,
             out,
             samples,
+            expand,
+            spread,
             neighbours,
             seed,
         } => {
@@ -48,12 +57,15 @@ pub(crate) fn run(cmd: RoadmapCommand) -> Result<()> {
                 neighbours,
                 seed,
                 margin: inverse.margin,
+                expand,
+                spread,
             };
             let r = build(&model, &request, &opts)?;
             r.save(&out)?;
             println!(
-                "roadmap: {} nodes of {samples} samples, {} edges, {} solves, {:.2} s; wrote {}",
+                "roadmap: {} nodes of {} samples, {} edges, {} solves, {:.2} s; wrote {}",
                 r.nodes.len(),
+                samples + expand,
                 r.edges.len(),
                 r.build_solves,
                 r.build_time_s,

@@ -69,7 +69,7 @@
 //! inner disks (a tendon tied there, disk weights), whose kink forces come from a fixed point.
 //!
 //! **Warm starts** read `report.base_wrench`, the cable tensions and, from a shape of this
-//! method, `report.warm` ([`WarmState::Rod`]: the last Jacobian): Newton then
+//! method, `report.warm` ([`WarmState::Rod`](crate::method::WarmState::Rod): the last Jacobian): Newton then
 //! needs no Jacobian pass. With no shape-dependent external load the base wrench of the
 //! continuous rod follows from global balance (below); the discrete rod misses it by its
 //! integration error, which the warm solution has measured. That offset, and the tendon part
@@ -84,7 +84,7 @@
 //! **Continuation.** When the direct start fails (or with `direct_start: false`), the loads
 //! (tensions, shortenings, gravity, tip wrench) are stepped from zero with an adaptive step;
 //! the report notes `continuation: N load steps`. If even that stalls, the solve returns
-//! [`SolveError::NotConverged`] with the iterations spent and the last residual. Every solve
+//! [`SolveError::NotConverged`](crate::SolveError::NotConverged) with the iterations spent and the last residual. Every solve
 //! is also bounded by [`WORK_BUDGET`] right-hand-side evaluations, whatever the section count.
 //!
 //! **Stability** (`report.stable`): a focal-point test, the Jacobi condition of the second
@@ -138,7 +138,7 @@
 //! `1..=ends_at` (section-wise slackness exists only in the section-by-section geometric
 //! model). The inextensible rod cannot take every set of shortenings: cables tied at one disk
 //! whose holes balance about the axis bound each other's lengths from below (see
-//! `inextensible.rs`): such shortenings are reported [`SolveError::Infeasible`] with the proof,
+//! `inextensible.rs`): such shortenings are reported [`SolveError::Infeasible`](crate::SolveError::Infeasible) with the proof,
 //! and one cable of each such group starts slack (all taut is singular at the straight rod).
 //!
 //! # Numbers (paper cases, force control, full model, spline routing)

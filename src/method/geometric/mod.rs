@@ -197,6 +197,7 @@ impl Method for Geometric {
         for i in 1..=n {
             let mut data = SectionData::new(robot, &frac, i)?;
             data.world = SectionWorld::new(robot, scene, &relevant, i, &rot, &pos);
+            data.gram_schmidt = relevant.is_empty();
             let warm_i = warm_rel.as_ref().map(|w| w[i - 1]);
             let sol = self.solve_section(&data, i, prev_rel.as_ref(), warm_i.as_ref())?;
             contacts.extend(sol.contacts.iter().cloned());

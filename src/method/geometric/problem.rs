@@ -103,6 +103,11 @@ pub(super) struct SectionData {
     pub(super) gauge: Option<Vector3<f64>>,
     /// Obstacles this section can touch (None: none near).
     pub(super) world: Option<SectionWorld>,
+    /// Newton steps split the constraint rows by Gram–Schmidt
+    /// ([`crate::numeric::kkt::kkt_step6_gs`]); false in a scene with obstacles near the robot,
+    /// whose contact sections converge only to the contact noise, so that a rounding-level
+    /// change upstream would move their recorded tips by up to ~2e-5 m (measured on the pillar).
+    pub(super) gram_schmidt: bool,
 }
 
 pub(super) const SAME_POINT: f64 = 1e-12;
@@ -205,6 +210,7 @@ impl SectionData {
             names: robot.cables.iter().map(|c| c.name.clone()).collect(),
             gauge,
             world: None,
+            gram_schmidt: true,
         };
         match data.prove_infeasible() {
             Some(e) => Err(e),
