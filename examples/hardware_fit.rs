@@ -1,14 +1,17 @@
 //! The OpenCR FTDCR benchmark (data README §8, `models/hardware/data/`): for v4 and v6, predict
-//! train and val with the nominal model, calibrate the default parameters on train only,
-//! predict val with the fitted model, print the protocol's table (mean-offset-aligned
-//! Euclidean tip RMSE in mm on train, val and val by pattern family), and draw predicted
-//! against measured tips per val pattern family.
+//! train and val with the nominal model; calibrate each candidate parameter set
+//! ([`candidates`], ≤ 9 scalars) on train only; choose among them on train only (each is also
+//! fitted on train without its two-segment `_same_` patterns and scored on them, the train
+//! family nearest to val's three-segment motions); predict val with every fitted model; print
+//! the protocol's table (mean-offset-aligned Euclidean tip RMSE in mm on train, val and val by
+//! pattern family) and draw predicted against measured tips per val pattern family (nominal and
+//! the selected candidate).
 //!
 //! `cargo run --release --example hardware_fit [OUT_DIR]`
 //!
 //! Writes `OUT_DIR/hardware_fit/{v4,v6}_{family}.svg` and the fitted models
-//! `OUT_DIR/hardware_fit/ftdcr_{v4,v6}_fitted.toml` (default OUT_DIR `target`). Val is never
-//! looked at before the fit is done: its rows are read only to be predicted.
+//! `OUT_DIR/hardware_fit/ftdcr_{v4,v6}_{candidate}.toml` (default OUT_DIR `target`). Val is never
+//! looked at before the fits and the choice are done: its rows are read only to be predicted.
 
 use anyhow::Result;
 use ccrkit::calibrate::data::{family, DataOptions, Dataset};
@@ -90,30 +93,48 @@ fn main() -> Result<()> {
             )
         };
         let (train, val) = (read("train")?, read("val")?);
-        // Fit on train only: the default set (per-segment gain and offset, one cable
-        // compliance, the marker), then the same plus one common backlash (9 scalars, the
-        // protocol's limit), started from the first fit.
         let text = std::fs::read_to_string(&file)?;
-        let default = FitOptions::new(options());
-        let fitted = fit(v, "fitted", &nominal, &train, &default, &text, &dir)?;
-        let mut with_backlash = FitOptions::new(options());
-        with_backlash.params = ccrkit::calibrate::params::default_names(&nominal.robot);
-        with_backlash.params.push("backlash".into());
-        let backlash = fit(
-            v,
-            "fitted_backlash",
-            &fitted,
-            &train,
-            &with_backlash,
-            &text,
-            &dir,
-        )?;
+        // Model selection on train only (protocol §8: val is never used to choose): each
+        // candidate is also fitted on train without the two-segment `_same_` patterns and
+        // scored on them (the train family nearest to val's three-segment motions); the
+        // candidate with the lowest held-out RMSE is marked `selected`.
+        let same: Vec<usize> = (0..train.len())
+            .filter(|&i| {
+                train
+                    .labels
+                    .as_ref()
+                    .is_some_and(|l| l[i].contains("_same_"))
+            })
+            .collect();
+        let rest: Vec<usize> = (0..train.len()).filter(|i| !same.contains(i)).collect();
+        let (cv_fit, cv_test) = (train.select(&rest), train.select(&same));
         let mut val_pred = vec![];
-        for (name, model) in [
-            ("nominal", &nominal),
-            ("fitted (8 parameters)", &fitted),
-            ("fitted + backlash (9)", &backlash),
-        ] {
+        let mut rows = vec![];
+        for (label, names) in candidates(&nominal) {
+            let mut opts = FitOptions::new(options());
+            opts.params = names.clone();
+            let fitted = fit(v, label, &nominal, &train, &opts, &text, &dir)?;
+            let cv_model = fit(
+                v,
+                &format!("{label}_cv"),
+                &nominal,
+                &cv_fit,
+                &opts,
+                &text,
+                &dir,
+            )?;
+            let (pc, _) = tips(&cv_model, &cv_test)?;
+            let cv = rmse(&errors(&pc, &cv_test).0);
+            rows.push((format!("{label} ({})", names.len()), fitted, Some(cv)));
+        }
+        let best = rows
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| r.2.map(|c| (i, c)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i);
+        rows.insert(0, ("nominal".into(), nominal.clone(), None));
+        for (k, (name, model, cv)) in rows.iter().enumerate() {
             let (pt, ft) = tips(model, &train)?;
             let (pv, fv) = tips(model, &val)?;
             let (et, _, _) = errors(&pt, &train);
@@ -131,11 +152,19 @@ fn main() -> Result<()> {
                     )
                 })
                 .collect();
+            let chosen = if best.map(|b| b + 1) == Some(k) {
+                " **selected**"
+            } else {
+                ""
+            };
+            let cv = cv.map_or("–".into(), |c| format!("{c:.2}"));
             table.push(format!(
-                "| {v} | {name} | {:.2} | **{:.2}** | {:.2} | {:.2} | {:.2} | {:.2} / {:.2} / {:.2} | {:.2} | {} |",
+                "| {v} | {name}{chosen} | {:.2} | {cv} | **{:.2}** | {:.2} | {:.2} | {:.2} | {:.2} / {:.2} / {:.2} | {:.2} | {} |",
                 rmse(&et), sv.rmse, fam[0], fam[1], fam[2], sv.mean, sv.median, sv.max, rmse(&fpv), ft + fv
             ));
-            val_pred.push((name.to_string(), pv));
+            if k == 0 || best.map(|b| b + 1) == Some(k) {
+                val_pred.push((name.to_string(), pv));
+            }
         }
         // Figures: one per val family, measured and both predictions, each aligned by the
         // mean offset over the whole val file (as the metric).
@@ -174,12 +203,41 @@ fn main() -> Result<()> {
     println!(
         "\nMean-offset-aligned Euclidean tip RMSE [mm] (data README §8); energy model, sub-arcs 1"
     );
-    println!("| robot | model | train | val | val all3_same | val all3_scurve | val all3_spiral | val mean / median / max | val first-point | rows failed |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("| robot | model (fitted scalars) | train | train, `_same_` held out | val | val all3_same | val all3_scurve | val all3_spiral | val mean / median / max | val first-point | rows failed |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &table {
         println!("{r}");
     }
     Ok(())
+}
+
+/// The candidate parameter sets (each ≤ 9 scalars, the protocol's limit): the default set
+/// (per-segment gain and offset, one cable compliance, the marker), the same plus one common
+/// backlash, plus the base rotation about z, and the EA form of the compliance (`k = EA/ℓ`:
+/// longer cables softer) in place of the uniform one.
+fn candidates(nominal: &Model) -> Vec<(&'static str, Vec<String>)> {
+    let default = ccrkit::calibrate::params::default_names(&nominal.robot);
+    let with = |extra: &str| {
+        let mut v = default.clone();
+        v.push(extra.into());
+        v
+    };
+    let ea = default
+        .iter()
+        .map(|n| {
+            if n == "compliance" {
+                "axial-compliance".to_string()
+            } else {
+                n.clone()
+            }
+        })
+        .collect();
+    vec![
+        ("fitted", default.clone()),
+        ("fitted+backlash", with("backlash")),
+        ("fitted+base.rz", with("base.rz")),
+        ("fitted_EA", ea),
+    ]
 }
 
 /// Calibrate `start` on `train` with `opts`, print the report, write and reload the fitted
@@ -220,8 +278,26 @@ fn fit(
             );
             continue;
         }
-        let k = if p.unit == "m" { 1e3 } else { 1.0 };
-        let u = if p.unit == "m" { "mm" } else { "" };
+        if p.unit == "1/N" {
+            // 1/EA: show EA too.
+            let sig = p
+                .sigma
+                .map(|s| format!("{s:.3e}"))
+                .unwrap_or_else(|| "singular".into());
+            println!(
+                "  {:<10} {:>9.3e} ± {sig} 1/N  (EA = {:.0} N; nominal {:.3e})",
+                p.name,
+                p.value,
+                1.0 / p.value,
+                p.initial
+            );
+            continue;
+        }
+        let (k, u) = match p.unit {
+            "m" => (1e3, "mm"),
+            "rad" => (180.0 / std::f64::consts::PI, "deg"),
+            _ => (1.0, ""),
+        };
         let sig = p
             .sigma
             .map(|s| format!("{:.4}", k * s))

@@ -14,7 +14,7 @@
 
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;
-use crate::method::{solve_stepped, Method, MethodKind};
+use crate::method::{solve_stepped_prepared, Method, MethodKind, Prepared};
 use crate::model::actuation::{Actuation, CableDrive, Shortening};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
@@ -363,7 +363,7 @@ pub fn solve_batch(
 }
 
 /// Why a row of [`Blocks::run`] has no shape.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) enum RowFailure {
     /// The method's error (of the last attempt).
     Error(SolveError),
@@ -410,6 +410,15 @@ impl Blocks<'_> {
         warm: Option<&[Option<Shape>]>,
         out: &(dyn Fn(usize, &Solved) -> T + Sync),
     ) -> Vec<T> {
+        // What depends on the robot alone (the energy model's routing samples and undeformed
+        // cable lengths) is computed once for every row and shared by the threads, not once
+        // per row. A robot the method cannot be readied for fails every row with that error.
+        let prepared = catch_unwind(AssertUnwindSafe(|| self.method.prepare(robot)));
+        let prepared = match prepared {
+            Ok(Ok(p)) => Ok(p),
+            Ok(Err(e)) => Err(RowFailure::Error(e)),
+            Err(p) => Err(RowFailure::Panic(panic_message(&*p))),
+        };
         let starts: Vec<usize> = (0..rows).step_by(self.chunk.max(1)).collect();
         starts
             .par_iter()
@@ -421,7 +430,13 @@ impl Blocks<'_> {
                     let from = warm
                         .and_then(|w| w.get(r).and_then(Option::as_ref))
                         .or(last.as_ref().filter(|_| self.warm_start));
-                    let solved = self.row(robot, &act(r), from);
+                    let solved = match &prepared {
+                        Ok(p) => self.row(&**p, &act(r), from),
+                        Err(e) => Solved {
+                            result: Err(e.clone()),
+                            iterations: 0,
+                        },
+                    };
                     block.push(out(r, &solved));
                     if let Ok(s) = solved.result {
                         last = Some(s);
@@ -434,21 +449,14 @@ impl Blocks<'_> {
 
     /// One row from `warm` (cold with continuation steps when `None`), retried cold once when
     /// asked; a panic of the method is caught and reported.
-    fn row(&self, robot: &Robot, act: &Actuation, warm: Option<&Shape>) -> Solved {
+    fn row(&self, method: &dyn Prepared, act: &Actuation, warm: Option<&Shape>) -> Solved {
         let attempt = |w: Option<&Shape>| match catch_unwind(AssertUnwindSafe(|| match w {
-            Some(w) => self.method.solve(robot, act, self.scene, Some(w)),
-            None => solve_stepped(self.method, robot, act, self.scene, self.steps),
+            Some(w) => method.solve(act, self.scene, Some(w)),
+            None => solve_stepped_prepared(method, act, self.scene, self.steps),
         })) {
             Ok(Ok(s)) => (s.report.iterations, Ok(s)),
             Ok(Err(e)) => (failed_iterations(&e), Err(RowFailure::Error(e))),
-            Err(p) => {
-                let msg = p
-                    .downcast_ref::<&str>()
-                    .map(|s| s.to_string())
-                    .or_else(|| p.downcast_ref::<String>().cloned())
-                    .unwrap_or_else(|| "unknown panic".into());
-                (0, Err(RowFailure::Panic(msg)))
-            }
+            Err(p) => (0, Err(RowFailure::Panic(panic_message(&*p)))),
         };
         let (mut iterations, mut result) = attempt(warm);
         if self.retry_cold && warm.is_some() && matches!(result, Err(RowFailure::Error(_))) {
@@ -458,6 +466,14 @@ impl Blocks<'_> {
         }
         Solved { result, iterations }
     }
+}
+
+/// The message of a caught panic.
+fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
 }
 
 /// Iterations a failed solve reports (0 when its error does not say).

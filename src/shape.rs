@@ -102,7 +102,8 @@ pub struct SolveReport {
     /// Whether the answer is a stable equilibrium: `Some(true)` when the method verified it
     /// (energy: the reduced Hessian on the active constraints is positive definite),
     /// `Some(false)` when it found the answer unstable (a saddle: the robot would not stay
-    /// there), `None` when the method cannot tell. See each method's docs.
+    /// there), `None` when the method cannot tell or was asked not to check (the rods'
+    /// `stability = skip`, noted in `notes`). See each method's docs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stable: Option<bool>,
     /// Sensitivities of the tip to the inputs, where the method computes them.

@@ -134,3 +134,87 @@ fn balanced_tendons_do_not_buckle_the_rod_that_guides_them() {
         assert_eq!(d.report.stable, Some(false), "{} dead load", rod.name());
     }
 }
+
+/// Issue 12: `stability = skip` (a rod setting, reachable as `--set stability=skip`) leaves
+/// out the focal-point pass. The shape is the same to the bit (the pass only reads the
+/// answer), `stable` is `None` meaning not checked and a note says so; with `check` (the
+/// default) the same solve is `Some(true)`. A method without the test refuses the setting
+/// by name, and a bad value names the field.
+#[test]
+fn stability_skip_leaves_the_shape_and_reports_not_checked() {
+    use ccrkit::method::{MethodKind, Settings};
+    for n in 1..=3 {
+        let model = paper(n);
+        for kind in [MethodKind::Cosserat, MethodKind::Kirchhoff] {
+            for control in ["force", "displacement"] {
+                let solve = |stability: &str| {
+                    let s = Settings::new()
+                        .with("control", control)
+                        .with("stability", stability);
+                    kind.build(&s)
+                        .expect("builds")
+                        .solve(&model.robot, &model.actuation, &Scene::empty(), None)
+                        .expect("solves")
+                };
+                let (checked, skipped) = (solve("check"), solve("skip"));
+                let tag = format!("case {n} {kind} {control}");
+                assert_eq!(checked.report.stable, Some(true), "{tag}");
+                assert_eq!(skipped.report.stable, None, "{tag}");
+                assert!(
+                    skipped
+                        .report
+                        .notes
+                        .iter()
+                        .any(|s| s == "stability not checked (stability = skip)"),
+                    "{tag}: {:?}",
+                    skipped.report.notes
+                );
+                assert!(!checked
+                    .report
+                    .notes
+                    .iter()
+                    .any(|s| s.contains("not checked")));
+                for (a, b) in checked.disks.iter().zip(&skipped.disks) {
+                    assert_eq!(a.position, b.position, "{tag}");
+                    assert_eq!(a.rotation, b.rotation, "{tag}");
+                }
+                assert_eq!(checked.report.base_wrench, skipped.report.base_wrench);
+            }
+        }
+    }
+    // The command line reaches it; JSON leaves `stable` out (None).
+    let json = |set: &str| {
+        common::ccrkit_json(&[
+            "solve",
+            "models/paper/case1.toml",
+            "--method",
+            "cosserat",
+            "--set",
+            set,
+            "--json",
+            "-",
+        ])
+    };
+    assert_eq!(json("stability=check")["report"]["stable"], true);
+    let skipped = json("stability=skip");
+    assert!(skipped["report"].get("stable").is_none(), "{skipped}");
+    // Refused where it does not apply, and a bad value names the field.
+    let err = MethodKind::Energy
+        .build(&Settings::new().with("stability", "skip"))
+        .err()
+        .expect("energy refuses `stability`")
+        .to_string();
+    assert!(
+        err.contains("stability") && err.contains("cosserat"),
+        "{err}"
+    );
+    let err = MethodKind::Cosserat
+        .build(&Settings::new().with("stability", "maybe"))
+        .err()
+        .expect("bad value refused")
+        .to_string();
+    assert!(
+        err.contains("stability") && err.contains("check, skip"),
+        "{err}"
+    );
+}

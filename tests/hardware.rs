@@ -314,6 +314,42 @@ mod batch {
         }
     }
 
+    /// A parameter at its bound whose free step points outside the model does not stall the
+    /// fit: on FTDCR v6 (every 4th train row) the data would make the backlash negative, so
+    /// from the nominal model (backlash 0) every unprojected step was rejected and the fit
+    /// stopped at iteration 0; projected, the backlash stays ≥ 0 and the gain still descends.
+    #[test]
+    fn a_parameter_held_at_its_bound_does_not_stall_the_fit() {
+        let nominal = model("v6");
+        let d = Dataset::from_file(
+            root("models/hardware/data/v6/tdcrv6_sysid_20260406-181730_train.csv"),
+            &DataOptions::default(),
+        )
+        .expect("data");
+        let idx: Vec<usize> = (0..d.len()).step_by(4).collect();
+        let d = d.select(&idx);
+        let mut o = FitOptions::new(opts(64));
+        o.params = vec!["gain".into(), "backlash".into()];
+        let rep = calibrate(&nominal, &d, &o).expect("fit");
+        println!(
+            "{} -> {} mm ({}); {:?}",
+            1e3 * rep.before.rmse,
+            1e3 * rep.after.rmse,
+            rep.stop,
+            rep.params.iter().map(|p| p.value).collect::<Vec<_>>()
+        );
+        assert!(rep.history.len() > 2, "stalled: {}", rep.stop);
+        assert!(
+            rep.after.rmse < rep.before.rmse - 2e-4,
+            "{} -> {}",
+            rep.before.rmse,
+            rep.after.rmse
+        );
+        // Held at the bound, not pushed past it.
+        assert_eq!(rep.params[1].value, 0.0, "backlash");
+        assert!(rep.history.windows(2).all(|w| w[1].rmse <= w[0].rmse));
+    }
+
     /// Calibration recovers known parameters: tips made by the model with chosen gains,
     /// offsets, cable compliance and marker (plus a frame shift the metric removes) are fitted back from the
     /// nominal model to 1e-5 relative, RMSE to ~0, and the written model reproduces them.

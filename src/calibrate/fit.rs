@@ -13,7 +13,11 @@
 //!
 //! **Step.** Marquardt's scaled damping (Marquardt 1963; Nocedal & Wright, *Numerical
 //! Optimization*, 2nd ed., §10.3): `(JᵀJ + λ diag(JᵀJ)) δ = −Jᵀr` in scaled variables
-//! `x/scale`; a step that lowers the cost is taken and `λ /= 3`, else `λ *= 4`. A trial at which
+//! `x/scale`, the trial point projected onto the parameters' bounds (compliance and
+//! backlash ≥ 0, gain ≥ 10⁻³: a projected Levenberg–Marquardt step, Kanzow, Yamashita &
+//! Fukushima 2004, *J. Comput. Appl. Math.* 172; without it a parameter at its bound whose
+//! free step points outside — a backlash of 0 the data would make negative — rejects every
+//! step, whatever the damping); a step that lowers the cost is taken and `λ /= 3`, else `λ *= 4`. A trial at which
 //! any row fails to solve counts as a rise. Stops when the relative decrease of the cost falls
 //! below [`FitOptions::tolerance`], or `λ` exceeds 10¹⁰ (no descent left), or after
 //! [`FitOptions::max_iterations`].
@@ -142,6 +146,14 @@ impl Fitter<'_> {
             p.set(&mut m, v * p.scale());
         }
         m
+    }
+
+    /// `x` (scaled) with every parameter moved to its nearest admissible value.
+    fn project(&self, mut x: DVector<f64>) -> DVector<f64> {
+        for (p, v) in self.params.iter().zip(x.iter_mut()) {
+            *v = p.project(*v * p.scale()) / p.scale();
+        }
+        x
     }
 
     /// Residuals at `x` (`None` if a row fails or a value lies outside the model).
@@ -327,7 +339,7 @@ impl<'a> Fitter<'a> {
                     lambda *= 4.0;
                     continue;
                 };
-                let xt = &x - ch.solve(&g);
+                let xt = self.project(&x - ch.solve(&g));
                 match self.eval(&xt, Some(&cur.shapes)) {
                     Some(e) if e.r.norm_squared() < cost => {
                         accepted = Some((xt, e));

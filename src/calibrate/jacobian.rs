@@ -10,7 +10,8 @@
 //!
 //! ```text
 //! ∂s/∂g_c = u_c ∂s/∂δ_c      ∂s/∂o_c = −∂s/∂δ_c      ∂s/∂(1/k_c) = (T₀_c − λ_c) ∂s/∂δ_c
-//! ∂s/∂b_c = −½ s_c ∂s/∂δ_c  ∂s/∂m_z = R_b t
+//! ∂s/∂b_c = −½ s_c ∂s/∂δ_c  ∂s/∂m_z = R_b t    ∂s/∂(1/EA) = ℓ_c (T₀_c − λ_c) ∂s/∂δ_c
+//! ∂s/∂θ_z = e_z × R_b (p + m_z t)   (R_b = exp(θ_z ê_z): base rotation about z only)
 //! ```
 //!
 //! (the compliance enters the constraint as a shortening of `(T₀ − λ)/k`, and the implicit
@@ -140,6 +141,21 @@ fn tip_derivatives(
                 let tip = shape.disks.last()?;
                 Some(rb * tip.rotation.column(2).into_owned())
             }
+            Target::AxialCompliance(g) => sum(g, &|c| {
+                Some(
+                    model.robot.undeformed_chord_length(c)
+                        * (model.robot.cables[c].pretension - shape.cables[c].tension?),
+                )
+            }),
+            Target::BaseRotationZ => {
+                let r = hw.base_rotation;
+                if r.x != 0.0 || r.y != 0.0 {
+                    return None;
+                }
+                let tip = shape.disks.last()?;
+                let q = tip.position + hw.marker.z * tip.rotation.column(2).into_owned();
+                Some(Vector3::z().cross(&(rb * q)))
+            }
             Target::Marker(_) => None,
         })
         .collect()
@@ -156,7 +172,8 @@ mod tests {
     use nalgebra::DVector;
 
     /// The Jacobian from the solver's sensitivities equals finite differences of full solves
-    /// (FTDCR v4 train rows, compliant cables, every default parameter).
+    /// (FTDCR v4 train rows, compliant cables, a turned base; every default parameter, backlash,
+    /// `base.rz`, and the EA form of the compliance per segment).
     #[test]
     fn sensitivity_jacobian_matches_finite_differences() {
         let root = env!("CARGO_MANIFEST_DIR");
@@ -178,26 +195,44 @@ mod tests {
         let data = data.select(&idx);
         let mut s = Settings::new();
         s.push("sub-arcs", "1");
-        let mut opts = FitOptions::new(PredictOptions {
+        let opts = FitOptions::new(PredictOptions {
             request: SolveRequest::new(MethodKind::Energy).with_settings(s),
             chunk: 8,
             progress: false,
         });
-        opts.params = crate::calibrate::params::default_names(&model.robot);
-        opts.params.push("backlash".into());
-        let (mut f, _) = Fitter::new(&model, &data, &opts).expect("fitter");
-        let x = DVector::from_iterator(
-            f.params.len(),
-            f.params.iter().map(|p| p.get(&model) / p.scale()),
+        model.hardware.base_rotation.z = 0.1;
+        let default = crate::calibrate::params::default_names(&model.robot);
+        // The default set with backlash and base.rz; the same with the EA form of compliance.
+        let mut sets = vec![default.clone(), default];
+        sets[0].extend(["backlash".to_string(), "base.rz".to_string()]);
+        sets[1].retain(|n| n != "compliance");
+        sets[1].extend(
+            [
+                "axial-compliance.seg0",
+                "axial-compliance.seg1",
+                "axial-compliance.seg2",
+            ]
+            .map(String::from),
         );
-        let at = f.eval(&x, None).expect("evaluates");
-        let js = f.sensitivity_jacobian(&x, &at).expect("sensitivities");
-        let jd = f.difference_jacobian(&x, &at).expect("differences");
-        for k in 0..x.len() {
-            let (a, b) = (js.column(k), jd.column(k));
-            let err = (a - b).norm() / b.norm().max(1e-12);
-            println!("{}: relative difference {err:.2e}", f.params[k].name);
-            assert!(err < 1e-3, "{}: {err:e}", f.params[k].name);
+        for names in sets {
+            let opts = FitOptions {
+                params: names,
+                ..opts.clone()
+            };
+            let (mut f, _) = Fitter::new(&model, &data, &opts).expect("fitter");
+            let x = DVector::from_iterator(
+                f.params.len(),
+                f.params.iter().map(|p| p.get(&model) / p.scale()),
+            );
+            let at = f.eval(&x, None).expect("evaluates");
+            let js = f.sensitivity_jacobian(&x, &at).expect("sensitivities");
+            let jd = f.difference_jacobian(&x, &at).expect("differences");
+            for k in 0..x.len() {
+                let (a, b) = (js.column(k), jd.column(k));
+                let err = (a - b).norm() / b.norm().max(1e-12);
+                println!("{}: relative difference {err:.2e}", f.params[k].name);
+                assert!(err < 1e-3, "{}: {err:e}", f.params[k].name);
+            }
         }
     }
 }

@@ -7,12 +7,26 @@
 //! | `marker.x`, `marker.y`, `marker.z` | [`Hardware::marker`] in the tip frame | m |
 //! | `backlash`, `backlash.segK`, `backlash.CABLE` | [`Hardware::backlash`] of the same groups | m |
 //! | `compliance`, `compliance.segK`, `compliance.CABLE` | `1/k` of the cables' [`Cable::stiffness`] (0: inextensible) | m/N |
+//! | `axial-compliance`, `axial-compliance.segK`, `axial-compliance.CABLE` | `1/EA` of the cables: each gets `k = EA/ℓ` (below) | 1/N |
+//! | `base.rz` | rotation of the base about the measurement frame's z axis ([`Hardware::base_rotation`] z) | rad |
 //!
 //! The compliance `1/k` rather than the stiffness `k` is fitted: the stretch `T/k` is linear in
 //! it, and 0 (the inextensible cable, the nominal models) is inside its range. A trial value
 //! < 0 (or a gain ≤ 0) is outside the model and rejected as a step that does not descend. A
 //! cable's `pretension` is not a separate parameter: it acts as a shortening `T₀/k`, which
 //! `offset` already fits.
+//!
+//! **EA and free length.** A cable of axial rigidity `EA` and free length `ℓ` stretches by
+//! `T ℓ/EA`: a stiffness `k = EA/ℓ`, so of two cables of one material the longer is the softer
+//! (a distal segment's tendon runs through every proximal segment). `axial-compliance` fits
+//! `1/EA` and sets every cable's `k = EA/ℓ_c` with `ℓ_c` the cable's undeformed length from the
+//! base disk to the disk it is tied at ([`Robot::undeformed_chord_length`]); a lead from the
+//! servo to the base disk (not in the model) would add a common `ℓ_lead/EA`, which is what the
+//! uniform `compliance` stands for. The fitted file holds the resulting `stiffness` per cable.
+//!
+//! **Base rotation about z.** The measurement frame's azimuth is tied to the tendon angles
+//! (identified from the tendon pulls in the data's frame); `base.rz` turns the whole robot
+//! about the measurement z axis, a common offset of every tendon angle.
 //!
 //! Segment K is the K-th group of cables tied at the same disk, in order of that disk from the
 //! base (the FTDCR models: seg0 = the three cables tied at the end of the proximal segment).
@@ -24,6 +38,8 @@
 //! [`Hardware::marker`]: crate::model::hardware::Hardware::marker
 //! [`Cable::stiffness`]: crate::model::robot::Cable::stiffness
 //! [`Hardware::backlash`]: crate::model::hardware::Hardware::backlash
+//! [`Hardware::base_rotation`]: crate::model::hardware::Hardware::base_rotation
+//! [`Robot::undeformed_chord_length`]: crate::model::robot::Robot::undeformed_chord_length
 
 use crate::error::SolveError;
 use crate::model::robot::Robot;
@@ -51,6 +67,10 @@ pub enum Target {
     Compliance(Group),
     /// Backlash width \[m\].
     Backlash(Group),
+    /// `1/EA` of the cables \[1/N\]: stiffness `EA/ℓ` (module docs).
+    AxialCompliance(Group),
+    /// Base rotation about the measurement z axis \[rad\] (the z of the rotation vector).
+    BaseRotationZ,
 }
 
 /// A named, fittable parameter.
@@ -61,6 +81,9 @@ pub struct Param {
     /// What it sets.
     pub target: Target,
 }
+
+/// Smallest gain a fit step may set (a gain ≤ 0 reverses the cable; [`Param::project`]).
+pub const MIN_GAIN: f64 = 1e-3;
 
 /// Default parameters: per-segment gain and offset, one common cable compliance and the
 /// marker along the tip axis (8 scalars for a 3-segment robot; at most 9, the benchmark
@@ -124,6 +147,11 @@ impl Param {
             "offset" => Target::Offset(group(tail)?),
             "compliance" => Target::Compliance(group(tail)?),
             "backlash" => Target::Backlash(group(tail)?),
+            "axial-compliance" => Target::AxialCompliance(group(tail)?),
+            "base" => match tail {
+                Some("rz") => Target::BaseRotationZ,
+                _ => return Err(bad("give base.rz".into())),
+            },
             "marker" => match tail {
                 Some("x") => Target::Marker(0),
                 Some("y") => Target::Marker(1),
@@ -133,7 +161,8 @@ impl Param {
             _ => {
                 return Err(bad(
                     "unknown parameter: gain[.segK|.CABLE], offset[.segK|.CABLE], \
-                     compliance[.segK|.CABLE], backlash[.segK|.CABLE], marker.x|y|z"
+                     compliance[.segK|.CABLE], axial-compliance[.segK|.CABLE], \
+                     backlash[.segK|.CABLE], marker.x|y|z, base.rz"
                         .into(),
                 ))
             }
@@ -150,6 +179,8 @@ impl Param {
             Target::Gain(_) => 1.0,
             Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => 1e-3,
             Target::Compliance(_) => 1e-4,
+            Target::AxialCompliance(_) => 1e-3,
+            Target::BaseRotationZ => 1e-2,
         }
     }
 
@@ -157,8 +188,19 @@ impl Param {
     pub fn admissible(&self, v: f64) -> bool {
         match self.target {
             Target::Gain(_) => v > 0.0,
-            Target::Compliance(_) | Target::Backlash(_) => v >= 0.0,
-            Target::Offset(_) | Target::Marker(_) => true,
+            Target::Compliance(_) | Target::Backlash(_) | Target::AxialCompliance(_) => v >= 0.0,
+            Target::Offset(_) | Target::Marker(_) | Target::BaseRotationZ => true,
+        }
+    }
+
+    /// The admissible value nearest to `v` ([`Param::admissible`]): a compliance or backlash
+    /// below 0 becomes 0, a gain below [`MIN_GAIN`] becomes [`MIN_GAIN`]; others unchanged.
+    /// The fit projects each trial step with it (`fit.rs`).
+    pub fn project(&self, v: f64) -> f64 {
+        match self.target {
+            Target::Gain(_) => v.max(MIN_GAIN),
+            Target::Compliance(_) | Target::Backlash(_) | Target::AxialCompliance(_) => v.max(0.0),
+            Target::Offset(_) | Target::Marker(_) | Target::BaseRotationZ => v,
         }
     }
 
@@ -168,6 +210,8 @@ impl Param {
             Target::Gain(_) => "-",
             Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => "m",
             Target::Compliance(_) => "m/N",
+            Target::AxialCompliance(_) => "1/N",
+            Target::BaseRotationZ => "rad",
         }
     }
 
@@ -195,6 +239,15 @@ impl Param {
                 let c: Vec<f64> = model.robot.cables.iter().map(|c| c.compliance()).collect();
                 mean(&c, g)
             }
+            Target::AxialCompliance(g) => {
+                let c: Vec<f64> = (0..n)
+                    .map(|c| {
+                        model.robot.cables[c].compliance() / model.robot.undeformed_chord_length(c)
+                    })
+                    .collect();
+                mean(&c, g)
+            }
+            Target::BaseRotationZ => hw.base_rotation.z,
         }
     }
 
@@ -204,6 +257,13 @@ impl Param {
         if let Target::Compliance(g) = &self.target {
             for c in Self::cables(g, n) {
                 model.robot.cables[c].stiffness = (v > 0.0).then(|| 1.0 / v);
+            }
+            return;
+        }
+        if let Target::AxialCompliance(g) = &self.target {
+            for c in Self::cables(g, n) {
+                let len = model.robot.undeformed_chord_length(c);
+                model.robot.cables[c].stiffness = (v > 0.0).then(|| 1.0 / (v * len));
             }
             return;
         }
@@ -217,7 +277,8 @@ impl Param {
             Target::Backlash(g) => Self::cables(g, n)
                 .into_iter()
                 .for_each(|c| hw.backlash[c] = v),
-            Target::Compliance(_) => {}
+            Target::BaseRotationZ => hw.base_rotation.z = v,
+            Target::Compliance(_) | Target::AxialCompliance(_) => {}
         }
     }
 }
@@ -235,11 +296,15 @@ pub fn parse_all(names: &[String], robot: &Robot) -> Result<Vec<Param>, SolveErr
                 (Target::Gain(x), Target::Gain(y))
                 | (Target::Offset(x), Target::Offset(y))
                 | (Target::Compliance(x), Target::Compliance(y))
+                | (Target::Compliance(x), Target::AxialCompliance(y))
+                | (Target::AxialCompliance(x), Target::Compliance(y))
+                | (Target::AxialCompliance(x), Target::AxialCompliance(y))
                 | (Target::Backlash(x), Target::Backlash(y)) => {
                     let (cx, cy) = (Param::cables(x, n), Param::cables(y, n));
                     cx.iter().any(|c| cy.contains(c))
                 }
                 (Target::Marker(x), Target::Marker(y)) => x == y,
+                (Target::BaseRotationZ, Target::BaseRotationZ) => true,
                 _ => false,
             };
             if overlap {

@@ -114,8 +114,8 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
         name: "contact-sensitivity",
         values: "on | off",
         default: "off",
-        help: "stable and jacobian also with pressing contacts (contact curvature: ~70 M \
-               instructions on the wall scene)",
+        help: "stable and jacobian also with pressing contacts (adds the contact curvature, \
+               dear near obstacles: cost measured in the README)",
     },
 ];
 
@@ -143,6 +143,13 @@ const ROD_SETTINGS: &[SettingInfo] = &[
     },
     common::max_iterations("50"),
     common::tolerance("1e-9", "shooting residual [N]"),
+    SettingInfo {
+        name: "stability",
+        values: "check | skip",
+        default: "check",
+        help: "focal-point stability test of the answer; skip: report.stable is None (not \
+               checked), one variational pass saved",
+    },
 ];
 
 const CC_SETTINGS: &[SettingInfo] = &[common::control("displacement")];
@@ -194,7 +201,7 @@ const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> Met
             tip_force: true,
             tip_moment: true,
         },
-        cable_compliance: false,
+        cable_compliance: true,
         settings: ROD_SETTINGS,
         contact_unit: "",
         resolutions: ROD_RESOLUTIONS,

@@ -34,6 +34,7 @@ pub mod read;
 pub mod robot;
 pub mod routing;
 pub mod scene;
+mod scene_file;
 
 use crate::error::ModelError;
 use actuation::Actuation;

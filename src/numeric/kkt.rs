@@ -186,14 +186,51 @@ pub fn kkt_step6(
     c: &[f64],
     reg: f64,
 ) -> Option<KktStep6> {
-    use nalgebra::{Matrix6, Vector6};
-    let k = rows.len();
-    if k > 6 {
+    if rows.len() > 6 {
         return None;
     }
+    kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c), false)
+}
+
+/// [`kkt_step6`] with the range/null split of the constraint rows by Gram–Schmidt instead of
+/// an eigendecomposition of `AᵀA` (issue 16: that eigendecomposition was ~14 % of a literal
+/// solve). `[Y Z]` is then another orthonormal basis of the same row space and null space, so
+/// the step, the multipliers and the reduced Hessian's eigenvalues are the same in exact
+/// arithmetic (the null-space method does not depend on the basis chosen). When a row is
+/// (numerically) dependent on the previous ones — its Gram–Schmidt remainder `ρ` has
+/// `ρ² ≤ RANK_TOL`, the same threshold the eigenvalues of the row-normalized `AᵀA` are held
+/// to — it falls back to [`kkt_step6`], whose least-squares range step handles redundant rows.
+pub fn kkt_step6_gs(
+    h: &nalgebra::Matrix6<f64>,
+    g: &nalgebra::Vector6<f64>,
+    rows: &[nalgebra::Vector6<f64>],
+    c: &[f64],
+    reg: f64,
+) -> Option<KktStep6> {
+    if rows.len() > 6 {
+        return None;
+    }
+    match gram_schmidt_split6(rows, c) {
+        Some(split) => kkt_step6_from(h, g, rows, reg, split, true),
+        None => kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c), false),
+    }
+}
+
+/// The range step `Y d_y` (least-squares `A x = −c`, row-normalized), an orthonormal basis of
+/// the null space (first `nz` entries) and the rank.
+type Split6 = (
+    nalgebra::Vector6<f64>,
+    [nalgebra::Vector6<f64>; 6],
+    usize,
+    usize,
+);
+
+/// The split from the eigenvectors of the row-normalized `AᵀA`.
+fn eigen_split6(rows: &[nalgebra::Vector6<f64>], c: &[f64]) -> Split6 {
+    use nalgebra::{Matrix6, Vector6};
     let mut m = Matrix6::zeros();
     let mut atc = Vector6::zeros();
-    for i in 0..k {
+    for i in 0..rows.len() {
         let s = rows[i].norm();
         if s > 0.0 {
             let r = rows[i] / s;
@@ -215,6 +252,93 @@ pub fn kkt_step6(
             nz += 1;
         }
     }
+    (x_range, z, nz, rank)
+}
+
+/// The split by modified Gram–Schmidt (twice, for orthogonality to rounding) of the
+/// row-normalized rows `r_i = Σ_{j≤i} L_ij q_j`: the range step is `x = Σ y_j q_j` with
+/// `L y = −c` (forward substitution), and the null space is completed from the unit vectors,
+/// taking at each round the one with the largest remainder (at least `1/√6` of its length).
+/// `None` when a row is dependent on the previous ones (see [`kkt_step6_gs`]).
+fn gram_schmidt_split6(rows: &[nalgebra::Vector6<f64>], c: &[f64]) -> Option<Split6> {
+    use nalgebra::{Matrix6, Vector6};
+    let k = rows.len();
+    let mut q = [Vector6::zeros(); 6];
+    let mut l = Matrix6::zeros();
+    let mut y = Vector6::zeros();
+    for i in 0..k {
+        let s = rows[i].norm();
+        if s == 0.0 || !s.is_finite() {
+            return None;
+        }
+        let mut v = rows[i] / s;
+        for _ in 0..2 {
+            for j in 0..i {
+                let d = q[j].dot(&v);
+                l[(i, j)] += d;
+                v -= q[j] * d;
+            }
+        }
+        let n = v.norm();
+        if n * n <= RANK_TOL {
+            return None;
+        }
+        l[(i, i)] = n;
+        q[i] = v / n;
+        let mut rhs = -c[i] / s;
+        for j in 0..i {
+            rhs -= l[(i, j)] * y[j];
+        }
+        y[i] = rhs / n;
+    }
+    let mut x_range = Vector6::zeros();
+    for j in 0..k {
+        x_range += q[j] * y[j];
+    }
+    // Remainders of the unit vectors against the row space (twice, for orthogonality); each
+    // round takes the largest, and the others lose their component along it.
+    let mut rem: [Vector6<f64>; 6] = std::array::from_fn(|e| {
+        let mut v = Vector6::ith(e, 1.0);
+        for _ in 0..2 {
+            for b in &q[..k] {
+                v -= b * b.dot(&v);
+            }
+        }
+        v
+    });
+    let mut z = [Vector6::zeros(); 6];
+    let mut used = [false; 6];
+    for nz in 0..6 - k {
+        let e = (0..6)
+            .filter(|&e| !used[e])
+            .max_by(|&a, &b| rem[a].norm_squared().total_cmp(&rem[b].norm_squared()))?;
+        used[e] = true;
+        let mut v = rem[e];
+        for b in q[..k].iter().chain(z[..nz].iter()) {
+            v -= b * b.dot(&v);
+        }
+        z[nz] = v.normalize();
+        for (o, r) in rem.iter_mut().enumerate() {
+            if !used[o] {
+                *r -= z[nz] * z[nz].dot(r);
+            }
+        }
+    }
+    Some((x_range, z, 6 - k, k))
+}
+
+/// The null-space Newton step and multipliers from a range/null split. `exact_size`: the
+/// reduced Hessian's eigendecomposition on its own `nz × nz` size ([`reduced_step`]) rather
+/// than padded to 6 × 6 (kept for [`kkt_step6`], whose results recorded tips depend on).
+fn kkt_step6_from(
+    h: &nalgebra::Matrix6<f64>,
+    g: &nalgebra::Vector6<f64>,
+    rows: &[nalgebra::Vector6<f64>],
+    reg: f64,
+    (x_range, z, nz, rank): Split6,
+    exact_size: bool,
+) -> Option<KktStep6> {
+    use nalgebra::{Matrix6, Vector6};
     let mut dx = x_range;
     let mut min_eig = f64::INFINITY;
     if nz > 0 {
@@ -233,6 +357,14 @@ pub fn kkt_step6(
                     hr[(a, b)] = z[a].dot(&hz[b]);
                 }
             }
+        }
+        if exact_size {
+            let (dz, lam_min) = reduced_step(&hr, &rhs, nz, reg);
+            min_eig = lam_min;
+            for a in 0..nz {
+                dx += z[a] * dz[a];
+            }
+            return multipliers6(g, h, rows, dx, min_eig, rank);
         }
         let fro = hr.norm();
         let pad = 2.0 * fro + 1.0;
@@ -254,7 +386,59 @@ pub fn kkt_step6(
             dx += z[a] * dz[a];
         }
     }
-    // Multipliers: (A Aᵀ) λ = −A (g + H dx), padded to 6×6 with the identity.
+    multipliers6(g, h, rows, dx, min_eig, rank)
+}
+
+/// `Σ_j v_j (v_j·rhs) / max(|λ_j|, reg)` over the eigenpairs of the leading `nz × nz` block
+/// of `hr`, decomposed at its own size (1 × 1 in closed form), and the smallest `λ_j`.
+fn reduced_step(
+    hr: &nalgebra::Matrix6<f64>,
+    rhs: &nalgebra::Vector6<f64>,
+    nz: usize,
+    reg: f64,
+) -> (nalgebra::Vector6<f64>, f64) {
+    use nalgebra::{Matrix2, Matrix3, Matrix4, Matrix5, Matrix6, Vector6};
+    let mut dz = Vector6::zeros();
+    let mut min_eig = f64::INFINITY;
+    macro_rules! sized {
+        ($n:literal, $m:ty) => {{
+            let e = nalgebra::SymmetricEigen::new(<$m>::from_fn(|a, b| hr[(a, b)]));
+            for j in 0..$n {
+                let lam = e.eigenvalues[j];
+                min_eig = min_eig.min(lam);
+                let v = e.eigenvectors.column(j);
+                let coef = (0..$n).map(|a| v[a] * rhs[a]).sum::<f64>() / lam.abs().max(reg);
+                for a in 0..$n {
+                    dz[a] += v[a] * coef;
+                }
+            }
+        }};
+    }
+    match nz {
+        1 => {
+            min_eig = hr[(0, 0)];
+            dz[0] = rhs[0] / min_eig.abs().max(reg);
+        }
+        2 => sized!(2, Matrix2<f64>),
+        3 => sized!(3, Matrix3<f64>),
+        4 => sized!(4, Matrix4<f64>),
+        5 => sized!(5, Matrix5<f64>),
+        _ => sized!(6, Matrix6<f64>),
+    }
+    (dz, min_eig)
+}
+
+/// Multipliers `(A Aᵀ) λ = −A (g + H dx)` (padded to 6 × 6 with the identity) and the step.
+fn multipliers6(
+    g: &nalgebra::Vector6<f64>,
+    h: &nalgebra::Matrix6<f64>,
+    rows: &[nalgebra::Vector6<f64>],
+    dx: nalgebra::Vector6<f64>,
+    min_eig: f64,
+    rank: usize,
+) -> Option<KktStep6> {
+    use nalgebra::{Matrix6, Vector6};
+    let k = rows.len();
     let r = g + h * dx;
     let mut aat = Matrix6::identity();
     let mut b = Vector6::zeros();

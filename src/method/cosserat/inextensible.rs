@@ -77,6 +77,9 @@ impl Problem<'_> {
         let robot = self.robot;
         let cand: Vec<usize> = (0..robot.cables.len())
             .filter(|&c| matches!(self.modes[c], Drive::Shorten { .. }))
+            // A compliant cable's stretch `τ/k` takes up any shortening: no bound, and its
+            // length row depends on the pull (`−k_ℓ/k`), so the pull is no null vector.
+            .filter(|&c| self.compliance[c] == 0.0)
             .filter(|&c| self.straight_in_body(c))
             .collect();
         let hole = |c: usize| -> Vector2<f64> {

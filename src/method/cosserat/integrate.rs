@@ -6,36 +6,11 @@ use super::problem::{LoadCase, Problem, Shot, Trace};
 use super::variational::Var;
 use super::{put3, rot_of, v3, Buf, RodModel, State, E3, MAX_CABLES};
 use crate::model::actuation::LengthMeasure;
-use nalgebra::{Matrix3, Vector3, Vector6};
+use crate::numeric::ode::rk4;
+use crate::numeric::so3::hat;
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
 impl Problem<'_> {
-    /// One classical RK4 step from `s` of size `h`; path lengths accumulate in `len`.
-    #[inline]
-    pub(super) fn rk4(
-        &self,
-        s: f64,
-        h: f64,
-        y: &mut State,
-        sec: usize,
-        ld: &LoadCase,
-        len: &mut Buf,
-    ) {
-        let (mut l1, mut l2, mut l3, mut l4) = (
-            [0.0; MAX_CABLES],
-            [0.0; MAX_CABLES],
-            [0.0; MAX_CABLES],
-            [0.0; MAX_CABLES],
-        );
-        let k1 = self.rucker_webster(s, y, sec, ld, &mut l1);
-        let k2 = self.rucker_webster(s + 0.5 * h, &(*y + k1 * (0.5 * h)), sec, ld, &mut l2);
-        let k3 = self.rucker_webster(s + 0.5 * h, &(*y + k2 * (0.5 * h)), sec, ld, &mut l3);
-        let k4 = self.rucker_webster(s + h, &(*y + k3 * h), sec, ld, &mut l4);
-        *y += (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
-        for c in 0..self.robot.cables.len() {
-            len[c] += (l1[c] + 2.0 * (l2[c] + l3[c]) + l4[c]) * (h / 6.0);
-        }
-    }
-
     /// Integrate section `sec` with its fixed RK4 steps (and the tangents, if `var`).
     pub(super) fn section(
         &self,
@@ -54,11 +29,26 @@ impl Problem<'_> {
             let s = s0 + j as f64 * h;
             match var.as_deref_mut() {
                 Some(vr) => self.rk4_t(s, h, y, sec, ld, len, vr),
-                None => self.rk4(s, h, y, sec, ld, len),
+                None => {
+                    // Path lengths are a quadrature beside the state: the same stages, weighed alike.
+                    let mut lr = [[0.0; MAX_CABLES]; 4];
+                    *y += rk4::step(s, h, *y, |i, si, yi| {
+                        self.rucker_webster(si, yi, sec, ld, &mut lr[i])
+                    });
+                    self.add_rk4_lengths(len, &lr, h);
+                }
             }
             if let Some(t) = trace.as_deref_mut() {
                 t.backbone.push(v3(y, 0));
             }
+        }
+    }
+
+    /// `len[c] += h (ṗ₁ + 2ṗ₂ + 2ṗ₃ + ṗ₄)/6` from the four stages' path-length rates `lr`.
+    #[inline]
+    pub(super) fn add_rk4_lengths(&self, len: &mut Buf, lr: &[Buf; 4], h: f64) {
+        for c in 0..self.robot.cables.len() {
+            len[c] += rk4::increment(&[lr[0][c], lr[1][c], lr[2][c], lr[3][c]], h);
         }
     }
 
@@ -260,8 +250,14 @@ impl Problem<'_> {
     /// `t⁻ = (v⁻ + u⁻ × r + r′)/|·| → t⁺`, and, frictionless, pushes the disk with
     /// `F = τ (t⁺ − t⁻)`, a point force the distributed Rucker–Webster loads cannot carry.
     /// `n⁺ = n⁻ − F`, `m⁺ = m⁻ − (R r) × F`, with `t⁺` from the post-jump strains, which
-    /// depend on `F`: a fixed point (the coupling is weak; it converges in a few sweeps).
-    /// `(n_base, m_base)`: the wrench after the other point loads; `None` if not settled.
+    /// depend on `F`: the wrench after the jump solves `z = g(z)`, `z = (n⁺, m⁺)`.
+    ///
+    /// Newton on `z − g(z) = 0` with the exact `∂g/∂z` ([`Self::kink_map`]). A plain fixed
+    /// point `z ← g(z)` contracts only by about `Σ τ r² / EI` (the cables' kink moment per unit
+    /// bending strain) and diverges once the passing cables pull harder than that: the FTDCR
+    /// v4 rod with 20–40 N balanced tendon pulls (issue 11 #13) reached it, its passes failed
+    /// and Newton's line searches with them. `(n_base, m_base)`: the wrench after the other
+    /// point loads; `None` if Newton does not settle.
     fn kink_forces(
         &self,
         k: usize,
@@ -270,6 +266,56 @@ impl Problem<'_> {
         n_base: Vector3<f64>,
         m_base: Vector3<f64>,
     ) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        let l = self.len_l;
+        let (mut n, mut m) = (n_base, m_base);
+        for _ in 0..50 {
+            let (gn, gm, dg) = self.kink_map(k, y, ld, &n, &m, n_base, m_base);
+            // Unknowns scaled as (n, m/L) so both blocks are in newtons.
+            let mut a = Matrix6::identity();
+            let mut rhs = Vector6::zeros();
+            for i in 0..3 {
+                rhs[i] = gn[i] - n[i];
+                rhs[3 + i] = (gm[i] - m[i]) / l;
+                for j in 0..3 {
+                    a[(i, j)] -= dg[(i, j)];
+                    a[(i, 3 + j)] -= dg[(i, 3 + j)] * l;
+                    a[(3 + i, j)] -= dg[(3 + i, j)] / l;
+                    a[(3 + i, 3 + j)] -= dg[(3 + i, 3 + j)];
+                }
+            }
+            let d = a.lu().solve(&rhs)?;
+            let dn = Vector3::new(d[0], d[1], d[2]);
+            let dm = Vector3::new(d[3], d[4], d[5]) * l;
+            n += dn;
+            m += dm;
+            if !(n.iter().chain(m.iter()).all(|v| v.is_finite())) {
+                return None;
+            }
+            let change = dn.norm() + dm.norm() / l;
+            if change <= 1e-14 * (1.0 + n.norm() + m.norm() / l) {
+                return Some((n, m));
+            }
+        }
+        None
+    }
+
+    /// The map `g(z)` of [`Self::kink_forces`] at `z = (n, m)` and its Jacobian `∂g/∂z`
+    /// (6×6, columns `(n, m)`): with `v⁺ = e3 + Kse⁻¹ Rᵀ n` (Kirchhoff: `e3`),
+    /// `u⁺ = Kbt⁻¹ Rᵀ m`, `t⁺ = u⁺ × r + r′ + v⁺`, `e = t⁺/|t⁺|`, `∂e = (I − e eᵀ)/|t⁺| ∂t⁺`,
+    /// each passing cable's `F = τ R (e − e⁻)` gives `∂F/∂n = τ R P Kse⁻¹ Rᵀ`,
+    /// `∂F/∂m = −τ R P r̂ Kbt⁻¹ Rᵀ` (`P = (I − e eᵀ)/|t⁺|`), and `g = (n_base − Σ F,
+    /// m_base − Σ (R r) × F)`.
+    #[allow(clippy::too_many_arguments)]
+    fn kink_map(
+        &self,
+        k: usize,
+        y: &State,
+        ld: &LoadCase,
+        n: &Vector3<f64>,
+        m: &Vector3<f64>,
+        n_base: Vector3<f64>,
+        m_base: Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>, Matrix6<f64>) {
         let robot = self.robot;
         let r = rot_of(y);
         let v = match self.set.model {
@@ -277,36 +323,47 @@ impl Problem<'_> {
             RodModel::Kirchhoff => E3,
         };
         let u = v3(y, 15);
-        let (mut n, mut m) = (n_base, m_base);
-        for _ in 0..50 {
-            let mut yy = *y;
-            self.set_wrench(&mut yy, &n, &m);
-            let vp = match self.set.model {
-                RodModel::Full => v3(&yy, 12),
-                RodModel::Kirchhoff => E3,
-            };
-            let up = v3(&yy, 15);
-            let (mut n2, mut m2) = (n_base, m_base);
-            for (c, cable) in robot.cables.iter().enumerate() {
-                let t = ld.tau[c];
-                if cable.ends_at <= k || t == 0.0 {
-                    continue;
-                }
-                let rm = self.routes[c].eval(robot.disk_s[k], k - 1);
-                let rpl = self.routes[c].eval(robot.disk_s[k], k);
-                let tm = u.cross(&rm.r) + rm.dr + v;
-                let tp = up.cross(&rpl.r) + rpl.dr + vp;
-                let f = r * (tp / tp.norm() - tm / tm.norm()) * t;
-                n2 -= f;
-                m2 -= (r * rm.r).cross(&f);
+        let mut yy = *y;
+        self.set_wrench(&mut yy, n, m);
+        let (vp, dvdn) = match self.set.model {
+            RodModel::Full => (
+                v3(&yy, 12),
+                Matrix3::from_diagonal(&self.kse.map(|x| 1.0 / x)) * r.transpose(),
+            ),
+            RodModel::Kirchhoff => (E3, Matrix3::zeros()),
+        };
+        let up = v3(&yy, 15);
+        let dudm = Matrix3::from_diagonal(&self.kbt.map(|x| 1.0 / x)) * r.transpose();
+        let (mut gn, mut gm) = (n_base, m_base);
+        let mut dg = Matrix6::zeros();
+        for (c, cable) in robot.cables.iter().enumerate() {
+            let t = ld.tau[c];
+            if cable.ends_at <= k || t == 0.0 {
+                continue;
             }
-            let change = (n2 - n).norm() + (m2 - m).norm() / self.len_l;
-            n = n2;
-            m = m2;
-            if change <= 1e-14 * (1.0 + n.norm() + m.norm() / self.len_l) {
-                return Some((n, m));
+            let rm = self.routes[c].eval(robot.disk_s[k], k - 1);
+            let rpl = self.routes[c].eval(robot.disk_s[k], k);
+            let tm = u.cross(&rm.r) + rm.dr + v;
+            let tp = up.cross(&rpl.r) + rpl.dr + vp;
+            let np = tp.norm();
+            let e = tp / np;
+            let f = r * (e - tm / tm.norm()) * t;
+            let arm = hat(&(r * rm.r));
+            gn -= f;
+            gm -= arm * f;
+            let rp = r * (Matrix3::identity() - e * e.transpose()) * (t / np);
+            let dfdn = rp * dvdn;
+            let dfdm = -rp * hat(&rpl.r) * dudm;
+            for (col, dfd) in [(0, dfdn), (3, dfdm)] {
+                let dm = arm * dfd;
+                for i in 0..3 {
+                    for j in 0..3 {
+                        dg[(i, col + j)] -= dfd[(i, j)];
+                        dg[(3 + i, col + j)] -= dm[(i, j)];
+                    }
+                }
             }
         }
-        None
+        (gn, gm, dg)
     }
 }

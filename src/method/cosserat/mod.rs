@@ -69,7 +69,7 @@
 //! inner disks (a tendon tied there, disk weights), whose kink forces come from a fixed point.
 //!
 //! **Warm starts** read `report.base_wrench`, the cable tensions and, from a shape of this
-//! method, `report.warm` ([`WarmState::Rod`]: the last Jacobian): Newton then
+//! method, `report.warm` ([`WarmState::Rod`](crate::method::WarmState::Rod): the last Jacobian): Newton then
 //! needs no Jacobian pass. With no shape-dependent external load the base wrench of the
 //! continuous rod follows from global balance (below); the discrete rod misses it by its
 //! integration error, which the warm solution has measured. That offset, and the tendon part
@@ -84,7 +84,7 @@
 //! **Continuation.** When the direct start fails (or with `direct_start: false`), the loads
 //! (tensions, shortenings, gravity, tip wrench) are stepped from zero with an adaptive step;
 //! the report notes `continuation: N load steps`. If even that stalls, the solve returns
-//! [`SolveError::NotConverged`] with the iterations spent and the last residual. Every solve
+//! [`SolveError::NotConverged`](crate::SolveError::NotConverged) with the iterations spent and the last residual. Every solve
 //! is also bounded by [`WORK_BUDGET`] right-hand-side evaluations, whatever the section count.
 //!
 //! **Stability** (`report.stable`): a focal-point test, the Jacobi condition of the second
@@ -113,13 +113,23 @@
 //! perturbations than fixed lengths do: no focal point proves the displacement-controlled
 //! answer stable too, a focal point does not prove it unstable (`None`). Also `None` where the
 //! variational pass is not run (adaptive steps, point loads at inner disks, e.g. the FTDCR's
-//! ties at disks 10 and 20).
+//! ties at disks 10 and 20). The test costs one variational pass per solve; the setting
+//! `stability = skip` leaves it out, and `stable` is then `None` meaning *not checked* (the
+//! report's notes say `stability not checked`).
 
 //! # Cable length and slack (displacement control)
 //!
 //! A cable's length is either the routed path `∫ |ṗ_i| ds` (integrated with the states,
 //! default) or the straight chords between its holes at the disks (the geometric model's
 //! measure). The target is the undeformed length in the same measure minus the shortening.
+//! **Compliant cables** (a cable's `stiffness` k and `pretension` T₀, [`crate::robot::Cable`]):
+//! the cable is a spring in series, so its path is its free length plus its stretch,
+//! `ℓ = t + τ/k` with `t = ℓ⁰ − d − T₀/k` (the energy model's `L − t − λ/k`); the length
+//! equation becomes `k_ℓ (ℓ − t − τ/k)` and its Jacobian gains `−k_ℓ/k` on the cable's own
+//! tension column. A compliant solve at shortening `d` is therefore the inextensible solve
+//! at `d + T₀/k − τ/k` (`tests/cosserat_compliance.rs`). Under force control k changes nothing.
+//! The stability test above still proves stability: a spring's potential `½ k (ℓ − t)²` adds
+//! `k δℓ² ≥ 0` to the fixed-tension second variation the test checks.
 //! Cables pull only: an active set makes a cable whose tension comes out negative slack
 //! (tension 0, length equation dropped), and re-tensions a slack cable whose path comes out
 //! longer than its length. The answer has `τ ≥ 0` and slack cables no longer than their length.
@@ -128,7 +138,7 @@
 //! `1..=ends_at` (section-wise slackness exists only in the section-by-section geometric
 //! model). The inextensible rod cannot take every set of shortenings: cables tied at one disk
 //! whose holes balance about the axis bound each other's lengths from below (see
-//! `inextensible.rs`): such shortenings are reported [`SolveError::Infeasible`] with the proof,
+//! `inextensible.rs`): such shortenings are reported [`SolveError::Infeasible`](crate::SolveError::Infeasible) with the proof,
 //! and one cable of each such group starts slack (all taut is singular at the straight rod).
 //!
 //! # Numbers (paper cases, force control, full model, spline routing)

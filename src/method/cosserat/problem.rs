@@ -64,6 +64,10 @@ pub(super) struct Problem<'a> {
     pub(super) len0: Buf,
     /// Residual scale of each cable's length equation.
     pub(super) kl: Buf,
+    /// Each cable's compliance `1/k` \[m/N\] (0: inextensible; [`crate::robot::Cable`]).
+    pub(super) compliance: Buf,
+    /// Each cable's pretension stretch `T₀/k` \[m\] (0: inextensible).
+    pub(super) pre_stretch: Buf,
     /// RK4 steps of each section (index = section, 1-based; entry 0 unused).
     pub(super) nsteps: Vec<usize>,
     /// Spline routes as cubics in `σ = s − s_{k−1}` per section: `[c0, c1, c2, c3]` at
@@ -356,12 +360,18 @@ impl Cosserat {
             modes,
             len0: [0.0; MAX_CABLES],
             kl,
+            compliance: [0.0; MAX_CABLES],
+            pre_stretch: [0.0; MAX_CABLES],
             nsteps: vec![],
             cubic: vec![],
             last: Default::default(),
             mesh: Default::default(),
             work: Default::default(),
         };
+        for (c, cable) in robot.cables.iter().enumerate() {
+            prob.compliance[c] = cable.compliance();
+            prob.pre_stretch[c] = cable.pretension_stretch();
+        }
         prob.nsteps = prob.steps_per_section();
         prob.cubic = prob.route_cubics();
         if self.adaptive.is_none() {

@@ -4,7 +4,8 @@
 
 use crate::error::SolveError;
 use crate::method::settings::{
-    parse_control, parse_count, parse_in, parse_length, parse_routing, Configure, MAX_ITERATIONS,
+    parse_choice, parse_control, parse_count, parse_in, parse_length, parse_routing, Configure,
+    MAX_ITERATIONS,
 };
 use crate::method::Method;
 use crate::model::actuation::{Input, LengthMeasure};
@@ -48,6 +49,11 @@ pub struct Cosserat {
     pub tolerance: f64,
     /// Try Newton at full load first (default); `false` goes straight to load stepping.
     pub direct_start: bool,
+    /// Run the focal-point stability test on the answer (`stability = check`, default).
+    /// `false` (`stability = skip`) saves its variational pass: `report.stable` is then
+    /// `None` meaning *not checked* (a note says so), and a warm start from the shape reuses
+    /// Newton's last Jacobian instead of the exact one that pass also gives.
+    pub check_stability: bool,
 }
 
 impl Default for Cosserat {
@@ -63,6 +69,7 @@ impl Default for Cosserat {
             max_iterations: 50,
             tolerance: 1e-9,
             direct_start: true,
+            check_stability: true,
         }
     }
 }
@@ -127,6 +134,10 @@ impl Configure for Cosserat {
             }
             "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
             "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
+            "stability" => {
+                self.check_stability =
+                    parse_choice(name, value, &[("check", true), ("skip", false)])?
+            }
             _ => return self.kind().check_setting(name),
         }
         Ok(())

@@ -79,7 +79,7 @@ impl Problem<'_> {
             f[i] = shot.resid[i];
         }
         for (j, &c) in setup.unknown.iter().enumerate() {
-            f[6 + j] = self.kl[c] * (shot.len[c] - self.target(c, lam));
+            f[6 + j] = self.length_row(c, shot.len[c], x[6 + j], lam);
         }
         if f.iter().any(|v| !v.is_finite()) {
             f.fill(f64::NAN);
@@ -87,11 +87,25 @@ impl Problem<'_> {
         (f, shot.tip)
     }
 
+    /// The free (unstretched) length of cable `c` at load factor `lam`, in the chosen
+    /// measure: the undeformed length minus the shortening and, for a compliant cable, minus
+    /// the pretension stretch `T₀/k` (both scaled by `lam`, so zero load is the unloaded
+    /// rod). A slack cable's path may not exceed it.
     pub(super) fn target(&self, c: usize, lam: f64) -> f64 {
         match self.modes[c] {
-            Drive::Shorten { length: d, .. } => self.len0[c] - lam * d,
+            Drive::Shorten { length: d, .. } => self.len0[c] - lam * (d + self.pre_stretch[c]),
             _ => self.len0[c],
         }
+    }
+
+    /// The length equation of a taut length-controlled cable `c` with path `len` and tension
+    /// `tau`: `k_ℓ (ℓ − t − τ/k) = 0`, the path is the free length `t` ([`Self::target`])
+    /// plus the cable's stretch `τ/k` (series spring; `1/k = 0` when inextensible) — the
+    /// energy model's `L − t − λ/k` (`src/method/energy/`, "Compliant cables"). Its
+    /// derivative in `τ` is `−k_ℓ/k`.
+    #[inline]
+    pub(super) fn length_row(&self, c: usize, len: f64, tau: f64, lam: f64) -> f64 {
+        self.kl[c] * (len - self.target(c, lam) - tau * self.compliance[c])
     }
 
     /// True when the variational equations give the exact Jacobian of this shooting pass:
@@ -115,19 +129,9 @@ impl Problem<'_> {
         setup: &Setup,
         lam: f64,
     ) -> DMatrix<f64> {
-        match self.residual_jac(x, setup, lam) {
-            Some((_, j, _)) => j,
-            None => self.fd_jacobian(x, f, setup, lam),
+        if let Some((_, j, _)) = self.residual_jac(x, setup, lam) {
+            return j;
         }
-    }
-
-    fn fd_jacobian(
-        &self,
-        x: &DVector<f64>,
-        f: &DVector<f64>,
-        setup: &Setup,
-        lam: f64,
-    ) -> DMatrix<f64> {
         let k = x.len();
         let mut j = DMatrix::zeros(k, k);
         let mut xp = x.clone();
@@ -196,7 +200,8 @@ impl Problem<'_> {
         } else if setup.unknown.is_empty() && tip.iter().all(|v| v.is_finite()) {
             (self.transport_jacobian(&tip), false)
         } else {
-            (self.fd_jacobian(&x, &f, setup, lam), true)
+            // (The variational pass already declined at `x`: this is the difference one.)
+            (self.jacobian(&x, &f, setup, lam), true)
         };
         for it in 1..=self.set.max_iterations {
             if self.over_budget() {

@@ -107,9 +107,15 @@ impl Method for Cosserat {
             total_it += it;
             if !self.update_active_set(&prob, &x, &setup, &length_cables, &groups, &mut slack) {
                 // The focal-point pass also gives the exact Jacobian at the answer, a better
-                // warm start than Newton's last (Broyden-updated) one.
-                let (stable, exact) = prob.focal_stable(&x, &setup);
-                let jac = exact.or(jac);
+                // warm start than Newton's last (Broyden-updated) one. Skipped on request
+                // (`stability = skip`): `stable` stays `None`, meaning not checked.
+                let (stable, jac) = if self.check_stability {
+                    let (stable, exact) = prob.focal_stable(&x, &setup);
+                    (stable, exact.or(jac))
+                } else {
+                    notes.push("stability not checked (stability = skip)".into());
+                    (None, jac)
+                };
                 let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, start, notes);
                 shape.report.stable = stable;
                 let targets = setup.unknown.iter().map(|&c| prob.target(c, 1.0)).collect();

@@ -10,6 +10,7 @@ use super::{put3, rot_of, v3, Buf, Cosserat, JacobianCheck, RodModel, State, E3,
 use crate::error::SolveError;
 use crate::model::actuation::{Actuation, Drive, LengthMeasure};
 use crate::model::robot::Robot;
+use crate::numeric::ode::rk4;
 use crate::numeric::so3::hat;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
@@ -57,8 +58,8 @@ pub(super) struct Var {
     resid: [Vector6<f64>; MAXD],
     len: [Buf; MAXD],
     /// RK4 stage scratch (tangents of the stage slopes and of `|ṗ_c|`).
-    kt: [[State; MAXD]; 4],
-    lt: [[Buf; MAXD]; 4],
+    kt: [[State; 4]; MAXD],
+    lt: [[Buf; 4]; MAXD],
     /// Track focal points at the disks (module docs, "Stability"; needs the 6 wrench columns).
     focal: bool,
     /// No focal point found so far.
@@ -78,8 +79,8 @@ impl Var {
             chord: [[0.0; MAX_CABLES]; MAXD],
             resid: [Vector6::zeros(); MAXD],
             len: [[0.0; MAX_CABLES]; MAXD],
-            kt: [[State::zeros(); MAXD]; 4],
-            lt: [[[0.0; MAX_CABLES]; MAXD]; 4],
+            kt: [[State::zeros(); 4]; MAXD],
+            lt: [[[0.0; MAX_CABLES]; 4]; MAXD],
             focal: false,
             focal_ok: true,
         });
@@ -272,39 +273,22 @@ impl Problem<'_> {
             path: vpath,
             ..
         } = var;
-        let nc = self.robot.cables.len();
-        let mut ks = [State::zeros(); 4];
         let mut ls = [[0.0; MAX_CABLES]; 4];
-        const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
-        for st in 0..4 {
-            let (ys, ss) = if st == 0 {
-                (*y, s)
-            } else {
-                (*y + ks[st - 1] * (C[st] * h), s + C[st] * h)
-            };
+        *y += rk4::step(s, h, *y, |st, ss, ys| {
             for d in 0..nd {
-                tg.dy_in[d] = if st == 0 {
-                    vy[d]
-                } else {
-                    vy[d] + kt[st - 1][d] * (C[st] * h)
-                };
+                tg.dy_in[d] = rk4::stage(vy[d], &kt[d], st, h);
             }
-            ks[st] = self.rucker_webster_tangents(ss, &ys, sec, ld, &mut ls[st], tg);
+            let k = self.rucker_webster_tangents(ss, ys, sec, ld, &mut ls[st], tg);
             for d in 0..nd {
-                kt[st][d] = tg.dy_out[d];
-                lt[st][d] = tg.dlr[d];
+                kt[d][st] = tg.dy_out[d];
+                lt[d][st] = tg.dlr[d];
             }
-        }
-        *y += (ks[0] + (ks[1] + ks[2]) * 2.0 + ks[3]) * (h / 6.0);
-        for c in 0..nc {
-            len[c] += (ls[0][c] + 2.0 * (ls[1][c] + ls[2][c]) + ls[3][c]) * (h / 6.0);
-        }
+            k
+        });
+        self.add_rk4_lengths(len, &ls, h);
         for d in 0..nd {
-            vy[d] += (kt[0][d] + (kt[1][d] + kt[2][d]) * 2.0 + kt[3][d]) * (h / 6.0);
-            for c in 0..nc {
-                vpath[d][c] +=
-                    (lt[0][d][c] + 2.0 * (lt[1][d][c] + lt[2][d][c]) + lt[3][d][c]) * (h / 6.0);
-            }
+            vy[d] += rk4::increment(&kt[d], h);
+            self.add_rk4_lengths(&mut vpath[d], &lt[d], h);
         }
     }
 
@@ -570,10 +554,11 @@ impl Problem<'_> {
             }
         }
         for (j, &c) in setup.unknown.iter().enumerate() {
-            f[6 + j] = self.kl[c] * (shot.len[c] - self.target(c, lam));
+            f[6 + j] = self.length_row(c, shot.len[c], x[6 + j], lam);
             for d in 0..k {
                 jac[(6 + j, d)] = self.kl[c] * var.len[d][c];
             }
+            jac[(6 + j, 6 + j)] -= self.kl[c] * self.compliance[c];
         }
         if f.iter().chain(jac.iter()).any(|v| !v.is_finite()) {
             f.fill(f64::NAN);

@@ -308,7 +308,11 @@ impl Geometric {
             });
         }
         let fixed = 1 + taut.len() + usize::from(data.gauge.is_some());
-        let faces: Vec<u32> = if squared { vec![0] } else { data.faces(fixed) };
+        let faces: Vec<u32> = if squared {
+            vec![0]
+        } else {
+            data.faces(fixed, taut)
+        };
         let mut runs: Vec<(u32, Pose)> = faces
             .iter()
             .flat_map(|&face| starts.iter().map(move |s| (face, *s)))

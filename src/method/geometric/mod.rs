@@ -69,8 +69,9 @@
 //!
 //! `mod.rs` the settings and the section loop (base to tip) · `problem.rs` the eq. 1–2 section
 //! problem and its derivatives · `derivatives.rs` their closed forms · `faces.rs` the taut-set and face search and the certificate ·
-//! `feasibility.rs` proofs that no pose exists · `newton.rs` Newton–KKT on one face · `obstacles.rs` the obstacles one section sees.
+//! `degenerate.rs` faces where an unshortened cable's row is redundant · `feasibility.rs` proofs that no pose exists · `newton.rs` Newton–KKT on one face · `obstacles.rs` the obstacles one section sees.
 
+mod degenerate;
 mod derivatives;
 mod faces;
 mod feasibility;
@@ -196,6 +197,7 @@ impl Method for Geometric {
         for i in 1..=n {
             let mut data = SectionData::new(robot, &frac, i)?;
             data.world = SectionWorld::new(robot, scene, &relevant, i, &rot, &pos);
+            data.gram_schmidt = relevant.is_empty();
             let warm_i = warm_rel.as_ref().map(|w| w[i - 1]);
             let sol = self.solve_section(&data, i, prev_rel.as_ref(), warm_i.as_ref())?;
             contacts.extend(sol.contacts.iter().cloned());

@@ -7,7 +7,7 @@ use super::problem::{Pose, SectionData};
 use super::Geometric;
 use crate::contact::CONTACT_TOL;
 use crate::numeric::ad::D2;
-use crate::numeric::kkt::{kkt_step, kkt_step6, multipliers};
+use crate::numeric::kkt::{kkt_step, kkt_step6, kkt_step6_gs, multipliers};
 use crate::numeric::qp::qp_step6;
 use crate::shape::Contact;
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
@@ -78,7 +78,7 @@ impl Geometric {
             let pairs = world.map(|w| w.pairs(&pose)).unwrap_or_default();
             let clearance = world.map_or(0.0, |w| w.clearance);
             let (step, mu) = if pairs.is_empty() {
-                (self.step(&h, &g, &rows, &cv), vec![])
+                (self.step(&h, &g, &rows, &cv, data.gram_schmidt), vec![])
             } else {
                 match self.contact_step(&h, &g, &rows, &cv, &pairs, clearance) {
                     Some(s) => s,
@@ -91,7 +91,6 @@ impl Geometric {
                 .map(|p| clearance - p.dist)
                 .fold(0.0f64, f64::max);
             last_res = res.max(worst_gap);
-            let stat = stationarity(&g, &rows, &step.lambda, &pairs, &mu);
             // With active contacts the step carries the ~1e-8 m noise of parry's iterative
             // distance queries on smooth shapes: converge at CONTACT_STEP_TOL there.
             let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
@@ -106,6 +105,15 @@ impl Geometric {
                 if mu.iter().any(|m| *m < -1e-9) {
                     return reject(last_res);
                 }
+                // A vertex whose rows are dependent (an unshortened taut cable on its
+                // degenerate face, `degenerate.rs`): the multipliers that certify it, if any.
+                let lambda = if rows.len() == 7 && pairs.is_empty() {
+                    data.vertex_multipliers(face, active, &g, &rows)
+                        .unwrap_or(step.lambda)
+                } else {
+                    step.lambda
+                };
+                let stat = stationarity(&g, &rows, &lambda, &pairs, &mu);
                 let stat_tol = if in_contact {
                     CONTACT_STAT_TOL * (1.0 + mu_max)
                 } else {
@@ -117,7 +125,7 @@ impl Geometric {
                     face,
                     active,
                     squared,
-                    &step.lambda,
+                    &lambda,
                     (stat, stat_tol),
                     step.min_reduced_eigenvalue,
                     res,
@@ -198,7 +206,7 @@ impl Geometric {
                 all.push(pairs[j].grad);
                 cc.push(pairs[j].dist - clearance);
             }
-            let st = self.step(h, g, &all, &cc);
+            let st = self.step(h, g, &all, &cc, false);
             let mut mu = vec![0.0; pairs.len()];
             for (k, &j) in act.iter().enumerate() {
                 mu[j] = -st.lambda[rows.len() + k];
@@ -224,15 +232,24 @@ impl Geometric {
     }
 
     /// One Newton–KKT step: the allocation-free 6×6 kernel, or the general one when the
-    /// constraint rows are redundant (its multiplier system is singular).
+    /// constraint rows are redundant (its multiplier system is singular). `gram_schmidt`:
+    /// split the rows by Gram–Schmidt ([`kkt_step6_gs`], same step in exact arithmetic,
+    /// cheaper); solves with obstacles near the robot keep the eigen split their recorded tips
+    /// were solved with (see [`SectionData::gram_schmidt`]).
     pub(super) fn step(
         &self,
         h: &Matrix6<f64>,
         g: &Vector6<f64>,
         rows: &[Vector6<f64>],
         c: &[f64],
+        gram_schmidt: bool,
     ) -> Step {
-        if let Some(s) = kkt_step6(h, g, rows, c, 1e-10) {
+        let fast = if gram_schmidt {
+            kkt_step6_gs(h, g, rows, c, 1e-10)
+        } else {
+            kkt_step6(h, g, rows, c, 1e-10)
+        };
+        if let Some(s) = fast {
             return Step {
                 dx: s.dx,
                 lambda: s.lambda[..rows.len()].to_vec(),

@@ -75,7 +75,18 @@ pub(super) struct CableCon {
     pub(super) h_prev: Vector3<f64>,
     pub(super) h: Vector3<f64>,
     pub(super) length: f64,
+    /// Term index of this cable's coupler (its hole direction on disk i).
+    pub(super) coupler: usize,
+    /// Whether the length equals the undeformed straight chord to within [`UNSHORTENED_TOL`]:
+    /// then the tangent and this coupler at zero put the chord exactly at its length (see
+    /// `degenerate.rs`).
+    pub(super) unshortened: bool,
 }
+
+/// A cable whose segment length differs from its undeformed straight chord by at most this
+/// \[m\] is "unshortened": the constraint residual this leaves on its degenerate face is below
+/// the default Newton tolerance `1e-12` m of [`super::Geometric::literal`].
+pub(super) const UNSHORTENED_TOL: f64 = 1e-13;
 
 /// Everything one section problem needs, in disk i−1's frame.
 pub(super) struct SectionData {
@@ -92,6 +103,11 @@ pub(super) struct SectionData {
     pub(super) gauge: Option<Vector3<f64>>,
     /// Obstacles this section can touch (None: none near).
     pub(super) world: Option<SectionWorld>,
+    /// Newton steps split the constraint rows by Gram–Schmidt
+    /// ([`crate::numeric::kkt::kkt_step6_gs`]); false in a scene with obstacles near the robot,
+    /// whose contact sections converge only to the contact noise, so that a rounding-level
+    /// change upstream would move their recorded tips by up to ~2e-5 m (measured on the pillar).
+    pub(super) gram_schmidt: bool,
 }
 
 pub(super) const SAME_POINT: f64 = 1e-12;
@@ -109,7 +125,9 @@ impl SectionData {
                 continue;
             }
             let (hp, h) = (cable.hole(i - 1), cable.hole(i));
-            let length = (1.0 - f) * robot.undeformed_chord(c, i);
+            let chord0 = robot.undeformed_chord(c, i);
+            let length = (1.0 - f) * chord0;
+            let unshortened = (length - chord0).abs() <= UNSHORTENED_TOL;
             // Shortest chord any pose allows: l0 − |h| − |h_prev|.
             let reach = l0 - h.norm() - hp.norm();
             if length < reach {
@@ -123,13 +141,19 @@ impl SectionData {
                 });
             }
             // ang(h, Qh) = ang(−h, −Qh): holes on one line through the centre give one term.
-            match coupler_members
-                .iter_mut()
-                .find(|(hh, _)| hh.normalize().cross(&h.normalize()).norm() < 1e-9)
+            let coupler = match coupler_members
+                .iter()
+                .position(|(hh, _)| hh.normalize().cross(&h.normalize()).norm() < 1e-9)
             {
-                Some((_, m)) => m.push(c),
-                None => coupler_members.push((h, vec![c])),
-            }
+                Some(k) => {
+                    coupler_members[k].1.push(c);
+                    1 + k
+                }
+                None => {
+                    coupler_members.push((h, vec![c]));
+                    coupler_members.len()
+                }
+            };
             match cons
                 .iter_mut()
                 .find(|k| (k.h - h).norm() < SAME_POINT && (k.h_prev - hp).norm() < SAME_POINT)
@@ -139,6 +163,7 @@ impl SectionData {
                         always_slack.extend(k.cables.iter().copied());
                         k.cables = vec![c];
                         k.length = length;
+                        k.unshortened = unshortened;
                     } else {
                         always_slack.push(c);
                     }
@@ -148,6 +173,8 @@ impl SectionData {
                     h_prev: hp,
                     h,
                     length,
+                    coupler,
+                    unshortened,
                 }),
             }
         }
@@ -183,6 +210,7 @@ impl SectionData {
             names: robot.cables.iter().map(|c| c.name.clone()).collect(),
             gauge,
             world: None,
+            gram_schmidt: true,
         };
         match data.prove_infeasible() {
             Some(e) => Err(e),
@@ -206,7 +234,11 @@ impl SectionData {
     /// coupler zero, one coupler zero, or all couplers zero (`Q = I`) — `2 (couplers + 2)`
     /// faces, not `2^terms` — keeping those whose equations (`fixed` besides the face's own)
     /// leave a pose to solve for (at most 6 in all).
-    pub(super) fn faces(&self, fixed: usize) -> Vec<u32> {
+    ///
+    /// A face with one equation too many is kept when one of them is redundant on it
+    /// ([`SectionData::redundant_rows`] of the taut set `taut`): an unshortened taut cable
+    /// whose coupler and the tangent are zero.
+    pub(super) fn faces(&self, fixed: usize, taut: &[usize]) -> Vec<u32> {
         let couplers = self.terms.len() - 1;
         let mut rotation: Vec<(u32, usize)> = vec![(0, 0)];
         rotation.extend((1..=couplers).map(|t| (1u32 << t, 2)));
@@ -216,7 +248,9 @@ impl SectionData {
         let mut faces: Vec<u32> = rotation
             .iter()
             .flat_map(|&(bits, rank)| [(bits, rank), (bits | 1, rank + 2)])
-            .filter(|&(_, rank)| fixed + rank <= 6)
+            .filter(|&(bits, rank)| {
+                fixed + rank <= 6 || (fixed + rank == 7 && self.redundant_rows(bits, taut) > 0)
+            })
             .map(|(bits, _)| bits)
             .collect();
         faces.sort_unstable();

@@ -1,0 +1,164 @@
+//! One iterate of the SQP loop: the start of a run ([`Sqp::new`]), the linearization at
+//! the iterate ([`Sqp::linearize`]), its residuals ([`Sqp::residuals`]) and the converged
+//! result ([`Sqp::solution`]).
+
+// Index loops mirror the variable layout.
+#![allow(clippy::needless_range_loop)]
+
+use super::{Residuals, Solution, Sqp};
+use crate::method::energy::contacts::{self, Pair};
+use crate::method::energy::lengths::Work;
+use crate::method::energy::problem::{Problem, Target};
+use crate::method::energy::sensitivity::Sensitivity;
+
+impl<'p, 'a> Sqp<'p, 'a> {
+    pub(super) fn new(prob: &'p Problem<'a>, (xi, lam): (Vec<f64>, Vec<f64>)) -> Self {
+        let nc = prob.robot.cables.len();
+        let nv = prob.nvar();
+        let world = prob.world.as_ref();
+        Sqp {
+            prob,
+            world,
+            clearance: world.map_or(0.0, |wd| wd.clearance()),
+            cable_rows: (0..nc)
+                .filter(|&c| matches!(prob.targets[c], Target::Length(_)))
+                .collect(),
+            xi,
+            lam,
+            w: Work::new(prob),
+            wgt: vec![0.0; nc],
+            kin: None,
+            pairs: vec![],
+            mu: vec![],
+            mu_prev: vec![],
+            clear: f64::INFINITY,
+            dxi: vec![0.0; nv],
+            trial: vec![0.0; nv],
+            trial_len: vec![0.0; nc],
+            exact: false,
+            stalled: false,
+            last_move: f64::INFINITY,
+        }
+    }
+
+    /// Lengths, gradients (and chord Hessians) at the iterate, its frames and contact pairs
+    /// with the last step's multipliers, and the gradient of the objective part (energy,
+    /// tension potentials, dead loads).
+    pub(super) fn linearize(&mut self) {
+        let prob = self.prob;
+        let nc = prob.robot.cables.len();
+        self.wgt = (0..nc)
+            .map(|c| match prob.targets[c] {
+                Target::Length(_) => self.lam[c],
+                Target::Tension(t) => t,
+                Target::Free => 0.0,
+            })
+            .collect();
+        prob.evaluate(&self.xi, &self.wgt, &mut self.w, self.exact);
+        self.kin = prob
+            .needs_frames()
+            .then(|| contacts::kinematics(&self.xi, &prob.ell, true));
+        self.clear = f64::INFINITY;
+        if let (Some(wd), Some(k)) = (self.world, &self.kin) {
+            (self.pairs, self.clear) = wd.pairs(k);
+        }
+        self.mu = self
+            .pairs
+            .iter()
+            .map(|p| {
+                self.mu_prev
+                    .iter()
+                    .find(|(k, _)| *k == p.key())
+                    .map_or(0.0, |(_, m)| *m)
+            })
+            .collect();
+        let w = &mut self.w;
+        for i in 0..prob.nvar() {
+            w.gobj[i] = prob.k[i] * self.xi[i];
+        }
+        for c in 0..nc {
+            if let Target::Tension(t) = prob.targets[c] {
+                for i in 0..prob.nvar() {
+                    w.gobj[i] += t * w.grad[c][i];
+                }
+            }
+        }
+        prob.add_load_gradient(self.kin.as_ref(), &mut w.gobj);
+    }
+
+    pub(super) fn residuals(&self) -> Residuals {
+        let (prob, w) = (self.prob, &self.w);
+        let mut feas = 0.0f64;
+        for &c in &self.cable_rows {
+            let r = prob.cable_gap(c, w.len[c], self.lam[c]);
+            feas = feas.max(if self.lam[c] > 0.0 {
+                r.abs()
+            } else {
+                r.max(0.0)
+            });
+        }
+        let mut gap = 0.0f64;
+        for (p, &m) in self.pairs.iter().zip(&self.mu) {
+            let r = self.clearance - p.dist;
+            gap = gap.max(if m > 0.0 { r.abs() } else { r.max(0.0) });
+        }
+        let mut stat = 0.0f64;
+        for i in 0..prob.nvar() {
+            let mut g = w.gobj[i];
+            for &c in &self.cable_rows {
+                g += self.lam[c] * w.grad[c][i];
+            }
+            for (p, &m) in self.pairs.iter().zip(&self.mu) {
+                g -= m * p.grad[i];
+            }
+            stat = stat.max(g.abs());
+        }
+        Residuals {
+            feas,
+            gap,
+            stat: stat * prob.stat_scale,
+        }
+    }
+
+    /// The converged result: the iterate and its pressing contacts.
+    pub(super) fn solution(mut self, iterations: usize, residual: f64) -> Solution {
+        let world = self.world;
+        let pressing: Vec<(&Pair, f64)> = self
+            .pairs
+            .iter()
+            .zip(&self.mu)
+            .filter(|(_, &m)| m > 0.0)
+            .map(|(p, &m)| (p, m))
+            .collect();
+        let sensitivity = if pressing.is_empty() || self.prob.set.contact_sensitivity {
+            self.prob.sensitivity(
+                &self.xi,
+                &self.wgt,
+                &self.lam,
+                &pressing,
+                self.kin.as_ref(),
+                &mut self.w,
+            )
+        } else {
+            Sensitivity {
+                stable: None,
+                jacobian: None,
+            }
+        };
+        let contacts = self
+            .pairs
+            .iter()
+            .zip(&self.mu)
+            .filter(|(_, &m)| m > 0.0)
+            .filter_map(|(p, &m)| world.map(|wd| wd.contact(p, m)))
+            .collect();
+        Solution {
+            xi: self.xi,
+            lam: self.lam,
+            contacts,
+            iterations,
+            residual,
+            sensitivity,
+        }
+    }
+}

@@ -1,0 +1,118 @@
+//! Backtracking on the ℓ1 merit along the Newton–KKT step ([`Sqp::line_search`]), with
+//! the guard that no feature passes through an obstacle between two iterates.
+
+// Index loops mirror the variable layout.
+#![allow(clippy::needless_range_loop)]
+
+use super::{dot, Sqp, CONTACT_NOISE};
+use crate::method::energy::contacts::{self, Kin, Pair};
+use crate::method::energy::problem::Target;
+
+impl<'p, 'a> Sqp<'p, 'a> {
+    /// Summed violation of the constraints at lengths `len` and pairs `ps` \[m\] (compliant
+    /// cables are springs in the merit, not constraints).
+    fn violation(&self, len: &[f64], ps: &[Pair]) -> f64 {
+        let mut v = 0.0;
+        for &c in &self.cable_rows {
+            if !self.prob.is_spring(c) {
+                v += self.prob.cable_gap(c, len[c], 0.0).max(0.0);
+            }
+        }
+        for p in ps {
+            v += (self.clearance - p.dist).max(0.0);
+        }
+        v
+    }
+
+    /// The ℓ1 merit `E + V + Σ T L + Σ ½ k (L − t)₊² + pen · violation` (the compliant
+    /// cables' springs, [`Problem::spring_energy`]).
+    fn merit(&self, x: &[f64], kin: Option<&Kin>, len: &[f64], ps: &[Pair], pen: f64) -> f64 {
+        let prob = self.prob;
+        let mut f = prob.energy(x) + prob.load_potential(kin) + prob.spring_energy(len);
+        for c in 0..prob.robot.cables.len() {
+            if let Target::Tension(t) = prob.targets[c] {
+                f += t * len[c];
+            }
+        }
+        f + pen * self.violation(len, ps)
+    }
+
+    /// Backtracking on the ℓ1 merit along `dxi` (every pair re-queried at the trial point);
+    /// the step length, 0 if no decrease was found (sets `stalled`).
+    pub(super) fn line_search(&mut self, lam_new: &[f64]) -> f64 {
+        let prob = self.prob;
+        let pen = 2.0 * lam_new.iter().cloned().fold(0.0, f64::max) + 1e-3;
+        let phi0 = self.merit(&self.xi, self.kin.as_ref(), &self.w.len, &self.pairs, pen);
+        let springs: f64 = self
+            .cable_rows
+            .iter()
+            .map(|&c| prob.spring_tension(c, self.w.len[c]) * dot(&self.w.grad[c], &self.dxi))
+            .sum();
+        let dphi =
+            dot(&self.w.gobj, &self.dxi) + springs - pen * self.violation(&self.w.len, &self.pairs);
+        // Near the solution the merit changes below round-off (or below the noise of
+        // parry's distances, with contacts): take the full step.
+        let noise = if self.pairs.is_empty() {
+            0.0
+        } else {
+            pen * CONTACT_NOISE
+        };
+        let tiny = dphi.abs() <= 1e-12 * phi0.abs() + noise;
+        let mut alpha: f64 = 1.0;
+        for _ in 0..40 {
+            for i in 0..prob.nvar() {
+                self.trial[i] = self.xi[i] + alpha * self.dxi[i];
+            }
+            let stretch_ok = (0..prob.nsub).all(|j| self.trial[4 * j + 3] > -1.0 + 1e-3);
+            // No point may move farther than the robot's distance to the obstacles, or
+            // than half the pair margin when closer: features near an obstacle are held
+            // by their linearized constraints, the others cannot reach one, so nothing
+            // passes through an obstacle between two iterates (distances to open meshes
+            // are unsigned: a jump through a wall would look clear).
+            let kin_trial = prob
+                .needs_frames()
+                .then(|| contacts::kinematics(&self.trial, &prob.ell, false));
+            let (trial_pairs, trial_clear) = match (self.world, &kin_trial) {
+                (Some(wd), Some(k)) if stretch_ok => wd.pairs(k),
+                _ => (vec![], f64::INFINITY),
+            };
+            // No feature may pass through an obstacle between two iterates (distances to
+            // open meshes are unsigned: a jump through a wall would look clear): either no
+            // point moves farther than the robot's distance to the obstacles (or half the
+            // pair margin when closer; features near an obstacle are held by their
+            // linearized constraints), or every feature–obstacle pair passes the tests of
+            // `energy/step_guard.rs` (distances, separating planes).
+            let near_enough = match (self.world, &self.kin, &kin_trial) {
+                (Some(wd), Some(k0), Some(k1)) => {
+                    wd.max_move(k0, k1) <= self.clear.max(0.5 * wd.margin())
+                        || wd.step_is_clear(
+                            (k0, &self.pairs, self.clear),
+                            (k1, &trial_pairs, trial_clear),
+                        )
+                }
+                _ => true,
+            };
+            if stretch_ok && near_enough {
+                prob.lengths(&self.trial, &mut self.trial_len);
+                let phi = self.merit(
+                    &self.trial,
+                    kin_trial.as_ref(),
+                    &self.trial_len,
+                    &trial_pairs,
+                    pen,
+                );
+                if phi.is_finite()
+                    && (tiny || phi <= phi0 + 1e-4 * alpha * dphi.min(0.0) + 1e-14 * phi0.abs())
+                {
+                    self.stalled = false;
+                    return alpha;
+                }
+            }
+            alpha *= 0.5;
+        }
+        // No decrease along this direction (round-off level, or a poor Gauss–Newton model):
+        // stay, and let the next iteration use the exact Hessian.
+        self.stalled = true;
+        0.0
+    }
+}

@@ -1,0 +1,348 @@
+//! Reading a scene file (format: [`super::scene`]): TOML, or JSON for a file named
+//! `*.json`, parsed into one typed form ([`FileScene`]), then every obstacle checked (errors
+//! name `obstacles[k].field`) and built into its parry shape, pose and bounds.
+
+use super::scene::{Obstacle, ObstacleKind, Scene};
+use crate::error::ModelError;
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use parry3d::math::{Pose, Vector as PVec};
+use parry3d::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape, TriMesh};
+use serde::Deserialize;
+use std::path::Path;
+
+impl Scene {
+    /// Read a scene file (`clearance` and `[[obstacles]]`); mesh paths are relative to it.
+    /// A file named `*.json` is read as JSON with the same fields and checks
+    /// ([`crate::model::scene`]).
+    pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, ModelError> {
+        let path = path.as_ref();
+        let text = super::read::read_text(path, "scene file")?;
+        let json = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let parsed = if json {
+            parse_json(&text)
+        } else {
+            toml::from_str(&text).map_err(|e| e.to_string())
+        };
+        let file: FileScene = parsed.map_err(|reason| ModelError::Parse {
+            path: path.display().to_string(),
+            reason: reason.trim_end().to_string(),
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        Scene::from_parts(file.clearance, &file.obstacles, dir, "")
+    }
+
+    /// Build from parsed file parts; `prefix` is prepended to field names in errors.
+    pub(crate) fn from_parts(
+        clearance: Option<f64>,
+        obstacles: &[FileObstacle],
+        dir: &Path,
+        prefix: &str,
+    ) -> Result<Scene, ModelError> {
+        let clearance = match clearance {
+            None => 0.0,
+            Some(c) => super::bounds::CLEARANCE.check(&format!("{prefix}clearance"), c)?,
+        };
+        let mut out: Vec<Obstacle> = Vec::with_capacity(obstacles.len());
+        // Names seen so far: a hash set keeps a scene of thousands of obstacles linear.
+        let mut names = std::collections::HashSet::with_capacity(obstacles.len());
+        for (k, o) in obstacles.iter().enumerate() {
+            let at = Field { prefix, k };
+            let ob = o.build(at, dir)?;
+            if !names.insert(ob.name.clone()) {
+                return Err(ModelError::invalid(
+                    at.name("name"),
+                    format!("two obstacles are named `{}`", ob.name),
+                ));
+            }
+            out.push(ob);
+        }
+        Ok(Scene {
+            clearance,
+            obstacles: out,
+        })
+    }
+}
+
+/// A JSON scene: serde_json into the same typed [`FileScene`] as TOML (no intermediate
+/// value tree). On an error the text is parsed once more with `serde_path_to_error` (which
+/// allocates every key, so not on the path that succeeds), to prefix the message with the
+/// path of the field that failed (`obstacles[3].radius: invalid type …`).
+fn parse_json(text: &str) -> Result<FileScene, String> {
+    let plain = match serde_json::from_str(text) {
+        Ok(file) => return Ok(file),
+        Err(e) => e.to_string(),
+    };
+    let mut de = serde_json::Deserializer::from_str(text);
+    match serde_path_to_error::deserialize::<_, FileScene>(&mut de) {
+        Err(e) if e.path().to_string() != "." => Err(format!("{}: {}", e.path(), e.inner())),
+        // At the top level, or after the value (trailing text): the plain message.
+        _ => Err(plain),
+    }
+}
+
+/// A scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileScene {
+    clearance: Option<f64>,
+    #[serde(default)]
+    obstacles: Vec<FileObstacle>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+enum FileRotation {
+    Rpy([f64; 3]),
+    Quaternion([f64; 4]),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum FileScale {
+    Uniform(f64),
+    PerAxis([f64; 3]),
+}
+
+/// One `[[obstacles]]` entry as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FileObstacle {
+    name: Option<String>,
+    shape: String,
+    #[serde(default)]
+    position: Option<[f64; 3]>,
+    rotation: Option<FileRotation>,
+    radius: Option<f64>,
+    half_extents: Option<[f64; 3]>,
+    half_height: Option<f64>,
+    path: Option<String>,
+    scale: Option<FileScale>,
+}
+
+/// Where obstacle `k` stands in its file (`{prefix}obstacles[{k}]`); field names are
+/// formatted only when an error needs one.
+#[derive(Clone, Copy)]
+struct Field<'a> {
+    prefix: &'a str,
+    k: usize,
+}
+
+impl Field<'_> {
+    fn name(&self, n: &str) -> String {
+        format!("{}obstacles[{}].{n}", self.prefix, self.k)
+    }
+}
+
+/// A size: present and inside [`super::bounds::OBSTACLE_SIZE`].
+fn size(at: Field, n: &str, v: Option<f64>) -> Result<f64, ModelError> {
+    match v {
+        None => Err(ModelError::invalid(at.name(n), "missing")),
+        Some(x) if super::bounds::OBSTACLE_SIZE.accepts(x) => Ok(x),
+        Some(x) => super::bounds::OBSTACLE_SIZE.check(&at.name(n), x),
+    }
+}
+
+/// An obstacle's shape as ccrkit keeps it, the parry shape, and the pose handed to parry.
+type Built = (ObstacleKind, SharedShape, Isometry3<f64>);
+
+impl FileObstacle {
+    fn build(&self, at: Field, dir: &Path) -> Result<Obstacle, ModelError> {
+        let name = match &self.name {
+            Some(n) if n.trim().is_empty() => {
+                return Err(ModelError::invalid(at.name("name"), "must not be empty"))
+            }
+            Some(n) => n.clone(),
+            None => format!("obstacle{}", at.k),
+        };
+        let p = self.position.unwrap_or([0.0; 3]);
+        let coordinate = super::bounds::COORDINATE;
+        if !p.iter().all(|x| coordinate.accepts(*x)) {
+            coordinate.check3(&at.name("position"), p)?;
+        }
+        let pose = Isometry3::from_parts(Translation3::new(p[0], p[1], p[2]), self.rotation(at)?);
+        let (kind, shape, parry_iso) = match self.shape.as_str() {
+            "sphere" => {
+                self.only(at, &["radius"])?;
+                let r = size(at, "radius", self.radius)?;
+                (
+                    ObstacleKind::Sphere { radius: r },
+                    SharedShape::new(Ball::new(r)),
+                    pose,
+                )
+            }
+            "box" => self.cuboid(at, pose)?,
+            "capsule" | "cylinder" => self.round(at, pose)?,
+            "mesh" => self.mesh(at, dir, pose)?,
+            other => {
+                return Err(ModelError::invalid(
+                    at.name("shape"),
+                    format!("unknown shape `{other}`: use sphere, box, capsule, cylinder or mesh"),
+                ))
+            }
+        };
+        let parry_pose: Pose = parry_iso.into();
+        let a = shape.compute_aabb(&parry_pose);
+        let aabb = (
+            Vector3::new(a.mins.x, a.mins.y, a.mins.z),
+            Vector3::new(a.maxs.x, a.maxs.y, a.maxs.z),
+        );
+        Ok(Obstacle {
+            name,
+            kind,
+            pose,
+            shape,
+            parry_pose,
+            aabb,
+        })
+    }
+
+    /// The rotation as written (roll–pitch–yaw or a quaternion, normalized); identity if none.
+    fn rotation(&self, at: Field) -> Result<UnitQuaternion<f64>, ModelError> {
+        Ok(match &self.rotation {
+            None => UnitQuaternion::identity(),
+            Some(FileRotation::Rpy(r)) => {
+                if r.iter().any(|x| !x.is_finite()) {
+                    return Err(ModelError::invalid(
+                        at.name("rotation.rpy"),
+                        "must be finite",
+                    ));
+                }
+                UnitQuaternion::from_euler_angles(r[0], r[1], r[2])
+            }
+            Some(FileRotation::Quaternion(q)) => {
+                let n = (q.iter().map(|x| x * x).sum::<f64>()).sqrt();
+                if !n.is_finite() || n < 1e-9 {
+                    return Err(ModelError::invalid(
+                        at.name("rotation.quaternion"),
+                        "must be a finite, non-zero [w, x, y, z]",
+                    ));
+                }
+                UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
+            }
+        })
+    }
+
+    /// Refuses a size given that this shape does not have (it would be silently ignored).
+    fn only(&self, at: Field, names: &[&str]) -> Result<(), ModelError> {
+        let given = [
+            ("radius", self.radius.is_some()),
+            ("half_extents", self.half_extents.is_some()),
+            ("half_height", self.half_height.is_some()),
+            ("path", self.path.is_some()),
+            ("scale", self.scale.is_some()),
+        ];
+        for (n, g) in given {
+            if g && !names.contains(&n) {
+                return Err(ModelError::invalid(
+                    at.name(n),
+                    format!("not a size of a {}", self.shape),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn cuboid(&self, at: Field, pose: Isometry3<f64>) -> Result<Built, ModelError> {
+        self.only(at, &["half_extents"])?;
+        let he = self
+            .half_extents
+            .ok_or_else(|| ModelError::invalid(at.name("half_extents"), "missing"))?;
+        for (i, h) in he.iter().enumerate() {
+            if !super::bounds::OBSTACLE_SIZE.accepts(*h) {
+                size(at, &format!("half_extents[{i}]"), Some(*h))?;
+            }
+        }
+        Ok((
+            ObstacleKind::Box {
+                half_extents: Vector3::new(he[0], he[1], he[2]),
+            },
+            SharedShape::new(Cuboid::new(PVec::new(he[0], he[1], he[2]))),
+            pose,
+        ))
+    }
+
+    /// A capsule or a cylinder: along our local z, turned onto parry's local y.
+    fn round(&self, at: Field, pose: Isometry3<f64>) -> Result<Built, ModelError> {
+        self.only(at, &["radius", "half_height"])?;
+        let r = size(at, "radius", self.radius)?;
+        let h = size(at, "half_height", self.half_height)?;
+        let z_to_y =
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -std::f64::consts::FRAC_PI_2);
+        let iso = pose * z_to_y;
+        Ok(if self.shape == "capsule" {
+            (
+                ObstacleKind::Capsule {
+                    radius: r,
+                    half_height: h,
+                },
+                SharedShape::new(Capsule::new_y(h, r)),
+                iso,
+            )
+        } else {
+            (
+                ObstacleKind::Cylinder {
+                    radius: r,
+                    half_height: h,
+                },
+                SharedShape::new(Cylinder::new(h, r)),
+                iso,
+            )
+        })
+    }
+
+    /// A triangle mesh read from `path` (relative to `dir`), scaled, every vertex in range.
+    fn mesh(&self, at: Field, dir: &Path, pose: Isometry3<f64>) -> Result<Built, ModelError> {
+        self.only(at, &["path", "scale"])?;
+        let rel = self
+            .path
+            .as_ref()
+            .ok_or_else(|| ModelError::invalid(at.name("path"), "missing"))?;
+        let full = dir.join(rel);
+        let scale = match &self.scale {
+            None => Vector3::new(1.0, 1.0, 1.0),
+            Some(FileScale::Uniform(s)) => Vector3::new(*s, *s, *s),
+            Some(FileScale::PerAxis(s)) => Vector3::new(s[0], s[1], s[2]),
+        };
+        for k in 0..3 {
+            super::bounds::MESH_SCALE.check(&at.name("scale"), scale[k])?;
+        }
+        let (verts, tris) = crate::model::mesh::load(&full).map_err(|reason| {
+            ModelError::invalid(
+                at.name("path"),
+                format!("cannot load mesh `{}`: {reason}", full.display()),
+            )
+        })?;
+        let verts: Vec<Vector3<f64>> = verts.iter().map(|v| v.component_mul(&scale)).collect();
+        if let Some(v) = verts
+            .iter()
+            .find(|v| v.amax() > super::bounds::COORDINATE.hi)
+        {
+            return Err(ModelError::invalid(
+                at.name("scale"),
+                format!(
+                    "a scaled vertex lies at {:e} m, beyond the {:e} m ccrkit accepts",
+                    v.amax(),
+                    super::bounds::COORDINATE.hi
+                ),
+            ));
+        }
+        let pv: Vec<PVec> = verts.iter().map(|v| PVec::new(v.x, v.y, v.z)).collect();
+        let tm = TriMesh::new(pv, tris.clone()).map_err(|e| {
+            ModelError::invalid(
+                at.name("path"),
+                format!("mesh `{}` is not usable: {e:?}", full.display()),
+            )
+        })?;
+        Ok((
+            ObstacleKind::Mesh {
+                path: full,
+                vertices: verts,
+                triangles: tris,
+            },
+            SharedShape::new(tm),
+            pose,
+        ))
+    }
+}
