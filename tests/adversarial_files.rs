@@ -358,8 +358,9 @@ fn json_scenes_and_cable_compliance_end_named_and_bounded() {
 }
 
 /// Issue 11 finding (not fixed here: the cost is in `src/method/geometric` and
-/// `src/method/energy`): a JSON scene of 2000 identical boxes, which the scene reader accepts,
-/// keeps `geometric` and `energy` solving case I for over 100 s (200 boxes: 18 s and 3 s).
+/// `src/method/energy`): a JSON scene of 2000 identical boxes within reach of the robot, which
+/// the scene reader accepts, keeps `geometric` and `energy` solving case I for over 100 s
+/// (200 boxes: 18 s and 3 s; the same 2000 boxes far away: 0.03 s, the broad phase drops them).
 #[test]
 #[ignore = "finding reported to the method owners: solve time grows with the obstacle count without bound"]
 fn many_obstacles_solve_within_the_budget() {
