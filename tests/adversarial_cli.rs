@@ -301,3 +301,201 @@ fn every_flag_a_method_does_not_take_is_refused_by_name() {
     println!("unused flags: {refused} refused by name, {taken} taken");
     assert!(refused > 0 && taken > 0);
 }
+
+/// `--set stability=…` with bad values on every method, and `predict`/`calibrate` with absurd
+/// data CSVs (empty, header only, non-numeric, 1e308, NaN, missing columns, ragged rows,
+/// devices) and absurd options: each run named and bounded, never exit 0 with a non-finite
+/// number (the `predict` CSV is checked for `NaN`/`inf` too).
+#[test]
+fn stability_setting_and_data_csvs_end_named_and_bounded() {
+    let dir = scratch("data");
+    let c1 = case(1);
+    let mut jobs: Vec<(Vec<String>, Option<std::path::PathBuf>)> = vec![];
+    for m in methods() {
+        for v in [
+            "check",
+            "skip",
+            "",
+            "CHECK",
+            "nan",
+            "1",
+            "check,skip",
+            "maybe",
+            "skip ",
+        ] {
+            jobs.push((
+                args(&[
+                    "solve",
+                    &c1,
+                    "--method",
+                    &m,
+                    "--set",
+                    &format!("stability={v}"),
+                ]),
+                None,
+            ));
+        }
+    }
+    let model = root().join("models/hardware/ftdcr_v4.toml");
+    let model = model.display().to_string();
+    let real = std::fs::read_to_string(
+        root().join("models/hardware/data/v4/tdcr_sysid_20260511-183002_val.csv"),
+    )
+    .expect("hardware data");
+    let lines: Vec<&str> = real.lines().take(31).collect();
+    let header = lines[0];
+    let body = &lines[1..];
+    let with_cell = |v: &str| -> String {
+        // The third cell (the first servo) of every row replaced by `v`.
+        let rows: Vec<String> = body
+            .iter()
+            .map(|r| {
+                let mut c: Vec<&str> = r.split(',').collect();
+                c[2] = v;
+                c.join(",")
+            })
+            .collect();
+        format!("{header}\n{}\n", rows.join("\n"))
+    };
+    let without = |col: &str| -> String {
+        let cols: Vec<&str> = header.split(',').collect();
+        let k = cols.iter().position(|c| *c == col).expect("column");
+        lines
+            .iter()
+            .map(|r| {
+                let mut c: Vec<&str> = r.split(',').collect();
+                c.remove(k);
+                c.join(",")
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let csvs: Vec<(&str, String)> = vec![
+        ("empty", String::new()),
+        ("header", format!("{header}\n")),
+        ("one", format!("{header}\n{}\n", body[0])),
+        ("text", with_cell("x")),
+        ("nan", with_cell("NaN")),
+        ("inf", with_cell("inf")),
+        ("huge", with_cell("1e308")),
+        ("neghuge", with_cell("-1e308")),
+        ("blank", with_cell("")),
+        ("ragged", format!("{header}\n{}\n1,2,3\n", body[0])),
+        ("no_tip_z", without("tip_z")),
+        ("no_servo", without("servo_4_mm")),
+        ("no_label", without("pattern_label")),
+        ("binary", "\u{0}\u{1}\u{ff}".into()),
+        (
+            "tip_nan",
+            real.lines()
+                .take(31)
+                .collect::<Vec<_>>()
+                .join("\n")
+                .replace(",18", ",NaN"),
+        ),
+    ];
+    let mut files = vec![];
+    for (name, text) in &csvs {
+        let p = dir.join(format!("{name}.csv"));
+        std::fs::write(&p, text).expect("write csv");
+        files.push(p.display().to_string());
+    }
+    files.extend([
+        "/dev/zero".into(),
+        "/dev/null".into(),
+        "/".into(),
+        "no-such.csv".into(),
+    ]);
+    for (j, f) in files.iter().enumerate() {
+        let out = format!("p{j}.csv");
+        jobs.push((args(&["predict", &model, "--data", f, "--out", &out]), None));
+        jobs.push((
+            args(&[
+                "calibrate",
+                &model,
+                "--data",
+                f,
+                "--out",
+                &format!("f{j}.toml"),
+                "--max-iterations",
+                "2",
+            ]),
+            None,
+        ));
+    }
+    let good = dir.join("good.csv");
+    std::fs::write(&good, format!("{}\n", lines.join("\n"))).expect("write");
+    let good = good.display().to_string();
+    for extra in [
+        &["--unit", "km"][..],
+        &["--unit", ""],
+        &["--chunk", "0"],
+        &["--chunk", "18446744073709551615"],
+        &["--columns", "servo_4_mm"],
+        &["--columns", "no_such,servo_3_mm"],
+        &[
+            "--columns",
+            "tip_x,tip_y,tip_z,servo_1_mm,servo_2_mm,servo_3_mm,servo_5_mm,servo_6_mm,servo_7_mm",
+        ],
+        &["--method", "no-such"],
+        &["--set", "stability=maybe"],
+    ] {
+        let mut a = args(&["predict", &model, "--data", &good, "--out", "pe.csv"]);
+        a.extend(args(extra));
+        jobs.push((a, None));
+    }
+    for fit in [
+        "no-such",
+        "axial-compliance.seg9",
+        "axial-compliance.segx",
+        "axial-compliance.",
+        "base.rz,base.rz",
+        "base.rx",
+        "",
+        ",",
+    ] {
+        jobs.push((
+            args(&[
+                "calibrate",
+                &model,
+                "--data",
+                &good,
+                "--out",
+                "fe.toml",
+                "--max-iterations",
+                "2",
+                "--fit",
+                fit,
+            ]),
+            None,
+        ));
+    }
+    for it in ["0", "18446744073709551616", "-1", "nan"] {
+        jobs.push((
+            args(&[
+                "calibrate",
+                &model,
+                "--data",
+                &good,
+                "--out",
+                "fe.toml",
+                "--max-iterations",
+                it,
+            ]),
+            None,
+        ));
+    }
+    let t = run_all(&dir, jobs, BUDGET);
+    // Exit 0 of `predict` wrote a CSV: no `NaN`/`inf` in a row marked solved.
+    for (j, file) in files.iter().enumerate() {
+        if let Ok(text) = std::fs::read_to_string(dir.join(format!("p{j}.csv"))) {
+            for l in text.lines().filter(|l| l.ends_with(",ok")) {
+                assert!(
+                    !l.to_lowercase().contains("nan") && !l.to_lowercase().contains("inf"),
+                    "predict on {file} wrote a non-finite solved row: {l}"
+                );
+            }
+        }
+    }
+    t.report_and_assert("stability setting and data CSVs");
+}

@@ -22,6 +22,11 @@ const VALUES: &[&str] = &[
 
 /// Byte ranges of the numeric literals outside comments (`= 1.5`, `[0.1, -2e-3]`, `{ a = 3 }`).
 fn numbers(text: &str) -> Vec<(usize, usize)> {
+    numbers_after(text, &['=', '[', ',', '{'])
+}
+
+/// Byte ranges of the numeric literals that follow one of `seps` (JSON: `:`, `[`, `,`).
+fn numbers_after(text: &str, seps: &[char]) -> Vec<(usize, usize)> {
     let mut out = vec![];
     let mut line_start = 0;
     for line in text.split_inclusive('\n') {
@@ -31,7 +36,7 @@ fn numbers(text: &str) -> Vec<(usize, usize)> {
         while i < b.len() {
             let starts = (b[i].is_ascii_digit()
                 || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit)))
-                && code[..i].trim_end().ends_with(['=', '[', ',', '{']);
+                && code[..i].trim_end().ends_with(seps);
             if starts {
                 let mut j = i + 1;
                 while j < b.len() && (b[j].is_ascii_alphanumeric() || b"+-.".contains(&b[j])) {
@@ -203,4 +208,184 @@ proptest! {
             Err(e) => prop_assert!(false, "unexpected {e:?}"),
         }
     }
+}
+
+/// JSON values that replace each number of a JSON scene (`NaN` and `1e999` are not JSON).
+const JSON_VALUES: &[&str] = &[
+    "0", "-1", "1e308", "-1e308", "1e-300", "1e999", "NaN", "\"x\"", "true", "[]", "null", "{}",
+    "-0.0",
+];
+
+/// Every mutant of a JSON scene: each number replaced, each line deleted or duplicated, the
+/// text truncated at twenty points, wrong types for whole fields, huge arrays, devices.
+fn json_scene_mutants(text: &str, dir: &Path) -> Vec<String> {
+    let mut out = vec![];
+    for (a, b) in numbers_after(text, &[':', '[', ',']) {
+        for v in JSON_VALUES {
+            out.push(format!("{}{}{}", &text[..a], v, &text[b..]));
+        }
+    }
+    let lines: Vec<&str> = text.lines().collect();
+    for k in 0..lines.len() {
+        let mut del = lines.clone();
+        del.remove(k);
+        out.push(del.join("\n"));
+        let mut dup = lines.clone();
+        dup.insert(k, lines[k]);
+        out.push(dup.join("\n"));
+    }
+    let step = (text.len() / 20).max(1);
+    for k in (0..text.len()).step_by(step) {
+        out.push(text[..k].to_string());
+    }
+    let box_ =
+        r#"{"shape": "box", "position": [0.055, 0.0, 0.10], "half_extents": [0.005, 0.15, 0.12]}"#;
+    // 50 boxes: the geometric method spends ~0.1 s per obstacle; thousands exceed any budget
+    // (`many_obstacles_solve_within_the_budget`, ignored: a finding left to the methods).
+    let many = vec![box_; 50].join(",");
+    let long = vec!["0.1"; 100_000].join(",");
+    let zero_mesh = r#"{"obstacles": [{"shape": "mesh", "path": "/dev/zero"}]}"#;
+    out.extend([
+        String::new(),
+        "[]".into(),
+        "null".into(),
+        "{}".into(),
+        r#"{"obstacles": {}}"#.into(),
+        r#"{"obstacles": "wall"}"#.into(),
+        r#"{"obstacles": [], "clearance": "0"}"#.into(),
+        r#"{"obstacles": [], "clearance": -1}"#.into(),
+        r#"{"obstacles": [{"shape": "sphere"}]}"#.into(),
+        r#"{"obstacles": [{"shape": "box", "position": [0, 0], "half_extents": [1, 1, 1]}]}"#.into(),
+        format!(r#"{{"obstacles": [{box_}], "obstacles": []}}"#),
+        format!(r#"{{"obstacles": [{many}]}}"#),
+        format!(r#"{{"obstacles": [{{"shape": "box", "position": [{long}], "half_extents": [1, 1, 1]}}]}}"#),
+        zero_mesh.into(),
+        zero_mesh.replace("/dev/zero", &dir.join("no-such.stl").display().to_string()),
+        "{".repeat(100_000),
+    ]);
+    out
+}
+
+/// `case` with `extra` (e.g. `stiffness = 1e4`) added to every cable table.
+fn with_cable_fields(case: &str, extra: &str) -> String {
+    case.replace("[[cables]]\n", &format!("[[cables]]\n{extra}\n"))
+}
+
+/// Issue 11 for the inputs that landed later: mutated JSON scenes (truncated, wrong types,
+/// absurd and huge numbers, huge arrays, `/dev/zero`) and absurd cable `stiffness` and
+/// `pretension` on every method.
+#[test]
+fn json_scenes_and_cable_compliance_end_named_and_bounded() {
+    let dir = scratch("json-compliance");
+    let ms = methods();
+    let case1 = root().join("models/paper/case1.toml").display().to_string();
+    let mut jobs = vec![];
+    let mut k = 0usize;
+    let mut job = |a: Vec<String>, jobs: &mut Vec<_>| {
+        let json = dir.join(format!("out{k}.json"));
+        let mut a = a;
+        a.extend(["--json".to_string(), json.display().to_string()]);
+        jobs.push((a, Some(json)));
+        k += 1;
+    };
+    let wall = std::fs::read_to_string(root().join("models/scenes/wall.json")).expect("scene");
+    let mut scenes = vec![];
+    for (j, m) in json_scene_mutants(&wall, &dir).iter().enumerate() {
+        scenes.push(write(&dir, &format!("wall_{j}.json"), m));
+    }
+    #[cfg(unix)]
+    {
+        let z = dir.join("zero.json");
+        let _ = std::os::unix::fs::symlink("/dev/zero", &z);
+        scenes.push(z);
+    }
+    let n_scenes = scenes.len();
+    for (j, p) in scenes.into_iter().enumerate() {
+        let m = ms[j % ms.len()].clone();
+        let a = vec![
+            "solve".into(),
+            case1.clone(),
+            "--method".into(),
+            m,
+            "--scene".into(),
+        ];
+        let mut a: Vec<String> = a;
+        a.push(p.display().to_string());
+        job(a, &mut jobs);
+    }
+    let stiffness = [
+        "0", "-1", "1e308", "\"nan\"", "nan", "inf", "1e-300", "1e5", "-0.0", "\"x\"",
+    ];
+    let pretension = ["0", "-1", "1e308", "\"nan\"", "nan", "1e5", "1", "-inf"];
+    let mut extras: Vec<String> = stiffness
+        .iter()
+        .map(|v| format!("stiffness = {v}"))
+        .collect();
+    extras.extend(
+        pretension
+            .iter()
+            .map(|v| format!("stiffness = 1e4\npretension = {v}")),
+    );
+    extras.push("pretension = 1".into());
+    for n in 1..=2 {
+        let text = std::fs::read_to_string(root().join(format!("models/paper/case{n}.toml")))
+            .expect("paper case");
+        for (e, extra) in extras.iter().enumerate() {
+            let p = write(
+                &dir,
+                &format!("case{n}_k{e}.toml"),
+                &with_cable_fields(&text, extra),
+            );
+            for m in &ms {
+                job(
+                    vec![
+                        "solve".into(),
+                        p.display().to_string(),
+                        "--method".into(),
+                        m.clone(),
+                    ],
+                    &mut jobs,
+                );
+            }
+        }
+    }
+    println!(
+        "{n_scenes} JSON scenes, {} compliance runs",
+        jobs.len() - n_scenes
+    );
+    let t = run_all(&dir, jobs, BUDGET);
+    t.report_and_assert("JSON scenes and cable compliance");
+}
+
+/// Issue 11 finding (not fixed here: the cost is in `src/method/geometric` and
+/// `src/method/energy`): a JSON scene of 2000 identical boxes within reach of the robot, which
+/// the scene reader accepts, keeps `geometric` and `energy` solving case I for over 100 s
+/// (200 boxes: 18 s and 3 s; the same 2000 boxes far away: 0.03 s, the broad phase drops them).
+#[test]
+#[ignore = "finding reported to the method owners: solve time grows with the obstacle count without bound"]
+fn many_obstacles_solve_within_the_budget() {
+    let dir = scratch("many-obstacles");
+    let box_ =
+        r#"{"shape": "box", "position": [0.055, 0.0, 0.10], "half_extents": [0.005, 0.15, 0.12]}"#;
+    let p = write(
+        &dir,
+        "many.json",
+        &format!(r#"{{"obstacles": [{}]}}"#, vec![box_; 2000].join(",")),
+    );
+    let case1 = root().join("models/paper/case1.toml").display().to_string();
+    let jobs = ["geometric", "energy"]
+        .iter()
+        .map(|m| {
+            let a = [
+                "solve",
+                &case1,
+                "--method",
+                m,
+                "--scene",
+                &p.display().to_string(),
+            ];
+            (a.iter().map(|s| s.to_string()).collect(), None)
+        })
+        .collect();
+    run_all(&dir, jobs, BUDGET).report_and_assert("many obstacles");
 }
