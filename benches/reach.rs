@@ -1,7 +1,7 @@
 //! Inverse problems (issue 13 measures): reach on the paper robot (energy) without obstacles
 //! and next to the wall; a cold RRT-Connect plan and a roadmap query around a ball blocking
-//! the straight path (case 1), and a cold plan inside the vessel (two-segment robot) whose
-//! straight actuation path leaves the tube.
+//! the straight path (case 1), and a cold plan and roadmap queries inside the vessel
+//! (two-segment robot), one of whose straight actuation path leaves the tube.
 //!
 //! `cargo bench --bench reach`
 
@@ -127,7 +127,60 @@ fn bench_plan(c: &mut Criterion) {
             .unwrap()
         })
     });
+    // The same query through a roadmap (default build: 400 uniform + 400 expansion samples),
+    // and 28 seeded random feasible queries (every pair of 8 admissible uniform samples, as in
+    // tests/plan.rs vessel_queries_succeed) through it: queries/s = 28 / time per iteration.
+    let rm = build(&model, &req, &BuildOptions::default()).unwrap();
+    g.bench_function("vessel_roadmap_query", |b| {
+        b.iter(|| {
+            rm.query(
+                &model,
+                &req,
+                Some(s.clone()),
+                &Goal::Actuation(t.clone()),
+                &opts,
+            )
+            .unwrap()
+        })
+    });
+    let ends = admissible(&Space::new(&model, &req, false).unwrap(), 7, 8);
+    g.bench_function("vessel_roadmap_28_random_queries", |b| {
+        b.iter(|| {
+            for i in 0..ends.len() {
+                for j in i + 1..ends.len() {
+                    rm.query(
+                        &model,
+                        &req,
+                        Some(ends[i].clone()),
+                        &Goal::Actuation(ends[j].clone()),
+                        &opts,
+                    )
+                    .unwrap();
+                }
+            }
+        })
+    });
     g.finish();
+}
+
+/// `n` seeded uniform samples of the limits box that keep the margin.
+fn admissible(space: &Space, seed: u64, n: usize) -> Vec<Vec<f64>> {
+    use rand_core::{Rng, SeedableRng};
+    let mut ck = ccrkit::plan::Checker::new(space, space.margin);
+    let mut rng = rand_xorshift::XorShiftRng::seed_from_u64(seed);
+    let mut out = Vec::new();
+    while out.len() < n {
+        let u: Vec<f64> = (0..space.dim())
+            .map(|c| {
+                let f = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                space.lo[c] + f * (space.hi[c] - space.lo[c])
+            })
+            .collect();
+        if ck.node(&u, None).is_some() {
+            out.push(u);
+        }
+    }
+    out
 }
 
 criterion_group!(benches, bench_reach, bench_plan);

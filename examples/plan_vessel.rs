@@ -3,8 +3,9 @@
 //! cold with RRT-Connect between two actuations inside the tube (`models/plan/vessel_start.json`,
 //! `vessel_goal.json`: admissible seeded uniform samples of the limits box) whose straight
 //! actuation path leaves the tube — the planner must find a detour (checked here: the straight
-//! edge is refused). Then a roadmap query (the roadmap in the tube is nearly empty: uniform
-//! samples of the 6-cable box rarely lie inside it, so it may find no path; printed either way).
+//! edge is refused). Then the same query through a roadmap (uniform samples, of which about 1
+//! in 200 lies inside the tube, then Gaussian expansion samples around those: see
+//! `ccrkit::plan::roadmap`).
 //! Writes the path's figure, the plan as JSON and the trajectory (joint values of the
 //! articulated URDF export) to OUT_DIR (default `target/plan_vessel`).
 //!

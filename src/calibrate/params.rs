@@ -323,3 +323,58 @@ pub fn parse_all(names: &[String], robot: &Robot) -> Result<Vec<Param>, SolveErr
     }
     Ok(ps)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v4() -> Model {
+        Model::from_file(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/models/hardware/ftdcr_v4.toml"
+        ))
+        .expect("v4")
+    }
+
+    /// `axial-compliance.seg2 = 1/EA` gives each distal cable `k = EA/ℓ` with ℓ its length from
+    /// the base to disk 30 (186.5 mm of straight tendon), leaves the other cables alone, and
+    /// reads back as 1/EA; `base.rz` is the z of the base rotation vector.
+    #[test]
+    fn axial_compliance_is_ea_over_length_and_base_rz_turns_the_base() {
+        let mut m = v4();
+        let ps = parse_all(
+            &["axial-compliance.seg2".into(), "base.rz".into()],
+            &m.robot,
+        )
+        .expect("names");
+        let ea = 400.0; // N
+        ps[0].set(&mut m, 1.0 / ea);
+        ps[1].set(&mut m, 0.05);
+        for (c, cable) in m.robot.cables.iter().enumerate() {
+            if c >= 6 {
+                let k = cable.stiffness.expect("compliant");
+                assert!((k - ea / 0.1865).abs() < 1e-9 * k, "cable {c}: {k}");
+            } else {
+                assert_eq!(cable.stiffness, None, "cable {c}");
+            }
+        }
+        assert!((ps[0].get(&m) - 1.0 / ea).abs() < 1e-15);
+        assert_eq!(
+            m.hardware.base_rotation,
+            nalgebra::Vector3::new(0.0, 0.0, 0.05)
+        );
+        assert_eq!(ps[1].get(&m), 0.05);
+        // Both forms of the compliance set a cable's stiffness: refused together, by name.
+        let e = parse_all(
+            &["compliance".into(), "axial-compliance.seg1".into()],
+            &m.robot,
+        )
+        .expect_err("overlap");
+        assert!(e.to_string().contains("axial-compliance.seg1"), "{e}");
+        let e = parse_all(&["base.rx".into()], &m.robot).expect_err("only rz");
+        assert!(e.to_string().contains("base.rz"), "{e}");
+        // A projected step stays in the model.
+        assert_eq!(ps[0].project(-1e-3), 0.0);
+        assert_eq!(ps[1].project(-0.3), -0.3);
+    }
+}

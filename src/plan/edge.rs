@@ -170,9 +170,12 @@ impl<'a> Checker<'a> {
         let mut certified = f64::INFINITY;
         let mut measured = a.clearance.min(b.clearance);
         let mut pieces = 0;
-        // Depth-first over sub-intervals, nearest `a` first; owned sample nodes.
-        let mut stack: Vec<(Node, Node, f64)> = vec![(a.clone(), b.clone(), len)];
-        while let Some((n0, n1, l)) = stack.pop() {
+        // Breadth-first over sub-intervals (midpoint, then quarters, …): a blocked edge is
+        // usually refused after a few coarse midpoints; a clear edge solves the same
+        // midpoints in any order. Owned sample nodes.
+        let mut queue: std::collections::VecDeque<(Node, Node, f64)> =
+            std::collections::VecDeque::from([(a.clone(), b.clone(), len)]);
+        while let Some((n0, n1, l)) = queue.pop_front() {
             let bound = 0.5
                 * (n0.clearance + n1.clearance - KAPPA * motion_bound(robot, &n0.shape, &n1.shape));
             if bound >= self.margin {
@@ -188,8 +191,8 @@ impl<'a> Checker<'a> {
                 return EdgeCheck::Blocked;
             };
             measured = measured.min(m.clearance);
-            stack.push((m.clone(), n1, 0.5 * l));
-            stack.push((n0, m, 0.5 * l));
+            queue.push_back((n0, m.clone(), 0.5 * l));
+            queue.push_back((m, n1, 0.5 * l));
         }
         EdgeCheck::Clear {
             certified,

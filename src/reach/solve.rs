@@ -254,11 +254,13 @@ struct Ctx<'a> {
     len: f64,
     solves: usize,
     exact: bool,
+    /// Search without the clearance (the fallback of [`reach_in`]).
+    free: bool,
 }
 
 impl Ctx<'_> {
     fn keep_clear(&self) -> bool {
-        !self.opts.allow_contact && !self.space.scene.is_empty()
+        !self.free && !self.opts.allow_contact && !self.space.scene.is_empty()
     }
 
     fn merit(&self, u: &[f64], shape: &Shape) -> (f64, f64) {
@@ -484,24 +486,54 @@ pub fn reach_in(
         len: model.robot.length(),
         solves: 0,
         exact: false,
+        free: false,
     };
     let mut best: Option<Attempt> = None;
-    let mut iterations = 0;
-    let mut starts = 0;
-    for s in 0..opts.starts {
-        starts += 1;
-        let Ok(a) = ctx.descend(&start(space, s)) else {
-            continue;
-        };
+    let (mut iterations, mut starts) = (0, 0);
+    let mut consider = |a: Attempt, best: &mut Option<Attempt>| {
         iterations += a.iterations;
         let better = best.as_ref().is_none_or(|b| {
             a.res < b.res - 1e-12 || (a.res <= b.res + 1e-12 && a.effort < b.effort)
         });
         if better {
-            best = Some(a);
+            *best = Some(a);
+        }
+    };
+    for s in 0..opts.starts {
+        starts += 1;
+        if let Ok(a) = ctx.descend(&start(space, s)) {
+            consider(a, &mut best);
         }
         if best.as_ref().is_some_and(|b| b.res <= opts.tolerance) {
             break;
+        }
+    }
+    // Keeping clear, every start may be stuck against the obstacles (a start whose shape
+    // crosses a tube cannot move into it without passing through the wall): then the same
+    // starts without the clearance, and a clear search from the first actuation that reaches
+    // the target — if that one is clear, the search keeps it (its merit has no violation).
+    if ctx.keep_clear() && best.as_ref().is_none_or(|b| b.res > opts.tolerance) {
+        ctx.free = true;
+        let mut seed = None;
+        for s in 0..opts.starts {
+            starts += 1;
+            if let Ok(a) = ctx.descend(&start(space, s)) {
+                if a.res <= opts.tolerance {
+                    seed = Some(a.u);
+                    break;
+                }
+            }
+        }
+        ctx.free = false;
+        if let Some(Ok(a)) = seed.map(|u| ctx.descend(&u)) {
+            ctx.solves += 1;
+            let clear = space
+                .solve(&a.u, None)
+                .ok()
+                .is_some_and(|sh| space.clearance(&sh).is_none_or(|c| c.distance >= margin));
+            if clear {
+                consider(a, &mut best);
+            }
         }
     }
     let best = best.ok_or_else(|| SolveError::InvalidInput {
