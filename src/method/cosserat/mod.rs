@@ -161,18 +161,20 @@
 //! # Files
 //!
 //! `settings` (the solver's options) · `rhs` (the plain Rucker–Webster right-hand side, the
-//! math in one short function) · `variational` (its derivatives: the tangent equations, the
-//! exact shooting Jacobian) · `integrate` (RK4 over sections, jumps at the disks, one
-//! shooting pass) · `adaptive` (Dormand–Prince over stretches between jumps) · `problem`
-//! (what is fixed during a solve, global balance) · `shooting` (Newton with Broyden updates,
-//! load continuation) · `warm` (the start from a previous shape) · `inextensible` (balanced
-//! cable groups of the Kirchhoff rod under displacement control: proven infeasible
-//! shortenings, the slack start) · `solve` (the `Method` entry: slack active set, shape
-//! assembly).
+//! math in one short function) · `variational` (its derivatives: the tangent equations through
+//! sections and disks) · `jacobian` (the exact shooting Jacobian assembled from one
+//! variational pass, the focal-point stability test, test diagnostics) · `integrate` (RK4
+//! over sections, jumps at the disks, one shooting pass) · `adaptive` (Dormand–Prince over
+//! stretches between jumps) · `problem` (what is fixed during a solve, global balance) ·
+//! `shooting` (Newton with Broyden updates, load continuation) · `warm` (the start from a
+//! previous shape) · `inextensible` (balanced cable groups of the Kirchhoff rod under
+//! displacement control: proven infeasible shortenings, the slack start) · `solve` (the
+//! `Method` entry: slack active set, shape assembly).
 
 mod adaptive;
 mod inextensible;
 mod integrate;
+mod jacobian;
 mod problem;
 mod rhs;
 mod settings;
