@@ -22,14 +22,16 @@
 //! shape). With contact allowed, shapes are solved with the obstacles (the robot may press on
 //! them) and no clearance is required.
 
+mod answer;
 mod clear;
 mod sens;
 mod solve;
 
 pub use clear::{clearance, Clearance};
 
+pub use answer::{CableActuation, EffortJson, Reach, ReachJson};
 pub use sens::{sensitivity, TipSens, FD_STEP};
-pub use solve::{reach, reach_in, CableActuation, Reach, ReachOptions, Target};
+pub use solve::{reach, reach_in, ReachOptions, Target};
 
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;

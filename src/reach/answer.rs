@@ -1,0 +1,144 @@
+//! The answer of [`super::reach`]: reached or the closest found, with its JSON form and the
+//! named [`SolveError::Unreachable`] it turns into when the target was not reached.
+
+use super::solve::Target;
+use crate::error::SolveError;
+use crate::shape::{Shape, ShapeJson};
+use nalgebra::Vector3;
+use serde::Serialize;
+
+/// One cable's input in a reach answer.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CableActuation {
+    /// Cable name (as in the model).
+    pub cable: String,
+    /// Shortening \[m\].
+    pub shorten: f64,
+    /// Tension of the solved shape \[N\], where the method computes one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tension: Option<f64>,
+}
+
+/// The answer of [`reach`]: reached or the closest found.
+#[derive(Debug, Clone)]
+pub struct Reach {
+    /// True when the tip (and tangent) are on target within the tolerance, clear of the
+    /// obstacles (unless contact is allowed) and within the tension limits.
+    pub reached: bool,
+    /// The target.
+    pub target: Target,
+    /// Distance from the tip to the target \[m\].
+    pub tip_error_m: f64,
+    /// Angle between the tip tangent and the target tangent \[rad\], if one was given.
+    pub tangent_error_rad: Option<f64>,
+    /// Shortenings \[m\], one per cable in robot order.
+    pub u: Vec<f64>,
+    /// The same, named, with tensions.
+    pub actuation: Vec<CableActuation>,
+    /// The effort `Σ u²` \[m²\].
+    pub effort_m2: f64,
+    /// Clearance of the answer \[m\] (`None` without obstacles).
+    pub min_clearance_m: Option<f64>,
+    /// The shape, solved as `ccrkit solve` does.
+    pub shape: Shape,
+    /// SQP iterations over every start.
+    pub iterations: usize,
+    /// Starts tried.
+    pub starts: usize,
+    /// Forward solves spent.
+    pub solves: usize,
+    /// Whether the sensitivities came from the method (`exact`) or central differences.
+    pub sensitivities: &'static str,
+    /// Why the target was not reached (empty when reached).
+    pub reason: String,
+}
+
+/// JSON form of a [`Reach`].
+#[derive(Debug, Clone, Serialize)]
+pub struct ReachJson {
+    /// See [`Reach::reached`].
+    pub reached: bool,
+    /// Target tip \[m\].
+    pub target: [f64; 3],
+    /// Target tangent, if given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub target_tangent: Option<[f64; 3]>,
+    /// Tip of the shape \[m\].
+    pub tip: [f64; 3],
+    /// See [`Reach::tip_error_m`].
+    pub tip_error_m: f64,
+    /// See [`Reach::tangent_error_rad`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangent_error_rad: Option<f64>,
+    /// Per-cable inputs.
+    pub actuation: Vec<CableActuation>,
+    /// Effort measure and value.
+    pub effort: EffortJson,
+    /// See [`Reach::min_clearance_m`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_clearance_m: Option<f64>,
+    /// Search statistics.
+    pub iterations: usize,
+    /// Starts tried.
+    pub starts: usize,
+    /// Forward solves spent.
+    pub solves: usize,
+    /// `exact` or `finite-differences`.
+    pub sensitivities: &'static str,
+    /// Why not reached (absent when reached).
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub reason: String,
+    /// The shape.
+    pub shape: ShapeJson,
+}
+
+/// The effort measure, named.
+#[derive(Debug, Clone, Serialize)]
+pub struct EffortJson {
+    /// `sum_shorten_squared`.
+    pub measure: &'static str,
+    /// Value \[m²\].
+    pub value_m2: f64,
+}
+
+impl Reach {
+    /// JSON form.
+    pub fn to_json(&self) -> ReachJson {
+        let a = |v: Vector3<f64>| [v.x, v.y, v.z];
+        ReachJson {
+            reached: self.reached,
+            target: a(self.target.tip),
+            target_tangent: self.target.tangent.map(a),
+            tip: a(self.shape.tip()),
+            tip_error_m: self.tip_error_m,
+            tangent_error_rad: self.tangent_error_rad,
+            actuation: self.actuation.clone(),
+            effort: EffortJson {
+                measure: "sum_shorten_squared",
+                value_m2: self.effort_m2,
+            },
+            min_clearance_m: self.min_clearance_m,
+            iterations: self.iterations,
+            starts: self.starts,
+            solves: self.solves,
+            sensitivities: self.sensitivities,
+            reason: self.reason.clone(),
+            shape: self.shape.to_json(),
+        }
+    }
+
+    /// This answer when reached, else the named [`SolveError::Unreachable`] with the closest
+    /// tip.
+    pub fn require_reached(self) -> Result<Reach, SolveError> {
+        if self.reached {
+            return Ok(self);
+        }
+        let (t, c) = (self.target.tip, self.shape.tip());
+        Err(SolveError::Unreachable {
+            target: [t.x, t.y, t.z],
+            closest: [c.x, c.y, c.z],
+            distance: self.tip_error_m,
+            reason: self.reason,
+        })
+    }
+}
