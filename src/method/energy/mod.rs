@@ -141,7 +141,9 @@
 #![allow(clippy::needless_range_loop)]
 
 mod assemble;
+mod contact_curvature;
 mod contacts;
+mod curvature;
 mod kinematics;
 mod lengths;
 mod newton;
