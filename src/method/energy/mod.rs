@@ -353,7 +353,7 @@ impl ReadyEnergy<'_> {
         if !prob.frame_forces.is_empty() {
             notes.push(
                 "gravity and the tip force enter as dead-load potentials (backbone weight lumped \
-                 at sub-arc ends); their curvature is left out of the Hessian"
+                 at sub-arc ends); their curvature is in the Hessian"
                     .into(),
             );
         }
