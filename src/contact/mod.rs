@@ -9,6 +9,8 @@
 //!   segment, and the reported [`crate::shape::Contact`] record;
 //! * [`parry`]: the parry3d bridge (GJK query that stays on GJK near touching, EPA recovery,
 //!   witness polish);
+//! * [`curvature`]: the Hessian of an obstacle's distance function (its surface curvature),
+//!   for the second derivative of a feature–obstacle distance;
 //! * [`broad`]: the broad phase (obstacles within reach of the robot, bounds against a box)
 //!   and the base-disk check.
 //!
@@ -17,6 +19,7 @@
 //! strains of every sub-arc.
 
 pub(crate) mod broad;
+pub(crate) mod curvature;
 pub(crate) mod features;
 pub(crate) mod parry;
 

@@ -5,4 +5,5 @@ pub mod dense;
 pub mod kkt;
 pub mod ode;
 pub mod qp;
+pub mod semisep;
 pub mod so3;

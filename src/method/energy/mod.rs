@@ -111,8 +111,8 @@
 //! Gravity (`loads.gravity` on the backbone's `ρ A` per length, lumped half to each end of
 //! its sub-arc, and on `loads.disk_mass` at each disk) and `loads.tip_force` are dead loads
 //! `F_f` at the sub-arc ends, with the potential `V = −Σ F_f · p_f` added to the objective and
-//! its exact gradient (see `add_load_gradient`) to the stationarity; their curvature is left
-//! out of the Hessian, so convergence with loads is linear. A dead tip moment has no potential
+//! its exact gradient (see `add_load_gradient`) to the stationarity, and their exact curvature
+//! to the Hessian (`energy/curvature.rs`, shared with the contacts). A dead tip moment has no potential
 //! for finite 3-D rotations: [`SolveError::Unsupported`].
 //!
 //! # Obstacles
@@ -141,7 +141,9 @@
 #![allow(clippy::needless_range_loop)]
 
 mod assemble;
+mod contact_curvature;
 mod contacts;
+mod curvature;
 mod kinematics;
 mod lengths;
 mod newton;
@@ -351,7 +353,7 @@ impl ReadyEnergy<'_> {
         if !prob.frame_forces.is_empty() {
             notes.push(
                 "gravity and the tip force enter as dead-load potentials (backbone weight lumped \
-                 at sub-arc ends); their curvature is left out of the Hessian"
+                 at sub-arc ends); their curvature is in the Hessian"
                     .into(),
             );
         }

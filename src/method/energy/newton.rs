@@ -6,9 +6,12 @@
 //! its start and its end are here; the iterate (`newton/iterate.rs`), the step
 //! (`newton/step.rs`) and the line search (`newton/line_search.rs`) in files of their own.
 
+mod curved;
 mod iterate;
 mod line_search;
 mod step;
+#[cfg(test)]
+mod tests;
 
 use super::contacts::{Feat, Kin, Pair, World};
 use super::lengths::Work;
@@ -19,6 +22,7 @@ use crate::error::SolveError;
 use crate::method::warm::WarmState;
 use crate::method::Method;
 use crate::model::actuation::LengthMeasure;
+use crate::numeric::semisep::SemiSepFactor;
 use crate::shape::{Contact, Shape};
 
 /// What [`Energy::newton`] found.
@@ -30,6 +34,9 @@ pub(super) struct Solution {
     pub contacts: Vec<Contact>,
     pub iterations: usize,
     pub residual: f64,
+    /// The residual at every iteration (read by the convergence tests).
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub history: Vec<f64>,
     /// Stability and tip Jacobian from the converged KKT system (`sensitivity.rs`).
     pub sensitivity: Sensitivity,
 }
@@ -78,6 +85,13 @@ struct Sqp<'p, 'a> {
     dxi: Vec<f64>,
     trial: Vec<f64>,
     trial_len: Vec<f64>,
+    /// The factored Hessian with the curvature of loads and contacts, when there is some
+    /// ([`Sqp::factor`]).
+    curved: Option<SemiSepFactor>,
+    /// Rows of the step's QP penalized in `curved` and their `ρ` (`newton/curved.rs`).
+    penalty: Vec<(usize, f64)>,
+    /// The residual at every iteration so far.
+    history: Vec<f64>,
     /// Chords: exact Hessian (second-order AD) instead of Gauss–Newton.
     exact: bool,
     /// The last line search found no decrease.
@@ -111,12 +125,15 @@ impl Energy {
                 prob.evaluate(&sqp.xi, &sqp.wgt, &mut sqp.w, true);
             }
             resid = r.feas.max(r.stat).max(r.gap);
+            sqp.history.push(resid);
             if !resid.is_finite() {
                 break;
             }
             // With contacts, parry's distances on smooth pairs carry ~1e-9 m of noise.
-            // With active contacts, parry's normals on smooth pairs carry noise that keeps
-            // the stationarity residual from falling below ~1e-6: there the solution has
+            // With active contacts the Hessian carries their curvature and Newton converges
+            // quadratically to the tolerance, except where parry's normals on smooth pairs
+            // carry noise (a disk rim against a cylinder: ~1e-5 rad) that keeps the
+            // stationarity residual from falling below ~1e-6: there the solution has
             // converged once a full Newton step moves no point of the robot by more than
             // CONTACT_STEP (a bound: Σ ℓ_j (|δu_j| (L − s_j) + |δε_j|)).
             let in_contact = sqp.mu.iter().any(|&m| m > 0.0);
@@ -126,7 +143,7 @@ impl Energy {
                 tol
             };
             let settled = in_contact && sqp.last_move <= CONTACT_STEP;
-            if r.feas <= tol && r.gap <= ctol && (r.stat <= ctol || settled) {
+            if r.feas <= tol && r.gap <= ctol && (r.stat <= tol || settled) {
                 self.check_stretch(prob, &sqp.xi, &sqp.lam)?;
                 return Ok(sqp.solution(it, resid));
             }

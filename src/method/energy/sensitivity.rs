@@ -33,44 +33,25 @@
 //! as their directional derivatives, by first-order forward AD ([`D1`]) through the product
 //! of sub-arc exponentials (exact, one pass per column).
 //!
-//! # Dead-load curvature
+//! # Curvature of loads and contacts
 //!
-//! `V = −Σ_f F_f · x_f`. Raising a strain of sub-arc `k` moves everything beyond it rigidly
-//! with the twist `(ω_k, t_k)`; the point velocity of a downstream sub-arc's twist,
-//! `v_j(x) = ω_j × x + t_j`, is carried along as `Ω × v_j(x)` (the Jacobi identity cancels the
-//! translation), so for `k < j`:
-//! `∂²x/∂ξ_k∂ξ_j = ω_k × v_j(x)` (zero for a stretch `k`), and summed over the frames beyond
-//! `j` with the suffix sums `S_j = Σ F_f`, `D_j = Σ x_f F_fᵀ`:
-//! `∂²V/∂ξ_k∂ξ_{j,a} = −ω_k · Q_{j,a}`, `Q_{j,a} = D_j ω_{j,a} − tr(D_j) ω_{j,a} − N_{j,a} × S_j`
-//! (rotation `a`), `Q_{j,ε} = (M_j e_z) × S_j`. Within one sub-arc, `x_f = p_j + R_j(R_l y_f +
-//! p_l)` with `y_f` fixed, so the 4×4 block is `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]`,
-//! `W = R_jᵀ (D_jᵀ − S_j p_{j+1}ᵀ) R_{j+1}`, `g = R_jᵀ S_j`, by second-order AD ([`D2`]) of
-//! the sub-arc exponential. A unit test checks the whole matrix against central differences
-//! of the exact load gradient.
-//!
-//! # Contact curvature
-//!
-//! The solver's Hessian leaves out `−Σ μ ∇²d` of the pressing contacts; here it is needed
-//! (on the wall scene leaving it out puts the Jacobian 16 % off). `∇²d` includes the witness
-//! points sliding on curved features (disk rims, cylinders), so it is taken by central
-//! differences of each pressing pair's *exact* distance gradient (`energy/contacts.rs`),
-//! `2 · 4 · sub-arcs` pair queries per solve with contacts: accurate to the noise of parry's
-//! normals, not exact — an analytic second derivative of the distance is future work.
+//! `∇²V` of the dead loads and `−Σ μ ∇²d` of the pressing contacts (on the wall scene leaving
+//! the latter out puts the Jacobian 16 % off) are the exact, analytic terms the Newton loop
+//! factors too: `energy/curvature.rs` (forces on the chain, a unit test against central
+//! differences of the exact load gradient) and `energy/contact_curvature.rs` (`∇²d` of each
+//! feature type, a unit test against central differences of the exact distance gradient);
+//! here they are added densely to the Hessian blocks.
 
 use super::contacts::{self, Kin, Pair};
-use super::kinematics::{exp_act, exp_act_all};
+use super::curvature::dense;
+use super::kinematics::exp_act_all;
 use super::lengths::Work;
 use super::problem::{Problem, Target};
 use crate::model::actuation::{Input, LengthMeasure};
-use crate::numeric::ad::{Jet, Real, D1, D2};
+use crate::numeric::ad::{Jet, Real, D1};
 use crate::numeric::dense::{chol_factor, small_solve};
 use crate::shape::TipJacobian;
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
-
-/// Strain step of the central differences of exact contact gradients \[1/m\] (parry's
-/// distances carry ~1e-9 m of noise; this keeps its effect on the curvature near 1e-3 of the
-/// gradient while the truncation error stays below 1e-8).
-const CURVATURE_STEP: f64 = 1e-5;
+use nalgebra::{DMatrix, DVector, Vector3};
 
 /// Stability verdict and tip Jacobian of a converged solve.
 pub(super) struct Sensitivity {
@@ -201,96 +182,27 @@ impl Problem<'_> {
                 }
             }
         }
-        if !self.frame_forces.is_empty() {
-            match kin.filter(|k| k.m_int.len() == self.nsub) {
-                Some(k) => self.add_load_hessian(xi, k, &mut h),
-                None => {
-                    let k = contacts::kinematics(xi, &self.ell, true);
-                    self.add_load_hessian(xi, &k, &mut h)
-                }
+        let owned;
+        let kin = match kin.filter(|k| k.m_int.len() == self.nsub) {
+            Some(k) => k,
+            None => {
+                owned = contacts::kinematics(xi, &self.ell, true);
+                &owned
             }
+        };
+        if let Some((loads, low)) = self.curvature_terms(kin, pressing) {
+            let zero = vec![0.0; w.hess.len()];
+            h += dense(&self.curvature(xi, kin, &loads, &low, &zero));
         }
-        self.add_contact_curvature(xi, pressing, &mut h);
         Hessian::Dense(h)
     }
 
-    /// Add `−Σ μ ∇²d` of the pressing contacts to `h`: central differences (step
-    /// [`CURVATURE_STEP`]) of each pair's exact distance gradient, re-queried for the same
-    /// feature and obstacle; symmetrized. A pair that leaves the margin at a perturbed point
-    /// contributes nothing in that direction.
-    fn add_contact_curvature(&self, xi: &[f64], pressing: &[(&Pair, f64)], h: &mut DMatrix<f64>) {
-        let Some(wd) = self.world.as_ref().filter(|_| !pressing.is_empty()) else {
-            return;
-        };
-        let nv = self.nvar();
-        let keys: Vec<_> = pressing.iter().map(|(p, _)| p.key()).collect();
-        let mut d2 = DMatrix::zeros(nv, nv);
-        let mut x = xi.to_vec();
-        for i in 0..nv {
-            let mut grads = [vec![], vec![]];
-            for (sgn, g) in [1.0, -1.0].iter().zip(grads.iter_mut()) {
-                x[i] = xi[i] + sgn * CURVATURE_STEP;
-                let kin = contacts::kinematics(&x, &self.ell, true);
-                *g = wd.pairs_among(&kin, Some(&keys)).0;
-            }
-            x[i] = xi[i];
-            for (p, m) in pressing {
-                let find = |ps: &[Pair]| {
-                    ps.iter()
-                        .find(|q| q.key() == p.key())
-                        .map(|q| q.grad.clone())
-                };
-                if let (Some(gp), Some(gm)) = (find(&grads[0]), find(&grads[1])) {
-                    for k in 0..nv {
-                        d2[(i, k)] -= m * (gp[k] - gm[k]) / (2.0 * CURVATURE_STEP);
-                    }
-                }
-            }
-        }
-        *h += (&d2 + d2.transpose()) * 0.5;
-    }
-
-    /// Add `∇²V` of the dead loads (module docs) to `h`; `kin` with integrals.
+    /// Add `∇²V` of the dead loads (`energy/curvature.rs`) to `h`; `kin` with integrals.
+    #[cfg(test)]
     pub(super) fn add_load_hessian(&self, xi: &[f64], kin: &Kin, h: &mut DMatrix<f64>) {
-        let nsub = self.nsub;
-        // ω[j][a] = M_j e_a and Q[j][a] (a = 3: stretch, whose ω is 0).
-        let mut om = vec![[Vector3::zeros(); 3]; nsub];
-        let mut q = vec![[Vector3::zeros(); 4]; nsub];
-        let (mut s, mut d) = (Vector3::zeros(), Matrix3::zeros());
-        for j in (0..nsub).rev() {
-            let f = &self.frame_forces[j + 1];
-            s += f;
-            d += kin.pos[j + 1] * f.transpose();
-            let m = &kin.m_int[j];
-            let tr = d.trace();
-            for a in 0..3 {
-                let o: Vector3<f64> = m.column(a).into_owned();
-                q[j][a] = d * o - o * tr - kin.n_int[j][a].cross(&s);
-                om[j][a] = o;
-            }
-            q[j][3] = m.column(2).into_owned().cross(&s);
-            // Within the sub-arc (module docs): W, g and the 4×4 block by second-order AD.
-            let (rj, rj1, pj1) = (&kin.rot[j], &kin.rot[j + 1], &kin.pos[j + 1]);
-            let wm = rj.transpose() * (d.transpose() - s * pj1.transpose()) * rj1;
-            let g = rj.transpose() * s;
-            let x4 = [xi[4 * j], xi[4 * j + 1], xi[4 * j + 2], xi[4 * j + 3]];
-            let blk = sub_arc_load_block(&x4, self.ell[j], &wm, &g);
-            for a in 0..4 {
-                for b in 0..4 {
-                    h[(4 * j + a, 4 * j + b)] += blk[a][b];
-                }
-            }
-        }
-        for k in 0..nsub {
-            for j in k + 1..nsub {
-                for b in 0..3 {
-                    for a in 0..4 {
-                        let v = -om[k][b].dot(&q[j][a]);
-                        h[(4 * k + b, 4 * j + a)] += v;
-                        h[(4 * j + a, 4 * k + b)] += v;
-                    }
-                }
-            }
+        if let Some((loads, low)) = self.curvature_terms(kin, &[]) {
+            let zero = vec![0.0; self.nblocks * self.nb * self.nb];
+            *h += dense(&self.curvature(xi, kin, &loads, &low, &zero));
         }
     }
 
@@ -416,38 +328,6 @@ fn tip_directional<const K: usize>(
             (dp, dt)
         })
         .collect()
-}
-
-/// `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]` in the strains of one sub-arc (second-order AD of
-/// the exponential's action, [`exp_act`]).
-fn sub_arc_load_block(
-    xi: &[f64; 4],
-    ell: f64,
-    wm: &Matrix3<f64>,
-    g: &Vector3<f64>,
-) -> [[f64; 4]; 4] {
-    let vars: [D2<4>; 4] = std::array::from_fn(|i| D2::var(xi[i], i));
-    let zero = [D2::<4>::cst(0.0); 3];
-    let p0 = exp_act(&vars, ell, &zero);
-    let mut v = D2::<4>::cst(0.0);
-    for k in 0..3 {
-        v = v + p0[k] * g[k];
-    }
-    for b in 0..3 {
-        let mut e = [D2::<4>::cst(0.0); 3];
-        e[b] = D2::cst(1.0);
-        let pb = exp_act(&vars, ell, &e);
-        for a in 0..3 {
-            v = v + (pb[a] - p0[a]) * wm[(a, b)];
-        }
-    }
-    let mut out = [[0.0; 4]; 4];
-    for a in 0..4 {
-        for b in 0..4 {
-            out[a][b] = -v.h[a][b];
-        }
-    }
-    out
 }
 
 /// Whether `Zᵀ H Z` is positive definite, `Z` an orthonormal basis of the null space of the

@@ -35,6 +35,9 @@ impl<'p, 'a> Sqp<'p, 'a> {
             dxi: vec![0.0; nv],
             trial: vec![0.0; nv],
             trial_len: vec![0.0; nc],
+            curved: None,
+            penalty: vec![],
+            history: vec![],
             exact: false,
             stalled: false,
             last_move: f64::INFINITY,
@@ -158,6 +161,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
             contacts,
             iterations,
             residual,
+            history: self.history,
             sensitivity,
         }
     }

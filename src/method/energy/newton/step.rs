@@ -7,13 +7,26 @@
 
 use super::dot;
 use super::Sqp;
+use crate::method::energy::problem::Problem;
 use crate::model::actuation::LengthMeasure;
 use crate::numeric::dense::chol_factor;
 use crate::numeric::qp::nonneg_qp;
+use crate::numeric::semisep::SemiSepFactor;
+
+/// Solve `H x = rhs` in place with the factor of [`Sqp::factor`]: the semiseparable one when
+/// the curvature of loads or contacts is in, else the blocks.
+fn solve_h(curved: Option<&SemiSepFactor>, prob: &Problem, hess: &[f64], x: &mut [f64]) {
+    match curved {
+        Some(f) => f.solve(x),
+        None => prob.block_solve(hess, x),
+    }
+}
 
 impl<'p, 'a> Sqp<'p, 'a> {
-    /// Factor the Lagrangian Hessian blocks in place (shifted towards the energy block where
-    /// one is not positive definite); `Err(section)` if a block cannot be made so.
+    /// Factor the Lagrangian Hessian: its blocks in place (shifted towards the energy block
+    /// where one is not positive definite), or, with dead loads or pressing contacts, the
+    /// blocks plus their curvature in semiseparable form (`energy/curvature.rs`; shifted as a
+    /// whole). `Err(section)` if a block cannot be made positive definite.
     pub(super) fn factor(&mut self) -> Result<(), usize> {
         let prob = self.prob;
         let nb = prob.nb;
@@ -22,6 +35,10 @@ impl<'p, 'a> Sqp<'p, 'a> {
             prob.path_hessian(&self.xi, &self.wgt, w);
         }
         w.raw.copy_from_slice(&w.hess);
+        if self.factor_curved().is_some() {
+            return Ok(());
+        }
+        let w = &mut self.w;
         for b in 0..prob.nblocks {
             let rng = b * nb * nb..(b + 1) * nb * nb;
             if chol_factor(&mut w.hess[rng.clone()], nb) {
@@ -73,14 +90,14 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let prob = self.prob;
         let nrow = self.cable_rows.len() + self.pairs.len();
         self.w.z.copy_from_slice(&self.w.gobj);
-        prob.block_solve(&self.w.hess, &mut self.w.z);
+        solve_h(self.curved.as_ref(), prob, &self.w.hess, &mut self.w.z);
         let mut ys = std::mem::take(&mut self.w.y);
         ys.resize_with(nrow, Vec::new);
         for (r, y) in ys.iter_mut().enumerate() {
             let (a, sign, _) = self.row(r);
             y.clear();
             y.extend(a.iter().map(|v| sign * v));
-            prob.block_solve(&self.w.hess, y);
+            solve_h(self.curved.as_ref(), prob, &self.w.hess, y);
         }
         let mut s_mat = vec![0.0; nrow * nrow];
         let mut q = vec![0.0; nrow];
@@ -107,6 +124,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 }
                 self.dxi[i] = d;
             }
+            self.unpenalize(&mut lam_new);
         }
         self.w.y = ys;
         ok.then_some(lam_new)

@@ -1,0 +1,270 @@
+//! Curvature of forces on the chain of sub-arcs, written once for the dead loads and the
+//! contacts: the Hessian of `−Σ F · x` for point forces `F` at points `x` carried by the
+//! frames (with `F` fixed), plus symmetric low-rank terms `Σ_pq M_pq w_p w_qᵀ`, assembled as a
+//! block semiseparable matrix ([`SemiSep`]) that factors in `O(n r²)`.
+//!
+//! # Point forces
+//!
+//! Raising strain `a` of sub-arc `j` moves everything beyond it rigidly with the spatial twist
+//! `T_{j,a} = (ω, t)` (`ω = M_j e_a`, `t = −N_{j,a}` for a rotation, `ω = 0`, `t = M_j e_z`
+//! for the stretch; `energy/contacts.rs`), a point `x` with `v = ω × x + t`. A downstream
+//! twist is carried along by an upstream one, so for `k < j` (both upstream of `x`)
+//! `∂²x/∂ξ_k∂ξ_j = ω_k × v_j(x)` and
+//!
+//! ```text
+//! ∂²(−F·x)/∂ξ_k∂ξ_j = T_kᵀ P T_j,   P = [ (x·F) I − x Fᵀ   F̂ ]
+//!                                       [       0          0 ]
+//! ```
+//!
+//! linear in `F` and `x Fᵀ`: summed over the forces beyond `j` it needs only the suffix sums
+//! `S_j = Σ F`, `D_j = Σ x Fᵀ`, `P_j = [tr(D_j) I − D_j, Ŝ_j; 0, 0]`. That is the generator form
+//! `A_jk = V_jᵀ U_k` with `V_j = P_j T_j`, `U_k = T_k` (rank 6). Within one sub-arc,
+//! `x = p_j + R_j (R_l y + p_l)` with `y` fixed, so the 4×4 block is
+//! `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]`, `W = R_jᵀ (D_jᵀ − S_j p_{j+1}ᵀ) R_{j+1}`,
+//! `g = R_jᵀ S_j`, by second-order AD ([`D2`]) of the sub-arc exponential.
+//!
+//! A dead load is such a force at a frame origin; a contact with multiplier `μ` and normal `n`
+//! is the force `μ n` at its witness, plus the low-rank terms of `energy/contact_curvature.rs`
+//! (the obstacle's curvature, the witness sliding on the feature).
+
+use super::contacts::{Kin, Pair};
+use super::kinematics::exp_act;
+use super::problem::Problem;
+use crate::numeric::ad::{Real, D2};
+use crate::numeric::semisep::SemiSep;
+use nalgebra::{DMatrix, Matrix3, Vector3};
+
+/// Point forces summed per frame: `S_f = Σ F`, `D_f = Σ x Fᵀ` (`x` the world point where `F`
+/// acts, carried by frame `f`).
+pub(super) struct FrameLoads {
+    s: Vec<Vector3<f64>>,
+    d: Vec<Matrix3<f64>>,
+    any: bool,
+}
+
+impl FrameLoads {
+    /// No forces on `frames` frames.
+    pub(super) fn new(frames: usize) -> Self {
+        FrameLoads {
+            s: vec![Vector3::zeros(); frames],
+            d: vec![Matrix3::zeros(); frames],
+            any: false,
+        }
+    }
+
+    /// The force `force` at the world point `x` carried by frame `f`.
+    pub(super) fn add(&mut self, f: usize, x: &Vector3<f64>, force: &Vector3<f64>) {
+        self.s[f] += force;
+        self.d[f] += x * force.transpose();
+        self.any = true;
+    }
+}
+
+/// A symmetric low-rank term `Σ_pq M_pq w_p w_qᵀ` (`w_p` of the strains' length).
+pub(super) struct LowRank {
+    pub(super) w: Vec<Vec<f64>>,
+    pub(super) m: DMatrix<f64>,
+}
+
+/// The spatial twists `(ω; t)` of unit changes of the four strains of sub-arc `j` (module
+/// docs), as columns.
+pub(super) fn twists(kin: &Kin, j: usize) -> [[f64; 6]; 4] {
+    let (m, n) = (&kin.m_int[j], &kin.n_int[j]);
+    let mut out = [[0.0; 6]; 4];
+    for a in 0..3 {
+        for i in 0..3 {
+            out[a][i] = m[(i, a)];
+            out[a][3 + i] = -n[a][i];
+        }
+    }
+    for i in 0..3 {
+        out[3][3 + i] = m[(i, 2)];
+    }
+    out
+}
+
+/// The velocity `ω × x + t` of the point `x` under twist `tw`.
+#[inline]
+pub(super) fn point_velocity(tw: &[f64; 6], x: &Vector3<f64>) -> Vector3<f64> {
+    let w = Vector3::new(tw[0], tw[1], tw[2]);
+    w.cross(x) + Vector3::new(tw[3], tw[4], tw[5])
+}
+
+impl Problem<'_> {
+    /// The forces and low-rank terms of the curvature at `kin` (with integrals): the dead
+    /// loads at the frame origins and `−μ ∇²d` of each pressing pair `(pair, μ)`
+    /// (`energy/contact_curvature.rs`). `None` when there is neither.
+    pub(super) fn curvature_terms(
+        &self,
+        kin: &Kin,
+        pressing: &[(&Pair, f64)],
+    ) -> Option<(FrameLoads, Vec<LowRank>)> {
+        if self.frame_forces.is_empty() && pressing.is_empty() {
+            return None;
+        }
+        let mut loads = FrameLoads::new(self.nsub + 1);
+        for (f, force) in self.frame_forces.iter().enumerate() {
+            if *force != Vector3::zeros() {
+                loads.add(f, &kin.pos[f], force);
+            }
+        }
+        let mut low = vec![];
+        if let Some(wd) = &self.world {
+            for (p, mu) in pressing {
+                wd.pair_curvature(kin, p, *mu, &mut loads, &mut low);
+            }
+        }
+        Some((loads, low))
+    }
+
+    /// `base + ∇²(−Σ F·x) + Σ low-rank` in block semiseparable form with this problem's
+    /// blocks (`nb`; `base` its `nblocks` diagonal blocks, e.g. `K + Σ w_c ∇²L_c`).
+    pub(super) fn curvature(
+        &self,
+        xi: &[f64],
+        kin: &Kin,
+        loads: &FrameLoads,
+        low: &[LowRank],
+        base: &[f64],
+    ) -> SemiSep {
+        let nsub = self.nsub;
+        let r = 6 + low.iter().map(|l| l.w.len()).sum::<usize>();
+        // Per sub-arc: generators (r × 4, row-major) and the diagonal 4×4 block.
+        let mut vs = vec![0.0; nsub * r * 4];
+        let mut us = vec![0.0; nsub * r * 4];
+        let mut dsub = vec![[[0.0; 4]; 4]; nsub];
+        let (mut s, mut d) = (Vector3::zeros(), Matrix3::zeros());
+        for j in (0..nsub).rev() {
+            if loads.any {
+                s += loads.s[j + 1];
+                d += loads.d[j + 1];
+            }
+            let tw = twists(kin, j);
+            let (v, u) = (&mut vs[j * r * 4..], &mut us[j * r * 4..]);
+            let (tr, sh) = (d.trace(), crate::numeric::so3::hat(&s));
+            for a in 0..4 {
+                let om = Vector3::new(tw[a][0], tw[a][1], tw[a][2]);
+                let t = Vector3::new(tw[a][3], tw[a][4], tw[a][5]);
+                let pv = om * tr - d * om + sh * t;
+                for i in 0..3 {
+                    v[i * 4 + a] = pv[i];
+                }
+                for i in 0..6 {
+                    u[i * 4 + a] = tw[a][i];
+                }
+            }
+            if s != Vector3::zeros() || d != Matrix3::zeros() {
+                let (rj, rj1, pj1) = (&kin.rot[j], &kin.rot[j + 1], &kin.pos[j + 1]);
+                let wm = rj.transpose() * (d.transpose() - s * pj1.transpose()) * rj1;
+                let g = rj.transpose() * s;
+                let x4 = [xi[4 * j], xi[4 * j + 1], xi[4 * j + 2], xi[4 * j + 3]];
+                dsub[j] = sub_arc_load_block(&x4, self.ell[j], &wm, &g);
+            }
+        }
+        let mut row = 6;
+        for l in low {
+            let k = l.w.len();
+            for j in 0..nsub {
+                let (v, u) = (&mut vs[j * r * 4..], &mut us[j * r * 4..]);
+                for p in 0..k {
+                    for a in 0..4 {
+                        u[(row + p) * 4 + a] = l.w[p][4 * j + a];
+                        v[(row + p) * 4 + a] =
+                            (0..k).map(|q| l.m[(p, q)] * l.w[q][4 * j + a]).sum();
+                    }
+                }
+                for a in 0..4 {
+                    for b in 0..4 {
+                        dsub[j][a][b] += (0..k)
+                            .map(|p| l.w[p][4 * j + a] * v[(row + p) * 4 + b])
+                            .sum::<f64>();
+                    }
+                }
+            }
+            row += k;
+        }
+        self.assemble_blocks(&vs, &us, &dsub, base, r)
+    }
+
+    /// Gather sub-arc generators into this problem's blocks of `nb = 4 · spb` variables: the
+    /// pairs of sub-arcs inside one block go to its diagonal block.
+    fn assemble_blocks(
+        &self,
+        vs: &[f64],
+        us: &[f64],
+        dsub: &[[[f64; 4]; 4]],
+        base: &[f64],
+        r: usize,
+    ) -> SemiSep {
+        let (nb, nbl) = (self.nb, self.nblocks);
+        let spb = nb / 4;
+        let mut out = SemiSep::zeros(nbl, nb, r);
+        out.diag.copy_from_slice(base);
+        for bl in 0..nbl {
+            let dg = &mut out.diag[bl * nb * nb..(bl + 1) * nb * nb];
+            for lj in 0..spb {
+                let j = bl * spb + lj;
+                for a in 0..4 {
+                    for b in 0..4 {
+                        dg[(4 * lj + a) * nb + 4 * lj + b] += dsub[j][a][b];
+                    }
+                    for p in 0..r {
+                        out.v[bl * r * nb + p * nb + 4 * lj + a] = vs[j * r * 4 + p * 4 + a];
+                        out.u[bl * r * nb + p * nb + 4 * lj + a] = us[j * r * 4 + p * 4 + a];
+                    }
+                }
+                for lk in 0..lj {
+                    let k = bl * spb + lk;
+                    for a in 0..4 {
+                        for b in 0..4 {
+                            let e: f64 = (0..r)
+                                .map(|p| vs[j * r * 4 + p * 4 + a] * us[k * r * 4 + p * 4 + b])
+                                .sum();
+                            dg[(4 * lj + a) * nb + 4 * lk + b] += e;
+                            dg[(4 * lk + b) * nb + 4 * lj + a] += e;
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The whole matrix of a [`SemiSep`], dense.
+pub(super) fn dense(a: &SemiSep) -> DMatrix<f64> {
+    let n = a.n * a.b;
+    DMatrix::from_fn(n, n, |i, j| a.get(i, j))
+}
+
+/// `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]` in the strains of one sub-arc (second-order AD of
+/// the exponential's action, [`exp_act`]).
+fn sub_arc_load_block(
+    xi: &[f64; 4],
+    ell: f64,
+    wm: &Matrix3<f64>,
+    g: &Vector3<f64>,
+) -> [[f64; 4]; 4] {
+    let vars: [D2<4>; 4] = std::array::from_fn(|i| D2::var(xi[i], i));
+    let zero = [D2::<4>::cst(0.0); 3];
+    let p0 = exp_act(&vars, ell, &zero);
+    let mut v = D2::<4>::cst(0.0);
+    for k in 0..3 {
+        v = v + p0[k] * g[k];
+    }
+    for b in 0..3 {
+        let mut e = [D2::<4>::cst(0.0); 3];
+        e[b] = D2::cst(1.0);
+        let pb = exp_act(&vars, ell, &e);
+        for a in 0..3 {
+            v = v + (pb[a] - p0[a]) * wm[(a, b)];
+        }
+    }
+    let mut out = [[0.0; 4]; 4];
+    for a in 0..4 {
+        for b in 0..4 {
+            out[a][b] = -v.h[a][b];
+        }
+    }
+    out
+}

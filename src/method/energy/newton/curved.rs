@@ -1,0 +1,106 @@
+//! The Lagrangian Hessian with the curvature of dead loads and pressing contacts
+//! (`energy/curvature.rs`), factored in semiseparable form.
+//!
+//! Against a convex obstacle `−μ ∇²d` is negative along the surface (`−μ Jᵀ G J`), so the
+//! Hessian can be indefinite on the whole space while it is positive definite on the null
+//! space of the active constraints (a stable equilibrium). Adding `ρ_r a_r a_rᵀ` for the
+//! pressing contacts' rows (`a_r = −∇d`) makes it positive definite for `ρ` large enough
+//! (Debreu's lemma; Nocedal & Wright, *Numerical Optimization*, 2nd ed., §17.3, the augmented
+//! Lagrangian Hessian) without changing the step while those rows stay active:
+//! `(H + ρ a aᵀ) d + a λ' = −g` is `H d + a (λ' + ρ aᵀd) = −g`, so the multiplier is
+//! `λ = λ' + ρ aᵀd` ([`Sqp::unpenalize`]). Only where that fails is the energy's `K` added
+//! (a damped step, as for the blocks).
+
+use super::{dot, Sqp};
+use crate::method::energy::curvature::LowRank;
+use nalgebra::DMatrix;
+
+impl Sqp<'_, '_> {
+    /// Factor `H` with the curvature of loads and pressing contacts into `curved`; `None`
+    /// when there is no such curvature or no shift makes it positive definite (a start deep
+    /// inside an obstacle): the blocks are factored instead, as without it.
+    pub(super) fn factor_curved(&mut self) -> Option<()> {
+        let prob = self.prob;
+        self.curved = None;
+        self.penalty.clear();
+        let kin = self.kin.as_ref().filter(|k| k.m_int.len() == prob.nsub)?;
+        let pressing: Vec<_> = self
+            .pairs
+            .iter()
+            .zip(&self.mu)
+            .filter(|(_, &m)| m > 0.0)
+            .map(|(p, &m)| (p, m))
+            .collect();
+        let (loads, mut low) = prob.curvature_terms(kin, &pressing)?;
+        let kmax = prob.k.iter().cloned().fold(0.0, f64::max);
+        // Rows of the pressing contacts in the step's QP, unit gradients.
+        let rows: Vec<(usize, Vec<f64>)> = (0..self.pairs.len())
+            .filter(|&k| self.mu[k] > 0.0)
+            .map(|k| {
+                let g = &self.pairs[k].grad;
+                let n = dot(g, g).sqrt();
+                (self.cable_rows.len() + k, g.iter().map(|v| v / n).collect())
+            })
+            .collect();
+        let base = low.len();
+        let mut rho = 0.0;
+        loop {
+            let ss = prob.curvature(&self.xi, kin, &loads, &low, &self.w.raw);
+            if let Some(f) = ss.factor() {
+                self.curved = Some(f);
+                // ρ_r for the raw gradient: ρ â âᵀ = (ρ / |∇d|²) ∇d ∇dᵀ.
+                let nc = self.cable_rows.len();
+                self.penalty = rows
+                    .iter()
+                    .map(|(r, _)| {
+                        let g = &self.pairs[r - nc].grad;
+                        (*r, rho / dot(g, g))
+                    })
+                    .filter(|_| rho > 0.0)
+                    .collect();
+                return Some(());
+            }
+            if rows.is_empty() || rho >= 1e4 * kmax {
+                break;
+            }
+            rho = if rho == 0.0 { 1e-4 * kmax } else { 10.0 * rho };
+            low.truncate(base);
+            low.push(LowRank {
+                w: rows.iter().map(|(_, a)| a.clone()).collect(),
+                m: DMatrix::identity(rows.len(), rows.len()) * rho,
+            });
+        }
+        // Damped: the energy's K added.
+        self.penalty.clear();
+        low.truncate(base);
+        let mut ss = prob.curvature(&self.xi, kin, &loads, &low, &self.w.raw);
+        let nb = prob.nb;
+        let mut shift = 0.0;
+        loop {
+            let add = if shift == 0.0 { 1e-8 } else { 9.0 * shift };
+            shift += add;
+            if shift > 1e8 {
+                return None;
+            }
+            for b in 0..prob.nblocks {
+                for i in 0..nb {
+                    ss.diag[b * nb * nb + i * nb + i] += add * prob.k[b * nb + i];
+                }
+            }
+            if let Some(f) = ss.factor() {
+                self.curved = Some(f);
+                return Some(());
+            }
+        }
+    }
+
+    /// The multipliers of the unpenalized step from those of the penalized one (module docs):
+    /// `λ_r = λ'_r + ρ_r a_rᵀ d` for each penalized row, `a_r` its gradient in the step's QP.
+    pub(super) fn unpenalize(&self, lam: &mut [f64]) {
+        for &(r, rho) in &self.penalty {
+            let g = &self.pairs[r - self.cable_rows.len()].grad;
+            // The contact row's gradient is −∇d.
+            lam[r] = (lam[r] - rho * dot(g, &self.dxi)).max(0.0);
+        }
+    }
+}
