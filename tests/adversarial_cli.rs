@@ -499,3 +499,33 @@ fn stability_setting_and_data_csvs_end_named_and_bounded() {
     }
     t.report_and_assert("stability setting and data CSVs");
 }
+
+/// A reader that goes away (`ccrkit solve … | head -c 0`) ends the process by SIGPIPE like
+/// any Unix tool, never by a "Broken pipe" panic (exit 101). The read end is closed right after
+/// the spawn, before the solve has printed anything, so every write meets a closed pipe.
+#[cfg(unix)]
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    let c1 = case(1);
+    for m in ["geometric", "energy", "cosserat"] {
+        let mut child = std::process::Command::new(adversarial_harness::bin())
+            .args(["solve", &c1, "--method", m])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("runs");
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("ends");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{m}: {err}");
+        assert_ne!(out.status.code(), Some(101), "{m}: {err}");
+        assert_eq!(out.status.signal(), Some(libc_sigpipe()), "{m}: {err}");
+    }
+}
+
+/// SIGPIPE's number on Linux and the BSDs.
+#[cfg(unix)]
+fn libc_sigpipe() -> i32 {
+    13
+}

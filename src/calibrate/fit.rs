@@ -284,9 +284,12 @@ impl<'a> Fitter<'a> {
             return Err(SolveError::InvalidInput {
                 field: "data".into(),
                 reason: format!(
-                    "only {} of {} rows solve at the start",
+                    "{} of {} rows solve at the start; fitting {} parameters needs at least {} \
+                     solved rows",
                     used.len(),
-                    first.len()
+                    first.len(),
+                    params.len(),
+                    params.len() + 2
                 ),
             });
         }

@@ -189,11 +189,28 @@ impl SolveArgs {
 }
 
 fn main() {
+    restore_sigpipe();
     if let Err(e) = run() {
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }
 }
+
+/// `ccrkit methods | head -1` must end quietly when the reader closes the pipe, as Unix tools
+/// do. Rust starts programs with SIGPIPE ignored, so every `println!` after the reader has gone
+/// panics with "Broken pipe" (exit 101); the default action ends the process silently instead.
+#[cfg(unix)]
+fn restore_sigpipe() {
+    // SAFETY: called first in `main`, before any thread exists; installing the default
+    // disposition of one signal has no other effect on the process.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+/// Other platforms have no SIGPIPE.
+#[cfg(not(unix))]
+fn restore_sigpipe() {}
 
 fn run() -> Result<()> {
     match Cli::parse().command {
