@@ -24,13 +24,7 @@ impl Sqp<'_, '_> {
         self.curved = None;
         self.penalty.clear();
         let kin = self.kin.as_ref().filter(|k| k.m_int.len() == prob.nsub)?;
-        let pressing: Vec<_> = self
-            .pairs
-            .iter()
-            .zip(&self.mu)
-            .filter(|(_, &m)| m > 0.0)
-            .map(|(p, &m)| (p, m))
-            .collect();
+        let pressing = super::iterate::pressing(&self.pairs, &self.mu);
         let (loads, mut low) = prob.curvature_terms(kin, &pressing)?;
         let kmax = prob.k.iter().cloned().fold(0.0, f64::max);
         // Rows of the pressing contacts in the step's QP, unit gradients.

@@ -126,13 +126,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
     /// The converged result: the iterate and its pressing contacts.
     pub(super) fn solution(mut self, iterations: usize, residual: f64) -> Solution {
         let world = self.world;
-        let pressing: Vec<(&Pair, f64)> = self
-            .pairs
-            .iter()
-            .zip(&self.mu)
-            .filter(|(_, &m)| m > 0.0)
-            .map(|(p, &m)| (p, m))
-            .collect();
+        let pressing = pressing(&self.pairs, &self.mu);
         let sensitivity = if pressing.is_empty() || self.prob.set.contact_sensitivity {
             self.prob.sensitivity(
                 &self.xi,
@@ -165,4 +159,15 @@ impl<'p, 'a> Sqp<'p, 'a> {
             sensitivity,
         }
     }
+}
+
+/// The pressing contacts (multiplier > 0) with their multipliers; a free function so that the
+/// caller may keep borrowing the iterate's other fields.
+pub(super) fn pressing<'q>(pairs: &'q [Pair], mu: &[f64]) -> Vec<(&'q Pair, f64)> {
+    pairs
+        .iter()
+        .zip(mu)
+        .filter(|(_, &m)| m > 0.0)
+        .map(|(p, &m)| (p, m))
+        .collect()
 }
