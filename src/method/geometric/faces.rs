@@ -13,6 +13,7 @@ use crate::shape::{Contact, SectionReport};
 use nalgebra::{Vector3, Vector6};
 
 /// The accepted solution of one section.
+#[derive(Clone)]
 pub(super) struct SectionSolution {
     /// Whether the pose is a strict local minimum of the section problem (see
     /// [`STRICT_EIGENVALUE`]).
@@ -96,6 +97,17 @@ pub const SECTION_BUDGET: usize = 20_000;
 /// taut set of at most 5 cables is tried (`Σ C(m, k)`, k ≤ 5: 637 sets at 10). Above it only the
 /// active-set path runs, and a failure is `NotConverged` naming this limit.
 pub const MAX_ENUMERATED_CABLES: usize = 10;
+
+impl SectionSolution {
+    /// This solution as the answer of section `i` that repeats its problem exactly: same pose,
+    /// certificate and slack set, no iterations spent.
+    pub(super) fn reused_as(&self, i: usize) -> SectionSolution {
+        let mut s = self.clone();
+        s.report.section = i;
+        s.report.iterations = 0;
+        s
+    }
+}
 
 impl Geometric {
     /// Solve section `i`: the lowest certified pose over the taut sets and faces.

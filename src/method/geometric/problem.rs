@@ -10,7 +10,7 @@ use crate::numeric::so3::{exp_so3, gram_schmidt};
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// Relative pose of disk i in the frame of disk i−1.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Pose {
     pub(super) p: Vector3<f64>,
     pub(super) q: Matrix3<f64>,
@@ -33,7 +33,7 @@ impl Pose {
 }
 
 /// One objective term: an angle between an undeformed direction and its solved image.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub(super) struct Term {
     /// Unit undeformed direction (ẑ for the tangent, ĥ for a coupler) in disk i−1's frame.
     pub(super) dir: Vector3<f64>,
@@ -69,7 +69,7 @@ impl Term {
 }
 
 /// A cable segment constraint `|p + Q h − h_prev| ≤ length`.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub(super) struct CableCon {
     pub(super) cables: Vec<usize>,
     pub(super) h_prev: Vector3<f64>,
@@ -113,6 +113,20 @@ pub(super) struct SectionData {
 pub(super) const SAME_POINT: f64 = 1e-12;
 
 impl SectionData {
+    /// Whether `other` poses exactly the same problem (every number equal, bit for bit) and
+    /// neither has obstacles near: the section index and the cable names aside, the search
+    /// then sees the same inputs.
+    pub(super) fn same_problem(&self, other: &SectionData) -> bool {
+        self.world.is_none()
+            && other.world.is_none()
+            && self.l0 == other.l0
+            && self.terms == other.terms
+            && self.cons == other.cons
+            && self.always_slack == other.always_slack
+            && self.gauge == other.gauge
+            && self.gram_schmidt == other.gram_schmidt
+    }
+
     pub(super) fn new(robot: &Robot, frac: &[Option<f64>], i: usize) -> Result<Self, SolveError> {
         let l0 = robot.section_length(i);
         let mut terms = vec![Term::new(Vector3::z(), 1.0, "tangent".into(), true)];
