@@ -529,3 +529,40 @@ fn a_closed_stdout_is_not_a_panic() {
 fn libc_sigpipe() -> i32 {
     13
 }
+
+/// `predict --out -` writes the CSV to standard output, as `--json -` does elsewhere, and no
+/// file named `-` (it used to write one, silently); the summary goes to standard error.
+#[test]
+fn predict_out_dash_is_standard_output() {
+    let dir = scratch("predict-stdout");
+    let data = root().join("models/hardware/data/v4/tdcr_sysid_20260511-183002_val.csv");
+    let out = std::process::Command::new(adversarial_harness::bin())
+        .args([
+            "predict",
+            &root()
+                .join("models/hardware/ftdcr_v4.toml")
+                .to_string_lossy(),
+        ])
+        .args(["--data", &data.to_string_lossy(), "--out", "-"])
+        .current_dir(&dir)
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let csv = String::from_utf8_lossy(&out.stdout);
+    let mut lines = csv.lines();
+    assert!(
+        lines
+            .next()
+            .is_some_and(|h| h.starts_with("tip_x,tip_y,tip_z")),
+        "{csv:.200}"
+    );
+    let rows = std::fs::read_to_string(&data)
+        .expect("data")
+        .lines()
+        .count()
+        - 1;
+    assert_eq!(lines.count(), rows);
+    assert!(err.contains("rows "), "{err}");
+    assert!(!dir.join("-").exists(), "a file named - was written");
+}

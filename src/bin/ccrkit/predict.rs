@@ -61,7 +61,8 @@ impl DataArgs {
 pub struct PredictArgs {
     /// Model file (TOML); its `[hardware]` table maps commands and frames.
     pub file: PathBuf,
-    /// Output CSV: `tip_x,tip_y,tip_z,status`, one row per input row, in the data's unit.
+    /// Output CSV: `tip_x,tip_y,tip_z,status`, one row per input row, in the data's unit;
+    /// `-` writes it to standard output (the summary then goes to standard error).
     #[arg(long)]
     pub out: PathBuf,
     #[command(flatten)]
@@ -76,15 +77,28 @@ pub fn run(a: PredictArgs) -> Result<()> {
     let t = Instant::now();
     let rows = predict(&model, &data, &opts)?;
     let wall = t.elapsed().as_secs_f64();
-    std::fs::write(&a.out, write_csv(&rows, unit))
-        .with_context(|| format!("writing {}", a.out.display()))?;
+    let to_stdout = a.out.as_os_str() == "-";
+    // With the CSV on standard output, the summary must not mix into it.
+    let say = |line: String| {
+        if to_stdout {
+            eprintln!("{line}");
+        } else {
+            println!("{line}");
+        }
+    };
+    if to_stdout {
+        print!("{}", write_csv(&rows, unit));
+    } else {
+        std::fs::write(&a.out, write_csv(&rows, unit))
+            .with_context(|| format!("writing {}", a.out.display()))?;
+    }
     let ok = rows.iter().filter(|r| r.tip.is_ok()).count();
-    println!(
+    say(format!(
         "rows {}  solved {ok}  failed {}  wall {wall:.3} s  ({:.0} rows/s)",
         rows.len(),
         rows.len() - ok,
         rows.len() as f64 / wall
-    );
+    ));
     if let Some(tips) = &data.tips {
         let (mut sim, mut real, mut fam) = (Vec::new(), Vec::new(), Vec::new());
         for (i, r) in rows.iter().enumerate() {
@@ -101,12 +115,14 @@ pub fn run(a: PredictArgs) -> Result<()> {
         }
         let e = aligned_errors(&sim, &real);
         if let Some(s) = ErrorStats::of(&e) {
-            println!(
+            say(format!(
                 "mean-offset-aligned tip error [{}]: rmse {:.3}  mean {:.3}  median {:.3}  max {:.3}  over {} rows",
                 a.data.unit, s.rmse / unit, s.mean / unit, s.median / unit, s.max / unit, s.n
-            );
+            ));
         }
     }
-    println!("wrote {}", a.out.display());
+    if !to_stdout {
+        println!("wrote {}", a.out.display());
+    }
     Ok(())
 }
