@@ -19,7 +19,7 @@ pub struct CableActuation {
     pub tension: Option<f64>,
 }
 
-/// The answer of [`reach`]: reached or the closest found.
+/// The answer of [`super::reach`]: reached or the closest found.
 #[derive(Debug, Clone)]
 pub struct Reach {
     /// True when the tip (and tangent) are on target within the tolerance, clear of the
