@@ -209,7 +209,10 @@ impl RowStatus {
             SolveError::Infeasible { .. } => RowStatus::Infeasible,
             SolveError::NotConverged { .. } => RowStatus::NotConverged,
             SolveError::Obstructed { .. } => RowStatus::Obstructed,
-            SolveError::Unsupported { .. } => RowStatus::Unsupported,
+            // A scene beyond the contact budget is one the methods do not take.
+            SolveError::Unsupported { .. } | SolveError::ContactBudget { .. } => {
+                RowStatus::Unsupported
+            }
             // Inverse problems' outcomes (reach, plan); a forward solve never returns them.
             SolveError::Unreachable { .. } | SolveError::NoPath { .. } => RowStatus::Infeasible,
         }

@@ -128,6 +128,27 @@ pub enum SolveError {
         /// What stopped the search.
         reason: String,
     },
+    /// The scene asks for more contact work than one solve may spend: its distinct obstacles
+    /// within reach of the robot times the robot's features (disks, backbone sections, cable
+    /// chords) exceed the limit (README, "When ccrkit says no"). Exact duplicates are merged
+    /// before counting. Raised before any solving.
+    #[error(
+        "contact budget exceeded: {obstacles} distinct obstacles within reach of the robot × \
+         {features} robot features (disks, backbone sections, cable chords) = {pairs} \
+         feature–obstacle pairs, the limit is {limit}: merge obstacles into fewer (exact \
+         duplicates already are), give them as one mesh, or crop the scene to the robot's \
+         workspace"
+    )]
+    ContactBudget {
+        /// Distinct obstacles within reach (exact duplicates merged).
+        obstacles: usize,
+        /// The robot's contact features.
+        features: usize,
+        /// Their product: feature–obstacle pairs.
+        pairs: usize,
+        /// The most pairs a solve may have.
+        limit: usize,
+    },
     /// The method cannot represent this robot or actuation.
     #[error("{method} cannot solve this: {reason}")]
     Unsupported {
@@ -149,6 +170,7 @@ impl SolveError {
             SolveError::Unsupported { .. } => "unsupported",
             SolveError::Unreachable { .. } => "unreachable",
             SolveError::NoPath { .. } => "no_path",
+            SolveError::ContactBudget { .. } => "contact_budget",
         }
     }
 }

@@ -198,3 +198,75 @@ fn view_draws_a_plan_written_by_ccrkit_plan() {
         "{err}"
     );
 }
+
+/// `predict` exits 1 with a named error when no row solved (it exited 0 with every row
+/// failed), and still writes the CSV of statuses; with some rows failed and others solved it
+/// exits 0 and the summary and the statuses say which failed.
+#[test]
+fn predict_fails_by_name_only_when_no_row_solved() {
+    let dir = std::env::temp_dir().join(format!("ccrkit-predict-exit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let real = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("models/hardware/data/v4/tdcr_sysid_20260511-183002_val.csv"),
+    )
+    .expect("data");
+    let lines: Vec<&str> = real.lines().take(6).collect();
+    // The first servo pulled 900 mm in the chosen rows: no shape meets that (`infeasible`).
+    let csv = |bad: &[usize]| -> String {
+        let mut out = vec![lines[0].to_string()];
+        for (i, r) in lines[1..].iter().enumerate() {
+            let mut c: Vec<&str> = r.split(',').collect();
+            if bad.contains(&i) {
+                c[2] = "900";
+            }
+            out.push(c.join(","));
+        }
+        format!("{}\n", out.join("\n"))
+    };
+    for (name, bad, solved) in [
+        ("all", vec![0, 1, 2, 3, 4], 0),
+        ("some", vec![0, 2], 3),
+        ("none", vec![], 5),
+    ] {
+        let data = dir.join(format!("{name}.csv"));
+        std::fs::write(&data, csv(&bad)).expect("write");
+        let out_csv = dir.join(format!("{name}.out.csv"));
+        let out = ccrkit(&[
+            "predict",
+            "models/hardware/ftdcr_v4.toml",
+            "--data",
+            &data.to_string_lossy(),
+            "--out",
+            &out_csv.to_string_lossy(),
+        ]);
+        let (so, se) = (
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr),
+        );
+        assert!(
+            so.contains(&format!("rows 5  solved {solved}  failed {}", 5 - solved)),
+            "{name}: {so}"
+        );
+        let statuses: Vec<String> = std::fs::read_to_string(&out_csv)
+            .expect("the CSV is written either way")
+            .lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap_or("").to_string())
+            .collect();
+        for (i, s) in statuses.iter().enumerate() {
+            let want = if bad.contains(&i) { "infeasible" } else { "ok" };
+            assert_eq!(s, want, "{name}: row {i}");
+        }
+        if solved == 0 {
+            assert_eq!(out.status.code(), Some(1), "{name}: {so} {se}");
+            assert!(
+                se.contains("error: no row solved: 5 of 5 rows failed")
+                    && se.contains("row 1: infeasible actuation"),
+                "{name}: {se}"
+            );
+        } else {
+            assert_eq!(out.status.code(), Some(0), "{name}: {se}");
+        }
+    }
+}

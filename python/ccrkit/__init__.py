@@ -17,6 +17,7 @@ numpy is imported only when an array is made, so ``import ccrkit`` stays fast.
 from __future__ import annotations
 
 from ._native import (
+    ContactBudget,
     ExportError,
     Infeasible,
     InvalidInput,
@@ -38,6 +39,7 @@ from .batch import STATUSES, Batch
 
 __all__ = [
     "Batch",
+    "ContactBudget",
     "ExportError",
     "Infeasible",
     "InvalidInput",

@@ -3,6 +3,7 @@ from typing import Optional
 import numpy.typing as npt
 
 from ._native import (
+    ContactBudget as ContactBudget,
     ExportError as ExportError,
     Infeasible as Infeasible,
     InvalidInput as InvalidInput,

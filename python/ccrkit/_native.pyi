@@ -48,6 +48,10 @@ class Obstructed(SolveError):
 class Unsupported(SolveError):
     """The method cannot represent this robot, load or obstacle (``method``)."""
 
+class ContactBudget(Unsupported):
+    """More distinct obstacles within reach of the robot than a solve may query (``field``:
+    ``obstacles``, ``reason``: the count, the limit and what to do)."""
+
 class Unreachable(SolveError):
     """reach found no actuation putting the tip on the target: ``target``, ``closest`` (the
     closest tip found), ``distance`` [m]; ``result`` is that closest answer."""

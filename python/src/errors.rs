@@ -56,6 +56,13 @@ create_exception!(
 );
 create_exception!(
     ccrkit,
+    ContactBudget,
+    Unsupported,
+    "The scene has more distinct obstacles within reach of the robot than a solve may query \
+     (field: `obstacles`, reason: the message, with the count, the limit and what to do)."
+);
+create_exception!(
+    ccrkit,
     Unreachable,
     SolveError,
     "reach found no actuation putting the tip on the target (target, closest: the closest tip \
@@ -219,6 +226,16 @@ pub fn solve_error(py: Python<'_>, e: &CoreSolveError) -> PyErr {
                 ..Default::default()
             },
         ),
+        CoreSolveError::ContactBudget { .. } => raise::<ContactBudget>(
+            py,
+            msg.clone(),
+            Attrs {
+                kind,
+                field: Some("obstacles".into()),
+                reason: msg,
+                ..Default::default()
+            },
+        ),
         CoreSolveError::NoPath { samples, reason } => raise::<NoPath>(
             py,
             msg,
@@ -318,6 +335,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Obstructed", py.get_type::<Obstructed>())?;
     m.add("Unsupported", py.get_type::<Unsupported>())?;
     m.add("ExportError", py.get_type::<ExportError>())?;
+    m.add("ContactBudget", py.get_type::<ContactBudget>())?;
     m.add("Unreachable", py.get_type::<Unreachable>())?;
     m.add("NoPath", py.get_type::<NoPath>())?;
     Ok(())

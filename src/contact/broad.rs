@@ -8,14 +8,53 @@ use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use nalgebra::Vector3;
 
-/// Robot level: the obstacles whose bounds come within reach of the base (the robot's length
-/// plus a disk's radius and thickness plus the clearance: nothing farther can touch it), after
-/// checking that the base disk is clear of every one of them.
+/// The most feature–obstacle pairs within reach one solve may have: distinct obstacles
+/// within reach of the robot times its features ([`robot_features`]). Every contact
+/// evaluation of the methods queries at most these pairs, and their iterations are bounded,
+/// so the limit bounds a solve's contact work by a count, not a clock.
+///
+/// Chosen from measurements (README, "When ccrkit says no"): the worst scene per pair is one
+/// of nearly coincident boxes (distinct by 1e-9 m) across the robot, where every pair is near
+/// every evaluation; paper case I (36 features) with the literal method spends ~6 ms per pair
+/// there (64 boxes, 2304 pairs: 13 s on a loaded 2-core machine), the energy model ~0.2 ms.
+/// 4096 pairs keep the literal method's worst case near half a minute on such a machine and
+/// admit 113 obstacles around case I, 12 around a 30-section robot with 9 cables.
+pub(crate) const MAX_PAIRS: usize = 4096;
+
+/// Robot level: the distinct obstacles whose bounds come within reach of the base (the robot's
+/// length plus a disk's radius and thickness plus the clearance: nothing farther can touch it;
+/// exact duplicates merged, [`Scene::distinct`]), after checking that they stay within the
+/// contact budget ([`MAX_PAIRS`]) and that the base disk is clear of every one of them. Every
+/// method that handles obstacles, and reach and plan through them, starts here.
 pub(crate) fn robot_obstacles(robot: &Robot, scene: &Scene) -> Result<Vec<usize>, SolveError> {
     let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
-    let near = scene.near(&Vector3::zeros(), reach);
+    let near = scene.distinct(scene.near(&Vector3::zeros(), reach));
+    check_budget(robot, near.len())?;
     check_base(robot, scene, &near)?;
     Ok(near)
+}
+
+/// The robot's contact features at section resolution: per section its backbone piece and its
+/// end disk, and the chord of every cable that runs through it.
+pub(crate) fn robot_features(robot: &Robot) -> usize {
+    let chords: usize = robot.cables.iter().map(|c| c.ends_at).sum();
+    2 * robot.sections() + chords
+}
+
+/// [`SolveError::ContactBudget`] when `obstacles` distinct obstacles within reach give more
+/// feature–obstacle pairs than [`MAX_PAIRS`].
+pub(crate) fn check_budget(robot: &Robot, obstacles: usize) -> Result<(), SolveError> {
+    let features = robot_features(robot);
+    let pairs = obstacles.saturating_mul(features);
+    if pairs > MAX_PAIRS {
+        return Err(SolveError::ContactBudget {
+            obstacles,
+            features,
+            pairs,
+            limit: MAX_PAIRS,
+        });
+    }
+    Ok(())
 }
 
 /// The obstacles of `among` whose bounds come within `margin` of the box `lo..hi`, and the

@@ -11,8 +11,9 @@
 //!   witness polish);
 //! * [`curvature`]: the Hessian of an obstacle's distance function (its surface curvature),
 //!   for the second derivative of a feature–obstacle distance;
-//! * [`broad`]: the broad phase (obstacles within reach of the robot, bounds against a box)
-//!   and the base-disk check.
+//! * [`broad`]: the broad phase (obstacles within reach of the robot, exact duplicates
+//!   merged, bounds against a box), the contact budget ([`broad::MAX_PAIRS`]) and the
+//!   base-disk check.
 //!
 //! What stays in a method is how its variables move a feature (the gradient of a distance):
 //! `method/geometric/obstacles.rs` in one section's pose, `method/energy/contacts.rs` in the

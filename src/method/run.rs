@@ -194,6 +194,19 @@ impl SolveRequest {
             reason: "no solve ran".into(),
         })?;
         shape.report.solve_time_s = median_time_s;
+        // Exact duplicates were merged by the broad phase (`Scene::distinct`): say so.
+        let merged = if scene.obstacles.len() > 1 {
+            scene.exact_duplicates()
+        } else {
+            0
+        };
+        if merged > 0 {
+            shape.report.notes.push(format!(
+                "{merged} of {} obstacles are exact duplicates of another and were merged \
+                 (a contact names the first of each group)",
+                scene.obstacles.len()
+            ));
+        }
         // The output boundary: no non-finite number, no robot passing through itself.
         crate::check::output(&model.robot, &shape)?;
         Ok(Solved {

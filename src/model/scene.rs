@@ -175,6 +175,42 @@ impl Scene {
             })
             .collect()
     }
+
+    /// The indices of `among` without exact duplicates: an obstacle with the same geometry
+    /// to the bit as an earlier one in `among` ([`Obstacle::same_geometry`]; names aside) is
+    /// left out, the first of each group kept, the order kept. Exact for every contact
+    /// constraint: duplicates give the same constraint twice, the same feasible set and the
+    /// same minimizers, so a solve that queries one copy is the solve of the scene with one
+    /// (to the bit). Linear in `among.len()` (hashing; equal hashes compared in full).
+    pub fn distinct(&self, among: Vec<usize>) -> Vec<usize> {
+        use std::collections::hash_map::{DefaultHasher, HashMap};
+        use std::hash::Hasher;
+        if among.len() < 2 {
+            return among;
+        }
+        let mut groups: HashMap<u64, Vec<usize>> = HashMap::with_capacity(among.len());
+        let mut out = Vec::with_capacity(among.len());
+        for k in among {
+            let Some(o) = self.obstacles.get(k) else {
+                continue;
+            };
+            let mut h = DefaultHasher::new();
+            o.geometry_words().for_each(|w| h.write_u64(w));
+            let group = groups.entry(h.finish()).or_default();
+            if group.iter().any(|&j| self.obstacles[j].same_geometry(o)) {
+                continue;
+            }
+            group.push(k);
+            out.push(k);
+        }
+        out
+    }
+
+    /// How many obstacles are exact duplicates of an earlier one ([`Scene::distinct`]).
+    pub fn exact_duplicates(&self) -> usize {
+        let n = self.obstacles.len();
+        n - self.distinct((0..n).collect()).len()
+    }
 }
 
 fn aabb_ball_distance(aabb: &(Vector3<f64>, Vector3<f64>), c: &Vector3<f64>) -> f64 {
@@ -277,6 +313,49 @@ impl Obstacle {
                     .collect()
             }
         }
+    }
+
+    /// True when `other` has the same geometry to the bit: the same kind, sizes (mesh
+    /// vertices and triangles) and pose; names and mesh paths aside.
+    pub fn same_geometry(&self, other: &Obstacle) -> bool {
+        self.geometry_words().eq(other.geometry_words())
+    }
+
+    /// The obstacle's geometry as words: a kind tag, the sizes' and the pose's bits (a mesh:
+    /// its vertex and triangle counts, then every vertex and triangle).
+    fn geometry_words(&self) -> Box<dyn Iterator<Item = u64> + '_> {
+        let t = &self.pose.translation.vector;
+        let q = &self.pose.rotation.coords;
+        let pose = [t.x, t.y, t.z, q.x, q.y, q.z, q.w].map(f64::to_bits);
+        let (tag, sizes): (u64, Vec<f64>) = match &self.kind {
+            ObstacleKind::Sphere { radius } => (0, vec![*radius]),
+            ObstacleKind::Box { half_extents: h } => (1, vec![h.x, h.y, h.z]),
+            ObstacleKind::Capsule {
+                radius,
+                half_height,
+            } => (2, vec![*radius, *half_height]),
+            ObstacleKind::Cylinder {
+                radius,
+                half_height,
+            } => (3, vec![*radius, *half_height]),
+            ObstacleKind::Mesh {
+                vertices,
+                triangles,
+                ..
+            } => {
+                let head = [4, vertices.len() as u64, triangles.len() as u64];
+                let v = vertices
+                    .iter()
+                    .flat_map(|v| [v.x, v.y, v.z].map(f64::to_bits));
+                let t = triangles.iter().flat_map(|t| t.map(u64::from));
+                return Box::new(head.into_iter().chain(pose).chain(v).chain(t));
+            }
+        };
+        Box::new(
+            std::iter::once(tag)
+                .chain(pose)
+                .chain(sizes.into_iter().map(f64::to_bits)),
+        )
     }
 
     /// Rotation of the obstacle as a matrix.

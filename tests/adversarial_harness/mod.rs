@@ -55,6 +55,8 @@ pub const NAMED: &[&str] = &[
     "tolerance must be",
     "unknown --",
     "shard `",
+    "contact budget exceeded:",
+    "no row solved:",
 ];
 
 /// How one run ended.

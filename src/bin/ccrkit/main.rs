@@ -280,6 +280,13 @@ fn run() -> Result<()> {
             let quiet = json.as_deref() == Some("-");
             if !quiet {
                 print_summary(&model, shape, median, repeat);
+                let merged = solved.scene.exact_duplicates();
+                if merged > 0 {
+                    println!(
+                        "scene   {} obstacles, {merged} exact duplicates merged (contacts name the first of each)",
+                        solved.scene.obstacles.len()
+                    );
+                }
             }
             if let Some(j) = json {
                 // Model name and driving input included (the library's `SolveRequest::json`).

@@ -124,5 +124,23 @@ pub fn run(a: PredictArgs) -> Result<()> {
     if !to_stdout {
         println!("wrote {}", a.out.display());
     }
+    // Some rows solved: exit 0, the statuses per row tell which failed. None solved: the
+    // prediction as a whole failed, say why with the first row's error.
+    if ok == 0 {
+        let first = rows.iter().find_map(|r| r.tip.as_ref().err()).map_or_else(
+            || "the data has no row".to_string(),
+            |e| format!("row 1: {e}"),
+        );
+        anyhow::bail!(
+            "no row solved: {} of {} rows failed (statuses in {}); {first}",
+            rows.len(),
+            rows.len(),
+            if to_stdout {
+                "the CSV on standard output".to_string()
+            } else {
+                a.out.display().to_string()
+            }
+        );
+    }
     Ok(())
 }
