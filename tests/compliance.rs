@@ -11,15 +11,10 @@ use ccrkit::method::MethodKind;
 use ccrkit::{Method, Model, Scene, Shape, SolveError};
 use nalgebra::Vector3;
 
-/// A straight robot, 10 sections of 10 mm, one straight cable at offset 8 mm tied at the tip;
-/// `extra` adds fields to the cable.
-fn one_cable(e: f64, extra: &str) -> String {
-    format!(
-        "name = \"one\"\n[robot]\nsections = 10\nsection_length = 0.01\ndisk_radius = 0.012\n\
-         disk_thickness = 0.002\nbackbone = {{ youngs_modulus = {e:e}, poisson_ratio = 0.3, diameter = 0.002 }}\n\
-         [[cables]]\nname = \"A\"\nradius = 0.008\nangles = {{ straight = 0.0 }}\nshorten = 0.002\n{extra}\n"
-    )
-}
+#[path = "common/one_cable.rs"]
+mod one_cable;
+use one_cable::{compliant_v4, one_cable, spring, tension, three_pretensioned};
+use one_cable::{SPRING_CASES, V4_BEND};
 
 fn solve(m: &Model, act: &Actuation) -> Shape {
     Energy::default()
@@ -27,22 +22,13 @@ fn solve(m: &Model, act: &Actuation) -> Shape {
         .expect("solves")
 }
 
-fn tension(s: &Shape, c: usize) -> f64 {
-    s.cables[c].tension.expect("tension reported")
-}
-
 /// Series springs: a cable of stiffness k shortened by δ (with pretension T₀) ends with
 /// tension T; the inextensible cable shortened by δ + T₀/k − T/k gives the same shape and
 /// tension (to 1e-9 m / 1e-6 relative). A rigid-ish backbone (E = 200 GPa) and a soft one.
 #[test]
 fn compliant_cable_equals_rigid_cable_at_the_effective_shortening() {
-    for (e, k, t0) in [(2e11, 2000.0, 0.0), (2e11, 500.0, 1.5), (5e9, 3000.0, 0.4)] {
-        let extra = if t0 > 0.0 {
-            format!("stiffness = {k}\npretension = {t0}")
-        } else {
-            format!("stiffness = {k}")
-        };
-        let soft = Model::from_toml_str(&one_cable(e, &extra)).expect("compliant model");
+    for (e, k, t0) in SPRING_CASES {
+        let soft = Model::from_toml_str(&one_cable(e, &spring(k, t0))).expect("compliant model");
         let s = solve(&soft, &soft.actuation);
         let t = tension(&s, 0);
         assert!(t > 0.1, "the cable pulls: {t}");
@@ -72,20 +58,7 @@ fn compliant_cable_equals_rigid_cable_at_the_effective_shortening() {
 #[test]
 fn symmetric_pretension_matches_the_closed_form() {
     let (k, t0, e) = (4000.0, 2.0, 2.5e8);
-    let mut text = one_cable(e, "").replace("shorten = 0.002\n", "");
-    text = text.replace("[[cables]]\nname = \"A\"", "[[cables]]\nname = \"C0\"");
-    text = text.replace("angles = { straight = 0.0 }\n", "");
-    let head = text.split("[[cables]]").next().expect("head").to_string();
-    let mut file = head;
-    for (i, a) in [0.0, 2.0943951023931953, 4.1887902047863905]
-        .iter()
-        .enumerate()
-    {
-        file.push_str(&format!(
-            "[[cables]]\nname = \"C{i}\"\nradius = 0.008\nangles = {{ straight = {a} }}\n\
-             shorten = 0.0\nstiffness = {k}\npretension = {t0}\n"
-        ));
-    }
+    let file = three_pretensioned(e, k, t0);
     let m = Model::from_toml_str(&file).expect("model");
     let s = solve(&m, &m.actuation);
     let ea = e * std::f64::consts::PI * 0.001 * 0.001;
@@ -108,16 +81,8 @@ fn symmetric_pretension_matches_the_closed_form() {
 /// cable's shortening (FTDCR v4, every cable compliant and pretensioned, a bending command).
 #[test]
 fn tip_jacobian_with_compliant_cables_matches_central_differences() {
-    let path = format!(
-        "{}/models/hardware/ftdcr_v4.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let mut m = Model::from_file(path).expect("v4");
-    for (c, cable) in m.robot.cables.iter_mut().enumerate() {
-        cable.stiffness = Some(3000.0 + 200.0 * c as f64);
-        cable.pretension = 0.3;
-    }
-    let u = [4e-3, -2e-3, 0.0, -1e-3, 3e-3, 1e-3, 2e-3, -1e-3, 1.5e-3];
+    let m = compliant_v4();
+    let u = V4_BEND;
     let act = m.hardware.actuation(&u);
     let set = Energy::default();
     let base = solve(&m, &act);

@@ -10,15 +10,10 @@ use ccrkit::method::energy::Energy;
 use ccrkit::{Method, Model, Scene, Shape};
 use nalgebra::Vector3;
 
-/// A straight robot, 10 sections of 10 mm, one straight cable at offset 8 mm tied at the tip
-/// (as `tests/compliance.rs`); `extra` adds fields to the cable.
-fn one_cable(e: f64, extra: &str) -> String {
-    format!(
-        "name = \"one\"\n[robot]\nsections = 10\nsection_length = 0.01\ndisk_radius = 0.012\n\
-         disk_thickness = 0.002\nbackbone = {{ youngs_modulus = {e:e}, poisson_ratio = 0.3, diameter = 0.002 }}\n\
-         [[cables]]\nname = \"A\"\nradius = 0.008\nangles = {{ straight = 0.0 }}\nshorten = 0.002\n{extra}\n"
-    )
-}
+#[path = "common/one_cable.rs"]
+mod one_cable;
+use one_cable::{compliant_v4, one_cable, spring, tension, three_pretensioned};
+use one_cable::{SPRING_CASES, V4_BEND};
 
 fn rods() -> [Cosserat; 2] {
     [
@@ -32,23 +27,15 @@ fn solve(rod: &dyn Method, m: &Model, act: &Actuation, warm: Option<&Shape>) -> 
         .unwrap_or_else(|e| panic!("{} solves: {e}", rod.name()))
 }
 
-fn tension(s: &Shape, c: usize) -> f64 {
-    s.cables[c].tension.expect("tension reported")
-}
-
 /// Series springs: the compliant cable shortened by `d` ends with tension `T`; the
 /// inextensible cable shortened by `d + T₀/k − T/k` gives the same tip (1e-9 m) and tension
 /// (1e-6 relative). Both rods, a stiff and a soft backbone, with and without pretension.
 #[test]
 fn compliant_rod_equals_rigid_rod_at_the_effective_shortening() {
     for rod in rods() {
-        for (e, k, t0) in [(2e11, 2000.0, 0.0), (2e11, 500.0, 1.5), (5e9, 3000.0, 0.4)] {
-            let extra = if t0 > 0.0 {
-                format!("stiffness = {k}\npretension = {t0}")
-            } else {
-                format!("stiffness = {k}")
-            };
-            let soft = Model::from_toml_str(&one_cable(e, &extra)).expect("compliant model");
+        for (e, k, t0) in SPRING_CASES {
+            let soft =
+                Model::from_toml_str(&one_cable(e, &spring(k, t0))).expect("compliant model");
             let s = solve(&rod, &soft, &soft.actuation, None);
             let t = tension(&s, 0);
             assert!(t > 0.1, "the cable pulls: {t}");
@@ -79,21 +66,7 @@ fn compliant_rod_equals_rigid_rod_at_the_effective_shortening() {
 #[test]
 fn symmetric_pretension_matches_the_closed_form() {
     let (k, t0, e) = (4000.0, 2.0, 2.5e8);
-    let head = one_cable(e, "")
-        .split("[[cables]]")
-        .next()
-        .expect("head")
-        .to_string();
-    let mut file = head;
-    for (i, a) in [0.0, 2.0943951023931953, 4.1887902047863905]
-        .iter()
-        .enumerate()
-    {
-        file.push_str(&format!(
-            "[[cables]]\nname = \"C{i}\"\nradius = 0.008\nangles = {{ straight = {a} }}\n\
-             shorten = 0.0\nstiffness = {k}\npretension = {t0}\n"
-        ));
-    }
+    let file = three_pretensioned(e, k, t0);
     let m = Model::from_toml_str(&file).expect("model");
     let ea = e * std::f64::consts::PI * 0.001 * 0.001;
     let l = 0.1;
@@ -128,24 +101,16 @@ fn symmetric_pretension_matches_the_closed_form() {
 }
 
 /// FTDCR v4 with every cable compliant and pretensioned (k = 3000 + 200 c N/m, T₀ = 0.3 N,
-/// the values of `tests/compliance.rs`), on bending commands where some cables go slack:
+/// `one_cable::compliant_v4`, as `tests/compliance.rs`), on bending commands where some cables go slack:
 /// both rods, cold and warm-started from the energy model, converge, their cable slack/taut
 /// pattern is the energy model's, and their tips agree with it (the rod integrates the
 /// exact cable paths, the energy model uses constant-strain sub-arcs: the rigid FTDCR
 /// samples agree to < 1 µm, `tests/cosserat_refs.rs`).
 #[test]
 fn compliant_ftdcr_rod_matches_the_energy_model() {
-    let path = format!(
-        "{}/models/hardware/ftdcr_v4.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let mut m = Model::from_file(path).expect("v4");
-    for (c, cable) in m.robot.cables.iter_mut().enumerate() {
-        cable.stiffness = Some(3000.0 + 200.0 * c as f64);
-        cable.pretension = 0.3;
-    }
+    let m = compliant_v4();
     let commands: [[f64; 9]; 3] = [
-        [4e-3, -2e-3, 0.0, -1e-3, 3e-3, 1e-3, 2e-3, -1e-3, 1.5e-3],
+        V4_BEND,
         [1e-3, 1e-3, 1e-3, 2e-3, 2e-3, 2e-3, 0.5e-3, 0.5e-3, 0.5e-3],
         [0.0, 6e-3, -3e-3, 2e-3, 0.0, 0.0, -1e-3, 0.0, 5e-3],
     ];
@@ -234,10 +199,7 @@ fn compliant_variational_jacobian_matches_central_differences() {
             "tension = 3.825900\nstiffness = 1500.0",
         );
     let pairs = [
-        (
-            one_cable(2e11, "stiffness = 500.0\npretension = 1.5"),
-            one_cable(2e11, ""),
-        ),
+        (one_cable(2e11, &spring(500.0, 1.5)), one_cable(2e11, "")),
         (soft1, case1),
     ];
     for (soft, rigid) in &pairs {

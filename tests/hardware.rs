@@ -91,31 +91,33 @@ fn hardware_models_load_and_solve_a_tendon_pull() {
     }
 }
 
-const ONE_CABLE: &str = r#"
-name = "one"
-[robot]
-sections = 4
-section_length = 0.02
-disk_radius = 0.01
-disk_thickness = 0.002
-backbone = { youngs_modulus = 5e9, poisson_ratio = 0.3, diameter = 0.002 }
-[[cables]]
-name = "A"
-radius = 0.006
-angles = { straight = 0.0 }
-"#;
+#[path = "common/one_cable.rs"]
+mod one_cable;
+
+/// A straight robot of 4 sections of 20 mm (disks of 10 mm, E = 5 GPa), one straight cable
+/// `A` at 6 mm; its cable table is open for the drive and the tables after it.
+fn small_one_cable() -> String {
+    one_cable::OneCable {
+        sections: 4,
+        section_length: 0.02,
+        disk_radius: 0.01,
+        youngs_modulus: 5e9,
+        cable_radius: 0.006,
+    }
+    .toml("")
+}
 
 /// Gain and offset reach every displacement-driven method exactly as `δ = g·u − o`: the
 /// hardware model with command `u` gives the same shape as the plain model with shortening δ.
 #[test]
 fn gain_and_offset_drive_the_model_by_their_definition() {
     let (u, g, o) = (0.004, 0.83, 0.0007);
+    let one = small_one_cable();
     let hw = Model::from_toml_str(&format!(
-        "{ONE_CABLE}shorten = {u}\n[hardware]\ngain = {g}\noffset = {o}\n"
+        "{one}shorten = {u}\n[hardware]\ngain = {g}\noffset = {o}\n"
     ))
     .expect("hardware model");
-    let plain =
-        Model::from_toml_str(&format!("{ONE_CABLE}shorten = {}\n", g * u - o)).expect("plain");
+    let plain = Model::from_toml_str(&format!("{one}shorten = {}\n", g * u - o)).expect("plain");
     for m in [
         Box::new(Energy::default()) as Box<dyn Method>,
         ccrkit::method_by_name("geometric").expect("geometric"),
@@ -151,8 +153,9 @@ fn gain_and_offset_drive_the_model_by_their_definition() {
 #[test]
 fn measured_tip_applies_base_pose_and_marker() {
     let m = Model::from_toml_str(&format!(
-        "{ONE_CABLE}shorten = 0.0\n[hardware]\nbase_position = [0.1, 0.2, 0.3]\n\
+        "{}shorten = 0.0\n[hardware]\nbase_position = [0.1, 0.2, 0.3]\n\
          base_rotation = [{}, 0.0, 0.0]\nmarker = [0.0, 0.001, 0.01]\n",
+        small_one_cable(),
         PI / 2.0
     ))
     .expect("model");
@@ -198,12 +201,13 @@ fn bad_hardware_is_refused_by_name() {
             "hardware.gain[0] / hardware.offset[0]",
         ),
     ];
+    let one = small_one_cable();
     for (extra, field) in cases {
-        let e = Model::from_toml_str(&format!("{ONE_CABLE}{extra}")).expect_err(extra);
+        let e = Model::from_toml_str(&format!("{one}{extra}")).expect_err(extra);
         assert_eq!(e.field(), Some(field), "{extra}: {e}");
     }
-    let e = Model::from_toml_str(&format!("{ONE_CABLE}\n[hardware]\nspool = 1.0\n"))
-        .expect_err("unknown");
+    let e =
+        Model::from_toml_str(&format!("{one}\n[hardware]\nspool = 1.0\n")).expect_err("unknown");
     assert!(e.to_string().contains("spool"), "{e}");
 }
 

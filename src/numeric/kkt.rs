@@ -178,42 +178,58 @@ pub struct KktStep6 {
     pub rank: usize,
 }
 
-/// See [`KktStep6`]. `rows[i]` is the gradient of constraint `i`, `c[i]` its value.
-pub fn kkt_step6(
-    h: &nalgebra::Matrix6<f64>,
-    g: &nalgebra::Vector6<f64>,
-    rows: &[nalgebra::Vector6<f64>],
-    c: &[f64],
-    reg: f64,
-) -> Option<KktStep6> {
-    if rows.len() > 6 {
-        return None;
-    }
-    kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c), false)
+/// 6-vectors and 6×6 matrices of the fixed-size step.
+type V6 = nalgebra::Vector6<f64>;
+type M6 = nalgebra::Matrix6<f64>;
+
+/// How [`kkt_step6_by`] splits the constraint rows into a range and a null space.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowSplit6 {
+    /// The eigenvectors of the row-normalized `AᵀA` (the split of [`kkt_step`]).
+    Eigen,
+    /// Modified Gram–Schmidt on the rows (issue 16: that eigendecomposition was ~14 % of a
+    /// literal solve). `[Y Z]` is then another orthonormal basis of the same row space and
+    /// null space, so the step, the multipliers and the reduced Hessian's eigenvalues are the
+    /// same in exact arithmetic (the null-space method does not depend on the basis chosen).
+    /// When a row is (numerically) dependent on the previous ones — its Gram–Schmidt
+    /// remainder `ρ` has `ρ² ≤ RANK_TOL`, the same threshold the eigenvalues of the
+    /// row-normalized `AᵀA` are held to — the step falls back to [`RowSplit6::Eigen`], whose
+    /// least-squares range step handles redundant rows.
+    GramSchmidt,
 }
 
-/// [`kkt_step6`] with the range/null split of the constraint rows by Gram–Schmidt instead of
-/// an eigendecomposition of `AᵀA` (issue 16: that eigendecomposition was ~14 % of a literal
-/// solve). `[Y Z]` is then another orthonormal basis of the same row space and null space, so
-/// the step, the multipliers and the reduced Hessian's eigenvalues are the same in exact
-/// arithmetic (the null-space method does not depend on the basis chosen). When a row is
-/// (numerically) dependent on the previous ones — its Gram–Schmidt remainder `ρ` has
-/// `ρ² ≤ RANK_TOL`, the same threshold the eigenvalues of the row-normalized `AᵀA` are held
-/// to — it falls back to [`kkt_step6`], whose least-squares range step handles redundant rows.
-pub fn kkt_step6_gs(
-    h: &nalgebra::Matrix6<f64>,
-    g: &nalgebra::Vector6<f64>,
-    rows: &[nalgebra::Vector6<f64>],
+/// The 6×6 KKT step with the rows split by `split`; `rows[i]` is the gradient of constraint
+/// `i`, `c[i]` its value. `None` when there are more than 6 rows (the one size guard of
+/// [`kkt_step6`] and [`kkt_step6_gs`]).
+pub fn kkt_step6_by(
+    split: RowSplit6,
+    h: &M6,
+    g: &V6,
+    rows: &[V6],
     c: &[f64],
     reg: f64,
 ) -> Option<KktStep6> {
     if rows.len() > 6 {
         return None;
     }
-    match gram_schmidt_split6(rows, c) {
+    let gram_schmidt = match split {
+        RowSplit6::Eigen => None,
+        RowSplit6::GramSchmidt => gram_schmidt_split6(rows, c),
+    };
+    match gram_schmidt {
         Some(split) => kkt_step6_from(h, g, rows, reg, split, true),
         None => kkt_step6_from(h, g, rows, reg, eigen_split6(rows, c), false),
     }
+}
+
+/// [`kkt_step6_by`] with [`RowSplit6::Eigen`].
+pub fn kkt_step6(h: &M6, g: &V6, rows: &[V6], c: &[f64], reg: f64) -> Option<KktStep6> {
+    kkt_step6_by(RowSplit6::Eigen, h, g, rows, c, reg)
+}
+
+/// [`kkt_step6_by`] with [`RowSplit6::GramSchmidt`].
+pub fn kkt_step6_gs(h: &M6, g: &V6, rows: &[V6], c: &[f64], reg: f64) -> Option<KktStep6> {
+    kkt_step6_by(RowSplit6::GramSchmidt, h, g, rows, c, reg)
 }
 
 /// The range step `Y d_y` (least-squares `A x = −c`, row-normalized), an orthonormal basis of
@@ -259,7 +275,7 @@ fn eigen_split6(rows: &[nalgebra::Vector6<f64>], c: &[f64]) -> Split6 {
 /// row-normalized rows `r_i = Σ_{j≤i} L_ij q_j`: the range step is `x = Σ y_j q_j` with
 /// `L y = −c` (forward substitution), and the null space is completed from the unit vectors,
 /// taking at each round the one with the largest remainder (at least `1/√6` of its length).
-/// `None` when a row is dependent on the previous ones (see [`kkt_step6_gs`]).
+/// `None` when a row is dependent on the previous ones (see [`RowSplit6::GramSchmidt`]).
 fn gram_schmidt_split6(rows: &[nalgebra::Vector6<f64>], c: &[f64]) -> Option<Split6> {
     use nalgebra::{Matrix6, Vector6};
     let k = rows.len();

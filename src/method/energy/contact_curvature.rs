@@ -199,57 +199,21 @@ mod tests {
     use super::*;
     use crate::method::energy::contacts::kinematics;
     use crate::method::energy::curvature::dense;
+    use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
     use crate::method::energy::Energy;
-    use crate::model::Model;
 
     /// `∇²d` of every pair (backbone capsules, disks, cable chords against a box, a ball and
     /// a cylinder) equals central differences of the exact distance gradient.
     #[test]
     fn distance_hessians_match_finite_differences() {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/models/paper/case2.toml"
-        ))
-        .expect("case 2");
-        let model = Model::from_toml_str(&format!(
-            "{text}
-[[obstacles]]
-name = \"box\"
-shape = \"box\"
-position = [0.03, 0.0, 0.12]
-rotation = {{ rpy = [0.2, 0.3, 0.1] }}
-half_extents = [0.01, 0.03, 0.02]
-[[obstacles]]
-name = \"ball\"
-shape = \"sphere\"
-position = [-0.02, 0.02, 0.09]
-radius = 0.012
-[[obstacles]]
-name = \"pillar\"
-shape = \"cylinder\"
-position = [0.0, -0.03, 0.15]
-rotation = {{ rpy = [1.2, 0.0, 0.4] }}
-radius = 0.006
-half_height = 0.03
-"
-        ))
-        .expect("model");
+        let model = case2_beside(Third::Cylinder);
         let set = Energy::default().with_sub_arcs(2);
         let prob = set
             .setup(&model.robot, &model.actuation, &model.scene)
             .expect("problem");
-        let near: Vec<usize> = (0..model.scene.obstacles.len()).collect();
-        let mut world = World::new(&model.robot, &model.scene, near, 2).expect("world");
-        world.margin = 0.05;
+        let world = world(&model, 2);
         let nv = prob.nvar();
-        let xi: Vec<f64> = (0..nv)
-            .map(|i| match i % 4 {
-                0 => 3.0 + 0.7 * (i as f64).sin(),
-                1 => -2.0 + 1.3 * (0.3 * i as f64).cos(),
-                2 => 1.5 * (0.2 * i as f64).sin(),
-                _ => -2e-3,
-            })
-            .collect();
+        let xi = bent_state(nv);
         let kin = kinematics(&xi, &prob.ell, true);
         let (pairs, _) = world.pairs(&kin);
         let grad_at = |x: &[f64], key: (usize, Feat)| -> Vec<f64> {

@@ -442,57 +442,21 @@ pub(super) enum Ends {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Model;
+    use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
 
     /// The analytic `∂d/∂ξ` of every pair matches central differences of parry's distance on
     /// a bent, twisted, stretched state next to a box, a sphere and a capsule.
     #[test]
     fn distance_gradients_match_finite_differences() {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/models/paper/case2.toml"
-        ))
-        .expect("case 2");
-        let model = Model::from_toml_str(&format!(
-            "{text}
-[[obstacles]]
-name = \"box\"
-shape = \"box\"
-position = [0.03, 0.0, 0.12]
-rotation = {{ rpy = [0.2, 0.3, 0.1] }}
-half_extents = [0.01, 0.03, 0.02]
-[[obstacles]]
-name = \"ball\"
-shape = \"sphere\"
-position = [-0.02, 0.02, 0.09]
-radius = 0.012
-[[obstacles]]
-name = \"rod\"
-shape = \"capsule\"
-position = [0.0, -0.025, 0.15]
-rotation = {{ rpy = [1.2, 0.0, 0.4] }}
-radius = 0.006
-half_height = 0.03
-"
-        ))
-        .expect("model");
+        let model = case2_beside(Third::Capsule);
         let robot = &model.robot;
         let m = 2;
         let nsub = robot.sections() * m;
         let ell: Vec<f64> = (0..nsub)
             .map(|j| robot.section_length(j / m + 1) / m as f64)
             .collect();
-        let near: Vec<usize> = (0..model.scene.obstacles.len()).collect();
-        let mut world = World::new(robot, &model.scene, near, m).expect("world");
-        world.margin = 0.05;
-        let xi: Vec<f64> = (0..4 * nsub)
-            .map(|i| match i % 4 {
-                0 => 3.0 + 0.7 * (i as f64).sin(),
-                1 => -2.0 + 1.3 * (0.3 * i as f64).cos(),
-                2 => 1.5 * (0.2 * i as f64).sin(),
-                _ => -2e-3,
-            })
-            .collect();
+        let world = world(&model, m);
+        let xi = bent_state(4 * nsub);
         let (pairs, _) = world.pairs(&kinematics(&xi, &ell, true));
         let kinds: Vec<Feat> = pairs.iter().map(|p| p.feat).collect();
         assert!(kinds.iter().any(|f| matches!(f, Feat::Backbone(_))));

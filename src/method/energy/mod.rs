@@ -150,6 +150,8 @@ mod newton;
 mod problem;
 mod sensitivity;
 mod step_guard;
+#[cfg(test)]
+mod test_fixture;
 
 pub use kinematics::GL_NODES;
 
