@@ -405,7 +405,7 @@ impl Roadmap {
         self.check_fits(&space, request)?;
         let margin = opts.margin.unwrap_or(space.margin);
         let trusted = margin == self.margin && scene_fingerprint(&space.scene) == self.scene;
-        let mut ck = Checker::new(&space, margin);
+        let mut ck = Checker::new(&space, margin).keep_samples();
         let (s, g) = endpoints(&mut ck, model, start, goal)?;
         let mut rng = XorShiftRng::seed_from_u64(opts.seed);
         let mut stats = PlanStats {
