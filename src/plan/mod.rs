@@ -6,8 +6,10 @@
 //! * Validation: [`edge`] — sub-intervals bisected until a bound on how far any feature
 //!   moves ([`crate::reach::motion_bound`], inflated by the Lipschitz factor
 //!   [`edge::KAPPA`]) fits inside the measured clearances.
-//! * Then random shortcuts (seeded), and each remaining edge cut into pieces of at most
-//!   [`PlanOptions::output_step`] for the output waypoints (points of validated edges).
+//! * Then greedy shortcuts (farthest first, at most [`PlanOptions::shortcuts`] edge checks),
+//!   and each remaining edge cut into pieces of at most [`PlanOptions::output_step`] for the
+//!   output waypoints: the edge's own bisection samples where the plan validated it, new
+//!   solves elsewhere (trusted roadmap edges).
 //! * Deterministic: one seeded generator (xorshift, `rand_xorshift`) drives every random
 //!   choice; solves are deterministic.
 //!
@@ -46,7 +48,7 @@ pub enum Goal {
 /// How to plan.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanOptions {
-    /// Seed of every random choice.
+    /// Seed of every random choice (RRT-Connect's samples; a roadmap query makes none).
     pub seed: u64,
     /// Margin kept from the obstacles \[m\] (default: the scene's `clearance`).
     pub margin: Option<f64>,
@@ -54,7 +56,7 @@ pub struct PlanOptions {
     pub step: f64,
     /// Samples before giving up.
     pub max_samples: usize,
-    /// Shortcut attempts.
+    /// Shortcut attempts: edge checks of the greedy shortcut stage (`src/plan/rrt.rs`).
     pub shortcuts: usize,
     /// Largest actuation change between output waypoints \[m\].
     pub output_step: f64,
@@ -409,7 +411,7 @@ pub fn plan(
         tree_nodes: found.tree_nodes,
         ..PlanStats::default()
     };
-    finish(&mut ck, found.path, opts, &mut rng, stats, t0)
+    finish(&mut ck, found.path, opts, stats, t0)
 }
 
 /// The solved points strictly between `from` (the last of `out`) and `to`, every
@@ -441,13 +443,12 @@ pub(crate) fn finish(
     ck: &mut Checker,
     mut path: Vec<Node>,
     opts: &PlanOptions,
-    rng: &mut XorShiftRng,
     mut stats: PlanStats,
     t0: Instant,
 ) -> Result<Plan, SolveError> {
     let length = |p: &[Node]| p.windows(2).map(|w| edge::dist(&w[0].u, &w[1].u)).sum();
     stats.length_before_m = length(&path);
-    stats.shortcut_removed = rrt::shortcut(ck, &mut path, opts.shortcuts, rng);
+    stats.shortcut_removed = rrt::shortcut(ck, &mut path, opts.shortcuts);
     stats.length_after_m = length(&path);
     // Every remaining edge is validated again (a shortcut's edge was; the tree's were) to
     // collect the certified bound, then cut for output.
