@@ -2,7 +2,8 @@
 //! re-checked on dense interpolations (8 per output edge, finer than the planner's output)
 //! with parry3d on features built here; the same seed gives the same path (library and CLI);
 //! roadmap queries succeed on seeded random feasible queries and repair a changed scene;
-//! the trajectory has the articulated URDF export's joint names.
+//! output waypoints are real solves at most the output step apart; the hinted clearance is
+//! the unhinted one; the trajectory has the articulated URDF export's joint names.
 
 mod common;
 
@@ -105,6 +106,65 @@ fn dense_recheck(model: &Model, p: &Plan) -> f64 {
         p.margin_m
     );
     worst
+}
+
+/// Consecutive waypoints are at most `step` apart, and each waypoint's shape and clearance
+/// are those of a cold solve at its actuation (the output stage reuses bisection samples,
+/// solved warm: the same shape to the solver's tolerance).
+fn waypoints_are_solves(space: &Space, p: &Plan, step: f64) {
+    for w in p.waypoints.windows(2) {
+        let d = ccrkit::plan::edge::dist(&w[0].u, &w[1].u);
+        assert!(
+            d <= step * (1.0 + 1e-12),
+            "waypoints {d:e} m apart, step {step} m"
+        );
+    }
+    for n in &p.waypoints {
+        let cold = space.solve(&n.u, None).unwrap();
+        let e = (cold.tip() - n.shape.tip()).norm();
+        assert!(
+            e <= 1e-9,
+            "waypoint tip {e:e} m from a cold solve at {:?}",
+            n.u
+        );
+        let c = space.clearance(&cold).unwrap().distance;
+        assert!(
+            (c - n.clearance).abs() <= 1e-9,
+            "clearance {c:e} vs {:e}",
+            n.clearance
+        );
+    }
+}
+
+/// The hinted clearance (`ccrkit::reach::clearance_hinted`, what the planner's checker uses)
+/// gives the unhinted answer to the bit — distance, obstacle, feature and closest pair — for
+/// any hint: the shape's own closest pair, another shape's, an arbitrary pair, one out of range.
+#[test]
+fn clearance_hint_changes_nothing() {
+    for (model, seed) in [(vessel_model(), 11), (ball_model(), 6)] {
+        let space = Space::new(&model, &energy(), false).unwrap();
+        let shapes: Vec<Shape> = admissible_samples(&space, seed, 4)
+            .iter()
+            .map(|u| space.solve(u, None).unwrap())
+            .collect();
+        let plain: Vec<_> = shapes
+            .iter()
+            .map(|s| space.clearance_hinted(s, None).unwrap())
+            .collect();
+        for (k, s) in shapes.iter().enumerate() {
+            assert_eq!(Some(plain[k].0.clone()), space.clearance(s));
+            let other = plain[(k + 1) % shapes.len()].1;
+            for hint in [plain[k].1, other, (0, 0), (3, 0), (usize::MAX, 7)] {
+                let h = space.clearance_hinted(s, Some(hint)).unwrap();
+                assert_eq!(h.0.distance.to_bits(), plain[k].0.distance.to_bits());
+                assert_eq!(
+                    (&h.0.obstacle, &h.0.feature),
+                    (&plain[k].0.obstacle, &plain[k].0.feature)
+                );
+                assert_eq!(h.1, plain[k].1, "hint {hint:?}");
+            }
+        }
+    }
 }
 
 /// Asserts that the straight edge `from`–`to` is `Blocked` at `margin`, then plans it with the
@@ -451,6 +511,7 @@ fn vessel_queries_succeed() {
                 assert!(p.certified_clearance_m >= p.margin_m);
                 if p.waypoints.len() > 2 && p.stats.checks.edges_checked > 1 && detours < 3 {
                     dense_recheck(&model, &p);
+                    waypoints_are_solves(&space, &p, opts.output_step);
                     detours += 1;
                 }
                 if k == 0 {

@@ -24,7 +24,7 @@
 //! move along nearly straight lines, so their path is far shorter than twice the chord; the
 //! tests re-check every planned path on 8× finer interpolations with parry3d.
 
-use crate::reach::{motion_bound, Space};
+use crate::reach::{motion_bound, ClosestPair, Space};
 use crate::shape::Shape;
 
 /// Safety factor of the Lipschitz estimate (see the module docs).
@@ -97,6 +97,12 @@ pub struct Checker<'a> {
     /// Edges already checked (either direction): a path's edges are checked when found and
     /// again by the final validation, which then costs nothing.
     memo: std::collections::HashMap<EdgeKey, EdgeCheck>,
+    /// The closest feature–obstacle pair of the last clearance measured: the next shape is
+    /// usually near it ([`crate::reach::clearance_hinted`]; changes the cost only).
+    hint: Option<ClosestPair>,
+    /// With [`Checker::keep_samples`]: each clear edge's solved samples, with their parameter
+    /// along the edge from its key's first end.
+    samples: Option<std::collections::HashMap<EdgeKey, Vec<(f64, Node)>>>,
 }
 
 impl<'a> Checker<'a> {
@@ -107,7 +113,34 @@ impl<'a> Checker<'a> {
             margin,
             stats: Stats::default(),
             memo: std::collections::HashMap::new(),
+            hint: None,
+            samples: None,
         }
+    }
+
+    /// Keep the solved samples of every clear edge checked from now on, so the output stage
+    /// of a plan reuses them as waypoints ([`Checker::samples_along`]) instead of solving new
+    /// points of an edge it has already sampled finely.
+    pub fn keep_samples(mut self) -> Self {
+        self.samples = Some(std::collections::HashMap::new());
+        self
+    }
+
+    /// The kept samples strictly inside the edge from `a` to `b` (checked clear before, in
+    /// either direction), as (parameter from `a` in (0, 1), node), in order from `a`; empty when
+    /// none were kept (a trusted roadmap edge, or samples not kept).
+    pub fn samples_along(&self, a: &[f64], b: &[f64]) -> Vec<(f64, &Node)> {
+        let key = edge_key(a, b);
+        let Some(list) = self.samples.as_ref().and_then(|m| m.get(&key)) else {
+            return Vec::new();
+        };
+        let forward = a.iter().map(|x| x.to_bits()).eq(key.0.iter().copied());
+        let mut out: Vec<(f64, &Node)> = list
+            .iter()
+            .map(|(t, n)| (if forward { *t } else { 1.0 - *t }, n))
+            .collect();
+        out.sort_by(|x, y| x.0.total_cmp(&y.0));
+        out
     }
 
     /// Record the outcome of a check of the edge `a`–`b` made earlier under the same space
@@ -126,10 +159,13 @@ impl<'a> Checker<'a> {
                 return None;
             }
         };
-        let clearance = self
-            .space
-            .clearance(&shape)
-            .map_or(f64::INFINITY, |c| c.distance);
+        let clearance = match self.space.clearance_hinted(&shape, self.hint) {
+            Some((c, pair)) => {
+                self.hint = Some(pair);
+                c.distance
+            }
+            None => f64::INFINITY,
+        };
         if clearance < self.margin || self.space.tension_violation(&shape).is_some() {
             self.stats.nodes_rejected += 1;
             return None;
@@ -149,15 +185,24 @@ impl<'a> Checker<'a> {
             return out.clone();
         }
         self.stats.edges_checked += 1;
-        let out = self.edge_inner(a, b);
+        let mut kept = Vec::new();
+        let out = self.edge_inner(a, b, &mut kept);
         if out == EdgeCheck::Blocked {
             self.stats.edges_rejected += 1;
+        } else if let Some(m) = self.samples.as_mut() {
+            // Parameters from `a`; stored from the key's first end (dyadic: 1 − t is exact).
+            let forward = a.u.iter().map(|x| x.to_bits()).eq(key.0.iter().copied());
+            if !forward {
+                kept.iter_mut().for_each(|(t, _)| *t = 1.0 - *t);
+            }
+            m.insert(key.clone(), kept);
         }
         self.memo.insert(key, out.clone());
         out
     }
 
-    fn edge_inner(&mut self, a: &Node, b: &Node) -> EdgeCheck {
+    /// The check; the midpoints solved go to `kept` with their parameter from `a`.
+    fn edge_inner(&mut self, a: &Node, b: &Node, kept: &mut Vec<(f64, Node)>) -> EdgeCheck {
         if self.space.scene.is_empty() {
             return EdgeCheck::Clear {
                 certified: f64::INFINITY,
@@ -173,9 +218,11 @@ impl<'a> Checker<'a> {
         // Breadth-first over sub-intervals (midpoint, then quarters, …): a blocked edge is
         // usually refused after a few coarse midpoints; a clear edge solves the same
         // midpoints in any order. Owned sample nodes.
-        let mut queue: std::collections::VecDeque<(Node, Node, f64)> =
-            std::collections::VecDeque::from([(a.clone(), b.clone(), len)]);
-        while let Some((n0, n1, l)) = queue.pop_front() {
+        // Items: end nodes, actuation length, parameters of the ends from `a`.
+        let mut queue: std::collections::VecDeque<(Node, Node, f64, f64, f64)> =
+            std::collections::VecDeque::from([(a.clone(), b.clone(), len, 0.0, 1.0)]);
+        let keep = self.samples.is_some();
+        while let Some((n0, n1, l, t0, t1)) = queue.pop_front() {
             let bound = 0.5
                 * (n0.clearance + n1.clearance - KAPPA * motion_bound(robot, &n0.shape, &n1.shape));
             if bound >= self.margin {
@@ -191,8 +238,12 @@ impl<'a> Checker<'a> {
                 return EdgeCheck::Blocked;
             };
             measured = measured.min(m.clearance);
-            queue.push_back((n0, m.clone(), 0.5 * l));
-            queue.push_back((m, n1, 0.5 * l));
+            let tm = 0.5 * (t0 + t1);
+            if keep {
+                kept.push((tm, m.clone()));
+            }
+            queue.push_back((n0, m.clone(), 0.5 * l, t0, tm));
+            queue.push_back((m, n1, 0.5 * l, tm, t1));
         }
         EdgeCheck::Clear {
             certified,

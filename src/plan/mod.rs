@@ -6,8 +6,10 @@
 //! * Validation: [`edge`] — sub-intervals bisected until a bound on how far any feature
 //!   moves ([`crate::reach::motion_bound`], inflated by the Lipschitz factor
 //!   [`edge::KAPPA`]) fits inside the measured clearances.
-//! * Then random shortcuts (seeded), and each remaining edge cut into pieces of at most
-//!   [`PlanOptions::output_step`] for the output waypoints (points of validated edges).
+//! * Then greedy shortcuts (farthest first, at most [`PlanOptions::shortcuts`] edge checks),
+//!   and each remaining edge cut into pieces of at most [`PlanOptions::output_step`] for the
+//!   output waypoints: the edge's own bisection samples where the plan validated it, new
+//!   solves elsewhere (trusted roadmap edges).
 //! * Deterministic: one seeded generator (xorshift, `rand_xorshift`) drives every random
 //!   choice; solves are deterministic.
 //!
@@ -46,7 +48,7 @@ pub enum Goal {
 /// How to plan.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanOptions {
-    /// Seed of every random choice.
+    /// Seed of every random choice (RRT-Connect's samples; a roadmap query makes none).
     pub seed: u64,
     /// Margin kept from the obstacles \[m\] (default: the scene's `clearance`).
     pub margin: Option<f64>,
@@ -54,7 +56,7 @@ pub struct PlanOptions {
     pub step: f64,
     /// Samples before giving up.
     pub max_samples: usize,
-    /// Shortcut attempts.
+    /// Shortcut attempts: edge checks of the greedy shortcut stage (`src/plan/rrt.rs`).
     pub shortcuts: usize,
     /// Largest actuation change between output waypoints \[m\].
     pub output_step: f64,
@@ -387,7 +389,7 @@ pub fn plan(
     let t0 = Instant::now();
     let space = Space::new(model, request, false)?;
     let margin = opts.margin.unwrap_or(space.margin);
-    let mut ck = Checker::new(&space, margin);
+    let mut ck = Checker::new(&space, margin).keep_samples();
     let (s, g) = endpoints(&mut ck, model, start, goal)?;
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);
     let range = space
@@ -409,7 +411,31 @@ pub fn plan(
         tree_nodes: found.tree_nodes,
         ..PlanStats::default()
     };
-    finish(&mut ck, found.path, opts, &mut rng, stats, t0)
+    finish(&mut ck, found.path, opts, stats, t0)
+}
+
+/// The solved points strictly between `from` (the last of `out`) and `to`, every
+/// `1/ceil(|to − from| / step)` of the way, each warm-started from the one before.
+fn fill(
+    ck: &mut Checker,
+    out: &mut Vec<Node>,
+    from: &[f64],
+    to: &[f64],
+    step: f64,
+    samples: usize,
+) -> Result<(), SolveError> {
+    let pieces = (edge::dist(from, to) / step).ceil().max(1.0) as usize;
+    for k in 1..pieces {
+        let f = k as f64 / pieces as f64;
+        let u: Vec<f64> = from.iter().zip(to).map(|(a, b)| a + f * (b - a)).collect();
+        let prev = out[out.len() - 1].shape.clone();
+        let n = ck.node(&u, Some(&prev)).ok_or_else(|| SolveError::NoPath {
+            samples,
+            reason: "a point of a validated edge is not admissible".into(),
+        })?;
+        out.push(n);
+    }
+    Ok(())
 }
 
 /// Shortcut, cut into output waypoints, measure; shared by both planners.
@@ -417,13 +443,12 @@ pub(crate) fn finish(
     ck: &mut Checker,
     mut path: Vec<Node>,
     opts: &PlanOptions,
-    rng: &mut XorShiftRng,
     mut stats: PlanStats,
     t0: Instant,
 ) -> Result<Plan, SolveError> {
     let length = |p: &[Node]| p.windows(2).map(|w| edge::dist(&w[0].u, &w[1].u)).sum();
     stats.length_before_m = length(&path);
-    stats.shortcut_removed = rrt::shortcut(ck, &mut path, opts.shortcuts, rng);
+    stats.shortcut_removed = rrt::shortcut(ck, &mut path, opts.shortcuts);
     stats.length_after_m = length(&path);
     // Every remaining edge is validated again (a shortcut's edge was; the tree's were) to
     // collect the certified bound, then cut for output.
@@ -447,26 +472,31 @@ pub(crate) fn finish(
                 })
             }
         }
-        let pieces = (edge::dist(&w[0].u, &w[1].u) / opts.output_step)
-            .ceil()
-            .max(1.0) as usize;
-        for k in 1..pieces {
-            let f = k as f64 / pieces as f64;
-            let u: Vec<f64> = w[0]
-                .u
+        // Waypoints every ≤ output_step: the edge's own bisection samples where it has them
+        // (real solves, kept by the checker), new solves only across gaps wider than that.
+        let mut stops: Vec<Node> = ck
+            .samples_along(&w[0].u, &w[1].u)
+            .into_iter()
+            .map(|(_, n)| n.clone())
+            .collect();
+        stops.push(w[1].clone());
+        let mut next = 0;
+        while next < stops.len() {
+            let from = out[out.len() - 1].u.clone();
+            let within = stops[next..]
                 .iter()
-                .zip(&w[1].u)
-                .map(|(a, b)| a + f * (b - a))
-                .collect();
-            let prev = out[out.len() - 1].shape.clone();
-            let n = ck.node(&u, Some(&prev)).ok_or_else(|| SolveError::NoPath {
-                samples: stats.samples,
-                reason: "a point of a validated edge is not admissible".into(),
-            })?;
-            measured = measured.min(n.clearance);
-            out.push(n);
+                .take_while(|n| edge::dist(&from, &n.u) <= opts.output_step)
+                .count();
+            if within == 0 {
+                let to = &stops[next].u;
+                fill(ck, &mut out, &from, to, opts.output_step, stats.samples)?;
+                out.push(stops[next].clone());
+                next += 1;
+            } else {
+                next += within;
+                out.push(stops[next - 1].clone());
+            }
         }
-        out.push(w[1].clone());
     }
     for n in &out {
         measured = measured.min(n.clearance);

@@ -405,15 +405,14 @@ impl Roadmap {
         self.check_fits(&space, request)?;
         let margin = opts.margin.unwrap_or(space.margin);
         let trusted = margin == self.margin && scene_fingerprint(&space.scene) == self.scene;
-        let mut ck = Checker::new(&space, margin);
+        let mut ck = Checker::new(&space, margin).keep_samples();
         let (s, g) = endpoints(&mut ck, model, start, goal)?;
-        let mut rng = XorShiftRng::seed_from_u64(opts.seed);
         let mut stats = PlanStats {
             planner: "roadmap",
             ..PlanStats::default()
         };
         if let EdgeCheck::Clear { .. } = ck.edge(&s, &g) {
-            return finish(&mut ck, vec![s, g], opts, &mut rng, stats, t0);
+            return finish(&mut ck, vec![s, g], opts, stats, t0);
         }
         let n = self.nodes.len();
         let (si, gi) = (n, n + 1);
@@ -496,7 +495,7 @@ impl Roadmap {
                 path.push(node);
             }
             match broken {
-                None => return finish(&mut ck, path, opts, &mut rng, stats, t0),
+                None => return finish(&mut ck, path, opts, stats, t0),
                 Some((a, b)) => {
                     stats.edges_repaired += 1;
                     adj[a].retain(|e| e.0 != b);

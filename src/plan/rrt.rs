@@ -1,5 +1,5 @@
 //! RRT-Connect in the actuation space (Kuffner & LaValle, "RRT-Connect: an efficient approach
-//! to single-query path planning", ICRA 2000), then random shortcuts.
+//! to single-query path planning", ICRA 2000), then greedy shortcuts ([`shortcut`]).
 //!
 //! Why sampling in actuation space: every sample is one forward solve (tens of µs for
 //! `energy`) and the space has one dimension per cable (2–9), where RRT-Connect is complete in
@@ -157,29 +157,33 @@ pub(crate) fn rrt_connect(
     Err(max_samples)
 }
 
-/// Random shortcuts: `tries` times, two waypoints `i < j − 1` joined directly when the edge
-/// is clear. Returns the number of waypoints removed.
-pub(crate) fn shortcut(
-    ck: &mut Checker,
-    path: &mut Vec<Node>,
-    tries: usize,
-    rng: &mut XorShiftRng,
-) -> usize {
+/// Greedy shortcuts, farthest first: from each waypoint `i` in turn (start first), the
+/// farthest later waypoint `j > i + 1` joined to it by a clear edge replaces every waypoint
+/// between them. At most `tries` edge checks in all (an edge checked before, such as the
+/// straight start–goal edge, costs no solve but counts). Returns the number of waypoints
+/// removed.
+///
+/// Why farthest first rather than random pairs: every clear edge a shortcut validates costs
+/// bisection solves, and a random pair's clear edge is often replaced later by a longer one
+/// (its solves wasted); the farthest clear edge from a waypoint is the one that stays. On the
+/// vessel example's roadmap path (10 waypoints) both end with the same 3 waypoints; random
+/// pairs spent 34 solves on it, farthest first 15.
+pub(crate) fn shortcut(ck: &mut Checker, path: &mut Vec<Node>, tries: usize) -> usize {
     let before = path.len();
-    for _ in 0..tries {
-        if path.len() < 3 {
-            break;
+    let mut left = tries;
+    let mut i = 0;
+    while i + 2 < path.len() && left > 0 {
+        for j in (i + 2..path.len()).rev() {
+            if left == 0 {
+                break;
+            }
+            left -= 1;
+            if let EdgeCheck::Clear { .. } = ck.edge(&path[i], &path[j]) {
+                path.drain(i + 1..j);
+                break;
+            }
         }
-        let n = path.len();
-        let i = (unit(rng) * n as f64) as usize % n;
-        let j = (unit(rng) * n as f64) as usize % n;
-        let (i, j) = (i.min(j), i.max(j));
-        if j < i + 2 {
-            continue;
-        }
-        if let EdgeCheck::Clear { .. } = ck.edge(&path[i], &path[j]) {
-            path.drain(i + 1..j);
-        }
+        i += 1;
     }
     before - path.len()
 }

@@ -16,6 +16,17 @@
 //! and the last pass, beyond that bound for the first feature's point, uses parry's unbounded
 //! query. Same answer, same order
 //! (ties keep the earlier feature) as one unbounded pass.
+//!
+//! # A hint from a nearby shape (exact, cheaper still)
+//!
+//! Along an edge of a plan consecutive shapes are close, and so is their closest
+//! feature–obstacle pair. [`clearance_hinted`] first measures the distance `d` of the hinted
+//! pair (the closest pair of the previous shape: a feature index and an obstacle index), with
+//! the same growing bound; the clearance is at most `d`, so one pass with the bound
+//! `d (1 + 10⁻⁹) + 10⁻¹²` finds it, each feature queried with a bound near the answer instead of
+//! the passes' coarse ones. The hint changes only the cost: the pass is the same in-order pass
+//! (same answer, same ties) and, should it find nothing, the growing passes go on from there.
+//! Labels are formatted for the closest pair only.
 
 use crate::contact::features;
 use crate::model::robot::Robot;
@@ -37,9 +48,28 @@ pub struct Clearance {
     pub feature: String,
 }
 
+/// Which robot feature (see [`Clearance::feature`]).
+#[derive(Debug, Clone, Copy)]
+enum Label {
+    Disk(usize),
+    Backbone(usize),
+    /// Cable index, chord index (from 1).
+    Cable(usize, usize),
+}
+
+impl Label {
+    fn text(self, shape: &Shape) -> String {
+        match self {
+            Label::Disk(k) => format!("disk {k}"),
+            Label::Backbone(j) => format!("backbone {j}"),
+            Label::Cable(c, k) => format!("cable {} {k}", shape.cables[c].name),
+        }
+    }
+}
+
 /// A robot feature: label, parry shape, bounding box (min, max), pose, a point of it.
 struct Feature {
-    label: String,
+    label: Label,
     shape: Box<dyn PShape>,
     lo: Vector3<f64>,
     hi: Vector3<f64>,
@@ -54,7 +84,7 @@ fn features_of(robot: &Robot, shape: &Shape) -> Vec<Feature> {
     let ext = Vector3::repeat(r + robot.disk_thickness);
     for (k, d) in shape.disks.iter().enumerate() {
         out.push(Feature {
-            label: format!("disk {k}"),
+            label: Label::Disk(k),
             shape: Box::new(features::disk(robot)),
             lo: d.position - ext,
             hi: d.position + ext,
@@ -67,7 +97,7 @@ fn features_of(robot: &Robot, shape: &Shape) -> Vec<Feature> {
     for (j, w) in shape.backbone.windows(2).enumerate() {
         let (a, b) = (w[0], w[1]);
         out.push(Feature {
-            label: format!("backbone {j}"),
+            label: Label::Backbone(j),
             shape: Box::new(features::backbone(&a, &b, rb)),
             lo: a.inf(&b) - Vector3::repeat(rb),
             hi: a.sup(&b) + Vector3::repeat(rb),
@@ -75,11 +105,11 @@ fn features_of(robot: &Robot, shape: &Shape) -> Vec<Feature> {
             centre: 0.5 * (a + b),
         });
     }
-    for c in &shape.cables {
-        for (k, w) in c.points.windows(2).enumerate() {
+    for (c, cable) in shape.cables.iter().enumerate() {
+        for (k, w) in cable.points.windows(2).enumerate() {
             let (a, b) = (w[0], w[1]);
             out.push(Feature {
-                label: format!("cable {} {}", c.name, k + 1),
+                label: Label::Cable(c, k + 1),
                 shape: Box::new(features::chord(&a, &b)),
                 lo: a.inf(&b),
                 hi: a.sup(&b),
@@ -102,6 +132,22 @@ fn far_corner(scene: &Scene, k: usize, p: &Vector3<f64>) -> f64 {
 /// Smallest signed distance between any feature of `shape` and any obstacle of `scene`
 /// (parry3d; `None` for an empty scene), in the passes of the module docs.
 pub fn clearance(robot: &Robot, shape: &Shape, scene: &Scene) -> Option<Clearance> {
+    clearance_hinted(robot, shape, scene, None).map(|(c, _)| c)
+}
+
+/// The closest pair of a clearance: feature index (disks, backbone segments, cable chords, in
+/// that order) and obstacle index — a hint for [`clearance_hinted`].
+pub type ClosestPair = (usize, usize);
+
+/// [`clearance`], starting from the hinted pair (module docs: same answer, cheaper when the
+/// hint is the closest pair of a nearby shape), with the closest pair found. A hint out of
+/// range is ignored.
+pub fn clearance_hinted(
+    robot: &Robot,
+    shape: &Shape,
+    scene: &Scene,
+    hint: Option<ClosestPair>,
+) -> Option<(Clearance, ClosestPair)> {
     if scene.is_empty() {
         return None;
     }
@@ -111,53 +157,86 @@ pub fn clearance(robot: &Robot, shape: &Shape, scene: &Scene) -> Option<Clearanc
             .map(|k| far_corner(scene, k, &f.centre))
             .fold(f64::INFINITY, f64::min)
     });
-    let mut cap = 2.0 * scene.clearance.max(5e-4);
+    let start = 2.0 * scene.clearance.max(5e-4);
+    let mut cap = start;
+    if let Some((f, k)) = hint.filter(|&(f, k)| f < feats.len() && k < scene.obstacles.len()) {
+        // The hinted pair's own distance, by the same growing bound (finite: the far corner
+        // of the obstacle's box from the feature's point bounds it).
+        let far_f = far_corner(scene, k, &feats[f].centre);
+        let mut b = start;
+        loop {
+            let last = b > far_f;
+            if let Some(d) = pair(&feats[f], scene, k, if last { f64::MAX } else { b }) {
+                cap = d.max(0.0) * (1.0 + 1e-9) + 1e-12;
+                break;
+            }
+            if last {
+                break;
+            }
+            b *= 2.0;
+        }
+    }
     loop {
         // The last pass (beyond every obstacle's far corner) is unbounded.
         let last = cap > far;
         let best = pass(&feats, scene, if last { f64::MAX } else { cap });
-        if best.distance.is_finite() || last {
-            return Some(best);
+        if let Some((d, f, k)) = best {
+            let c = Clearance {
+                distance: d,
+                obstacle: scene.obstacles[k].name.clone(),
+                feature: feats[f].label.text(shape),
+            };
+            return Some((c, (f, k)));
+        }
+        if last {
+            // Nothing within an unbounded query: only when every query failed outright.
+            return Some((
+                Clearance {
+                    distance: f64::INFINITY,
+                    obstacle: String::new(),
+                    feature: String::new(),
+                },
+                (0, 0),
+            ));
         }
         cap *= 2.0;
     }
 }
 
-/// One pass over every feature–obstacle pair with the query bound `min(cap, best so far)`.
-fn pass(feats: &[Feature], scene: &Scene, cap: f64) -> Clearance {
-    let mut best = Clearance {
-        distance: f64::INFINITY,
-        obstacle: String::new(),
-        feature: String::new(),
+/// Distance between feature `f` and obstacle `k` when within `bound` (`None` beyond it);
+/// signed for an intersecting pair (parry's contact depth).
+fn pair(f: &Feature, scene: &Scene, k: usize, bound: f64) -> Option<f64> {
+    if scene.bounds_gap(k, &f.lo, &f.hi) > bound {
+        return None;
+    }
+    let o = &scene.obstacles[k];
+    let g = &*f.shape;
+    let mut d = match parry3d::query::closest_points(&f.pose, g, &o.parry_pose, &*o.shape, bound) {
+        Ok(ClosestPoints::Disjoint) => return None,
+        Ok(ClosestPoints::WithinMargin(a, b)) => (a - b).length(),
+        Ok(ClosestPoints::Intersecting) => 0.0,
+        Err(_) => parry3d::query::distance(&f.pose, g, &o.parry_pose, &*o.shape)
+            .map_or(0.0, |d| d.distance),
     };
-    for f in feats {
-        for (k, o) in scene.obstacles.iter().enumerate() {
-            let bound = cap.min(best.distance);
-            if scene.bounds_gap(k, &f.lo, &f.hi) > bound {
-                continue;
-            }
-            let g = &*f.shape;
-            let mut d =
-                match parry3d::query::closest_points(&f.pose, g, &o.parry_pose, &*o.shape, bound) {
-                    Ok(ClosestPoints::Disjoint) => continue,
-                    Ok(ClosestPoints::WithinMargin(a, b)) => (a - b).length(),
-                    Ok(ClosestPoints::Intersecting) => 0.0,
-                    Err(_) => parry3d::query::distance(&f.pose, g, &o.parry_pose, &*o.shape)
-                        .map_or(0.0, |d| d.distance),
-                };
-            if d <= 0.0 {
-                if let Ok(Some(ct)) =
-                    parry3d::query::contact(&f.pose, g, &o.parry_pose, &*o.shape, 0.0)
-                {
-                    d = ct.dist.min(0.0);
+    if d <= 0.0 {
+        if let Ok(Some(ct)) = parry3d::query::contact(&f.pose, g, &o.parry_pose, &*o.shape, 0.0) {
+            d = ct.dist.min(0.0);
+        }
+    }
+    Some(d)
+}
+
+/// One pass over every feature–obstacle pair with the query bound `min(cap, best so far)`:
+/// the smallest distance found, its feature and obstacle (`None`: none within the bound).
+fn pass(feats: &[Feature], scene: &Scene, cap: f64) -> Option<(f64, usize, usize)> {
+    let mut best: Option<(f64, usize, usize)> = None;
+    for (i, f) in feats.iter().enumerate() {
+        for k in 0..scene.obstacles.len() {
+            let bound = cap.min(best.map_or(f64::INFINITY, |b| b.0));
+            if let Some(d) = pair(f, scene, k, bound) {
+                if best.is_none_or(|b| d < b.0) {
+                    best = Some((d, i, k));
                 }
-            }
-            if d < best.distance {
-                best = Clearance {
-                    distance: d,
-                    obstacle: o.name.clone(),
-                    feature: f.label.clone(),
-                };
             }
         }
     }

@@ -27,7 +27,7 @@ mod clear;
 mod sens;
 mod solve;
 
-pub use clear::{clearance, Clearance};
+pub use clear::{clearance, clearance_hinted, Clearance, ClosestPair};
 
 pub use answer::{CableActuation, EffortJson, Reach, ReachJson};
 pub use sens::{sensitivity, TipSens, FD_STEP};
@@ -187,6 +187,16 @@ impl Space {
     /// Clearance of `shape` from the obstacles (`None` without obstacles).
     pub fn clearance(&self, shape: &Shape) -> Option<Clearance> {
         clearance(&self.robot, shape, &self.scene)
+    }
+
+    /// [`Space::clearance`] starting from a hinted closest pair, with the closest pair found
+    /// ([`clearance_hinted`]: the same answer).
+    pub fn clearance_hinted(
+        &self,
+        shape: &Shape,
+        hint: Option<ClosestPair>,
+    ) -> Option<(Clearance, ClosestPair)> {
+        clearance_hinted(&self.robot, shape, &self.scene, hint)
     }
 
     /// Why `shape`'s cable tensions break the tension limits (`None` when they keep them).
