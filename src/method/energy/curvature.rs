@@ -28,9 +28,9 @@
 //! (the obstacle's curvature, the witness sliding on the feature).
 
 use super::contacts::{Kin, Pair};
-use super::kinematics::exp_act;
+use super::kinematics::abc_series;
 use super::problem::Problem;
-use crate::numeric::ad::{Real, D2};
+use crate::numeric::ad::D2;
 use crate::numeric::semisep::SemiSep;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
@@ -237,29 +237,41 @@ pub(super) fn dense(a: &SemiSep) -> DMatrix<f64> {
     DMatrix::from_fn(n, n, |i, j| a.get(i, j))
 }
 
-/// `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]` in the strains of one sub-arc (second-order AD of
-/// the exponential's action, [`exp_act`]).
+/// `−∇²[Σ_b W_{:,b}·(R_l e_b) + g·p_l]` in the strains of one sub-arc, by second-order AD of
+/// the scalar in closed form. With `w = ℓ (ξ₀, ξ₁, ξ₂)`, `v = ℓ (1 + ξ₃) e_z`, `x = |w|²` and
+/// the exponential `R = I + A ŵ + B ŵ²`, `p = v + B ŵ v + C ŵ² v`
+/// ([`exp_act`](super::kinematics::exp_act); `ŵ² = w wᵀ − x I`):
+///
+/// ```text
+/// Σ_ab W_ab R_ab = tr W + A α·w + B (wᵀ W w − x tr W),  α = (W₃₂−W₂₃, W₁₃−W₃₁, W₂₁−W₁₂)
+/// g·p = v_z [g_z + B (g_x w_y − g_y w_x) + C (w_z g·w − x g_z)]
+/// ```
+///
+/// (one `A, B, C` instead of four actions of the exponential: ~8× fewer instructions; the
+/// test checks it against the actions).
 fn sub_arc_load_block(
     xi: &[f64; 4],
     ell: f64,
     wm: &Matrix3<f64>,
     g: &Vector3<f64>,
 ) -> [[f64; 4]; 4] {
-    let vars: [D2<4>; 4] = std::array::from_fn(|i| D2::var(xi[i], i));
-    let zero = [D2::<4>::cst(0.0); 3];
-    let p0 = exp_act(&vars, ell, &zero);
-    let mut v = D2::<4>::cst(0.0);
-    for k in 0..3 {
-        v = v + p0[k] * g[k];
-    }
-    for b in 0..3 {
-        let mut e = [D2::<4>::cst(0.0); 3];
-        e[b] = D2::cst(1.0);
-        let pb = exp_act(&vars, ell, &e);
-        for a in 0..3 {
-            v = v + (pb[a] - p0[a]) * wm[(a, b)];
-        }
-    }
+    let w: [D2<4>; 3] = std::array::from_fn(|i| D2::var(xi[i], i) * ell);
+    let vz = (D2::<4>::var(xi[3], 3) + 1.0) * ell;
+    let x = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    let (a, b, c) = abc_series(x);
+    let tr = wm.trace();
+    let alpha = [
+        wm[(2, 1)] - wm[(1, 2)],
+        wm[(0, 2)] - wm[(2, 0)],
+        wm[(1, 0)] - wm[(0, 1)],
+    ];
+    let lin = |k: [f64; 3]| w[0] * k[0] + w[1] * k[1] + w[2] * k[2];
+    let wmw: [D2<4>; 3] = std::array::from_fn(|r| lin([wm[(r, 0)], wm[(r, 1)], wm[(r, 2)]]));
+    let quad = w[0] * wmw[0] + w[1] * wmw[1] + w[2] * wmw[2];
+    let rot = a * lin(alpha) + b * (quad + x * (-tr));
+    let gw = lin([g[0], g[1], g[2]]);
+    let trans = vz * ((b * (w[1] * g[0] + w[0] * (-g[1]))) + c * (w[2] * gw + x * (-g[2])) + g[2]);
+    let v = rot + trans;
     let mut out = [[0.0; 4]; 4];
     for a in 0..4 {
         for b in 0..4 {
@@ -267,4 +279,45 @@ fn sub_arc_load_block(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::energy::kinematics::exp_act;
+
+    /// The closed-form block equals the one built from four actions of the exponential
+    /// (`R_l e_b = exp_act(e_b) − exp_act(0)`, `p_l = exp_act(0)`), bent and straight.
+    #[test]
+    fn sub_arc_block_matches_the_exponential_actions() {
+        let wm = Matrix3::new(0.3, -1.2, 0.7, 2.1, -0.4, 0.9, -0.8, 1.5, 0.2);
+        let g = Vector3::new(-0.6, 1.1, 2.3);
+        for xi in [[3.0, -5.0, 1.5, 0.02], [1e-5, 2e-6, -3e-6, -0.01], [0.0; 4]] {
+            let ell = 0.0083;
+            let vars: [D2<4>; 4] = std::array::from_fn(|i| D2::var(xi[i], i));
+            let zero = [D2::<4>::cst(0.0); 3];
+            let p0 = exp_act(&vars, ell, &zero);
+            let mut v = D2::<4>::cst(0.0);
+            for k in 0..3 {
+                v = v + p0[k] * g[k];
+            }
+            for b in 0..3 {
+                let mut e = [D2::<4>::cst(0.0); 3];
+                e[b] = D2::cst(1.0);
+                let pb = exp_act(&vars, ell, &e);
+                for a in 0..3 {
+                    v = v + (pb[a] - p0[a]) * wm[(a, b)];
+                }
+            }
+            let blk = sub_arc_load_block(&xi, ell, &wm, &g);
+            let scale = v.h.iter().flatten().fold(0.0f64, |m, h| m.max(h.abs()));
+            assert!(scale > 0.0);
+            for a in 0..4 {
+                for b in 0..4 {
+                    let e = (blk[a][b] + v.h[a][b]).abs();
+                    assert!(e <= 1e-13 * scale, "{xi:?} ({a},{b}): {e:e} of {scale:e}");
+                }
+            }
+        }
+    }
 }
