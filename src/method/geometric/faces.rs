@@ -72,6 +72,12 @@ const MAX_ESCAPES: usize = 8;
 /// How far an escape start moves a term off its kink \[rad\].
 const ESCAPE_ANGLE: f64 = 1e-4;
 
+/// Two starts of one face closer than this (position relative to the section length, rotation
+/// entries absolute) are the same run; escapes from one stationary pose reached from several
+/// starts differ by rounding (~1e-16). Exact equality only near obstacles, whose candidates
+/// converge only to the contact noise.
+const SAME_START: f64 = 1e-12;
+
 /// What a section's search has spent and seen so far.
 pub(super) struct Tally {
     /// Newton iterations over every start and face.
@@ -332,10 +338,42 @@ impl Geometric {
         let mut best: Option<Candidate> = None;
         let mut escapes = 0;
         let mut k = 0;
+        // Runs done: face, start, and the escape start the run asked for.
+        let mut done: Vec<(u32, Pose, Option<(Pose, u32)>)> = vec![];
+        let tol = if data.world.is_none() {
+            SAME_START
+        } else {
+            0.0
+        };
         while k < runs.len() && !tally.exhausted() {
             let (face, start) = runs[k];
             k += 1;
-            match self.newton(data, &start, face, taut, squared) {
+            // A run from the start of an earlier run on the same face repeats it (typically
+            // escapes from one stationary pose reached from several starts): its candidate
+            // could not replace the earlier one (`best` moves only 1e-12 lower), so only its
+            // escape bookkeeping is replayed, which keeps MAX_ESCAPES counting as before.
+            if let Some((_, _, again)) = done
+                .iter()
+                .find(|(f, s, _)| *f == face && s.within(&start, tol * data.l0, tol))
+            {
+                if let Some((pose, smaller)) = *again {
+                    if escapes < MAX_ESCAPES && faces.contains(&smaller) {
+                        escapes += 1;
+                        runs.push((smaller, pose));
+                    }
+                }
+                continue;
+            }
+            let outcome = self.newton(data, &start, face, taut, squared);
+            done.push((
+                face,
+                start,
+                outcome
+                    .as_ref()
+                    .err()
+                    .and_then(|r| r.escape.as_deref().copied()),
+            ));
+            match outcome {
                 Ok((cand, it)) => {
                     tally.iterations += it;
                     tally.count += 1;

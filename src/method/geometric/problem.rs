@@ -23,6 +23,11 @@ impl Pose {
             q: Matrix3::identity(),
         }
     }
+    /// Whether `other` is within `dp` (position, largest component) and `dq` (rotation,
+    /// largest entry) of this pose.
+    pub(super) fn within(&self, other: &Pose, dp: f64, dq: f64) -> bool {
+        (self.p - other.p).amax() <= dp && (self.q - other.q).amax() <= dq
+    }
     /// Right-perturbation retraction: p + dp, Q exp(dω).
     pub(super) fn retract(&self, dx: &Vector6<f64>, alpha: f64) -> Self {
         Pose {
