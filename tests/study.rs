@@ -118,7 +118,16 @@ fn speed_accuracy_csv_has_columns_and_finite_values() {
     ] {
         col(&h, c);
     }
-    assert!(rows_csv.len() >= 2 + study::RK4_STEPS.len());
+    let ladder = |m: &str| {
+        ccrkit::method::MethodKind::from_name(m)
+            .expect("registered")
+            .info()
+            .resolutions
+            .len()
+    };
+    let want: usize = opts.methods.iter().map(|m| ladder(m)).sum();
+    assert!(want >= 2 + 7, "the rods' ladder has at least 7 RK4 rows");
+    assert_eq!(rows_csv.len(), want);
     for r in &rows_csv {
         assert_eq!(r[col(&h, "status")], "ok", "{r:?}");
         for c in ["median_time_s", "tip_error_m", "rms_error_m"] {
@@ -131,6 +140,42 @@ fn speed_accuracy_csv_has_columns_and_finite_values() {
         .filter(|r| r.method == "cosserat" && r.setting.starts_with("rk4"))
         .collect();
     assert!(k.first().expect("rows").tip_error_m >= k.last().expect("rows").tip_error_m);
+}
+
+/// The study's adaptive rows follow their tolerance (issue 11 #7): on paper case I each
+/// `adaptive` row of the rods' ladder (1e-3, 1e-5, 1e-7) is at least 10× closer to the
+/// 80-step reference than the one before. Before the rod's steps ran over stretches, one
+/// Dormand–Prince step per section already beat every tolerance above ~1e-7, and the
+/// 1e-3 and 1e-5 rows of the chart were the same point.
+#[test]
+fn adaptive_rows_follow_their_tolerance() {
+    let opts = study::SpeedAccuracyOptions {
+        progress: false,
+        repeats: 1,
+        methods: vec!["cosserat".into()],
+    };
+    let rows = study::speed_accuracy(&paper(1), &opts).expect("study runs");
+    let adaptive: Vec<_> = rows
+        .iter()
+        .filter(|r| r.setting.starts_with("adaptive"))
+        .collect();
+    assert_eq!(adaptive.len(), 3, "three adaptive rows");
+    for w in adaptive.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        eprintln!(
+            "{} {:.2e} m -> {} {:.2e} m",
+            a.setting, a.rms_error_m, b.setting, b.rms_error_m
+        );
+        assert!(a.status.is_ok() && b.status.is_ok(), "{a:?} {b:?}");
+        assert!(
+            b.rms_error_m * 10.0 <= a.rms_error_m,
+            "{}: {:e} m, {}: {:e} m",
+            a.setting,
+            a.rms_error_m,
+            b.setting,
+            b.rms_error_m
+        );
+    }
 }
 
 #[test]
