@@ -1,15 +1,13 @@
 //! Helpers shared by the integration tests (each test file uses the ones it needs).
 #![allow(dead_code)]
 
+pub mod cli;
+
 use ccrkit::{Method, Model, Scene, Shape};
 
 /// Paper case `n` (1, 2 or 3) from `models/paper/`.
 pub fn paper(n: usize) -> Model {
-    Model::from_file(format!(
-        "{}/models/paper/case{n}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .expect("paper model parses")
+    Model::from_file(cli::paper_path(n)).expect("paper model parses")
 }
 
 /// Solve a model without obstacles, expecting success.
@@ -32,11 +30,7 @@ pub fn arc_point(kappa: f64, s: f64) -> nalgebra::Vector3<f64> {
 /// standard error in the failure message) and parses its standard output as JSON — the
 /// command's `--json -` output.
 pub fn ccrkit_json<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> serde_json::Value {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ccrkit"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("ccrkit runs");
+    let out = cli::ccrkit_in(&cli::root(), args);
     assert!(
         out.status.success(),
         "{}",
