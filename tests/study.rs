@@ -272,6 +272,17 @@ shorten_percent = 1.0
     assert_eq!(origin.status, "ok");
     let csv = study::stability_csv(&st);
     assert!(csv.contains(",infeasible,"));
+    // The console line (CLI and example) counts the failures by kind and names the first
+    // failure by the swept cables, in percent shortening.
+    for s in study::stability_summary(&st) {
+        let line = s.line(&st.cables);
+        assert!(line.contains("infeasible"), "{line}");
+        assert!(line.contains(&format!("/{:<5} ok", s.total)), "{line}");
+        assert!(
+            line.contains("first failure at A") && line.contains(" %, B "),
+            "{line}"
+        );
+    }
     // The outcome of a solve that returns NaN coordinates is `nan`, not `ok`.
     let mut s = method_by_name("constant-curvature")
         .expect("known")
