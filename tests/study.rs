@@ -7,17 +7,12 @@ use ccrkit::study::{self, Input, Shard};
 use ccrkit::{method_by_name, Method, Model, Scene, SolveError};
 use nalgebra::Vector3;
 
+mod common;
+use common::{max_disk_distance, paper};
+
 /// Agreement of the closed form with the Kirchhoff rod on straight tendons [m]
 /// (integration + shooting error only).
 const ARC_TOL: f64 = 1e-8;
-
-fn paper(n: usize) -> Model {
-    Model::from_file(format!(
-        "{}/models/paper/case{n}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .expect("paper model parses")
-}
 
 fn header_and_rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
     let mut lines = csv.lines();
@@ -372,14 +367,6 @@ fn tight(c: Cosserat) -> Cosserat {
         tolerance: 1e-12,
         ..c.with_steps(40)
     }
-}
-
-fn max_disk_distance(a: &ccrkit::Shape, b: &ccrkit::Shape) -> f64 {
-    a.disks
-        .iter()
-        .zip(&b.disks)
-        .map(|(x, y)| (x.position - y.position).norm())
-        .fold(0.0, f64::max)
 }
 
 #[test]

@@ -16,6 +16,15 @@ pub fn solve(m: &dyn Method, model: &Model) -> Shape {
         .expect("solves")
 }
 
+/// The largest distance between corresponding disk centres of two shapes \[m\].
+pub fn max_disk_distance(a: &Shape, b: &Shape) -> f64 {
+    a.disks
+        .iter()
+        .zip(&b.disks)
+        .map(|(p, q)| (p.position - q.position).norm())
+        .fold(0.0, f64::max)
+}
+
 /// The point at arc length `s` of a planar arc of curvature `kappa` in the x–z plane that
 /// starts at the origin along z: `((1 − cos κs)/κ, 0, sin κs / κ)`.
 pub fn arc_point(kappa: f64, s: f64) -> nalgebra::Vector3<f64> {
