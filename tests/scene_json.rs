@@ -10,27 +10,18 @@ use std::path::PathBuf;
 #[path = "common/scenes.rs"]
 mod scenes;
 
-#[path = "common/cli.rs"]
-mod cli;
-use cli::{paper_path, root};
+mod common;
+use common::cli::{paper_path, root};
 
 /// `body` written as `name` in the test's own temporary folder.
 fn file(name: &str, body: &str) -> PathBuf {
-    let p = cli::scratch("scene-json").join(name);
-    std::fs::write(&p, body).unwrap();
-    p
+    common::scene_file("scene-json", name, body)
 }
 
 /// The JSON scene `body` (written as `name.json`) is refused with an error naming each of
 /// `what`.
 fn refused_naming(name: &str, body: &str, what: &[&str]) {
-    let msg = match Scene::from_file(file(&format!("{name}.json"), body)) {
-        Ok(_) => panic!("scene `{name}` was accepted"),
-        Err(e) => e.to_string(),
-    };
-    for w in what {
-        assert!(msg.contains(w), "error `{msg}` does not name `{w}`");
-    }
+    common::scene_refused_naming("scene-json", &format!("{name}.json"), body, what);
 }
 
 #[test]

@@ -10,6 +10,26 @@ pub fn paper(n: usize) -> Model {
     Model::from_file(cli::paper_path(n)).expect("paper model parses")
 }
 
+/// `body` written as the scene file `file` (its extension picks the reader) in the scratch
+/// folder `folder` ([`cli::scratch`]).
+pub fn scene_file(folder: &str, file: &str, body: &str) -> std::path::PathBuf {
+    let p = cli::scratch(folder).join(file);
+    std::fs::write(&p, body).expect("scene file written");
+    p
+}
+
+/// The scene file [`scene_file`]`(folder, file, body)` is refused with an error naming each
+/// of `what`.
+pub fn scene_refused_naming(folder: &str, file: &str, body: &str, what: &[&str]) {
+    let msg = match Scene::from_file(scene_file(folder, file, body)) {
+        Ok(_) => panic!("scene `{file}` was accepted"),
+        Err(e) => e.to_string(),
+    };
+    for w in what {
+        assert!(msg.contains(w), "error `{msg}` does not name `{w}`");
+    }
+}
+
 /// Solve a model without obstacles, expecting success.
 pub fn solve(m: &dyn Method, model: &Model) -> Shape {
     m.solve(&model.robot, &model.actuation, &Scene::empty(), None)
