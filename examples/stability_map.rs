@@ -29,20 +29,7 @@ fn main() -> Result<()> {
     let st = study::stability(&model, &opts)?;
     study::write_text(&out.join("stability.csv"), &study::stability_csv(&st))?;
     for s in study::stability_summary(&st) {
-        println!(
-            "{:<20} {:<13} {}/{} converged{}",
-            s.method,
-            if s.continuation {
-                "continuation"
-            } else {
-                "cold"
-            },
-            s.ok,
-            s.total,
-            s.first_failure
-                .map(|(a, b)| format!(", first failure at a = {a:.4}, b = {b:.4}"))
-                .unwrap_or_default()
-        );
+        println!("{}", s.line(&st.cables));
     }
     for m in &opts.methods {
         for ext in ["svg", "png"] {

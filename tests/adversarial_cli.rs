@@ -5,16 +5,15 @@
 //! every failure named).
 
 mod adversarial_harness;
+use adversarial_harness::cli::{ccrkit_in, paper_path};
 use adversarial_harness::{args, methods, root, run, run_all, scratch, Tally, Verdict};
 use std::time::{Duration, Instant};
 
 const BUDGET: Duration = Duration::from_secs(30);
 
+/// Paper case `n` as a command-line argument.
 fn case(n: usize) -> String {
-    root()
-        .join(format!("models/paper/case{n}.toml"))
-        .display()
-        .to_string()
+    paper_path(n)
 }
 
 /// Flags with absurd values on `solve`, for every method.
@@ -205,11 +204,7 @@ fn huge_step_counts_are_refused_at_once_by_name() {
     ] {
         let a = args(&["solve", &c1, "--method", m, flag, v]);
         let t0 = Instant::now();
-        let out = std::process::Command::new(adversarial_harness::bin())
-            .args(&a)
-            .current_dir(&dir)
-            .output()
-            .expect("runs");
+        let out = ccrkit_in(&dir, &a);
         assert!(t0.elapsed() < Duration::from_secs(5), "{a:?} took long");
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{a:?}: {err}");
@@ -247,10 +242,7 @@ fn devices_as_files_end_in_a_named_size_error() {
         assert_eq!(v, Verdict::Named, "{a:?}");
         assert!(t0.elapsed() < Duration::from_secs(10), "{a:?} took long");
     }
-    let out = std::process::Command::new(adversarial_harness::bin())
-        .args(["solve", "/dev/zero"])
-        .output()
-        .expect("runs");
+    let out = ccrkit_in(&root(), &["solve", "/dev/zero"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("MiB limit"), "{err}");
     let mut t = Tally::default();
@@ -276,11 +268,7 @@ fn every_flag_a_method_does_not_take_is_refused_by_name() {
         for (flag, setting, value) in flags {
             let takes = k.info().settings.iter().any(|s| s.name == setting);
             let a = args(&["solve", &c1, "--method", k.name(), flag, value]);
-            let out = std::process::Command::new(adversarial_harness::bin())
-                .args(&a)
-                .current_dir(&dir)
-                .output()
-                .expect("runs");
+            let out = ccrkit_in(&dir, &a);
             let err = String::from_utf8_lossy(&out.stderr);
             if takes {
                 assert!(
@@ -338,6 +326,21 @@ fn stability_setting_and_data_csvs_end_named_and_bounded() {
     }
     let model = root().join("models/hardware/ftdcr_v4.toml");
     let model = model.display().to_string();
+    // `calibrate` of the v4 model on `data` to `out` with `--max-iterations iters` and `extra`.
+    let calibrate = |data: &str, out: &str, iters: &str, extra: &[&str]| {
+        let mut a = args(&[
+            "calibrate",
+            &model,
+            "--data",
+            data,
+            "--out",
+            out,
+            "--max-iterations",
+            iters,
+        ]);
+        a.extend(args(extra));
+        a
+    };
     let real = std::fs::read_to_string(
         root().join("models/hardware/data/v4/tdcr_sysid_20260511-183002_val.csv"),
     )
@@ -409,19 +412,7 @@ fn stability_setting_and_data_csvs_end_named_and_bounded() {
     for (j, f) in files.iter().enumerate() {
         let out = format!("p{j}.csv");
         jobs.push((args(&["predict", &model, "--data", f, "--out", &out]), None));
-        jobs.push((
-            args(&[
-                "calibrate",
-                &model,
-                "--data",
-                f,
-                "--out",
-                &format!("f{j}.toml"),
-                "--max-iterations",
-                "2",
-            ]),
-            None,
-        ));
+        jobs.push((calibrate(f, &format!("f{j}.toml"), "2", &[]), None));
     }
     let good = dir.join("good.csv");
     std::fs::write(&good, format!("{}\n", lines.join("\n"))).expect("write");
@@ -454,36 +445,10 @@ fn stability_setting_and_data_csvs_end_named_and_bounded() {
         "",
         ",",
     ] {
-        jobs.push((
-            args(&[
-                "calibrate",
-                &model,
-                "--data",
-                &good,
-                "--out",
-                "fe.toml",
-                "--max-iterations",
-                "2",
-                "--fit",
-                fit,
-            ]),
-            None,
-        ));
+        jobs.push((calibrate(&good, "fe.toml", "2", &["--fit", fit]), None));
     }
     for it in ["0", "18446744073709551616", "-1", "nan"] {
-        jobs.push((
-            args(&[
-                "calibrate",
-                &model,
-                "--data",
-                &good,
-                "--out",
-                "fe.toml",
-                "--max-iterations",
-                it,
-            ]),
-            None,
-        ));
+        jobs.push((calibrate(&good, "fe.toml", it, &[]), None));
     }
     let t = run_all(&dir, jobs, BUDGET);
     // Exit 0 of `predict` wrote a CSV: no `NaN`/`inf` in a row marked solved.
@@ -536,17 +501,18 @@ fn libc_sigpipe() -> i32 {
 fn predict_out_dash_is_standard_output() {
     let dir = scratch("predict-stdout");
     let data = root().join("models/hardware/data/v4/tdcr_sysid_20260511-183002_val.csv");
-    let out = std::process::Command::new(adversarial_harness::bin())
-        .args([
+    let model = root().join("models/hardware/ftdcr_v4.toml");
+    let out = ccrkit_in(
+        &dir,
+        &[
             "predict",
-            &root()
-                .join("models/hardware/ftdcr_v4.toml")
-                .to_string_lossy(),
-        ])
-        .args(["--data", &data.to_string_lossy(), "--out", "-"])
-        .current_dir(&dir)
-        .output()
-        .expect("runs");
+            &model.to_string_lossy(),
+            "--data",
+            &data.to_string_lossy(),
+            "--out",
+            "-",
+        ],
+    );
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{err}");
     let csv = String::from_utf8_lossy(&out.stdout);

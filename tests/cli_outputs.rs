@@ -5,14 +5,9 @@
 mod common;
 
 use serde_json::Value;
-use std::process::Command;
 
 fn ccrkit(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ccrkit"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("ccrkit runs")
+    common::cli::ccrkit_in(&common::cli::root(), args)
 }
 
 fn solve_json(method: &str) -> Value {

@@ -4,7 +4,7 @@
 //! pretensioned cables on an axially soft backbone, and the tip Jacobian against central
 //! differences of full solves; methods that cannot model compliance refuse it by name.
 
-use ccrkit::actuation::{Actuation, Input, Shortening};
+use ccrkit::actuation::{Actuation, Input};
 use ccrkit::method::energy::Energy;
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::MethodKind;
@@ -13,8 +13,8 @@ use nalgebra::Vector3;
 
 #[path = "common/one_cable.rs"]
 mod one_cable;
-use one_cable::{compliant_v4, one_cable, spring, tension, three_pretensioned};
-use one_cable::{SPRING_CASES, V4_BEND};
+use one_cable::V4_BEND;
+use one_cable::{assert_series_springs, compliant_v4, one_cable, tension, three_pretensioned};
 
 fn solve(m: &Model, act: &Actuation) -> Shape {
     Energy::default()
@@ -27,29 +27,7 @@ fn solve(m: &Model, act: &Actuation) -> Shape {
 /// tension (to 1e-9 m / 1e-6 relative). A rigid-ish backbone (E = 200 GPa) and a soft one.
 #[test]
 fn compliant_cable_equals_rigid_cable_at_the_effective_shortening() {
-    for (e, k, t0) in SPRING_CASES {
-        let soft = Model::from_toml_str(&one_cable(e, &spring(k, t0))).expect("compliant model");
-        let s = solve(&soft, &soft.actuation);
-        let t = tension(&s, 0);
-        assert!(t > 0.1, "the cable pulls: {t}");
-        let rigid = Model::from_toml_str(&one_cable(e, "")).expect("rigid model");
-        let mut act = rigid.actuation.clone();
-        act.cables[0].shorten = Some(Shortening::Length(0.002 + t0 / k - t / k));
-        let r = solve(&rigid, &act);
-        let d = (s.tip() - r.tip()).norm();
-        println!("E {e:e} k {k} T0 {t0}: T = {t:.6} N, tips differ by {d:.2e} m");
-        assert!(d < 1e-9, "tips differ by {d:e} m");
-        assert!(
-            (tension(&r, 0) - t).abs() < 1e-6 * t,
-            "{} vs {t}",
-            tension(&r, 0)
-        );
-        if t0 == 0.0 {
-            // Without pretension the compliant cable bends the robot less than the rigid one.
-            let full = solve(&rigid, &rigid.actuation);
-            assert!(full.tip().x.abs() > s.tip().x.abs() + 1e-4);
-        }
-    }
+    assert_series_springs("energy", solve);
 }
 
 /// Three straight cables at 120° with pretension T₀ and no command: the robot stays straight,

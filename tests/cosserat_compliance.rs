@@ -4,7 +4,7 @@
 //! the closed-form tension of three symmetric pretensioned cables, and the energy model,
 //! which honours the same fields with its own discretization and solver (issue 15 item 1).
 
-use ccrkit::actuation::{Actuation, Input, Shortening};
+use ccrkit::actuation::{Actuation, Input};
 use ccrkit::method::cosserat::Cosserat;
 use ccrkit::method::energy::Energy;
 use ccrkit::{Method, Model, Scene, Shape};
@@ -12,8 +12,8 @@ use nalgebra::Vector3;
 
 #[path = "common/one_cable.rs"]
 mod one_cable;
-use one_cable::{compliant_v4, one_cable, spring, tension, three_pretensioned};
-use one_cable::{SPRING_CASES, V4_BEND};
+use one_cable::{assert_series_springs, compliant_v4, one_cable, spring, tension};
+use one_cable::{three_pretensioned, V4_BEND};
 
 fn rods() -> [Cosserat; 2] {
     [
@@ -33,30 +33,7 @@ fn solve(rod: &dyn Method, m: &Model, act: &Actuation, warm: Option<&Shape>) -> 
 #[test]
 fn compliant_rod_equals_rigid_rod_at_the_effective_shortening() {
     for rod in rods() {
-        for (e, k, t0) in SPRING_CASES {
-            let soft =
-                Model::from_toml_str(&one_cable(e, &spring(k, t0))).expect("compliant model");
-            let s = solve(&rod, &soft, &soft.actuation, None);
-            let t = tension(&s, 0);
-            assert!(t > 0.1, "the cable pulls: {t}");
-            let rigid = Model::from_toml_str(&one_cable(e, "")).expect("rigid model");
-            let mut act = rigid.actuation.clone();
-            act.cables[0].shorten = Some(Shortening::Length(0.002 + t0 / k - t / k));
-            let r = solve(&rod, &rigid, &act, None);
-            let d = (s.tip() - r.tip()).norm();
-            let dt = (tension(&r, 0) - t).abs();
-            eprintln!(
-                "{} E {e:e} k {k} T0 {t0}: T = {t:.6} N, tips differ by {d:.2e} m, tensions by {dt:.2e} N",
-                rod.name()
-            );
-            assert!(d < 1e-9, "{}: tips differ by {d:e} m", rod.name());
-            assert!(dt < 1e-6 * t, "{}: {} vs {t}", rod.name(), tension(&r, 0));
-            if t0 == 0.0 {
-                // The stretch takes up part of the command: the rigid cable bends more.
-                let full = solve(&rod, &rigid, &rigid.actuation, None);
-                assert!(full.tip().x.abs() > s.tip().x.abs() + 1e-4);
-            }
-        }
+        assert_series_springs(rod.name(), |m, act| solve(&rod, m, act, None));
     }
 }
 

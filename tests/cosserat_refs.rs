@@ -4,17 +4,7 @@
 
 mod common;
 use ccrkit::method::cosserat::Cosserat;
-use ccrkit::Shape;
-use common::{paper, solve};
-
-/// Largest distance between corresponding disk centres of two shapes.
-fn max_disk_distance(a: &Shape, b: &Shape) -> f64 {
-    a.disks
-        .iter()
-        .zip(&b.disks)
-        .map(|(p, q)| (p.position - q.position).norm())
-        .fold(0.0, f64::max)
-}
+use common::{max_disk_distance, paper, solve};
 
 /// Issue 11 #7: on case I the disk error of the adaptive rod against an independent fine
 /// reference (fixed RK4, 64 steps per section) falls strictly as `TOL` falls from 1e-3 to

@@ -17,14 +17,13 @@ use std::path::PathBuf;
 #[path = "common/scenes.rs"]
 mod scenes;
 
+mod common;
+use common::cli::root;
+
 /// Deepest allowed penetration of any robot feature into any obstacle [m].
 const PENETRATION_TOL: f64 = 1e-6;
 /// Distance of a reported contact point from the surface it lies on [m].
 const SURFACE_TOL: f64 = 1e-6;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn case1() -> Model {
     Model::from_file(root().join("models/paper/case1.toml")).expect("case 1")
@@ -325,99 +324,91 @@ radius = 0.01
 
 // ---- scene-file validation: one test per rule, each naming the field ----
 
-fn scene_err(name: &str, body: &str) -> String {
-    match Scene::from_file(scene_file(name, body)) {
-        Ok(_) => panic!("scene `{name}` was accepted"),
-        Err(e) => e.to_string(),
-    }
-}
-
-/// `body` written to a scene file of the test's own temporary folder.
+/// `body` written as `name.toml` in the test's own temporary folder.
 fn scene_file(name: &str, body: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ccrkit-obstacles-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(format!("{name}.toml"));
-    std::fs::write(&p, body).unwrap();
-    p
+    common::scene_file("obstacles", &format!("{name}.toml"), body)
 }
 
-fn assert_names(msg: &str, what: &str) {
-    assert!(msg.contains(what), "error `{msg}` does not name `{what}`");
+/// The TOML scene `body` (written as `name.toml`) is refused with an error naming each of
+/// `what`.
+fn refused_naming(name: &str, body: &str, what: &[&str]) {
+    common::scene_refused_naming("obstacles", &format!("{name}.toml"), body, what);
 }
 
 #[test]
 fn unknown_shape_is_rejected() {
-    let e = scene_err("shape", "[[obstacles]]\nshape = \"cone\"\nradius = 0.01\n");
-    assert_names(&e, "obstacles[0].shape");
-    assert_names(&e, "cone");
+    refused_naming(
+        "shape",
+        "[[obstacles]]\nshape = \"cone\"\nradius = 0.01\n",
+        &["obstacles[0].shape", "cone"],
+    );
 }
 
 #[test]
 fn missing_size_is_rejected() {
-    let e = scene_err("missing", "[[obstacles]]\nshape = \"sphere\"\n");
-    assert_names(&e, "obstacles[0].radius");
-    let e = scene_err("missing-he", "[[obstacles]]\nshape = \"box\"\n");
-    assert_names(&e, "obstacles[0].half_extents");
+    refused_naming(
+        "missing",
+        "[[obstacles]]\nshape = \"sphere\"\n",
+        &["obstacles[0].radius"],
+    );
+    refused_naming(
+        "missing-he",
+        "[[obstacles]]\nshape = \"box\"\n",
+        &["obstacles[0].half_extents"],
+    );
 }
 
 #[test]
 fn negative_size_is_rejected() {
-    let e = scene_err("neg", "[[obstacles]]\nshape = \"sphere\"\nradius = -0.01\n");
-    assert_names(&e, "obstacles[0].radius");
-    let e = scene_err(
+    refused_naming(
+        "neg",
+        "[[obstacles]]\nshape = \"sphere\"\nradius = -0.01\n",
+        &["obstacles[0].radius"],
+    );
+    refused_naming(
         "neg-he",
         "[[obstacles]]\nshape = \"box\"\nhalf_extents = [0.01, -0.02, 0.01]\n",
+        &["obstacles[0].half_extents[1]"],
     );
-    assert_names(&e, "obstacles[0].half_extents[1]");
-    let e = scene_err(
+    refused_naming(
         "neg-hh",
         "[[obstacles]]\nshape = \"cylinder\"\nradius = 0.01\nhalf_height = 0.0\n",
+        &["obstacles[0].half_height"],
     );
-    assert_names(&e, "obstacles[0].half_height");
 }
 
 #[test]
 fn bad_quaternion_is_rejected() {
-    let e = scene_err(
-        "quat",
-        "[[obstacles]]\nshape = \"sphere\"\nradius = 0.01\nrotation = { quaternion = [0.0, 0.0, 0.0, 0.0] }\n",
-    );
-    assert_names(&e, "obstacles[0].rotation.quaternion");
+    refused_naming("quat", "[[obstacles]]\nshape = \"sphere\"\nradius = 0.01\nrotation = { quaternion = [0.0, 0.0, 0.0, 0.0] }\n", &["obstacles[0].rotation.quaternion"]);
 }
 
 #[test]
 fn a_mesh_that_does_not_load_names_the_file() {
-    let e = scene_err(
+    refused_naming(
         "mesh",
         "[[obstacles]]\nshape = \"mesh\"\npath = \"no-such-vessel.obj\"\n",
+        &["obstacles[0].path", "no-such-vessel.obj"],
     );
-    assert_names(&e, "obstacles[0].path");
-    assert_names(&e, "no-such-vessel.obj");
 }
 
 #[test]
 fn duplicate_names_are_rejected() {
-    let e = scene_err(
-        "dup",
-        "[[obstacles]]\nname = \"x\"\nshape = \"sphere\"\nradius = 0.01\n[[obstacles]]\nname = \"x\"\nshape = \"sphere\"\nradius = 0.02\n",
-    );
-    assert_names(&e, "obstacles[1].name");
+    refused_naming("dup", "[[obstacles]]\nname = \"x\"\nshape = \"sphere\"\nradius = 0.01\n[[obstacles]]\nname = \"x\"\nshape = \"sphere\"\nradius = 0.02\n", &["obstacles[1].name"]);
 }
 
 #[test]
 fn unknown_fields_are_rejected() {
-    let e = scene_err(
+    refused_naming(
         "unknown",
         "[[obstacles]]\nshape = \"sphere\"\nradius = 0.01\ncolour = \"red\"\n",
+        &["colour"],
     );
-    assert_names(&e, "colour");
-    let e = scene_err("unknown-top", "gravity = 9.81\n");
-    assert_names(&e, "gravity");
-    let e = scene_err(
+    refused_naming("unknown-top", "gravity = 9.81\n", &["gravity"]);
+    refused_naming(
         "wrong-size",
         "[[obstacles]]\nshape = \"sphere\"\nradius = 0.01\nhalf_height = 0.01\n",
+        &["obstacles[0].half_height"],
     );
-    assert_names(&e, "obstacles[0].half_height");
 }
 
 // ---- random scenes ----
@@ -753,7 +744,5 @@ fn a_generated_scene_of_1000_obstacles_is_read_whole_with_exact_bounds() {
 fn a_repeated_name_after_1000_obstacles_is_named() {
     let text = scenes::scene_text(1000, 7)
         + "[[obstacles]]\nname = \"o3\"\nshape = \"sphere\"\nradius = 0.01\n";
-    let e = scene_err("dup1000", &text);
-    assert_names(&e, "obstacles[1000].name");
-    assert_names(&e, "o3");
+    refused_naming("dup1000", &text, &["obstacles[1000].name", "o3"]);
 }

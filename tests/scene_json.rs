@@ -10,28 +10,18 @@ use std::path::PathBuf;
 #[path = "common/scenes.rs"]
 mod scenes;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::cli::{paper_path, root};
 
 /// `body` written as `name` in the test's own temporary folder.
 fn file(name: &str, body: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ccrkit-scene-json-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, body).unwrap();
-    p
+    common::scene_file("scene-json", name, body)
 }
 
-fn json_err(name: &str, body: &str) -> String {
-    match Scene::from_file(file(&format!("{name}.json"), body)) {
-        Ok(_) => panic!("scene `{name}` was accepted"),
-        Err(e) => e.to_string(),
-    }
-}
-
-fn assert_names(msg: &str, what: &str) {
-    assert!(msg.contains(what), "error `{msg}` does not name `{what}`");
+/// The JSON scene `body` (written as `name.json`) is refused with an error naming each of
+/// `what`.
+fn refused_naming(name: &str, body: &str, what: &[&str]) {
+    common::scene_refused_naming("scene-json", &format!("{name}.json"), body, what);
 }
 
 #[test]
@@ -51,7 +41,7 @@ fn a_json_scene_of_1000_obstacles_equals_its_toml_twin() {
 
 #[test]
 fn the_wall_as_json_gives_the_same_solve_as_the_wall_as_toml() {
-    let model = Model::from_file(root().join("models/paper/case1.toml")).unwrap();
+    let model = Model::from_file(paper_path(1)).unwrap();
     let wall = |p: &str| Scene::from_file(root().join(p)).unwrap();
     let (toml, json) = (
         wall("models/scenes/wall.toml"),
@@ -73,61 +63,57 @@ fn the_wall_as_json_gives_the_same_solve_as_the_wall_as_toml() {
 
 #[test]
 fn a_wrong_type_names_its_path() {
-    let e = json_err(
+    refused_naming(
         "type",
         r#"{"obstacles": [{"shape": "sphere", "radius": 0.01}, {"shape": "sphere", "radius": "big"}]}"#,
+        &["obstacles[1].radius", "invalid type"],
     );
-    assert_names(&e, "obstacles[1].radius");
-    assert_names(&e, "invalid type");
 }
 
 #[test]
 fn an_unknown_field_is_refused_by_name() {
-    let e = json_err(
+    refused_naming(
         "unknown",
         r#"{"obstacles": [{"shape": "sphere", "radus": 0.01}]}"#,
+        &["obstacles[0]", "radus"],
     );
-    assert_names(&e, "obstacles[0]");
-    assert_names(&e, "radus");
-    let e = json_err("top", r#"{"clearence": 0.01}"#);
-    assert_names(&e, "clearence");
+    refused_naming("top", r#"{"clearence": 0.01}"#, &["clearence"]);
 }
 
 #[test]
 fn values_are_checked_as_in_toml() {
-    let e = json_err(
+    refused_naming(
         "neg",
         r#"{"obstacles": [{"shape": "sphere", "radius": -0.01}]}"#,
+        &["obstacles[0].radius"],
     );
-    assert_names(&e, "obstacles[0].radius");
-    let e = json_err(
+    refused_naming(
         "shape",
         r#"{"obstacles": [{"shape": "cone", "radius": 0.01}]}"#,
+        &["obstacles[0].shape", "cone"],
     );
-    assert_names(&e, "obstacles[0].shape");
-    assert_names(&e, "cone");
-    let e = json_err(
+    refused_naming(
         "quat",
         r#"{"obstacles": [{"shape": "sphere", "radius": 0.01, "rotation": {"quaternion": [0, 0, 0, 0]}}]}"#,
+        &["obstacles[0].rotation.quaternion"],
     );
-    assert_names(&e, "obstacles[0].rotation.quaternion");
-    let e = json_err("clear", r#"{"clearance": -1.0}"#);
-    assert_names(&e, "clearance");
-    let e = json_err(
+    refused_naming("clear", r#"{"clearance": -1.0}"#, &["clearance"]);
+    refused_naming(
         "dup",
         r#"{"obstacles": [{"name": "a", "shape": "sphere", "radius": 0.01},
                           {"name": "a", "shape": "sphere", "radius": 0.01}]}"#,
+        &["obstacles[1].name"],
     );
-    assert_names(&e, "obstacles[1].name");
 }
 
 #[test]
 fn broken_json_is_refused_with_its_place() {
-    let e = json_err("trailing", r#"{"obstacles": []} extra"#);
-    assert_names(&e, "trailing characters");
-    let e = json_err("cut", r#"{"obstacles": [{"shape": "sphere""#);
-    assert_names(&e, "line 1");
+    refused_naming(
+        "trailing",
+        r#"{"obstacles": []} extra"#,
+        &["trailing characters"],
+    );
+    refused_naming("cut", r#"{"obstacles": [{"shape": "sphere""#, &["line 1"]);
     // A TOML body in a `.json` file is JSON that does not parse, not a TOML scene.
-    let e = json_err("toml_in_json", "clearance = 0.0\n");
-    assert_names(&e, "line 1");
+    refused_naming("toml_in_json", "clearance = 0.0\n", &["line 1"]);
 }

@@ -69,6 +69,11 @@ fn log_range(v: impl Iterator<Item = f64>) -> (f64, f64) {
 /// Errors below this are drawn at it (a log axis has no zero).
 const ERROR_FLOOR: f64 = 1e-12;
 
+/// The share of the speed chart's error decades added below the lowest point, kept free for
+/// the legend: 8 rows of ~17 px on a plot ~640 px high need ~21 % of its height, and
+/// 0.35 more decades leave the lowest 0.35/1.35 = 26 % free.
+const LEGEND_BAND: f64 = 0.35;
+
 fn draw_speed<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     rows: &[SpeedAccuracyRow],
@@ -85,6 +90,9 @@ where
     let err = |r: &SpeedAccuracyRow| r.rms_error_m.max(ERROR_FLOOR);
     let (x0, x1) = log_range(ok.iter().map(|r| r.median_time_s));
     let (y0, y1) = log_range(ok.iter().map(|r| err(r)));
+    // The legend sits in the lower right, below every point: the error axis is extended
+    // downwards by a band of LEGEND_BAND of its decades (one legend row a method and a front).
+    let y0 = y0 / (y1 / y0).powf(LEGEND_BAND);
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 20))
         .margin(12)

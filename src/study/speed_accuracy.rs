@@ -23,9 +23,6 @@ pub struct Variant {
     pub solver: Box<dyn Method>,
 }
 
-/// RK4 steps per section examined for the rods (their registered resolution ladder).
-pub const RK4_STEPS: &[usize] = &[2, 3, 4, 6, 8, 12, 20];
-
 /// The resolution settings of a method for [`speed_accuracy`], from the registry.
 pub fn variants(kind: MethodKind) -> Result<Vec<Variant>, SolveError> {
     kind.info()

@@ -256,6 +256,48 @@ pub struct StabilitySummary {
     pub first_failure: Option<(f64, f64)>,
 }
 
+impl StabilitySummary {
+    /// One console line: method, mode, converged points, failures by kind, and the first
+    /// failure as the inputs of the swept `cables` (percent shortening or newtons).
+    pub fn line(&self, cables: &[String; 2]) -> String {
+        let fails: Vec<String> = self
+            .failures
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
+        let mode = if self.continuation {
+            "continuation"
+        } else {
+            "cold"
+        };
+        let failed = if fails.is_empty() {
+            String::new()
+        } else {
+            format!(", failed: {}", fails.join(", "))
+        };
+        let value = |x: f64| match self.input {
+            Input::Shortening => format!("{:.2} %", 100.0 * x),
+            Input::Tension => format!("{x:.3} N"),
+        };
+        let first = self
+            .first_failure
+            .map(|(a, b)| {
+                format!(
+                    ", first failure at {} {}, {} {}",
+                    cables[0],
+                    value(a),
+                    cables[1],
+                    value(b)
+                )
+            })
+            .unwrap_or_default();
+        format!(
+            "{:<20} {:<13} {:>5}/{:<5} ok{failed}{first}",
+            self.method, mode, self.ok, self.total
+        )
+    }
+}
+
 /// Summaries of a stability study, one per method and mode.
 pub fn stability_summary(st: &Stability) -> Vec<StabilitySummary> {
     let mut out: Vec<StabilitySummary> = vec![];

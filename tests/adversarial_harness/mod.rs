@@ -23,16 +23,18 @@ pub fn bin() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_ccrkit"))
 }
 
+/// The tests' shared paths and binary runs (`tests/common/cli.rs`).
+#[path = "../common/cli.rs"]
+pub mod cli;
+
 /// Repository root.
 pub fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    cli::root()
 }
 
-/// A fresh scratch directory under the target directory.
+/// A fresh scratch directory `ccrkit-adv-NAME-PID` in the system's temporary folder.
 pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ccrkit-adv-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
+    cli::scratch(&format!("adv-{name}"))
 }
 
 /// Phrases that start ccrkit's named errors (`ModelError`, `SolveError`, `ExportError`,

@@ -1,21 +1,48 @@
 //! Helpers shared by the integration tests (each test file uses the ones it needs).
 #![allow(dead_code)]
 
+pub mod cli;
+
 use ccrkit::{Method, Model, Scene, Shape};
 
 /// Paper case `n` (1, 2 or 3) from `models/paper/`.
 pub fn paper(n: usize) -> Model {
-    Model::from_file(format!(
-        "{}/models/paper/case{n}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .expect("paper model parses")
+    Model::from_file(cli::paper_path(n)).expect("paper model parses")
+}
+
+/// `body` written as the scene file `file` (its extension picks the reader) in the scratch
+/// folder `folder` ([`cli::scratch`]).
+pub fn scene_file(folder: &str, file: &str, body: &str) -> std::path::PathBuf {
+    let p = cli::scratch(folder).join(file);
+    std::fs::write(&p, body).expect("scene file written");
+    p
+}
+
+/// The scene file [`scene_file`]`(folder, file, body)` is refused with an error naming each
+/// of `what`.
+pub fn scene_refused_naming(folder: &str, file: &str, body: &str, what: &[&str]) {
+    let msg = match Scene::from_file(scene_file(folder, file, body)) {
+        Ok(_) => panic!("scene `{file}` was accepted"),
+        Err(e) => e.to_string(),
+    };
+    for w in what {
+        assert!(msg.contains(w), "error `{msg}` does not name `{w}`");
+    }
 }
 
 /// Solve a model without obstacles, expecting success.
 pub fn solve(m: &dyn Method, model: &Model) -> Shape {
     m.solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .expect("solves")
+}
+
+/// The largest distance between corresponding disk centres of two shapes \[m\].
+pub fn max_disk_distance(a: &Shape, b: &Shape) -> f64 {
+    a.disks
+        .iter()
+        .zip(&b.disks)
+        .map(|(p, q)| (p.position - q.position).norm())
+        .fold(0.0, f64::max)
 }
 
 /// The point at arc length `s` of a planar arc of curvature `kappa` in the x–z plane that
@@ -32,11 +59,7 @@ pub fn arc_point(kappa: f64, s: f64) -> nalgebra::Vector3<f64> {
 /// standard error in the failure message) and parses its standard output as JSON — the
 /// command's `--json -` output.
 pub fn ccrkit_json<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> serde_json::Value {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ccrkit"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("ccrkit runs");
+    let out = cli::ccrkit_in(&cli::root(), args);
     assert!(
         out.status.success(),
         "{}",

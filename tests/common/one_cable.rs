@@ -4,6 +4,7 @@
 //! every cable compliant.
 #![allow(dead_code)]
 
+use ccrkit::actuation::{Actuation, Shortening};
 use ccrkit::{Model, Shape};
 
 /// A straight robot of `sections` sections of `section_length` (disks of `disk_radius`, 2 mm
@@ -61,6 +62,36 @@ pub fn one_cable(e: f64, extra: &str) -> String {
 /// pretension, and a soft one.
 pub const SPRING_CASES: [(f64, f64, f64); 3] =
     [(2e11, 2000.0, 0.0), (2e11, 500.0, 1.5), (5e9, 3000.0, 0.4)];
+
+/// The series-spring identity on every case of [`SPRING_CASES`], for the method `solve` (named
+/// `name` in messages): the compliant cable shortened by `d = 2 mm` ends with tension `T`; the
+/// inextensible cable shortened by `d + T₀/k − T/k` gives the same tip (1e-9 m) and tension
+/// (1e-6 relative); without pretension the rigid cable at `d` bends the robot more (the
+/// stretch takes up part of the command).
+pub fn assert_series_springs(name: &str, solve: impl Fn(&Model, &Actuation) -> Shape) {
+    for (e, k, t0) in SPRING_CASES {
+        let soft = Model::from_toml_str(&one_cable(e, &spring(k, t0))).expect("compliant model");
+        let s = solve(&soft, &soft.actuation);
+        let t = tension(&s, 0);
+        assert!(t > 0.1, "{name}: the cable pulls: {t}");
+        let rigid = Model::from_toml_str(&one_cable(e, "")).expect("rigid model");
+        let mut act = rigid.actuation.clone();
+        act.cables[0].shorten = Some(Shortening::Length(0.002 + t0 / k - t / k));
+        let r = solve(&rigid, &act);
+        let d = (s.tip() - r.tip()).norm();
+        let dt = (tension(&r, 0) - t).abs();
+        eprintln!(
+            "{name} E {e:e} k {k} T0 {t0}: T = {t:.6} N, tips differ by {d:.2e} m, tensions by \
+             {dt:.2e} N"
+        );
+        assert!(d < 1e-9, "{name}: tips differ by {d:e} m");
+        assert!(dt < 1e-6 * t, "{name}: {} vs {t}", tension(&r, 0));
+        if t0 == 0.0 {
+            let full = solve(&rigid, &rigid.actuation);
+            assert!(full.tip().x.abs() > s.tip().x.abs() + 1e-4, "{name}");
+        }
+    }
+}
 
 /// The cable lines of stiffness `k` and, when positive, pretension `t0`.
 pub fn spring(k: f64, t0: f64) -> String {

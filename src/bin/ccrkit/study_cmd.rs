@@ -288,37 +288,6 @@ fn merge(a: MergeArgs) -> Result<()> {
 
 fn print_stability_summary(st: &study::Stability) {
     for s in study::stability_summary(st) {
-        let fails: Vec<String> = s.failures.iter().map(|(k, n)| format!("{k} {n}")).collect();
-        println!(
-            "{:<20} {:<13} {:>5}/{:<5} ok{}{}",
-            s.method,
-            if s.continuation {
-                "continuation"
-            } else {
-                "cold"
-            },
-            s.ok,
-            s.total,
-            if fails.is_empty() {
-                String::new()
-            } else {
-                format!(", failed: {}", fails.join(", "))
-            },
-            s.first_failure
-                .map(|(a, b)| {
-                    let v = |x: f64| match s.input {
-                        study::Input::Shortening => format!("{:.2} %", 100.0 * x),
-                        study::Input::Tension => format!("{x:.3} N"),
-                    };
-                    format!(
-                        ", first failure at {} {}, {} {}",
-                        st.cables[0],
-                        v(a),
-                        st.cables[1],
-                        v(b)
-                    )
-                })
-                .unwrap_or_default()
-        );
+        println!("{}", s.line(&st.cables));
     }
 }
