@@ -108,17 +108,25 @@ fn dense_recheck(model: &Model, p: &Plan) -> f64 {
     worst
 }
 
-/// Consecutive waypoints are at most `step` apart, and each waypoint's shape and clearance
+/// Consecutive waypoints are at most `step` apart and in order along the path, and each waypoint's shape and clearance
 /// are those of a cold solve at its actuation (the output stage reuses bisection samples,
 /// solved warm: the same shape to the solver's tolerance).
 fn waypoints_are_solves(space: &Space, p: &Plan, step: f64) {
+    let mut length = 0.0;
     for w in p.waypoints.windows(2) {
         let d = ccrkit::plan::edge::dist(&w[0].u, &w[1].u);
         assert!(
             d <= step * (1.0 + 1e-12),
             "waypoints {d:e} m apart, step {step} m"
         );
+        length += d;
     }
+    // In order along the shortened path (no waypoint out of order on its edge).
+    let want = p.stats.length_after_m;
+    assert!(
+        (length - want).abs() <= 1e-9 * want,
+        "waypoints span {length:e} m, the path {want:e} m"
+    );
     for n in &p.waypoints {
         let cold = space.solve(&n.u, None).unwrap();
         let e = (cold.tip() - n.shape.tip()).norm();
@@ -485,7 +493,8 @@ fn clearance_matches_unbounded_parry() {
 /// actuations (28 feasible queries, most of whose straight actuation path is clear, some
 /// not) is planned cold (RRT-Connect) and through a roadmap; each must succeed on ≥ 95 %,
 /// every answer start and end where asked with a certified clearance ≥ the margin, and the
-/// first three answers that needed a detour pass the dense re-check.
+/// first three answers that needed a detour pass the dense re-check; every answer's waypoints
+/// are cold solves at most the output step apart (samples reused from edges checked either way).
 #[test]
 fn vessel_queries_succeed() {
     let model = vessel_model();
@@ -509,9 +518,9 @@ fn vessel_queries_succeed() {
                 assert_eq!(p.waypoints[0].u, ends[i]);
                 assert_eq!(p.waypoints[p.waypoints.len() - 1].u, ends[j]);
                 assert!(p.certified_clearance_m >= p.margin_m);
+                waypoints_are_solves(&space, &p, opts.output_step);
                 if p.waypoints.len() > 2 && p.stats.checks.edges_checked > 1 && detours < 3 {
                     dense_recheck(&model, &p);
-                    waypoints_are_solves(&space, &p, opts.output_step);
                     detours += 1;
                 }
                 if k == 0 {
