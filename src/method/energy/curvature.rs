@@ -285,6 +285,7 @@ fn sub_arc_load_block(
 mod tests {
     use super::*;
     use crate::method::energy::kinematics::exp_act;
+    use crate::numeric::ad::Real;
 
     /// The closed-form block equals the one built from four actions of the exponential
     /// (`R_l e_b = exp_act(e_b) − exp_act(0)`, `p_l = exp_act(0)`), bent and straight.

@@ -148,11 +148,12 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 self.kin.as_ref(),
                 &mut self.w,
             );
-            // `w.hess` now holds `K + Σ w_c ∇²L_c` at the solution (path lengths).
+            // `w.hess` now holds `K + Σ w_c ∇²L_c` at the solution (path lengths); the
+            // scratch ends with this solve, so the blocks are moved, not copied.
             if self.prob.set.cable_length == LengthMeasure::Path {
                 hessian = Some(EnergyHessian {
-                    blocks: self.w.hess.clone(),
-                    weights: self.wgt.clone(),
+                    blocks: std::mem::take(&mut self.w.hess),
+                    weights: std::mem::take(&mut self.wgt),
                     stiffness: self.prob.k.clone(),
                 });
             }
