@@ -35,6 +35,24 @@ pub struct EnergyWarm {
     pub strains: Vec<f64>,
     /// Cable multipliers (tensions \[N\]) in robot order.
     pub multipliers: Vec<f64>,
+    /// The Lagrangian Hessian blocks at these strains, when the solve built them.
+    pub hessian: Option<EnergyHessian>,
+}
+
+/// The energy model's Lagrangian Hessian blocks `K + Σ_c w_c ∇²L_c` (path lengths; row-major
+/// diagonal blocks) at a solution, with the cable weights `w_c` (multipliers of the
+/// length-driven cables, input tensions) and the stiffness diagonal `K` they were built with.
+/// A warm start from that solution whose first Hessian has the same strains, weights and `K`
+/// uses these blocks instead of rebuilding them (issue 16: a warm solve then costs no more
+/// than a cold one, whose first Hessian has no cable curvature).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnergyHessian {
+    /// The diagonal blocks.
+    pub blocks: Vec<f64>,
+    /// The cable weights they were built with.
+    pub weights: Vec<f64>,
+    /// The energy's stiffness diagonal they were built with.
+    pub stiffness: Vec<f64>,
 }
 
 impl WarmState {

@@ -95,29 +95,36 @@ impl SemiSep {
         let mut l = vec![0.0; n * b * b];
         let mut q = vec![0.0; n * r * b];
         let mut sv = vec![0.0; r * b];
+        let mut row = vec![0.0; b];
+        // The sums below run in the same order as the textbook loops (index ascending), with
+        // the contiguous index innermost.
         for i in 0..n {
             let vi = &self.v[i * r * b..(i + 1) * r * b];
             let ui = &self.u[i * r * b..(i + 1) * r * b];
             // SV = S V_i.
             for p in 0..r {
-                for c in 0..b {
-                    let mut acc = 0.0;
-                    for t in 0..r {
-                        acc += s[p * r + t] * vi[t * b + c];
+                let svp = &mut sv[p * b..(p + 1) * b];
+                svp.fill(0.0);
+                for t in 0..r {
+                    let spt = s[p * r + t];
+                    for (o, &v) in svp.iter_mut().zip(&vi[t * b..(t + 1) * b]) {
+                        *o += spt * v;
                     }
-                    sv[p * b + c] = acc;
                 }
             }
             // l_i = chol(A_ii − V_iᵀ S V_i).
             let li = &mut l[i * b * b..(i + 1) * b * b];
             li.copy_from_slice(&self.diag[i * b * b..(i + 1) * b * b]);
             for a in 0..b {
-                for c in 0..b {
-                    let mut acc = 0.0;
-                    for p in 0..r {
-                        acc += vi[p * b + a] * sv[p * b + c];
+                row.fill(0.0);
+                for p in 0..r {
+                    let vpa = vi[p * b + a];
+                    for (o, &x) in row.iter_mut().zip(&sv[p * b..(p + 1) * b]) {
+                        *o += vpa * x;
                     }
-                    li[a * b + c] -= acc;
+                }
+                for (o, &x) in li[a * b..(a + 1) * b].iter_mut().zip(&row) {
+                    *o -= x;
                 }
             }
             if !chol_factor(li, b) {
@@ -126,22 +133,23 @@ impl SemiSep {
             // q_i = (U_i − S V_i) l_i⁻ᵀ: each row ρ solves l_i z = ρ.
             let qi = &mut q[i * r * b..(i + 1) * r * b];
             for p in 0..r {
+                let qp = &mut qi[p * b..(p + 1) * b];
                 for a in 0..b {
                     let mut acc = ui[p * b + a] - sv[p * b + a];
-                    for c in 0..a {
-                        acc -= li[a * b + c] * qi[p * b + c];
+                    for (&lc, &qc) in li[a * b..a * b + a].iter().zip(&qp[..a]) {
+                        acc -= lc * qc;
                     }
-                    qi[p * b + a] = acc / li[a * b + a];
+                    qp[a] = acc / li[a * b + a];
                 }
             }
-            // S += q_i q_iᵀ.
+            // S += q_i q_iᵀ (symmetric: each product is computed once).
             for p in 0..r {
-                for t in 0..r {
-                    let mut acc = 0.0;
-                    for c in 0..b {
-                        acc += qi[p * b + c] * qi[t * b + c];
-                    }
+                for t in p..r {
+                    let acc: f64 = dot(&qi[p * b..(p + 1) * b], &qi[t * b..(t + 1) * b]);
                     s[p * r + t] += acc;
+                    if t != p {
+                        s[t * r + p] += acc;
+                    }
                 }
             }
         }
@@ -169,19 +177,22 @@ impl SemiSepFactor {
             );
             let li = &self.l[i * b * b..(i + 1) * b * b];
             let xi = &mut x[i * b..(i + 1) * b];
+            for p in 0..r {
+                for (t, &v) in xi.iter_mut().zip(&vi[p * b..(p + 1) * b]) {
+                    *t -= v * acc[p];
+                }
+            }
             for a in 0..b {
-                let mut t = xi[a];
-                for p in 0..r {
-                    t -= vi[p * b + a] * acc[p];
+                let (done, rest) = xi.split_at_mut(a);
+                let mut t = rest[0];
+                for (&lc, &xc) in li[a * b..a * b + a].iter().zip(done.iter()) {
+                    t -= lc * xc;
                 }
-                for c in 0..a {
-                    t -= li[a * b + c] * xi[c];
-                }
-                xi[a] = t / li[a * b + a];
+                rest[0] = t / li[a * b + a];
             }
             for p in 0..r {
-                for c in 0..b {
-                    acc[p] += qi[p * b + c] * xi[c];
+                for (&qc, &xc) in qi[p * b..(p + 1) * b].iter().zip(xi.iter()) {
+                    acc[p] += qc * xc;
                 }
             }
         }
@@ -194,23 +205,35 @@ impl SemiSepFactor {
             );
             let li = &self.l[i * b * b..(i + 1) * b * b];
             let xi = &mut x[i * b..(i + 1) * b];
+            for p in 0..r {
+                for (t, &q) in xi.iter_mut().zip(&qi[p * b..(p + 1) * b]) {
+                    *t -= q * acc[p];
+                }
+            }
             for a in (0..b).rev() {
                 let mut t = xi[a];
-                for p in 0..r {
-                    t -= qi[p * b + a] * acc[p];
-                }
                 for c in a + 1..b {
                     t -= li[c * b + a] * xi[c];
                 }
                 xi[a] = t / li[a * b + a];
             }
             for p in 0..r {
-                for c in 0..b {
-                    acc[p] += vi[p * b + c] * xi[c];
+                for (&vc, &xc) in vi[p * b..(p + 1) * b].iter().zip(xi.iter()) {
+                    acc[p] += vc * xc;
                 }
             }
         }
     }
+}
+
+/// `Σ a_c b_c`, `c` ascending.
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = 0.0;
+    for (x, y) in a.iter().zip(b) {
+        acc += x * y;
+    }
+    acc
 }
 
 #[cfg(test)]

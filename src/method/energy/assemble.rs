@@ -88,6 +88,7 @@ impl Energy {
             length: self.cable_length,
             strains: xi.to_vec(),
             multipliers: lam.to_vec(),
+            hessian: sol.hessian,
         });
         Shape {
             method: self.name().into(),

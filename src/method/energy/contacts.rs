@@ -288,6 +288,14 @@ impl<'a> World<'a> {
         (q.out, q.clear)
     }
 
+    /// Fill in `∂d/∂ξ` of `pairs` found at the frames of `kin` without the integrals
+    /// (the line search's), now that `kin` carries them: what [`World::pairs`] gives there.
+    pub fn add_gradients(&self, kin: &Kin, pairs: &mut [Pair]) {
+        for p in pairs {
+            p.grad = World::grad(kin, p.ends, &p.point_robot, &p.normal);
+        }
+    }
+
     /// Robot-level box: the bounds of every frame origin grown by the largest feature reach
     /// (disk radius, half a sub-arc); obstacles farther than the margin from it only bound
     /// `clear`.

@@ -19,7 +19,7 @@ use super::problem::{Problem, Target};
 use super::sensitivity::Sensitivity;
 use super::Energy;
 use crate::error::SolveError;
-use crate::method::warm::WarmState;
+use crate::method::warm::{EnergyHessian, WarmState};
 use crate::method::Method;
 use crate::model::actuation::LengthMeasure;
 use crate::numeric::semisep::SemiSepFactor;
@@ -39,6 +39,8 @@ pub(super) struct Solution {
     pub history: Vec<f64>,
     /// Stability and tip Jacobian from the converged KKT system (`sensitivity.rs`).
     pub sensitivity: Sensitivity,
+    /// The Hessian blocks built for the sensitivity, for the next warm start.
+    pub hessian: Option<EnergyHessian>,
 }
 
 /// Residual \[m\] at which a solution with active contacts has converged: parry's distances and
@@ -98,6 +100,12 @@ struct Sqp<'p, 'a> {
     stalled: bool,
     /// Bound on how far the last full step moved any point \[m\] (∞ after a damped step).
     last_move: f64,
+    /// The pairs and clearance the line search found at the accepted step, for the next
+    /// linearization (the same point: only the gradients are missing).
+    next_pairs: Option<(Vec<Pair>, f64)>,
+    /// The Hessian blocks a warm start brought (the last ones of the solve it comes from),
+    /// for the first [`Sqp::factor`] when its strains and weights are theirs.
+    warm_hessian: Option<EnergyHessian>,
 }
 
 impl Energy {
@@ -109,6 +117,7 @@ impl Energy {
         warm: Option<&Shape>,
     ) -> Result<Solution, SolveError> {
         let mut sqp = Sqp::new(prob, self.start_point(prob, warm));
+        sqp.warm_hessian = warm_hessian(warm, &sqp.xi);
         let tol = self.tolerance;
         let mut resid = f64::INFINITY;
         for it in 0..=self.max_iterations {
@@ -275,6 +284,15 @@ impl Energy {
                 self.min_stretch
             ),
         })
+    }
+}
+
+/// The Hessian blocks carried by a warm shape of this method, if any, when the start `xi`
+/// is that shape's strains.
+fn warm_hessian(warm: Option<&Shape>, xi: &[f64]) -> Option<EnergyHessian> {
+    match &warm?.report.warm {
+        Some(WarmState::Energy(e)) if e.strains == xi => e.hessian.clone(),
+        _ => None,
     }
 }
 

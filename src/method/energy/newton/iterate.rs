@@ -10,6 +10,8 @@ use crate::method::energy::contacts::{self, Pair};
 use crate::method::energy::lengths::Work;
 use crate::method::energy::problem::{Problem, Target};
 use crate::method::energy::sensitivity::Sensitivity;
+use crate::method::warm::EnergyHessian;
+use crate::model::actuation::LengthMeasure;
 
 impl<'p, 'a> Sqp<'p, 'a> {
     pub(super) fn new(prob: &'p Problem<'a>, (xi, lam): (Vec<f64>, Vec<f64>)) -> Self {
@@ -41,6 +43,8 @@ impl<'p, 'a> Sqp<'p, 'a> {
             exact: false,
             stalled: false,
             last_move: f64::INFINITY,
+            next_pairs: None,
+            warm_hessian: None,
         }
     }
 
@@ -63,7 +67,14 @@ impl<'p, 'a> Sqp<'p, 'a> {
             .then(|| contacts::kinematics(&self.xi, &prob.ell, true));
         self.clear = f64::INFINITY;
         if let (Some(wd), Some(k)) = (self.world, &self.kin) {
-            (self.pairs, self.clear) = wd.pairs(k);
+            (self.pairs, self.clear) = match self.next_pairs.take() {
+                // The line search's pairs at this very point (same frames to the bit).
+                Some((mut pairs, clear)) => {
+                    wd.add_gradients(k, &mut pairs);
+                    (pairs, clear)
+                }
+                None => wd.pairs(k),
+            };
         }
         self.mu = self
             .pairs
@@ -127,15 +138,26 @@ impl<'p, 'a> Sqp<'p, 'a> {
     pub(super) fn solution(mut self, iterations: usize, residual: f64) -> Solution {
         let world = self.world;
         let pressing = pressing(&self.pairs, &self.mu);
+        let mut hessian = None;
         let sensitivity = if pressing.is_empty() || self.prob.set.contact_sensitivity {
-            self.prob.sensitivity(
+            let s = self.prob.sensitivity(
                 &self.xi,
                 &self.wgt,
                 &self.lam,
                 &pressing,
                 self.kin.as_ref(),
                 &mut self.w,
-            )
+            );
+            // `w.hess` now holds `K + Σ w_c ∇²L_c` at the solution (path lengths); the
+            // scratch ends with this solve, so the blocks are moved, not copied.
+            if self.prob.set.cable_length == LengthMeasure::Path {
+                hessian = Some(EnergyHessian {
+                    blocks: std::mem::take(&mut self.w.hess),
+                    weights: std::mem::take(&mut self.wgt),
+                    stiffness: self.prob.k.clone(),
+                });
+            }
+            s
         } else {
             Sensitivity {
                 stable: None,
@@ -157,6 +179,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
             residual,
             history: self.history,
             sensitivity,
+            hessian,
         }
     }
 }

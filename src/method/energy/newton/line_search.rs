@@ -105,6 +105,8 @@ impl<'p, 'a> Sqp<'p, 'a> {
                     && (tiny || phi <= phi0 + 1e-4 * alpha * dphi.min(0.0) + 1e-14 * phi0.abs())
                 {
                     self.stalled = false;
+                    // `take_step` moves to this very trial point (same operations).
+                    self.next_pairs = kin_trial.is_some().then_some((trial_pairs, trial_clear));
                     return alpha;
                 }
             }

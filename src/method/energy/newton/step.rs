@@ -32,7 +32,18 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let nb = prob.nb;
         let w = &mut self.w;
         if prob.set.cable_length == LengthMeasure::Path {
-            prob.path_hessian(&self.xi, &self.wgt, w);
+            // A warm start's first Hessian is the last one of the solve it comes from when
+            // strains, weights and stiffness are those (the same numbers, not rebuilt).
+            match self.warm_hessian.take() {
+                Some(h)
+                    if h.blocks.len() == w.hess.len()
+                        && h.weights == self.wgt
+                        && h.stiffness == prob.k =>
+                {
+                    w.hess.copy_from_slice(&h.blocks);
+                }
+                _ => prob.path_hessian(&self.xi, &self.wgt, w),
+            }
         }
         w.raw.copy_from_slice(&w.hess);
         if self.factor_curved().is_some() {
