@@ -135,7 +135,7 @@ impl Geometric {
         };
         let mut starts = self.starts(data, prev, &mut tally.iterations);
         if let Some(w) = warm {
-            starts.insert(0, nudge(w, data.l0));
+            starts.insert(0, nudge(w, data));
         }
         let Some((best, taut)) = self.search_taut_sets(data, &starts, squared, &mut tally) else {
             return Err(self.section_failure(data, i, &tally));
@@ -288,9 +288,9 @@ impl Geometric {
             starts.push(c);
         }
         if let Some(p) = prev {
-            starts.push(nudge(p, data.l0));
+            starts.push(nudge(p, data));
         }
-        starts.push(nudge(&straight, data.l0));
+        starts.push(nudge(&straight, data));
         starts
     }
 
@@ -558,13 +558,33 @@ impl Geometric {
     }
 }
 
-/// A start moved slightly off every kink (deterministic).
-pub(super) fn nudge(p: &Pose, l0: f64) -> Pose {
+/// A start moved slightly off every kink (deterministic): ~1.5e-4 of the section length and
+/// ~1.6e-4 rad. Issue 16 measured the size (Newton iterations, same certified answers on
+/// `tests/geometric_tips.rs`): the former 10× larger nudge (~1.5e-3) cost case I / II / III
+/// 515 / 1542 / 1703 iterations and case I cut into 72 sections 2559; this one 475 / 1497 /
+/// 1628 and 1059 (a nudge large against a short section's bend starts far from its
+/// minimum); 3× larger lost a random robot (certified before, not converged after). Sections
+/// with obstacles near keep the former size: their contact candidates converge only to
+/// [`CONTACT_STEP_TOL`](super::newton::CONTACT_STEP_TOL), so a different start moves the
+/// recorded pillar tip by ~5e-9 m.
+pub(super) fn nudge(p: &Pose, data: &SectionData) -> Pose {
+    let ((dp, dw), l0) = if data.world.is_some() {
+        (NUDGE_NEAR_OBSTACLES, data.l0)
+    } else {
+        (NUDGE, data.l0)
+    };
     Pose {
-        p: p.p + l0 * Vector3::new(1.3e-3, -0.7e-3, 0.0),
-        q: orthonormalize(&(p.q * exp_so3(&Vector3::new(0.9e-3, 1.1e-3, -0.8e-3)))),
+        p: p.p + l0 * Vector3::from(dp),
+        q: orthonormalize(&(p.q * exp_so3(&Vector3::from(dw)))),
     }
 }
+
+/// The nudge: position (× section length) and rotation vector \[rad\].
+const NUDGE: ([f64; 3], [f64; 3]) = ([1.3e-4, -0.7e-4, 0.0], [0.9e-4, 1.1e-4, -0.8e-4]);
+
+/// The nudge near obstacles (the size before issue 16, see [`nudge`]).
+const NUDGE_NEAR_OBSTACLES: ([f64; 3], [f64; 3]) =
+    ([1.3e-3, -0.7e-3, 0.0], [0.9e-3, 1.1e-3, -0.8e-3]);
 
 /// A section no driven cable reaches carries no load and continues straight (an error if an
 /// obstacle is in the way).
