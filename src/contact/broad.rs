@@ -27,11 +27,21 @@ pub(crate) const MAX_PAIRS: usize = 4096;
 /// contact budget ([`MAX_PAIRS`]) and that the base disk is clear of every one of them. Every
 /// method that handles obstacles, and reach and plan through them, starts here.
 pub(crate) fn robot_obstacles(robot: &Robot, scene: &Scene) -> Result<Vec<usize>, SolveError> {
-    let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
-    let near = scene.distinct(scene.near(&Vector3::zeros(), reach));
+    let (near, _) = within_reach(robot, scene);
     check_budget(robot, near.len())?;
     check_base(robot, scene, &near)?;
     Ok(near)
+}
+
+/// The distinct obstacles within reach of the robot (as [`robot_obstacles`], unchecked) and
+/// how many exact duplicates among those within reach were merged.
+pub(crate) fn within_reach(robot: &Robot, scene: &Scene) -> (Vec<usize>, usize) {
+    let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
+    let all = scene.near(&Vector3::zeros(), reach);
+    let n = all.len();
+    let near = scene.distinct(all);
+    let merged = n - near.len();
+    (near, merged)
 }
 
 /// The robot's contact features at section resolution: per section its backbone piece and its

@@ -42,6 +42,9 @@ pub struct Solved {
     pub scene: Scene,
     /// Median wall time of one solve \[s\] (the warm-start solve excluded).
     pub median_time_s: f64,
+    /// Obstacles within reach that exactly duplicate another and were merged (the contact
+    /// broad phase queries one of each group).
+    pub merged_duplicates: usize,
 }
 
 impl SolveRequest {
@@ -194,17 +197,16 @@ impl SolveRequest {
             reason: "no solve ran".into(),
         })?;
         shape.report.solve_time_s = median_time_s;
-        // Exact duplicates were merged by the broad phase (`Scene::distinct`): say so.
-        let merged = if scene.obstacles.len() > 1 {
-            scene.exact_duplicates()
+        // Exact duplicates within reach were merged by the broad phase: say so.
+        let merged_duplicates = if scene.obstacles.len() > 1 {
+            crate::contact::broad::within_reach(&model.robot, &scene).1
         } else {
             0
         };
-        if merged > 0 {
+        if merged_duplicates > 0 {
             shape.report.notes.push(format!(
-                "{merged} of {} obstacles are exact duplicates of another and were merged \
-                 (a contact names the first of each group)",
-                scene.obstacles.len()
+                "{merged_duplicates} obstacles within reach are exact duplicates of another \
+                 and were merged (a contact names the first of each group)"
             ));
         }
         // The output boundary: no non-finite number, no robot passing through itself.
@@ -213,6 +215,7 @@ impl SolveRequest {
             shape,
             scene,
             median_time_s,
+            merged_duplicates,
         })
     }
 }

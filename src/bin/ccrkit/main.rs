@@ -280,11 +280,11 @@ fn run() -> Result<()> {
             let quiet = json.as_deref() == Some("-");
             if !quiet {
                 print_summary(&model, shape, median, repeat);
-                let merged = solved.scene.exact_duplicates();
-                if merged > 0 {
+                if solved.merged_duplicates > 0 {
                     println!(
-                        "scene   {} obstacles, {merged} exact duplicates merged (contacts name the first of each)",
-                        solved.scene.obstacles.len()
+                        "scene   {} obstacles, {} within reach merged as exact duplicates (contacts name the first of each)",
+                        solved.scene.obstacles.len(),
+                        solved.merged_duplicates
                     );
                 }
             }
