@@ -408,6 +408,16 @@ impl Collect<'_, '_> {
             if matches!(feat, Feat::Disk(_)) && w.dist.abs() < TOUCHING {
                 for _ in 0..EXTRA_POLISH {
                     match polish(g, gpose, &*o.shape, &o.parry_pose, &w) {
+                        // A fixed point: `polish` reads only the obstacle point, normal and
+                        // distance, so every further round would return this same witness.
+                        Some(p)
+                            if p.obstacle == w.obstacle
+                                && p.normal == w.normal
+                                && p.dist == w.dist =>
+                        {
+                            w = p;
+                            break;
+                        }
                         Some(p) => w = p,
                         None => break,
                     }

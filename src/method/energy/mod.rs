@@ -102,7 +102,8 @@
 //! times the hole radius), is below the same tolerance (with active contacts, see
 //! `energy/contacts.rs` and `CONTACT_STEP`). Cost per iteration is linear in the number of
 //! sub-arcs without obstacles. Warm starts read `report.warm`
-//! ([`crate::method::warm::WarmState::Energy`]: ξ and λ) of a previous shape of the same robot
+//! ([`crate::method::warm::WarmState::Energy`]: ξ, λ and the last Hessian blocks, which the
+//! first iteration takes instead of rebuilding them) of a previous shape of the same robot
 //! and settings, or fit strains to the disk frames of any other shape
 //! (e.g. the geometric method's, to start inside a tube).
 //!
