@@ -2,6 +2,7 @@
 
 pub mod ad;
 pub mod dense;
+pub mod disc_split;
 pub mod kkt;
 pub mod ode;
 pub mod qp;

@@ -3,12 +3,13 @@
 //! carry to be accepted.
 
 use super::problem::{Pose, SectionData};
+use super::starts::nudge;
 use super::{Geometric, Objective};
 use crate::contact::CONTACT_TOL;
 use crate::error::SolveError;
 use crate::method::Method;
 use crate::numeric::qp::disc_sum_scale;
-use crate::numeric::so3::{exp_so3, orthonormalize};
+use crate::numeric::so3::exp_so3;
 use crate::shape::{Contact, SectionReport};
 use nalgebra::{Vector3, Vector6};
 
@@ -45,6 +46,9 @@ pub(super) struct Step {
     pub(super) lambda: Vec<f64>,
     pub(super) min_reduced_eigenvalue: f64,
 }
+
+/// A Newton run done: its face, its start, and the escape (start, face) it asked for.
+type RunDone = (u32, Pose, Option<(Pose, u32)>);
 
 /// What the pull-only check says of a candidate.
 pub(super) enum TautMove {
@@ -133,11 +137,25 @@ impl Geometric {
             count: 0,
             closest: f64::INFINITY,
         };
-        let mut starts = self.starts(data, prev, &mut tally.iterations);
-        if let Some(w) = warm {
-            starts.insert(0, nudge(w, data));
+        let mut found = None;
+        // The quick search (small nudges, runs given up after 2 short line searches); when it
+        // finds nothing, the former search (see `SectionData::former_search`) with a budget
+        // of its own: a 16-cable robot that the former search solves failed the quick one.
+        for former in [false, true] {
+            data.former_search.set(former || data.world.is_some());
+            let spent = tally.iterations;
+            tally.iterations = 0;
+            let mut starts = self.starts(data, prev, &mut tally.iterations);
+            if let Some(w) = warm {
+                starts.insert(0, nudge(w, data));
+            }
+            found = self.search_taut_sets(data, &starts, squared, &mut tally);
+            tally.iterations += spent;
+            if found.is_some() || data.world.is_some() {
+                break;
+            }
         }
-        let Some((best, taut)) = self.search_taut_sets(data, &starts, squared, &mut tally) else {
+        let Some((best, taut)) = found else {
             return Err(self.section_failure(data, i, &tally));
         };
         let angles = data.term_angles(&best.pose);
@@ -263,37 +281,6 @@ impl Geometric {
         }
     }
 
-    /// Starting poses: the smooth squared-angle solution (angles off their kinks), the previous
-    /// section's relative pose, and the straight pose, both nudged off the kinks.
-    pub(super) fn starts(
-        &self,
-        data: &SectionData,
-        prev: Option<&Pose>,
-        it: &mut usize,
-    ) -> Vec<Pose> {
-        let straight = Pose::straight(data.l0);
-        let mut starts = vec![];
-        if self.objective == Objective::Squared {
-            starts.push(straight);
-            if let Some(p) = prev {
-                starts.push(*p);
-            }
-            return starts;
-        }
-        let all: Vec<usize> = (0..data.cons.len())
-            .filter(|&j| data.chord(&straight, j) > data.cons[j].length)
-            .take(5 - usize::from(data.gauge.is_some()))
-            .collect();
-        if let Some(c) = self.smooth_start(data, &all, it) {
-            starts.push(c);
-        }
-        if let Some(p) = prev {
-            starts.push(nudge(p, data));
-        }
-        starts.push(nudge(&straight, data));
-        starts
-    }
-
     /// Lowest certified candidate over every face with this taut set (the straight pose, the
     /// exact minimum F = 0, when no cable is taut).
     pub(super) fn best_on_taut_set(
@@ -338,8 +325,7 @@ impl Geometric {
         let mut best: Option<Candidate> = None;
         let mut escapes = 0;
         let mut k = 0;
-        // Runs done: face, start, and the escape start the run asked for.
-        let mut done: Vec<(u32, Pose, Option<(Pose, u32)>)> = vec![];
+        let mut done: Vec<RunDone> = vec![];
         let tol = if data.world.is_none() {
             SAME_START
         } else {
@@ -426,27 +412,6 @@ impl Geometric {
         match over {
             Some((j, _)) => TautMove::Add(j),
             None => TautMove::Accept,
-        }
-    }
-
-    /// Solve the smooth squared-angle problem from the straight pose, as a start for the
-    /// literal faces (its angles are generically non-zero).
-    pub(super) fn smooth_start(
-        &self,
-        data: &SectionData,
-        active: &[usize],
-        it: &mut usize,
-    ) -> Option<Pose> {
-        let r = self.newton(data, &Pose::straight(data.l0), 0, active, true);
-        match r {
-            Ok((c, k)) => {
-                *it += k;
-                Some(c.pose)
-            }
-            Err(e) => {
-                *it += e.iterations;
-                None
-            }
         }
     }
 }
@@ -557,34 +522,6 @@ impl Geometric {
         ))
     }
 }
-
-/// A start moved slightly off every kink (deterministic): ~1.5e-4 of the section length and
-/// ~1.6e-4 rad. Issue 16 measured the size (Newton iterations, same certified answers on
-/// `tests/geometric_tips.rs`): the former 10× larger nudge (~1.5e-3) cost case I / II / III
-/// 515 / 1542 / 1703 iterations and case I cut into 72 sections 2559; this one 475 / 1497 /
-/// 1628 and 1059 (a nudge large against a short section's bend starts far from its
-/// minimum); 3× larger lost a random robot (certified before, not converged after). Sections
-/// with obstacles near keep the former size: their contact candidates converge only to
-/// [`CONTACT_STEP_TOL`](super::newton::CONTACT_STEP_TOL), so a different start moves the
-/// recorded pillar tip by ~5e-9 m.
-pub(super) fn nudge(p: &Pose, data: &SectionData) -> Pose {
-    let ((dp, dw), l0) = if data.world.is_some() {
-        (NUDGE_NEAR_OBSTACLES, data.l0)
-    } else {
-        (NUDGE, data.l0)
-    };
-    Pose {
-        p: p.p + l0 * Vector3::from(dp),
-        q: orthonormalize(&(p.q * exp_so3(&Vector3::from(dw)))),
-    }
-}
-
-/// The nudge: position (× section length) and rotation vector \[rad\].
-const NUDGE: ([f64; 3], [f64; 3]) = ([1.3e-4, -0.7e-4, 0.0], [0.9e-4, 1.1e-4, -0.8e-4]);
-
-/// The nudge near obstacles (the size before issue 16, see [`nudge`]).
-const NUDGE_NEAR_OBSTACLES: ([f64; 3], [f64; 3]) =
-    ([1.3e-3, -0.7e-3, 0.0], [0.9e-3, 1.1e-3, -0.8e-3]);
 
 /// A section no driven cable reaches carries no load and continues straight (an error if an
 /// obstacle is in the way).

@@ -69,7 +69,7 @@
 //!
 //! `mod.rs` the settings and the section loop (base to tip) · `problem.rs` the eq. 1–2 section
 //! problem and its derivatives · `derivatives.rs` their closed forms · `faces.rs` the taut-set and face search and the certificate ·
-//! `degenerate.rs` faces where an unshortened cable's row is redundant · `feasibility.rs` proofs that no pose exists · `newton.rs` Newton–KKT on one face · `obstacles.rs` the obstacles one section sees.
+//! `degenerate.rs` faces where an unshortened cable's row is redundant · `feasibility.rs` proofs that no pose exists · `newton.rs` Newton–KKT on one face · `starts.rs` the starting poses · `obstacles.rs` the obstacles one section sees.
 
 mod degenerate;
 mod derivatives;
@@ -78,6 +78,7 @@ mod feasibility;
 mod newton;
 mod obstacles;
 mod problem;
+mod starts;
 
 use crate::contact::broad;
 use crate::error::SolveError;

@@ -24,10 +24,12 @@ pub(super) const CONTACT_STAT_TOL: f64 = 1e-6;
 /// stalled (it is a kink of a term this face keeps non-zero, or no minimum on this face). Was
 /// 3; issue 16 measured 2: the same certified answers on every case of
 /// `tests/geometric_tips.rs` (and the same `NotConverged` count in `geometric_random.rs`) with
-/// 12–14 % fewer Newton iterations on the paper cases; 1 loses a random robot. Sections with
-/// obstacles near keep 3: their candidates converge only to the contact noise, and the
-/// recorded tips of the scenes depend on every run.
+/// 12–14 % fewer Newton iterations on the paper cases; 1 loses a random robot. The former
+/// search ([`SectionData::former_search`]) keeps [`FORMER_MAX_SHORT_STEPS`].
 const MAX_SHORT_STEPS: usize = 2;
+
+/// The stall count before issue 16.
+const FORMER_MAX_SHORT_STEPS: usize = 3;
 
 impl Geometric {
     /// Newton–KKT (SQP when obstacles are near) on one face from one start; returns a
@@ -52,8 +54,11 @@ impl Geometric {
         let mut lambda: Option<Vec<f64>> = None;
         let mut last_res = f64::INFINITY;
         let mut short_steps = 0;
-        // Near obstacles the former 3 (see MAX_SHORT_STEPS).
-        let max_short = if world.is_some() { 3 } else { MAX_SHORT_STEPS };
+        let max_short = if data.former_search.get() {
+            FORMER_MAX_SHORT_STEPS
+        } else {
+            MAX_SHORT_STEPS
+        };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {

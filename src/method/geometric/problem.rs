@@ -8,6 +8,7 @@ use crate::model::robot::Robot;
 use crate::numeric::ad::{Real, D2, V3};
 use crate::numeric::so3::{exp_so3, gram_schmidt};
 use nalgebra::{Matrix3, Vector3, Vector6};
+use std::cell::Cell;
 
 /// Relative pose of disk i in the frame of disk i−1.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,6 +114,12 @@ pub(super) struct SectionData {
     /// whose contact sections converge only to the contact noise, so that a rounding-level
     /// change upstream would move their recorded tips by up to ~2e-5 m (measured on the pillar).
     pub(super) gram_schmidt: bool,
+    /// Search with the start nudges and stall count from before issue 16 (the quick search's
+    /// are smaller, see `faces::nudge` and `newton::MAX_SHORT_STEPS`): always near obstacles,
+    /// whose contact candidates converge only to the contact noise (with the quick search the
+    /// recorded pillar tip moved 4.6e-9 m), and as a retry where the quick search found no
+    /// certified pose.
+    pub(super) former_search: Cell<bool>,
 }
 
 pub(super) const SAME_POINT: f64 = 1e-12;
@@ -230,6 +237,7 @@ impl SectionData {
             gauge,
             world: None,
             gram_schmidt: true,
+            former_search: Cell::new(false),
         };
         match data.prove_infeasible() {
             Some(e) => Err(e),
