@@ -466,27 +466,39 @@ fn stability_setting_and_data_csvs_end_named_and_bounded() {
 }
 
 /// A reader that goes away (`ccrkit solve … | head -c 0`) ends the process by SIGPIPE like
-/// any Unix tool, never by a "Broken pipe" panic (exit 101). The read end is closed right after
-/// the spawn, before the solve has printed anything, so every write meets a closed pipe.
+/// any Unix tool, never by a "Broken pipe" panic (exit 101). The pipe's read end is closed
+/// before the spawn, so the first write meets a closed pipe whatever the scheduler does (closing
+/// it after the spawn raced a fast solve that had already written into the open pipe: exit 0).
 #[cfg(unix)]
 #[test]
 fn a_closed_stdout_is_not_a_panic() {
     use std::os::unix::process::ExitStatusExt;
     let c1 = case(1);
     for m in ["geometric", "energy", "cosserat"] {
-        let mut child = std::process::Command::new(adversarial_harness::bin())
+        let out = std::process::Command::new(adversarial_harness::bin())
             .args(["solve", &c1, "--method", m])
-            .stdout(std::process::Stdio::piped())
+            .stdout(reader_gone())
             .stderr(std::process::Stdio::piped())
-            .spawn()
+            .output()
             .expect("runs");
-        drop(child.stdout.take());
-        let out = child.wait_with_output().expect("ends");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!err.contains("panicked"), "{m}: {err}");
         assert_ne!(out.status.code(), Some(101), "{m}: {err}");
         assert_eq!(out.status.signal(), Some(libc_sigpipe()), "{m}: {err}");
     }
+}
+
+/// The write end of a pipe whose read end is already closed.
+#[cfg(unix)]
+fn reader_gone() -> std::process::Stdio {
+    use std::os::fd::{FromRawFd, OwnedFd};
+    let mut fds = [0i32; 2];
+    // SAFETY: `pipe` fills both descriptors on success; each is owned exactly once below.
+    assert_eq!(unsafe { libc::pipe(fds.as_mut_ptr()) }, 0, "pipe");
+    // SAFETY: fds[0] and fds[1] are fresh descriptors this function alone owns.
+    let (read, write) = unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) };
+    drop(read);
+    std::process::Stdio::from(write)
 }
 
 /// SIGPIPE's number on Linux and the BSDs.
