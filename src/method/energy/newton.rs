@@ -108,7 +108,16 @@ impl Energy {
         prob: &Problem,
         warm: Option<&Shape>,
     ) -> Result<Solution, SolveError> {
-        let mut sqp = Sqp::new(prob, self.start_point(prob, warm));
+        self.newton_from(prob, self.start_point(prob, warm))
+    }
+
+    /// [`Energy::newton`] from the strains and cable multipliers `start`.
+    pub(super) fn newton_from(
+        &self,
+        prob: &Problem,
+        start: (Vec<f64>, Vec<f64>),
+    ) -> Result<Solution, SolveError> {
+        let mut sqp = Sqp::new(prob, start);
         let tol = self.tolerance;
         let mut resid = f64::INFINITY;
         for it in 0..=self.max_iterations {
@@ -172,7 +181,7 @@ impl Energy {
 
     /// The start: the strains and multipliers of a warm shape of this method and layout, else
     /// strains fitted to the disk frames of any other shape with as many disks, else straight.
-    fn start_point(&self, prob: &Problem, warm: Option<&Shape>) -> (Vec<f64>, Vec<f64>) {
+    pub(super) fn start_point(&self, prob: &Problem, warm: Option<&Shape>) -> (Vec<f64>, Vec<f64>) {
         let nc = prob.robot.cables.len();
         let nv = prob.nvar();
         let mut xi = vec![0.0; nv];

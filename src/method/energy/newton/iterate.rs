@@ -127,7 +127,9 @@ impl<'p, 'a> Sqp<'p, 'a> {
     pub(super) fn solution(mut self, iterations: usize, residual: f64) -> Solution {
         let world = self.world;
         let pressing = pressing(&self.pairs, &self.mu);
-        let sensitivity = if pressing.is_empty() || self.prob.set.contact_sensitivity {
+        let wanted = self.prob.want_sensitivity
+            && (pressing.is_empty() || self.prob.set.contact_sensitivity);
+        let sensitivity = if wanted {
             self.prob.sensitivity(
                 &self.xi,
                 &self.wgt,
