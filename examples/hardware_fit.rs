@@ -236,6 +236,7 @@ fn candidates(nominal: &Model) -> Vec<(&'static str, Vec<String>)> {
         ("fitted", default.clone()),
         ("fitted+backlash", with("backlash")),
         ("fitted+base.rz", with("base.rz")),
+        ("fitted+friction", with("friction")),
         ("fitted_EA", ea),
     ]
 }

@@ -110,6 +110,7 @@ impl BatchInputs {
                 .map(|c| CableDrive {
                     shorten: at(&self.shorten, c).map(Shortening::Length),
                     tension: at(&self.tension, c),
+                    capstan: 0.0,
                 })
                 .collect(),
         }

@@ -19,6 +19,10 @@
 //! m_i` then has `∂r_i = ∂s_i − mean_j ∂s_j`. One pass over the data per Jacobian instead of
 //! one per parameter; a unit test checks it against the finite differences below.
 //!
+//! The capstan friction coefficient (`friction`) has no such formula: its column alone comes
+//! from finite differences, the others still from the sensitivities (which the energy model
+//! also reports with friction, `energy/friction.rs`).
+//!
 //! **Finite differences** otherwise: `∂r/∂x_k ≈ (r(x + h e_k) − r(x)) / h`, `h = 10⁻⁴` in
 //! scaled variables (gain 10⁻⁴, lengths 0.1 µm, compliance 10⁻⁸ m/N: ≥ 10³ times the energy
 //! solver's 10⁻¹⁰ m tolerance), each row of the perturbed solve warm-started from that row's
@@ -40,13 +44,25 @@ impl Fitter<'_> {
         at: &Eval,
     ) -> Result<DMatrix<f64>, SolveError> {
         match self.sensitivity_jacobian(x, at) {
-            Some(j) => Ok(j),
+            Some((mut j, missing)) => {
+                // Columns the sensitivities do not give (friction): finite differences.
+                for k in missing {
+                    let col = self.difference_column(x, at, k)?;
+                    j.set_column(k, &col);
+                }
+                Ok(j)
+            }
             None => self.difference_jacobian(x, at),
         }
     }
 
-    /// From the rows' tip sensitivities; `None` where they do not give every column.
-    pub(super) fn sensitivity_jacobian(&self, x: &DVector<f64>, at: &Eval) -> Option<DMatrix<f64>> {
+    /// From the rows' tip sensitivities; `None` where the rows carry none, else the matrix
+    /// with the columns of the parameters they do not cover (`friction`) left zero and listed.
+    pub(super) fn sensitivity_jacobian(
+        &self,
+        x: &DVector<f64>,
+        at: &Eval,
+    ) -> Option<(DMatrix<f64>, Vec<usize>)> {
         let m = self.model_at(x);
         let n = at.shapes.len();
         let np = self.params.len();
@@ -54,8 +70,11 @@ impl Fitter<'_> {
         for ((shape, u), dir) in at.shapes.iter().zip(&self.commands).zip(&self.dirs) {
             ds.push(tip_derivatives(&m, &self.params, shape.as_ref()?, u, dir)?);
         }
+        let missing: Vec<usize> = (0..np)
+            .filter(|&k| matches!(self.params[k].target, Target::Friction(_)))
+            .collect();
         let mut j = DMatrix::zeros(3 * n, np);
-        for k in 0..np {
+        for k in (0..np).filter(|k| !missing.contains(k)) {
             let mean = ds.iter().map(|d| d[k]).sum::<Vector3<f64>>() / n.max(1) as f64;
             let scale = self.params[k].scale();
             for (i, d) in ds.iter().enumerate() {
@@ -63,7 +82,7 @@ impl Fitter<'_> {
                     .copy_from(&((d[k] - mean) * scale));
             }
         }
-        Some(j)
+        Some((j, missing))
     }
 
     /// Forward differences (backwards where the forward point fails), module docs.
@@ -72,27 +91,39 @@ impl Fitter<'_> {
         x: &DVector<f64>,
         at: &Eval,
     ) -> Result<DMatrix<f64>, SolveError> {
-        let h = 1e-4;
         let mut j = DMatrix::zeros(at.r.len(), x.len());
         for k in 0..x.len() {
-            let mut xp = x.clone();
-            xp[k] += h;
-            if let Some(e) = self.eval(&xp, Some(&at.shapes)) {
-                j.set_column(k, &((&e.r - &at.r) / h));
-                continue;
-            }
-            xp[k] = x[k] - h;
-            let e = self
-                .eval(&xp, Some(&at.shapes))
-                .ok_or_else(|| SolveError::InvalidInput {
-                    field: format!("fit `{}`", self.params[k].name),
-                    reason:
-                        "rows fail to solve on both sides of the current value (finite differences)"
-                            .into(),
-                })?;
-            j.set_column(k, &((&at.r - &e.r) / h));
+            let col = self.difference_column(x, at, k)?;
+            j.set_column(k, &col);
         }
         Ok(j)
+    }
+
+    /// Column `k` by forward differences (backwards where the forward point fails, or leaves
+    /// the parameter's range), module docs.
+    fn difference_column(
+        &mut self,
+        x: &DVector<f64>,
+        at: &Eval,
+        k: usize,
+    ) -> Result<DVector<f64>, SolveError> {
+        let h = 1e-4;
+        let mut xp = x.clone();
+        xp[k] += h;
+        let inside = self.params[k].admissible(xp[k] * self.params[k].scale());
+        if let Some(e) = inside.then(|| self.eval(&xp, Some(&at.shapes))).flatten() {
+            return Ok((&e.r - &at.r) / h);
+        }
+        xp[k] = x[k] - h;
+        let e = self
+            .eval(&xp, Some(&at.shapes))
+            .ok_or_else(|| SolveError::InvalidInput {
+                field: format!("fit `{}`", self.params[k].name),
+                reason:
+                    "rows fail to solve on both sides of the current value (finite differences)"
+                        .into(),
+            })?;
+        Ok((&at.r - &e.r) / h)
     }
 }
 
@@ -157,6 +188,8 @@ fn tip_derivatives(
                 Some(Vector3::z().cross(&(rb * q)))
             }
             Target::Marker(_) => None,
+            // Not from the sensitivities: finite differences (`sensitivity_jacobian`).
+            Target::Friction(_) => Some(Vector3::zeros()),
         })
         .collect()
 }
@@ -225,7 +258,8 @@ mod tests {
                 f.params.iter().map(|p| p.get(&model) / p.scale()),
             );
             let at = f.eval(&x, None).expect("evaluates");
-            let js = f.sensitivity_jacobian(&x, &at).expect("sensitivities");
+            let (js, missing) = f.sensitivity_jacobian(&x, &at).expect("sensitivities");
+            assert!(missing.is_empty());
             let jd = f.difference_jacobian(&x, &at).expect("differences");
             for k in 0..x.len() {
                 let (a, b) = (js.column(k), jd.column(k));

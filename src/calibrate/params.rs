@@ -9,6 +9,7 @@
 //! | `compliance`, `compliance.segK`, `compliance.CABLE` | `1/k` of the cables' [`Cable::stiffness`] (0: inextensible) | m/N |
 //! | `axial-compliance`, `axial-compliance.segK`, `axial-compliance.CABLE` | `1/EA` of the cables: each gets `k = EA/ℓ` (below) | 1/N |
 //! | `base.rz` | rotation of the base about the measurement frame's z axis ([`Hardware::base_rotation`] z) | rad |
+//! | `friction`, `friction.segK`, `friction.CABLE` | capstan coefficient `μ` ([`Hardware::friction`], sequences only) | – |
 //!
 //! The compliance `1/k` rather than the stiffness `k` is fitted: the stretch `T/k` is linear in
 //! it, and 0 (the inextensible cable, the nominal models) is inside its range. A trial value
@@ -38,10 +39,12 @@
 //! [`Hardware::marker`]: crate::model::hardware::Hardware::marker
 //! [`Cable::stiffness`]: crate::model::robot::Cable::stiffness
 //! [`Hardware::backlash`]: crate::model::hardware::Hardware::backlash
+//! [`Hardware::friction`]: crate::model::hardware::Hardware::friction
 //! [`Hardware::base_rotation`]: crate::model::hardware::Hardware::base_rotation
 //! [`Robot::undeformed_chord_length`]: crate::model::robot::Robot::undeformed_chord_length
 
 use crate::error::SolveError;
+use crate::model::hardware::MAX_FRICTION;
 use crate::model::robot::Robot;
 use crate::model::Model;
 
@@ -71,6 +74,8 @@ pub enum Target {
     AxialCompliance(Group),
     /// Base rotation about the measurement z axis \[rad\] (the z of the rotation vector).
     BaseRotationZ,
+    /// Capstan friction coefficient `μ` \[-\].
+    Friction(Group),
 }
 
 /// A named, fittable parameter.
@@ -147,6 +152,7 @@ impl Param {
             "offset" => Target::Offset(group(tail)?),
             "compliance" => Target::Compliance(group(tail)?),
             "backlash" => Target::Backlash(group(tail)?),
+            "friction" => Target::Friction(group(tail)?),
             "axial-compliance" => Target::AxialCompliance(group(tail)?),
             "base" => match tail {
                 Some("rz") => Target::BaseRotationZ,
@@ -162,7 +168,7 @@ impl Param {
                 return Err(bad(
                     "unknown parameter: gain[.segK|.CABLE], offset[.segK|.CABLE], \
                      compliance[.segK|.CABLE], axial-compliance[.segK|.CABLE], \
-                     backlash[.segK|.CABLE], marker.x|y|z, base.rz"
+                     backlash[.segK|.CABLE], friction[.segK|.CABLE], marker.x|y|z, base.rz"
                         .into(),
                 ))
             }
@@ -176,7 +182,7 @@ impl Param {
     /// Scale of the parameter: its typical magnitude in SI units (the fit works in value/scale).
     pub fn scale(&self) -> f64 {
         match self.target {
-            Target::Gain(_) => 1.0,
+            Target::Gain(_) | Target::Friction(_) => 1.0,
             Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => 1e-3,
             Target::Compliance(_) => 1e-4,
             Target::AxialCompliance(_) => 1e-3,
@@ -189,6 +195,7 @@ impl Param {
         match self.target {
             Target::Gain(_) => v > 0.0,
             Target::Compliance(_) | Target::Backlash(_) | Target::AxialCompliance(_) => v >= 0.0,
+            Target::Friction(_) => (0.0..=MAX_FRICTION).contains(&v),
             Target::Offset(_) | Target::Marker(_) | Target::BaseRotationZ => true,
         }
     }
@@ -200,6 +207,7 @@ impl Param {
         match self.target {
             Target::Gain(_) => v.max(MIN_GAIN),
             Target::Compliance(_) | Target::Backlash(_) | Target::AxialCompliance(_) => v.max(0.0),
+            Target::Friction(_) => v.clamp(0.0, MAX_FRICTION),
             Target::Offset(_) | Target::Marker(_) | Target::BaseRotationZ => v,
         }
     }
@@ -207,7 +215,7 @@ impl Param {
     /// Unit for reports.
     pub fn unit(&self) -> &'static str {
         match self.target {
-            Target::Gain(_) => "-",
+            Target::Gain(_) | Target::Friction(_) => "-",
             Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => "m",
             Target::Compliance(_) => "m/N",
             Target::AxialCompliance(_) => "1/N",
@@ -235,6 +243,7 @@ impl Param {
             Target::Offset(g) => mean(&hw.offset, g),
             Target::Marker(k) => hw.marker[*k],
             Target::Backlash(g) => mean(&hw.backlash, g),
+            Target::Friction(g) => mean(&hw.friction, g),
             Target::Compliance(g) => {
                 let c: Vec<f64> = model.robot.cables.iter().map(|c| c.compliance()).collect();
                 mean(&c, g)
@@ -278,6 +287,9 @@ impl Param {
                 .into_iter()
                 .for_each(|c| hw.backlash[c] = v),
             Target::BaseRotationZ => hw.base_rotation.z = v,
+            Target::Friction(g) => Self::cables(g, n)
+                .into_iter()
+                .for_each(|c| hw.friction[c] = v),
             Target::Compliance(_) | Target::AxialCompliance(_) => {}
         }
     }
@@ -299,7 +311,8 @@ pub fn parse_all(names: &[String], robot: &Robot) -> Result<Vec<Param>, SolveErr
                 | (Target::Compliance(x), Target::AxialCompliance(y))
                 | (Target::AxialCompliance(x), Target::Compliance(y))
                 | (Target::AxialCompliance(x), Target::AxialCompliance(y))
-                | (Target::Backlash(x), Target::Backlash(y)) => {
+                | (Target::Backlash(x), Target::Backlash(y))
+                | (Target::Friction(x), Target::Friction(y)) => {
                     let (cx, cy) = (Param::cables(x, n), Param::cables(y, n));
                     cx.iter().any(|c| cy.contains(c))
                 }

@@ -15,7 +15,7 @@ use super::data::Dataset;
 use crate::batch::{Blocks, RowFailure, Solved};
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;
-use crate::method::Method;
+use crate::method::{Method, MethodKind};
 use crate::model::hardware::directions;
 use crate::model::scene::Scene;
 use crate::model::Model;
@@ -156,12 +156,20 @@ impl Rows {
 }
 
 /// Predict every row of `data` with `model`: the marker in the measurement frame per row, in
-/// row order (module docs).
+/// row order (module docs). Only the tip is read, so the energy model's tip Jacobian and
+/// stability are not computed (`sensitivity = off`, unless the settings give it): the tips
+/// are the same to the bit.
 pub fn predict(
     model: &Model,
     data: &Dataset,
     opts: &PredictOptions,
 ) -> Result<Vec<RowPrediction>, SolveError> {
+    let mut opts = opts.clone();
+    let r = &mut opts.request;
+    if r.method == MethodKind::Energy && r.settings.get("sensitivity").is_none() {
+        r.settings.push("sensitivity", "off");
+    }
+    let opts = &opts;
     let rows = Rows::new(model, data, opts)?;
     let bar = crate::study::progress_bar(data.len() as u64, opts.progress, "predict");
     let dirs = directions(&data.commands);

@@ -117,6 +117,12 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
         help: "stable and jacobian also with pressing contacts (adds the contact curvature, \
                dear near obstacles: cost measured in the README)",
     },
+    SettingInfo {
+        name: "sensitivity",
+        values: "on | off",
+        default: "on",
+        help: "stable and jacobian at all (off: skip their KKT solves; `predict` turns it off)",
+    },
 ];
 
 const ROD_SETTINGS: &[SettingInfo] = &[

@@ -100,6 +100,13 @@ pub struct CableDrive {
     pub shorten: Option<Shortening>,
     /// Tension input \[N\], if any (≥ 0: cables pull).
     pub tension: Option<f64>,
+    /// Signed capstan coefficient `a = μ s` \[1/rad\] of a displacement-driven cable sliding
+    /// through its holes (`μ` the friction coefficient, `s = ±1` the direction it slides, `+1`
+    /// while it is pulled in): its tension falls from the actuator along the cable as
+    /// `e^{−a θ}` with `θ` the angle it has wrapped ([`crate::model::hardware`], "Friction").
+    /// 0 (the default): frictionless. Only the energy model honours it; [`Actuation::drives`]
+    /// refuses it by name for every other method.
+    pub capstan: f64,
 }
 
 impl CableDrive {
@@ -150,8 +157,34 @@ impl Actuation {
     /// `accepts` and prefers `prefer` where a cable gives both. A cable that gives only an
     /// input the method cannot use is refused by name (never silently treated as free).
     /// Values are checked: finite, tension ≥ 0, shortening below the cable's undeformed
-    /// length (a fraction in (−1, 1)).
+    /// length (a fraction in (−1, 1)). A cable with capstan friction
+    /// ([`CableDrive::capstan`] ≠ 0) is refused by name: a method that models it resolves the
+    /// drives with [`Actuation::drives_with_friction`].
     pub fn drives(
+        &self,
+        robot: &Robot,
+        method: &str,
+        accepts: &[Input],
+        prefer: Input,
+    ) -> Result<Vec<Drive>, SolveError> {
+        if let Some(c) = self.cables.iter().position(|d| d.capstan != 0.0) {
+            return Err(SolveError::Unsupported {
+                method: method.into(),
+                reason: format!(
+                    "cable `{}` slides with capstan friction (`hardware.friction` in a \
+                     sequence of rows): only the energy model honours it; set the friction to \
+                     0 or use `--method energy`",
+                    robot.cables.get(c).map_or("?", |k| k.name.as_str())
+                ),
+            });
+        }
+        self.drives_with_friction(robot, method, accepts, prefer)
+    }
+
+    /// [`Actuation::drives`] for a method that models capstan friction: the friction
+    /// coefficient is checked (finite) and left for the method to read; a cable with friction
+    /// that is not displacement-driven is refused by name.
+    pub fn drives_with_friction(
         &self,
         robot: &Robot,
         method: &str,
@@ -218,6 +251,17 @@ impl Actuation {
                     });
                 }
             };
+            if d.capstan != 0.0
+                && !(d.capstan.is_finite() && matches!(drive, Drive::Shorten { .. }))
+            {
+                return Err(SolveError::InvalidInput {
+                    field: format!("cables[{c}].capstan"),
+                    reason: format!(
+                        "capstan friction {} acts on a finite, displacement-driven cable; cable `{}` is not",
+                        d.capstan, robot.cables[c].name
+                    ),
+                });
+            }
             out.push(drive);
         }
         Ok(out)

@@ -576,6 +576,10 @@ impl FileCable {
             Some(t) => Some(bounds::TENSION.check(&f("tension"), t)?),
             None => None,
         };
-        Ok(CableDrive { shorten, tension })
+        Ok(CableDrive {
+            shorten,
+            tension,
+            capstan: 0.0,
+        })
     }
 }

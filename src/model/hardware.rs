@@ -10,6 +10,7 @@
 //! base_rotation = [0, 0, 0]     # rotation vector (axis × angle) base → measurement [rad]
 //! marker = [0, 0, 0]            # marker position in the tip disk's frame [m]
 //! backlash = 0.0                # [m], one number or one per cable (sequences only)
+//! friction = 0.0                # capstan coefficient μ [-], one or one per cable (sequences only)
 //! ```
 //!
 //! **Actuation.** A cable's `shorten` in the file (and each row's displacement in
@@ -30,6 +31,17 @@
 //! [`DIRECTION_DEADBAND`] from where the direction last changed, so the one-tick jitter of a
 //! servo holding still does not flip it. A single solve (`ccrkit solve`) has no sequence:
 //! `s = 0`.
+//!
+//! **Friction.** A cable sliding through the holes of bent disks rubs on them: by the capstan
+//! (Euler–Eytelwein) law its tension falls from the actuator along the cable as `T(θ) = T_a
+//! e^{−μ s θ}`, `θ` the angle the cable has wrapped since the base, `μ` its friction
+//! coefficient and `s` its direction of motion as for the backlash (pulled in: the tension
+//! falls toward the tie; paid out: it rises). Each row drives the model with the signed
+//! coefficient `a = μ s` ([`crate::model::actuation::CableDrive::capstan`]); the energy model
+//! honours it (derivation in `src/method/energy/friction.rs`), every other method refuses a
+//! row with `a ≠ 0` by name. A single solve has no sequence: `s = 0`, no friction. It is also
+//! a hysteresis: at one command the tip sits at different places after a pull and after a
+//! release.
 //!
 //! **Frames.** Methods work in the robot base frame (disk 0 at the origin, z along the
 //! undeformed backbone). A measured tip is `p_meas = R_b (p_tip + R_tip m) + t_b` with the tip
@@ -70,6 +82,8 @@ pub(super) struct FileHardware {
     marker: Option<[f64; 3]>,
     #[serde(default)]
     backlash: Option<PerCable>,
+    #[serde(default)]
+    friction: Option<PerCable>,
 }
 
 /// Validated hardware description (see the module docs).
@@ -87,7 +101,13 @@ pub struct Hardware {
     pub marker: Vector3<f64>,
     /// Backlash width per cable \[m\] (≥ 0; module docs).
     pub backlash: Vec<f64>,
+    /// Capstan friction coefficient `μ` per cable (in `[0, MAX_FRICTION]`; module docs).
+    pub friction: Vec<f64>,
 }
+
+/// Largest friction coefficient a model file may give: `μ = 2` already leaves `e^{−2π} ≈ 0.2 %`
+/// of the tension after one turn of wrap; dry friction of a tendon in a hole lies near 0.1–0.3.
+pub const MAX_FRICTION: f64 = 2.0;
 
 /// Smallest move of a command \[m\] that changes its direction of motion (module docs): 40 µm,
 /// 2.6 encoder ticks of the FTDCR servos (15.3 µm per tick on a 10 mm spool), above the
@@ -177,6 +197,7 @@ impl Hardware {
             base_rotation: Vector3::zeros(),
             marker: Vector3::zeros(),
             backlash: vec![0.0; cables],
+            friction: vec![0.0; cables],
         }
     }
 
@@ -229,7 +250,20 @@ impl Hardware {
                 ));
             }
         }
+        let friction = per_cable("hardware.friction", &f.friction, n, 0.0)?;
+        for (c, mu) in friction.iter().enumerate() {
+            if !(0.0..=MAX_FRICTION).contains(mu) {
+                return Err(ModelError::invalid(
+                    format!("hardware.friction[{c}]"),
+                    format!(
+                        "must lie in [0, {MAX_FRICTION}] (a capstan coefficient of cable `{}`), got {mu}",
+                        robot.cables[c].name
+                    ),
+                ));
+            }
+        }
         Ok(Hardware {
+            friction,
             backlash,
             gain,
             offset,
@@ -282,7 +316,8 @@ impl Hardware {
     }
 
     /// [`Hardware::actuation`] in a sequence, with each cable's direction of motion `dir`
-    /// ([`directions`]; missing entries count as 0): `δ = g·u − o − ½ b s` (module docs).
+    /// ([`directions`]; missing entries count as 0): `δ = g·u − o − ½ b s` and the signed
+    /// capstan coefficient `μ s` (module docs).
     pub fn actuation_moving(&self, u: &[f64], dir: &[f64]) -> Actuation {
         Actuation {
             cables: u
@@ -295,6 +330,7 @@ impl Hardware {
                             self.shortening(c, x) - 0.5 * self.backlash[c] * s,
                         )),
                         tension: None,
+                        capstan: self.friction[c] * s,
                     }
                 })
                 .collect(),
@@ -324,6 +360,9 @@ impl Hardware {
         t.insert("marker".into(), arr(self.marker.as_slice()));
         if self.backlash.iter().any(|b| *b != 0.0) {
             t.insert("backlash".into(), arr(&self.backlash));
+        }
+        if self.friction.iter().any(|m| *m != 0.0) {
+            t.insert("friction".into(), arr(&self.friction));
         }
         t
     }

@@ -140,6 +140,7 @@ impl Space {
                 .map(|&x| CableDrive {
                     shorten: Some(Shortening::Length(x)),
                     tension: None,
+                    capstan: 0.0,
                 })
                 .collect(),
         }

@@ -145,6 +145,7 @@ mod assemble;
 mod contact_curvature;
 mod contacts;
 mod curvature;
+pub mod friction;
 mod kinematics;
 mod lengths;
 mod newton;
@@ -196,6 +197,10 @@ pub struct Energy {
     /// solves report neither (a note says so); without pressing contacts both are always
     /// reported.
     pub contact_sensitivity: bool,
+    /// Compute `report.stable` and `report.jacobian` at all (default on). Off: a solve
+    /// reports neither (a note says so) and skips their KKT solves, e.g. `ccrkit predict`,
+    /// which reads only the tip.
+    pub sensitivity: bool,
 }
 
 impl Default for Energy {
@@ -210,6 +215,7 @@ impl Default for Energy {
             min_stretch: 0.5,
             samples_per_sub_arc: 1,
             contact_sensitivity: false,
+            sensitivity: true,
         }
     }
 }
@@ -246,6 +252,9 @@ impl Configure for Energy {
             "contact-sensitivity" => {
                 self.contact_sensitivity =
                     parse_choice(name, value, &[("on", true), ("off", false)])?
+            }
+            "sensitivity" => {
+                self.sensitivity = parse_choice(name, value, &[("on", true), ("off", false)])?
             }
             _ => return self.kind().check_setting(name),
         }
@@ -380,6 +389,19 @@ impl ReadyEnergy<'_> {
                 wd.obstacle_count(),
                 scene.obstacles.len()
             ));
+        }
+        if !set.sensitivity {
+            notes.push("stable and jacobian not computed (`sensitivity = off`)".into());
+        }
+        if let Some(a) = friction::coefficients(act) {
+            notes.push(
+                "capstan friction along the cables (lagged weights, `energy/friction.rs`); the \
+                 jacobian from the non-symmetric linearization, stable not computed"
+                    .into(),
+            );
+            let from = set.start_point(&prob, warm);
+            let (prob, sol) = set.solve_with_friction(prob, &self.part.nodes, &a, from)?;
+            return Ok(set.build_shape(&prob, sol, start, notes));
         }
         let sol = set.newton(&prob, warm)?;
         Ok(set.build_shape(&prob, sol, start, notes))

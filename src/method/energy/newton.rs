@@ -116,7 +116,18 @@ impl Energy {
         prob: &Problem,
         warm: Option<&Shape>,
     ) -> Result<Solution, SolveError> {
-        let mut sqp = Sqp::new(prob, self.start_point(prob, warm));
+        self.newton_from(prob, self.start_point(prob, warm), warm)
+    }
+
+    /// [`Energy::newton`] from the strains and cable multipliers `start`; `warm` (the shape
+    /// `start` came from, if any) may bring the Hessian blocks of its last iteration.
+    pub(super) fn newton_from(
+        &self,
+        prob: &Problem,
+        start: (Vec<f64>, Vec<f64>),
+        warm: Option<&Shape>,
+    ) -> Result<Solution, SolveError> {
+        let mut sqp = Sqp::new(prob, start);
         sqp.warm_hessian = warm_hessian(warm, &sqp.xi);
         let tol = self.tolerance;
         let mut resid = f64::INFINITY;
@@ -181,7 +192,7 @@ impl Energy {
 
     /// The start: the strains and multipliers of a warm shape of this method and layout, else
     /// strains fitted to the disk frames of any other shape with as many disks, else straight.
-    fn start_point(&self, prob: &Problem, warm: Option<&Shape>) -> (Vec<f64>, Vec<f64>) {
+    pub(super) fn start_point(&self, prob: &Problem, warm: Option<&Shape>) -> (Vec<f64>, Vec<f64>) {
         let nc = prob.robot.cables.len();
         let nv = prob.nvar();
         let mut xi = vec![0.0; nv];

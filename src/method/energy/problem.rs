@@ -70,6 +70,9 @@ pub(super) struct Problem<'a> {
     /// Dead loads at the sub-arc ends (frame `f` = end of sub-arc `f − 1`; empty: none):
     /// backbone weight lumped half to each end of its sub-arc, disk weights, the tip force.
     pub(super) frame_forces: Vec<Vector3<f64>>,
+    /// Compute the stability and tip Jacobian at the solution ([`Energy::sensitivity`]; off in
+    /// the passes of a solve with capstan friction, `energy/friction.rs`).
+    pub(super) want_sensitivity: bool,
 }
 
 impl Problem<'_> {
@@ -283,6 +286,7 @@ impl Energy {
             stat_scale: rbar / (ei * lmin),
             world: None,
             frame_forces: vec![],
+            want_sensitivity: self.sensitivity,
         }
     }
 
@@ -302,7 +306,9 @@ impl Energy {
             let near = broad::robot_obstacles(robot, scene)?;
             prob.world = World::new(robot, scene, near, self.sub_arcs);
         }
-        let drives = self.kind().drives(robot, act, self.control)?;
+        // Capstan friction is this method's to honour (`energy/friction.rs`).
+        let drives =
+            act.drives_with_friction(robot, self.name(), self.kind().info().inputs, self.control)?;
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.targets[c] = match drives[c] {
                 Drive::Shorten { length: d, .. } => {

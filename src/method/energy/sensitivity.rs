@@ -272,12 +272,24 @@ impl Problem<'_> {
                 out
             }
         };
+        let which: Vec<(usize, Input)> = cols.iter().map(|c| (c.cable, c.input)).collect();
+        self.tip_columns(xi, &which, &dxis)
+    }
+
+    /// The tip Jacobian from the strain changes `dxis[k]` of each column `which[k]` (cable,
+    /// input); `None` if a result is not finite.
+    pub(super) fn tip_columns(
+        &self,
+        xi: &[f64],
+        which: &[(usize, Input)],
+        dxis: &[Vec<f64>],
+    ) -> Option<TipJacobian> {
         let mut jac = TipJacobian {
             inputs: vec![],
             position: vec![],
             tangent: vec![],
         };
-        let mut tips = Vec::with_capacity(cols.len());
+        let mut tips = Vec::with_capacity(which.len());
         for chunk in dxis.chunks(4) {
             let refs: Vec<&Vec<f64>> = chunk.iter().collect();
             tips.extend(match refs.len() {
@@ -287,13 +299,13 @@ impl Problem<'_> {
                 _ => tip_directional::<4>(xi, &self.ell, &refs),
             });
         }
-        for (col, (dp, dt)) in cols.iter().zip(tips) {
+        for (&(cable, input), (dp, dt)) in which.iter().zip(tips) {
             if !(dp.iter().chain(dt.iter()).all(|v| v.is_finite())) {
                 return None;
             }
             jac.inputs.push((
-                self.robot.cables[col.cable].name.clone(),
-                col.input.name().to_string(),
+                self.robot.cables[cable].name.clone(),
+                input.name().to_string(),
             ));
             jac.position.push([dp.x, dp.y, dp.z]);
             jac.tangent.push([dt.x, dt.y, dt.z]);

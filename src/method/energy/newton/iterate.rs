@@ -139,7 +139,9 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let world = self.world;
         let pressing = pressing(&self.pairs, &self.mu);
         let mut hessian = None;
-        let sensitivity = if pressing.is_empty() || self.prob.set.contact_sensitivity {
+        let wanted = self.prob.want_sensitivity
+            && (pressing.is_empty() || self.prob.set.contact_sensitivity);
+        let sensitivity = if wanted {
             let s = self.prob.sensitivity(
                 &self.xi,
                 &self.wgt,
