@@ -196,22 +196,24 @@ impl Energy {
                     prob.targets[c] = Target::Length(t + lenw[c] - len[c]);
                 }
             }
-            let sol = self.newton_from(&prob, (xi, lam), None).map_err(|e| match e {
-                SolveError::NotConverged {
-                    method,
-                    section,
-                    iterations: it,
-                    residual,
-                    detail,
-                } => SolveError::NotConverged {
-                    method,
-                    section,
-                    iterations: iterations + it,
-                    residual,
-                    detail: format!("{detail} (capstan friction pass {pass})"),
-                },
-                e => e,
-            })?;
+            let sol = self
+                .newton_from(&prob, (xi, lam), None)
+                .map_err(|e| match e {
+                    SolveError::NotConverged {
+                        method,
+                        section,
+                        iterations: it,
+                        residual,
+                        detail,
+                    } => SolveError::NotConverged {
+                        method,
+                        section,
+                        iterations: iterations + it,
+                        residual,
+                        detail: format!("{detail} (capstan friction pass {pass})"),
+                    },
+                    e => e,
+                })?;
             iterations += sol.iterations;
             xi = sol.xi.clone();
             lam = sol.lam.clone();
