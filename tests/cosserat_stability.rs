@@ -218,3 +218,29 @@ fn stability_skip_leaves_the_shape_and_reports_not_checked() {
         "{err}"
     );
 }
+
+/// An answer whose stability the rod cannot decide says so (issue 11: every doubt reported):
+/// adaptive steps run no variational pass, so `stable` is `None` and a note names why; the
+/// same case with fixed steps decides it and carries no such note.
+#[test]
+fn undecided_stability_is_a_note_not_a_silence() {
+    let m = paper(1);
+    let fixed = common::solve(&Cosserat::full(), &m);
+    assert_eq!(fixed.report.stable, Some(true));
+    assert!(!fixed
+        .report
+        .notes
+        .iter()
+        .any(|n| n.contains("stability not")));
+    let adaptive = common::solve(&Cosserat::full().with_adaptive(Some(1e-7)), &m);
+    assert_eq!(adaptive.report.stable, None);
+    assert!(
+        adaptive
+            .report
+            .notes
+            .iter()
+            .any(|n| n.starts_with("stability not decided") && n.contains("--adaptive")),
+        "{:?}",
+        adaptive.report.notes
+    );
+}

@@ -142,6 +142,22 @@ impl Problem<'_> {
         (stable, Some(jac))
     }
 
+    /// The report's note when [`Self::focal_stable`] leaves `stable` undecided (`None`), so an
+    /// unchecked answer never looks like a checked one: `passed` says whether the variational
+    /// pass ran (then a focal point under displacement control is why), else why it could not.
+    pub(super) fn undecided_stability(&self, passed: bool) -> String {
+        let why = if passed {
+            "a focal point under displacement control (fixed cable lengths may hold a shape \
+             fixed tensions cannot)"
+        } else if self.set.adaptive.is_some() {
+            "the focal-point test needs fixed RK4 steps, not `--adaptive`"
+        } else {
+            "no variational pass here (point loads at inner disks, or a tensioned cable ending \
+             before the tip)"
+        };
+        format!("stability not decided: {why}")
+    }
+
     /// Residual, exact Jacobian (variational equations integrated with the state in the same
     /// RK4 pass) and tip; `None` where [`Self::var_ok`] says no.
     ///

@@ -111,6 +111,9 @@ impl Method for Cosserat {
                 // (`stability = skip`): `stable` stays `None`, meaning not checked.
                 let (stable, jac) = if self.check_stability {
                     let (stable, exact) = prob.focal_stable(&x, &setup);
+                    if stable.is_none() {
+                        notes.push(prob.undecided_stability(exact.is_some()));
+                    }
                     (stable, exact.or(jac))
                 } else {
                     notes.push("stability not checked (stability = skip)".into());
