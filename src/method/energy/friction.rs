@@ -358,11 +358,7 @@ impl<'a> Problem<'a> {
     ) -> Option<(DVector<f64>, f64)> {
         let (nv, nc) = (self.nvar(), self.robot.cables.len());
         let wgt: Vec<f64> = (0..nc)
-            .map(|c| match self.targets[c] {
-                Target::Length(_) => lam[c].max(0.0),
-                Target::Tension(t) => t,
-                Target::Free => 0.0,
-            })
+            .map(|c| self.cable_weight(c, lam[c].max(0.0)))
             .collect();
         let true_nodes = std::mem::replace(&mut self.nodes, Cow::Owned(scaled(base, w)));
         let mut work = Work::new(self);
@@ -407,11 +403,7 @@ impl<'a> Problem<'a> {
     ) -> (DMatrix<f64>, Vec<usize>) {
         let (nv, nc) = (self.nvar(), self.robot.cables.len());
         let wgt: Vec<f64> = (0..nc)
-            .map(|c| match self.targets[c] {
-                Target::Length(_) => lam[c].max(0.0),
-                Target::Tension(t) => t,
-                Target::Free => 0.0,
-            })
+            .map(|c| self.cable_weight(c, lam[c].max(0.0)))
             .collect();
         // Unweighted gradients ∇L_c (block j = ∇L_cj) from the true samples.
         let mut plain = Work::new(self);

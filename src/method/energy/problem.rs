@@ -76,6 +76,16 @@ pub(super) struct Problem<'a> {
 }
 
 impl Problem<'_> {
+    /// Cable `c`'s weight in the objective and its Hessian: the multiplier `lam` of a length
+    /// target (the cable's tension), the given tension of a tension target, 0 for a free cable.
+    pub(super) fn cable_weight(&self, c: usize, lam: f64) -> f64 {
+        match self.targets[c] {
+            Target::Length(_) => lam,
+            Target::Tension(t) => t,
+            Target::Free => 0.0,
+        }
+    }
+
     pub(super) fn nvar(&self) -> usize {
         4 * self.nsub
     }

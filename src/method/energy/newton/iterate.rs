@@ -54,13 +54,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
     pub(super) fn linearize(&mut self) {
         let prob = self.prob;
         let nc = prob.robot.cables.len();
-        self.wgt = (0..nc)
-            .map(|c| match prob.targets[c] {
-                Target::Length(_) => self.lam[c],
-                Target::Tension(t) => t,
-                Target::Free => 0.0,
-            })
-            .collect();
+        self.wgt = (0..nc).map(|c| prob.cable_weight(c, self.lam[c])).collect();
         prob.evaluate(&self.xi, &self.wgt, &mut self.w, self.exact);
         self.kin = prob
             .needs_frames()
