@@ -5,20 +5,18 @@
 //! A method prepared once for a robot ([`Method::prepare`]: the routing samples computed
 //! once) solves exactly as the one-off solve does.
 
+mod common;
 use ccrkit::method::energy::Energy;
 use ccrkit::method::WarmState;
-use ccrkit::{Method, Model, Scene};
+use ccrkit::{Method, Scene};
+use common::paper;
 
 #[test]
 fn warm_starts_take_no_more_iterations_than_cold() {
     let scene = Scene::empty();
     let method = Energy::default();
     for case in 1..=3 {
-        let path = format!(
-            "{}/models/paper/case{case}.toml",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let model = Model::from_file(path).expect("paper model");
+        let model = paper(case);
         let cold = method
             .solve(&model.robot, &model.actuation, &scene, None)
             .expect("cold solve");
@@ -55,11 +53,7 @@ fn prepared_solves_equal_one_off_solves() {
     ))
     .expect("wall");
     for case in 1..=3 {
-        let path = format!(
-            "{}/models/paper/case{case}.toml",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let model = Model::from_file(path).expect("paper model");
+        let model = paper(case);
         let method = Energy::default();
         let prepared = method.prepare(&model.robot).expect("prepare");
         let mut prev = None;
@@ -97,11 +91,7 @@ fn carried_hessian_is_the_rebuilt_one() {
     let scene = Scene::empty();
     let method = Energy::default();
     for case in 1..=3 {
-        let path = format!(
-            "{}/models/paper/case{case}.toml",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let model = Model::from_file(path).expect("paper model");
+        let model = paper(case);
         let before = method
             .solve(&model.robot, &model.actuation.scaled(0.98), &scene, None)
             .expect("previous solve");
