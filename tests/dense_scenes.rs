@@ -7,8 +7,11 @@
 //! (a hang guard, not a timing assertion).
 
 mod adversarial_harness;
+#[path = "common/rng.rs"]
+mod rng;
 use adversarial_harness::{root, run, run_all, scratch, Verdict};
 use ccrkit::model::scene::Scene;
+use rng::Rng;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -169,21 +172,6 @@ fn only_exact_duplicates_merge() {
     let scene = Scene::from_file(&none).expect("scene");
     assert_eq!(scene.distinct(vec![2, 0, 1]), vec![2, 0, 1]);
     assert_eq!(scene.exact_duplicates(), 0);
-}
-
-/// A small deterministic generator (xorshift), so every run draws the same scenes.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
 }
 
 /// One random obstacle around case I's workspace (the robot reaches ~0.2 m up): a sphere, box

@@ -6,16 +6,9 @@
 use ccrkit::numeric::kkt::{kkt_step, kkt_step6, kkt_step6_gs};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
-/// A small deterministic generator (xorshift), values in [−1, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-}
+#[path = "common/rng.rs"]
+mod rng;
+use rng::Rng;
 
 fn close(a: f64, b: f64, scale: f64) -> bool {
     (a - b).abs() <= 1e-9 * scale
@@ -26,17 +19,17 @@ fn gram_schmidt_split_equals_eigen_split_and_general_step() {
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
     for trial in 0..600 {
         let k = trial % 7;
-        let b = Matrix6::from_fn(|_, _| rng.next());
+        let b = Matrix6::from_fn(|_, _| rng.range(-1.0, 1.0));
         let mut h = b + b.transpose();
         if trial % 2 == 0 {
             h += Matrix6::identity() * 8.0; // positive definite half the time
         }
-        let g = Vector6::from_fn(|_, _| rng.next());
+        let g = Vector6::from_fn(|_, _| rng.range(-1.0, 1.0));
         // Rows of mixed scale, like the section problem's (1/l0 ≈ 50 next to 8 mm).
         let rows: Vec<Vector6<f64>> = (0..k)
-            .map(|i| Vector6::from_fn(|_, _| rng.next()) * [1.0, 50.0, 0.008][i % 3])
+            .map(|i| Vector6::from_fn(|_, _| rng.range(-1.0, 1.0)) * [1.0, 50.0, 0.008][i % 3])
             .collect();
-        let c: Vec<f64> = (0..k).map(|_| 1e-3 * rng.next()).collect();
+        let c: Vec<f64> = (0..k).map(|_| 1e-3 * rng.range(-1.0, 1.0)).collect();
         let e = kkt_step6(&h, &g, &rows, &c, 1e-10).expect("eigen split");
         let q = kkt_step6_gs(&h, &g, &rows, &c, 1e-10).expect("Gram–Schmidt split");
         let d = kkt_step(
