@@ -44,6 +44,54 @@ pub(super) fn plain_scene(text: &str) -> Option<FileScene> {
     reader.finish()
 }
 
+/// The value of a number written plainly, `-?(0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)?`
+/// (no `+`, no underscores), as the decoder path of [`Reader::number`] gives it: every such
+/// text is a valid TOML integer (without fraction and exponent) or float that decodes to
+/// itself, so the same `i64::from_str_radix(…, 10) as f64` or `str::parse::<f64>` (finite: it
+/// is not written `inf`) of the same text. `None` for any other text, which then goes through
+/// the decoder.
+fn plain_number(s: &str) -> Option<f64> {
+    let b = s.as_bytes();
+    let digits = |i: &mut usize| {
+        let start = *i;
+        while b.get(*i).is_some_and(u8::is_ascii_digit) {
+            *i += 1;
+        }
+        *i - start
+    };
+    let mut i = usize::from(b.first() == Some(&b'-'));
+    let first = b.get(i).copied();
+    let n = digits(&mut i);
+    if n == 0 || (n > 1 && first == Some(b'0')) {
+        return None;
+    }
+    let mut float = false;
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        if digits(&mut i) == 0 {
+            return None;
+        }
+        float = true;
+    }
+    if matches!(b.get(i), Some(b'e' | b'E')) {
+        i += 1;
+        if matches!(b.get(i), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        if digits(&mut i) == 0 {
+            return None;
+        }
+        float = true;
+    }
+    if i != b.len() {
+        None
+    } else if float {
+        s.parse::<f64>().ok().filter(|f| f.is_finite())
+    } else {
+        i64::from_str_radix(s, 10).ok().map(|i| i as f64)
+    }
+}
+
 /// Records that the parser or a decoder reported an error (the message is `toml`'s to give).
 struct Failed(bool);
 
@@ -167,8 +215,20 @@ impl<'i> Reader<'i> {
         Some(Raw::new_unchecked(s, encoding, span))
     }
 
-    /// A number scalar as `toml` + serde turn it into an `f64` (module doc), else `None`.
-    fn number(raw: Raw<'i>, error: &mut dyn ErrorSink) -> Option<f64> {
+    /// A number scalar as `toml` + serde turn it into an `f64` (module doc), else `None`. A
+    /// number written plainly ([`plain_number`]) skips the decoder, which would only give back
+    /// the same text (a third of the instructions of a large scene went to it).
+    fn number(
+        raw: Option<Raw<'i>>,
+        encoding: Option<Encoding>,
+        error: &mut dyn ErrorSink,
+    ) -> Option<f64> {
+        let raw = raw?;
+        if encoding.is_none() {
+            if let Some(x) = plain_number(raw.as_str()) {
+                return Some(x);
+            }
+        }
         let mut decoded: Cow<'i, str> = Cow::Borrowed("");
         match raw.decode_scalar(&mut decoded, error) {
             ScalarKind::Float => {
@@ -250,8 +310,13 @@ impl<'i> Reader<'i> {
     }
 
     /// One more number inside an array (at most 4).
-    fn push_number(&mut self, raw: Option<Raw<'i>>, error: &mut dyn ErrorSink) {
-        match raw.and_then(|r| Self::number(r, error)) {
+    fn push_number(
+        &mut self,
+        raw: Option<Raw<'i>>,
+        encoding: Option<Encoding>,
+        error: &mut dyn ErrorSink,
+    ) {
+        match Self::number(raw, encoding, error) {
             Some(x) if self.count < 4 => {
                 self.numbers[self.count] = x;
                 self.count += 1;
@@ -361,7 +426,7 @@ impl EventReceiver for Reader<'_> {
     fn scalar(&mut self, span: Span, encoding: Option<Encoding>, error: &mut dyn ErrorSink) {
         let raw = self.raw(span, encoding);
         match self.at {
-            At::Array | At::InlineArray(_) => self.push_number(raw, error),
+            At::Array | At::InlineArray(_) => self.push_number(raw, encoding, error),
             At::Value if encoding.is_some() => {
                 let mut s: Cow<'_, str> = Cow::Borrowed("");
                 match raw.map(|r| r.decode_scalar(&mut s, error)) {
@@ -369,7 +434,7 @@ impl EventReceiver for Reader<'_> {
                     _ => self.off = true,
                 }
             }
-            At::Value => match raw.and_then(|r| Self::number(r, error)) {
+            At::Value => match Self::number(raw, encoding, error) {
                 Some(x) => self.store(Value::Number(x)),
                 None => self.off = true,
             },

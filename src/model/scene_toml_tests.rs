@@ -4,7 +4,7 @@
 //! one-pass reader gives `None` (so `toml`'s message is the one the user sees).
 
 use super::super::FileScene;
-use super::plain_scene;
+use super::{plain_number, plain_scene};
 
 #[path = "../../tests/common/scenes.rs"]
 mod scenes;
@@ -208,4 +208,65 @@ fn random_edits_of_a_scene_read_as_toml_reads_them() {
         read > 500 && left > 500,
         "{read} read in one pass, {left} left to toml"
     );
+}
+
+#[test]
+fn plainly_written_numbers_are_the_decoders_numbers() {
+    #[derive(serde::Deserialize)]
+    struct X {
+        x: f64,
+    }
+    let toml_value = |s: &str| toml::from_str::<X>(&format!("x = {s}")).ok().map(|v| v.x);
+    let mut texts: Vec<String> = [
+        "0",
+        "-0",
+        "7",
+        "-7",
+        "00",
+        "01",
+        "-01",
+        "0.5",
+        "-0.0",
+        "1.",
+        ".5",
+        "1e5",
+        "1E-05",
+        "1e+5",
+        "1e",
+        "1e+",
+        "+1",
+        "1_0",
+        "1.5e400",
+        "-1e400",
+        "9223372036854775807",
+        "9223372036854775808",
+        "-9223372036854775808",
+        "0.1e-400",
+        "1.2.3",
+        "--1",
+        "1-2",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut rng = rng::Rng(12345);
+    let alphabet = b"0123456789.-+eE_";
+    for _ in 0..20_000 {
+        let n = 1 + (rng.next() * 9.0) as usize;
+        let t: Vec<u8> = (0..n)
+            .map(|_| alphabet[((rng.next() * 16.0) as usize).min(15)])
+            .collect();
+        texts.push(String::from_utf8(t).unwrap());
+        texts.push(format!(
+            "{:?}",
+            rng.range(-1e3, 1e3) * 10f64.powi((rng.next() * 40.0) as i32 - 20)
+        ));
+    }
+    let mut plain = 0;
+    for s in &texts {
+        if let Some(x) = plain_number(s) {
+            plain += 1;
+            assert_eq!(toml_value(s).map(f64::to_bits), Some(x.to_bits()), "{s}");
+        }
+    }
+    assert!(plain > 20_000, "{plain} of {} texts plain", texts.len());
 }
