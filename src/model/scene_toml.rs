@@ -12,7 +12,8 @@
 //! the step from events to [`FileScene`] is here. Numbers become `f64` as `toml` + serde make
 //! them: a float is `str::parse::<f64>` of the decoded text (refused when it overflows to an
 //! infinity without being written `inf`, as `toml` refuses it), a decimal integer is
-//! `i64::from_str_radix(…, 10)` then `as f64` (serde's integer-to-float conversion).
+//! `i64::from_str_radix(…, 10)` (which `str::parse::<i64>` is) then `as f64` (serde's
+//! integer-to-float conversion).
 //!
 //! Anything else — a syntax error, a dotted key, a `[table]`, another array of tables, a
 //! repeated or unknown key, a value of another type or length, a missing `shape`, a date, a
@@ -47,8 +48,8 @@ pub(super) fn plain_scene(text: &str) -> Option<FileScene> {
 /// The value of a number written plainly, `-?(0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)?`
 /// (no `+`, no underscores), as the decoder path of [`Reader::number`] gives it: every such
 /// text is a valid TOML integer (without fraction and exponent) or float that decodes to
-/// itself, so the same `i64::from_str_radix(…, 10) as f64` or `str::parse::<f64>` (finite: it
-/// is not written `inf`) of the same text. `None` for any other text, which then goes through
+/// itself, so the same `str::parse::<i64>` then `as f64`, or `str::parse::<f64>` (finite:
+/// it is not written `inf`), of the same text. `None` for any other text, which then goes through
 /// the decoder.
 fn plain_number(s: &str) -> Option<f64> {
     let b = s.as_bytes();
@@ -88,7 +89,7 @@ fn plain_number(s: &str) -> Option<f64> {
     } else if float {
         s.parse::<f64>().ok().filter(|f| f.is_finite())
     } else {
-        i64::from_str_radix(s, 10).ok().map(|i| i as f64)
+        s.parse::<i64>().ok().map(|i| i as f64)
     }
 }
 
@@ -235,9 +236,7 @@ impl<'i> Reader<'i> {
                 let f: f64 = decoded.parse().ok()?;
                 (!f.is_infinite() || decoded.contains("inf")).then_some(f)
             }
-            ScalarKind::Integer(IntegerRadix::Dec) => {
-                i64::from_str_radix(&decoded, 10).ok().map(|i| i as f64)
-            }
+            ScalarKind::Integer(IntegerRadix::Dec) => decoded.parse::<i64>().ok().map(|i| i as f64),
             _ => None,
         }
     }
