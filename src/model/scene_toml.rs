@@ -171,7 +171,6 @@ struct Reader<'i> {
     scene: FileScene,
     /// The obstacle being read (after its `[[obstacles]]`), with a bit per key given.
     obstacle: Option<FileObstacle>,
-    shape_given: bool,
     given: u16,
     /// Inside `[[ … ]]`, and whether its key (`obstacles`) was read.
     header: Option<bool>,
@@ -191,7 +190,6 @@ impl<'i> Reader<'i> {
                 obstacles: Vec::new(),
             },
             obstacle: None,
-            shape_given: false,
             given: 0,
             header: None,
             at: At::Line,
@@ -244,7 +242,7 @@ impl<'i> Reader<'i> {
     /// Closes the obstacle being read: it needs its `shape`, as `toml` + serde demand.
     fn end_obstacle(&mut self) {
         if let Some(o) = self.obstacle.take() {
-            if self.shape_given {
+            if self.given & (1 << Key::Shape as u16) != 0 {
                 self.scene.obstacles.push(o);
             } else {
                 self.off = true;
@@ -268,7 +266,6 @@ impl<'i> Reader<'i> {
                 }
                 (Key::Shape, Value::Text(s)) => {
                     o.shape = s.into_owned();
-                    self.shape_given = true;
                     Some(())
                 }
                 (Key::Path, Value::Text(s)) => {
@@ -355,7 +352,6 @@ impl EventReceiver for Reader<'_> {
             path: None,
             scale: None,
         });
-        self.shape_given = false;
         self.given = 0;
     }
     fn inline_table_open(&mut self, _span: Span, _error: &mut dyn ErrorSink) -> bool {
