@@ -2,7 +2,7 @@
 //! with an ℓ1-merit line search.
 
 use super::faces::{Candidate, Rejected, Step};
-use super::obstacles::Pair;
+use super::obstacles::{penetration_of, Pair};
 use super::problem::{Pose, SectionData};
 use super::Geometric;
 use crate::contact::CONTACT_TOL;
@@ -155,7 +155,12 @@ impl Geometric {
             let merit = |f: f64, c: &[f64], pen: f64| {
                 f + rho * (c.iter().map(|x| x.abs()).sum::<f64>() + pen)
             };
-            let m0 = merit(f.v, &cv, penetration(&pose));
+            // The pairs at this pose are at hand: the penetration from them (was queried again).
+            let m0 = merit(
+                f.v,
+                &cv,
+                world.map_or(0.0, |w| penetration_of(&pairs, w.clearance)),
+            );
             let (next, alpha) = line_search(&pose, &step.dx, m0, |trial| {
                 let (ft, ct) = eval_f64(trial);
                 merit(ft, &ct, penetration(trial))

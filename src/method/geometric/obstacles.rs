@@ -5,12 +5,24 @@
 use super::problem::Pose;
 use crate::contact::features::{self, Touching};
 use crate::contact::Witness;
+use crate::contact::{nvec, pvec};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3, Vector6};
 use parry3d::math::Pose as PPose;
 use parry3d::shape::{Cylinder, Shape as PShape};
+
+/// Slack on [`SectionWorld::pairs_within`]'s lower bound \[m\]: a pair is left unqueried
+/// only when the bound exceeds the distance asked for by this much, far above parry's GJK
+/// tolerance and the rounding of the bound, so the skipped query could not have answered
+/// otherwise.
+const PRUNE_SLACK: f64 = 1e-6;
+
+/// `Σ max(0, clearance − d)` over the pairs: how far they are inside the clearance \[m\].
+pub(super) fn penetration_of(pairs: &[Pair], clearance: f64) -> f64 {
+    pairs.iter().map(|p| (clearance - p.dist).max(0.0)).sum()
+}
 
 /// A robot feature of one section.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,6 +80,9 @@ impl Pair {
 pub(super) struct SectionWorld {
     pub(super) names: Vec<String>,
     pub(super) shapes: Vec<(parry3d::shape::SharedShape, PPose)>,
+    /// Each obstacle's bounding box in its own frame (min and max corners), for
+    /// [`SectionWorld::pairs_within`]'s lower bound.
+    boxes: Vec<(Vector3<f64>, Vector3<f64>)>,
     pub(super) cable_names: Vec<String>,
     pub(super) r_prev: Matrix3<f64>,
     pub(super) x_prev: Vector3<f64>,
@@ -116,6 +131,13 @@ impl SectionWorld {
                     )
                 })
                 .collect(),
+            boxes: near
+                .iter()
+                .map(|&k| {
+                    let b = scene.obstacles[k].shape.compute_local_aabb();
+                    (nvec(b.mins), nvec(b.maxs))
+                })
+                .collect(),
             cable_names: robot.cables.iter().map(|c| c.name.clone()).collect(),
             r_prev: *r_prev,
             x_prev: *x_prev,
@@ -138,21 +160,41 @@ impl SectionWorld {
         self.names[k].clone()
     }
 
-    /// Total penetration below the clearance over the pairs at this pose \[m\].
+    /// Total penetration below the clearance over the pairs at this pose \[m\]. Only pairs
+    /// closer than the clearance add to it, so pairs proved farther than the clearance by
+    /// [`PRUNE_SLACK`] are not queried ([`SectionWorld::pairs_within`]); the sum is the one
+    /// over every pair within the margin.
     pub(super) fn penetration(&self, pose: &Pose) -> f64 {
-        self.pairs(pose)
-            .iter()
-            .map(|p| (self.clearance - p.dist).max(0.0))
-            .sum()
+        penetration_of(&self.pairs_within(pose, self.clearance), self.clearance)
     }
 
     /// Every feature–obstacle pair within the margin at this pose, linearized.
+    pub(super) fn pairs(&self, pose: &Pose) -> Vec<Pair> {
+        self.pairs_within(pose, self.margin)
+    }
+
+    /// A lower bound on the distance between obstacle `k` and a feature inside the ball of
+    /// centre `c` and radius `radius`: the obstacle lies in its bounding box, so its distance
+    /// from any point of the ball is at least the (closed-form) distance from `c` to that box,
+    /// less `radius`.
+    fn distance_bound(&self, k: usize, c: &Vector3<f64>, radius: f64) -> f64 {
+        let q = nvec(self.shapes[k].1.inverse_transform_point(pvec(c)));
+        let (lo, hi) = &self.boxes[k];
+        let out = Vector3::from_fn(|i, _| (lo[i] - q[i]).max(q[i] - hi[i]).max(0.0));
+        out.norm() - radius
+    }
+
+    /// The feature–obstacle pairs within the margin at this pose whose distance may be at most
+    /// `limit` (≤ the margin), linearized. A pair whose [`SectionWorld::distance_bound`]
+    /// exceeds `limit + PRUNE_SLACK` is not queried: parry would find it beyond the margin
+    /// (`limit` = margin: the same answer, None) or farther than `limit` (where a caller
+    /// asking for less than the margin does not read it).
     ///
     /// With `n` the unit normal from the robot point `a` towards the obstacle, moving `a` by
     /// `δa` changes the distance by `−n·δa`. Points carried by the new disk move as
     /// `δa = R δp − R Q [ℓ]× δω` (ℓ: the point in the disk frame), points on a segment from a
     /// fixed end to a moving end by the fraction `t` of that.
-    pub(super) fn pairs(&self, pose: &Pose) -> Vec<Pair> {
+    fn pairs_within(&self, pose: &Pose, limit: f64) -> Vec<Pair> {
         let r = &self.r_prev;
         let x0 = self.x_prev + r * pose.p;
         let ri = r * pose.q;
@@ -168,8 +210,23 @@ impl SectionWorld {
             .iter()
             .map(|(c, hp, h)| (*c, *hp, x0 + ri * h, *h))
             .collect();
+        // Balls holding each feature: (centre, radius).
+        let ball = |a: &Vector3<f64>, b: &Vector3<f64>, pad: f64| {
+            (0.5 * (a + b), 0.5 * (b - a).norm() + pad)
+        };
+        let backbone_ball = ball(&self.x_prev, &x0, self.backbone_radius);
+        let disk_ball = (x0, self.disk_radius.hypot(self.half_thickness));
+        let far = limit + PRUNE_SLACK;
         for (k, (shape, opose)) in self.shapes.iter().enumerate() {
             let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
+                let (c, radius) = match feature {
+                    Feature::Backbone => backbone_ball,
+                    Feature::Disk => disk_ball,
+                    Feature::Cable(j) => ball(&chords[j].1, &chords[j].2, 0.0),
+                };
+                if self.distance_bound(k, &c, radius) > far {
+                    return;
+                }
                 let Some((w, _)) = features::witness(g, gpose, &**shape, opose, self.margin) else {
                     return;
                 };
