@@ -24,6 +24,13 @@ pub(super) fn penetration_of(pairs: &[Pair], clearance: f64) -> f64 {
     pairs.iter().map(|p| (clearance - p.dist).max(0.0)).sum()
 }
 
+/// What holds a feature, for [`SectionWorld::distance_bound`]: a segment (ends, radius) or a
+/// disk (centre, unit axis, radius, half thickness).
+enum Hull {
+    Segment(Vector3<f64>, Vector3<f64>, f64),
+    Disk(Vector3<f64>, Vector3<f64>, f64, f64),
+}
+
 /// A robot feature of one section.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Feature {
@@ -173,15 +180,39 @@ impl SectionWorld {
         self.pairs_within(pose, self.margin)
     }
 
-    /// A lower bound on the distance between obstacle `k` and a feature inside the ball of
-    /// centre `c` and radius `radius`: the obstacle lies in its bounding box, so its distance
-    /// from any point of the ball is at least the (closed-form) distance from `c` to that box,
-    /// less `radius`.
-    fn distance_bound(&self, k: usize, c: &Vector3<f64>, radius: f64) -> f64 {
-        let q = nvec(self.shapes[k].1.inverse_transform_point(pvec(c)));
-        let (lo, hi) = &self.boxes[k];
-        let out = Vector3::from_fn(|i, _| (lo[i] - q[i]).max(q[i] - hi[i]).max(0.0));
-        out.norm() - radius
+    /// A lower bound on the distance between obstacle `k` and a feature: the obstacle lies in
+    /// its bounding box (its own frame), the feature in its bounding ball and in its bounding
+    /// box in that frame, so the distance is at least the larger of the (closed-form)
+    /// distances from the box to the ball and between the two boxes.
+    fn distance_bound(&self, k: usize, hull: &Hull) -> f64 {
+        let opose = &self.shapes[k].1;
+        let to_local = |p: &Vector3<f64>| nvec(opose.inverse_transform_point(pvec(p)));
+        let (lo_o, hi_o) = &self.boxes[k];
+        let (c, radius, lo, hi) = match *hull {
+            Hull::Segment(a, b, r) => {
+                let (la, lb) = (to_local(&a), to_local(&b));
+                let pad = Vector3::repeat(r);
+                let half = 0.5 * (lb - la).norm();
+                (
+                    0.5 * (la + lb),
+                    half + r,
+                    la.inf(&lb) - pad,
+                    la.sup(&lb) + pad,
+                )
+            }
+            Hull::Disk(x, n, rd, ht) => {
+                let lc = to_local(&x);
+                let ln = to_local(&(x + n)) - lc;
+                // Half extent of a disk (axis n, radius rd, half thickness ht) along e_i.
+                let e = Vector3::from_fn(|i, _| {
+                    rd * (1.0 - ln[i] * ln[i]).max(0.0).sqrt() + ht * ln[i].abs()
+                });
+                (lc, rd.hypot(ht), lc - e, lc + e)
+            }
+        };
+        let ball = Vector3::from_fn(|i, _| (lo_o[i] - c[i]).max(c[i] - hi_o[i]).max(0.0));
+        let boxes = Vector3::from_fn(|i, _| (lo_o[i] - hi[i]).max(lo[i] - hi_o[i]).max(0.0));
+        (ball.norm() - radius).max(boxes.norm())
     }
 
     /// The feature–obstacle pairs within the margin at this pose whose distance may be at most
@@ -210,21 +241,20 @@ impl SectionWorld {
             .iter()
             .map(|(c, hp, h)| (*c, *hp, x0 + ri * h, *h))
             .collect();
-        // Balls holding each feature: (centre, radius).
-        let ball = |a: &Vector3<f64>, b: &Vector3<f64>, pad: f64| {
-            (0.5 * (a + b), 0.5 * (b - a).norm() + pad)
-        };
-        let backbone_ball = ball(&self.x_prev, &x0, self.backbone_radius);
-        let disk_ball = (x0, self.disk_radius.hypot(self.half_thickness));
         let far = limit + PRUNE_SLACK;
         for (k, (shape, opose)) in self.shapes.iter().enumerate() {
             let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
-                let (c, radius) = match feature {
-                    Feature::Backbone => backbone_ball,
-                    Feature::Disk => disk_ball,
-                    Feature::Cable(j) => ball(&chords[j].1, &chords[j].2, 0.0),
+                let hull = match feature {
+                    Feature::Backbone => Hull::Segment(self.x_prev, x0, self.backbone_radius),
+                    Feature::Disk => Hull::Disk(
+                        x0,
+                        ri.column(2).into_owned(),
+                        self.disk_radius,
+                        self.half_thickness,
+                    ),
+                    Feature::Cable(j) => Hull::Segment(chords[j].1, chords[j].2, 0.0),
                 };
-                if self.distance_bound(k, &c, radius) > far {
+                if self.distance_bound(k, &hull) > far {
                     return;
                 }
                 let Some((w, _)) = features::witness(g, gpose, &**shape, opose, self.margin) else {
