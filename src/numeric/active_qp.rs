@@ -51,9 +51,11 @@ pub fn qp6_active_set(
         return Qp6::Undecided;
     }
     let mut active: Vec<usize> = vec![];
-    let Some((mut x, _)) = kkt_solve(p, g, eq_rows, eq_rhs, in_rows, in_rhs, &active) else {
+    let Some((mut x, y0)) = kkt_solve(p, g, eq_rows, eq_rhs, in_rows, in_rhs, &active) else {
         return Qp6::Undecided;
     };
+    // Whether `x` is still the solve on the current active set (nothing added yet).
+    let mut fresh = true;
     // Multipliers of the active inequalities, in the order of `active`.
     let mut u: Vec<f64> = vec![];
     for _ in 0..10 * (in_rows.len() + 1) + 20 {
@@ -74,6 +76,9 @@ pub fn qp6_active_set(
         let Some((ip, _, _)) = worst else {
             // Primal feasible and dual feasible: the minimizer. Solve it once more from the
             // final active set, so it carries no accumulated rounding.
+            if fresh {
+                return finish(x, &y0, ne, in_rows.len(), &active);
+            }
             return match kkt_solve(p, g, eq_rows, eq_rhs, in_rows, in_rhs, &active) {
                 Some((x, y)) => finish(x, &y, ne, in_rows.len(), &active),
                 None => Qp6::Undecided,
@@ -81,6 +86,7 @@ pub fn qp6_active_set(
         };
         let a_p = in_rows[ip];
         let mut t_p = 0.0;
+        fresh = false;
         // Pursue `p` until it is met (added) or proved unreachable.
         loop {
             let rows: Vec<Vector6<f64>> = eq_rows

@@ -33,6 +33,9 @@ pub(super) const CONTACT_STAT_TOL: f64 = 1e-6;
 /// search ([`SectionData::former_search`]) keeps [`FORMER_MAX_SHORT_STEPS`].
 const MAX_SHORT_STEPS: usize = 2;
 
+/// A line search that ends below this step length is short (see [`MAX_SHORT_STEPS`]).
+const SHORT_STEP: f64 = 1e-3;
+
 /// The stall count before issue 16.
 const FORMER_MAX_SHORT_STEPS: usize = 3;
 
@@ -164,11 +167,19 @@ impl Geometric {
                 &cv,
                 world.map_or(0.0, |w| penetration_of(&pairs, w.clearance)),
             );
-            let (next, alpha) = line_search(&pose, &step.dx, m0, |trial| {
+            // A short step now ends the run whatever the merit below it does: near obstacles
+            // (where each trial queries the contacts) the search stops at the first step that
+            // is short (same outcome, same iterations; the free path is left as it was).
+            let floor = if world.is_some() && short_steps + 1 >= max_short {
+                SHORT_STEP
+            } else {
+                0.0
+            };
+            let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial| {
                 let (ft, ct) = eval_f64(trial);
                 merit(ft, &ct, penetration(trial))
             });
-            if alpha < 1e-3 {
+            if alpha < SHORT_STEP {
                 short_steps += 1;
             } else {
                 short_steps = 0;
@@ -319,14 +330,19 @@ fn lagrangian_hessian(
 
 /// Backtracking from the full step: the first of 20 halvings whose merit is finite and below
 /// `m0` (or whose step is below 1e-8); returns it (None if none) and the last step length.
+/// Step lengths below `floor` are not tried (None, with that length).
 fn line_search(
     pose: &Pose,
     dx: &Vector6<f64>,
     m0: f64,
+    floor: f64,
     merit_at: impl Fn(&Pose) -> f64,
 ) -> (Option<Pose>, f64) {
     let mut alpha = 1.0;
     for _ in 0..20 {
+        if alpha < floor {
+            return (None, alpha);
+        }
         let trial = pose.retract(dx, alpha);
         let mt = merit_at(&trial);
         if mt.is_finite() && (mt < m0 || dx.amax() * alpha < 1e-8) {
