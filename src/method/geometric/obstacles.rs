@@ -310,3 +310,86 @@ impl SectionWorld {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Model;
+    use crate::numeric::so3::exp_so3;
+
+    /// The pruned queries change nothing: over random section poses next to the wall and the
+    /// pillar (separated, touching and penetrating), the pairs within the margin are the
+    /// unpruned ones bit for bit (`limit = ∞` prunes nothing), the penetration is their sum,
+    /// and every bound is below parry's distance of the pair.
+    #[test]
+    fn pruned_pairs_equal_the_unpruned_ones() {
+        let robot = Model::from_file("models/paper/case1.toml").unwrap().robot;
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = |a: f64, b: f64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            a + (b - a) * (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut kept, mut pruned, mut touching) = (0, 0, 0);
+        for scene in ["wall", "pillar"] {
+            let scene = Scene::from_file(format!("models/scenes/{scene}.toml")).unwrap();
+            let relevant: Vec<usize> = (0..scene.obstacles.len()).collect();
+            for _ in 0..300 {
+                let r_prev = exp_so3(&Vector3::new(
+                    rnd(-0.6, 0.6),
+                    rnd(-0.6, 0.6),
+                    rnd(-3.2, 3.2),
+                ));
+                let x_prev = Vector3::new(rnd(0.0, 0.05), rnd(0.0, 0.09), rnd(0.06, 0.13));
+                let i = 1 + (rnd(0.0, 8.99) as usize);
+                let Some(w) = SectionWorld::new(&robot, &scene, &relevant, i, &r_prev, &x_prev)
+                else {
+                    continue;
+                };
+                let l = robot.section_length(i);
+                let w_rot = Vector3::new(rnd(-0.5, 0.5), rnd(-0.5, 0.5), rnd(-0.5, 0.5));
+                let pose = Pose {
+                    p: exp_so3(&(0.5 * w_rot)) * Vector3::new(0.0, 0.0, l),
+                    q: exp_so3(&w_rot),
+                };
+                let all = w.pairs_within(&pose, f64::INFINITY);
+                let near = w.pairs(&pose);
+                let key = |p: &Pair| (p.obstacle, p.feature, p.dist.to_bits(), p.grad);
+                let all_keys: Vec<_> = all.iter().map(key).collect();
+                assert_eq!(all_keys, near.iter().map(key).collect::<Vec<_>>());
+                let pen = penetration_of(&all, w.clearance);
+                assert_eq!(pen.to_bits(), w.penetration(&pose).to_bits());
+                kept += all.len();
+                touching += all.iter().filter(|p| p.dist < 1e-3).count();
+                // Pruned from the penetration: pairs beyond the clearance.
+                pruned += all.len() - w.pairs_within(&pose, w.clearance).len();
+                let x0 = w.x_prev + w.r_prev * pose.p;
+                for p in &all {
+                    let hull = match p.feature {
+                        Feature::Backbone => Hull::Segment(w.x_prev, x0, w.backbone_radius),
+                        Feature::Disk => Hull::Disk(
+                            x0,
+                            (w.r_prev * pose.q).column(2).into_owned(),
+                            w.disk_radius,
+                            w.half_thickness,
+                        ),
+                        _ => continue,
+                    };
+                    let bound = w.distance_bound(p.obstacle, &hull);
+                    assert!(
+                        bound <= p.dist + 1e-12,
+                        "{:?}: {bound} > {}",
+                        p.feature,
+                        p.dist
+                    );
+                }
+            }
+        }
+        // The sample reaches every regime.
+        assert!(
+            kept > 200 && pruned > 50 && touching > 20,
+            "{kept} {pruned} {touching}"
+        );
+    }
+}
