@@ -141,11 +141,8 @@ impl Geometric {
         // The quick search (small nudges, runs given up after 2 short line searches); when it
         // finds nothing, the former search (see `SectionData::former_search`) with a budget
         // of its own: a 16-cable robot that the former search solves failed the quick one.
-        // Sections near obstacles took the former search alone while their contact candidates
-        // converged only to 1e-7 (a different search moved the pillar's tip 4.6e-9 m); since
-        // they converge to 1e-11 (`CONTACT_STEP_TOL`) the quick search gives the same tips to
-        // 8e-13 m on the wall and the pillar, with 10–15 % fewer iterations (issue 16).
-        // `geometric-squared` keeps the former contact tolerance, so the former search too.
+        // Near obstacles too since contact candidates converge to 1e-11 (`CONTACT_STEP_TOL`):
+        // same tips to 8e-13 m on wall and pillar; `geometric-squared` keeps the former one.
         for former in [false, true] {
             data.former_search
                 .set(former || (squared && data.world.is_some()));
