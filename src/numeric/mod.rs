@@ -1,5 +1,6 @@
 //! Small numerical kernels shared by the methods; nothing robot-specific.
 
+pub mod active_qp;
 pub mod ad;
 pub mod dense;
 pub mod disc_split;

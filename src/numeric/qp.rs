@@ -1,4 +1,5 @@
-//! Small convex QP steps with inequalities: [`qp_step6`] by clarabel, and [`nonneg_qp`] (a
+//! Small convex QP steps with inequalities: [`qp_step6`] (a dual active set, clarabel where
+//! that makes no claim), and [`nonneg_qp`] (a
 //! bound-constrained dense QP by a primal active set, the dual of the energy model's steps).
 //!
 //! `min ½ xᵀ H x + gᵀ x  s.t.  E x = e,  G x ≤ h` for 6 unknowns — the SQP step of a section
@@ -7,6 +8,7 @@
 //! must descend. Equality-only steps do not come here: they use the dense nalgebra KKT step
 //! ([`crate::numeric::kkt::kkt_step6`]), which is ~100× cheaper.
 
+use crate::numeric::active_qp::{qp6_active_set, Qp6};
 use crate::numeric::dense::small_solve;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -26,7 +28,11 @@ pub struct QpStep {
     pub mu: Vec<f64>,
 }
 
-/// Solve the QP; `None` if clarabel reports anything but (almost) solved.
+/// Solve the QP; `None` when it is infeasible or clarabel reports anything but (almost)
+/// solved. Exact to rounding by the dual active set of [`qp6_active_set`] (issue 16: the
+/// interior point cost half of a contact solve and left its steps accurate to ~1e-7 only);
+/// clarabel ([`qp_step6_clarabel`]) where that method makes no claim (dependent equality
+/// rows, a failed KKT solve).
 pub fn qp_step6(
     h: &Matrix6<f64>,
     g: &Vector6<f64>,
@@ -36,12 +42,37 @@ pub fn qp_step6(
     in_rhs: &[f64],
     reg: f64,
 ) -> Option<QpStep> {
+    let hp = clamped_hessian(h, reg);
+    match qp6_active_set(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs) {
+        Qp6::Solved(step, _) => Some(step),
+        Qp6::Infeasible => None,
+        Qp6::Undecided => qp_step6_clarabel(h, g, eq_rows, eq_rhs, in_rows, in_rhs, reg),
+    }
+}
+
+/// `h` made positive definite: its eigenvalues replaced by their magnitudes, at least `reg`
+/// (an SQP step must descend, and both QP solvers need a convex objective).
+pub fn clamped_hessian(h: &Matrix6<f64>, reg: f64) -> Matrix6<f64> {
     let e = SymmetricEigen::new(*h);
     let mut d = e.eigenvalues;
     for v in d.iter_mut() {
         *v = v.abs().max(reg);
     }
-    let hp = e.eigenvectors * Matrix6::from_diagonal(&d) * e.eigenvectors.transpose();
+    e.eigenvectors * Matrix6::from_diagonal(&d) * e.eigenvectors.transpose()
+}
+
+/// [`qp_step6`] by clarabel's interior point alone (accurate to its tolerances, ~1e-8 to
+/// 1e-7 on a step); `None` if clarabel reports anything but (almost) solved.
+pub fn qp_step6_clarabel(
+    h: &Matrix6<f64>,
+    g: &Vector6<f64>,
+    eq_rows: &[Vector6<f64>],
+    eq_rhs: &[f64],
+    in_rows: &[Vector6<f64>],
+    in_rhs: &[f64],
+    reg: f64,
+) -> Option<QpStep> {
+    let hp = clamped_hessian(h, reg);
     // P: upper triangle, column-major CSC.
     let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
     for j in 0..6 {

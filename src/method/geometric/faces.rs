@@ -141,8 +141,11 @@ impl Geometric {
         // The quick search (small nudges, runs given up after 2 short line searches); when it
         // finds nothing, the former search (see `SectionData::former_search`) with a budget
         // of its own: a 16-cable robot that the former search solves failed the quick one.
+        // Near obstacles too since contact candidates converge to 1e-11 (`CONTACT_STEP_TOL`):
+        // same tips to 8e-13 m on wall and pillar; `geometric-squared` keeps the former one.
         for former in [false, true] {
-            data.former_search.set(former || data.world.is_some());
+            data.former_search
+                .set(former || (squared && data.world.is_some()));
             let spent = tally.iterations;
             tally.iterations = 0;
             let mut starts = self.starts(data, prev, &mut tally.iterations);
@@ -151,7 +154,7 @@ impl Geometric {
             }
             found = self.search_taut_sets(data, &starts, squared, &mut tally);
             tally.iterations += spent;
-            if found.is_some() || data.world.is_some() {
+            if found.is_some() || (squared && data.world.is_some()) {
                 break;
             }
         }

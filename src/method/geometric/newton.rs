@@ -2,9 +2,9 @@
 //! with an ℓ1-merit line search.
 
 use super::faces::{Candidate, Rejected, Step};
-use super::obstacles::Pair;
+use super::obstacles::{penetration_of, Pair};
 use super::problem::{Pose, SectionData};
-use super::Geometric;
+use super::{Geometric, Objective};
 use crate::contact::CONTACT_TOL;
 use crate::numeric::ad::D2;
 use crate::numeric::kkt::{kkt_step, kkt_step6, kkt_step6_gs, multipliers};
@@ -12,9 +12,19 @@ use crate::numeric::qp::qp_step6;
 use crate::shape::Contact;
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
-/// Newton step size at which a candidate with active contacts has converged [m or rad]: parry's
-/// GJK on smooth–smooth pairs (disk rim against a cylinder or a tube) leaves ~1e-8 of noise.
-pub(super) const CONTACT_STEP_TOL: f64 = 1e-7;
+/// Newton step size at which a candidate with active contacts has converged [m or rad]. Was
+/// 1e-7 (clarabel's interior-point steps and parry's unpolished GJK noise): candidates stopped
+/// with steps of up to 1e-7 and stationarity up to 8e-6 (wall, pillar), ~1e-9 m from the
+/// minimum. With the exact QP step ([`crate::numeric::active_qp`]) and polished witnesses the
+/// polish converges on (linearly: the step leaves the contact curvature out) to the free
+/// tolerance: on the wall and the pillar every certified contact candidate ends with a step
+/// ≤ 1e-11 and stationarity ≤ 7e-10 (issue 16), 2–4 iterations more per candidate.
+pub(super) const CONTACT_STEP_TOL: f64 = 1e-11;
+
+/// [`CONTACT_STEP_TOL`] before issue 16, kept by `geometric-squared`: with 1e-11 its pillar
+/// solve found no certified candidate in section 5 (not measured further; the squared
+/// objective is not the paper's method).
+const FORMER_CONTACT_STEP_TOL: f64 = 1e-7;
 
 /// Stationarity a candidate with active contacts must meet, relative to (1 + largest contact
 /// multiplier): the contact normals carry the same noise.
@@ -27,6 +37,9 @@ pub(super) const CONTACT_STAT_TOL: f64 = 1e-6;
 /// 12–14 % fewer Newton iterations on the paper cases; 1 loses a random robot. The former
 /// search ([`SectionData::former_search`]) keeps [`FORMER_MAX_SHORT_STEPS`].
 const MAX_SHORT_STEPS: usize = 2;
+
+/// A line search that ends below this step length is short (see [`MAX_SHORT_STEPS`]).
+const SHORT_STEP: f64 = 1e-3;
 
 /// The stall count before issue 16.
 const FORMER_MAX_SHORT_STEPS: usize = 3;
@@ -68,9 +81,8 @@ impl Geometric {
                     escape: None,
                 })
             };
-            // Near obstacles the candidate converges only to CONTACT_STEP_TOL (parry's noise),
-            // so arithmetic that differs at rounding level moves it by ~1e-9 m: contact
-            // sections keep the dual numbers the recorded tips were solved with.
+            // Contact sections keep the dual numbers their recorded tips were solved with
+            // (recorded when they converged only to 1e-7; the closed form is not measured there).
             let (f, c) = if data.world.is_some() {
                 data.eval::<D2<6>>(&pose, face, active, squared)
             } else {
@@ -107,11 +119,16 @@ impl Geometric {
                 .map(|p| clearance - p.dist)
                 .fold(0.0f64, f64::max);
             last_res = res.max(worst_gap);
-            // With active contacts the step carries the ~1e-8 m noise of parry's iterative
-            // distance queries on smooth shapes: converge at CONTACT_STEP_TOL there.
+            // With active contacts converge at CONTACT_STEP_TOL (see there).
             let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
             let in_contact = mu_max > 1e-10;
-            let step_tol = if in_contact { CONTACT_STEP_TOL } else { 1e-11 };
+            // By the method, not by this run's objective: the literal method's squared start
+            // runs converge like its own.
+            let step_tol = match (in_contact, self.objective == Objective::Squared) {
+                (true, false) => CONTACT_STEP_TOL,
+                (true, true) => FORMER_CONTACT_STEP_TOL,
+                (false, _) => 1e-11,
+            };
             if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= step_tol {
                 // Active contacts join the equalities for the second-order check.
                 let contacts: Vec<Contact> = (0..pairs.len())
@@ -155,12 +172,25 @@ impl Geometric {
             let merit = |f: f64, c: &[f64], pen: f64| {
                 f + rho * (c.iter().map(|x| x.abs()).sum::<f64>() + pen)
             };
-            let m0 = merit(f.v, &cv, penetration(&pose));
-            let (next, alpha) = line_search(&pose, &step.dx, m0, |trial| {
+            // The pairs at this pose are at hand: the penetration from them (was queried again).
+            let m0 = merit(
+                f.v,
+                &cv,
+                world.map_or(0.0, |w| penetration_of(&pairs, w.clearance)),
+            );
+            // A short step now ends the run whatever the merit below it does: near obstacles
+            // (where each trial queries the contacts) the search stops at the first step that
+            // is short (same outcome, same iterations; the free path is left as it was).
+            let floor = if world.is_some() && short_steps + 1 >= max_short {
+                SHORT_STEP
+            } else {
+                0.0
+            };
+            let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial| {
                 let (ft, ct) = eval_f64(trial);
                 merit(ft, &ct, penetration(trial))
             });
-            if alpha < 1e-3 {
+            if alpha < SHORT_STEP {
                 short_steps += 1;
             } else {
                 short_steps = 0;
@@ -311,14 +341,19 @@ fn lagrangian_hessian(
 
 /// Backtracking from the full step: the first of 20 halvings whose merit is finite and below
 /// `m0` (or whose step is below 1e-8); returns it (None if none) and the last step length.
+/// Step lengths below `floor` are not tried (None, with that length).
 fn line_search(
     pose: &Pose,
     dx: &Vector6<f64>,
     m0: f64,
+    floor: f64,
     merit_at: impl Fn(&Pose) -> f64,
 ) -> (Option<Pose>, f64) {
     let mut alpha = 1.0;
     for _ in 0..20 {
+        if alpha < floor {
+            return (None, alpha);
+        }
         let trial = pose.retract(dx, alpha);
         let mt = merit_at(&trial);
         if mt.is_finite() && (mt < m0 || dx.amax() * alpha < 1e-8) {

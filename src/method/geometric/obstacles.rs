@@ -5,12 +5,31 @@
 use super::problem::Pose;
 use crate::contact::features::{self, Touching};
 use crate::contact::Witness;
+use crate::contact::{nvec, pvec};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3, Vector6};
 use parry3d::math::Pose as PPose;
 use parry3d::shape::{Cylinder, Shape as PShape};
+
+/// Slack on [`SectionWorld::pairs_within`]'s lower bound \[m\]: a pair is left unqueried
+/// only when the bound exceeds the distance asked for by this much, far above parry's GJK
+/// tolerance and the rounding of the bound, so the skipped query could not have answered
+/// otherwise.
+const PRUNE_SLACK: f64 = 1e-6;
+
+/// `Σ max(0, clearance − d)` over the pairs: how far they are inside the clearance \[m\].
+pub(super) fn penetration_of(pairs: &[Pair], clearance: f64) -> f64 {
+    pairs.iter().map(|p| (clearance - p.dist).max(0.0)).sum()
+}
+
+/// What holds a feature, for [`SectionWorld::distance_bound`]: a segment (ends, radius) or a
+/// disk (centre, unit axis, radius, half thickness).
+enum Hull {
+    Segment(Vector3<f64>, Vector3<f64>, f64),
+    Disk(Vector3<f64>, Vector3<f64>, f64, f64),
+}
 
 /// A robot feature of one section.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,6 +87,9 @@ impl Pair {
 pub(super) struct SectionWorld {
     pub(super) names: Vec<String>,
     pub(super) shapes: Vec<(parry3d::shape::SharedShape, PPose)>,
+    /// Each obstacle's bounding box in its own frame (min and max corners), for
+    /// [`SectionWorld::pairs_within`]'s lower bound.
+    boxes: Vec<(Vector3<f64>, Vector3<f64>)>,
     pub(super) cable_names: Vec<String>,
     pub(super) r_prev: Matrix3<f64>,
     pub(super) x_prev: Vector3<f64>,
@@ -116,6 +138,13 @@ impl SectionWorld {
                     )
                 })
                 .collect(),
+            boxes: near
+                .iter()
+                .map(|&k| {
+                    let b = scene.obstacles[k].shape.compute_local_aabb();
+                    (nvec(b.mins), nvec(b.maxs))
+                })
+                .collect(),
             cable_names: robot.cables.iter().map(|c| c.name.clone()).collect(),
             r_prev: *r_prev,
             x_prev: *x_prev,
@@ -138,21 +167,66 @@ impl SectionWorld {
         self.names[k].clone()
     }
 
-    /// Total penetration below the clearance over the pairs at this pose \[m\].
+    /// Total penetration below the clearance over the pairs at this pose \[m\]. Only pairs
+    /// closer than the clearance add to it, so pairs proved farther than the clearance by
+    /// [`PRUNE_SLACK`] are not queried ([`SectionWorld::pairs_within`]); the sum is the one
+    /// over every pair within the margin.
     pub(super) fn penetration(&self, pose: &Pose) -> f64 {
-        self.pairs(pose)
-            .iter()
-            .map(|p| (self.clearance - p.dist).max(0.0))
-            .sum()
+        penetration_of(&self.pairs_within(pose, self.clearance), self.clearance)
     }
 
     /// Every feature–obstacle pair within the margin at this pose, linearized.
+    pub(super) fn pairs(&self, pose: &Pose) -> Vec<Pair> {
+        self.pairs_within(pose, self.margin)
+    }
+
+    /// A lower bound on the distance between obstacle `k` and a feature (0 or less when they
+    /// may overlap; a pair is pruned only for a positive bound): the obstacle lies in
+    /// its bounding box (its own frame), the feature in its bounding ball and in its bounding
+    /// box in that frame, so the distance is at least the larger of the (closed-form)
+    /// distances from the box to the ball and between the two boxes.
+    fn distance_bound(&self, k: usize, hull: &Hull) -> f64 {
+        let opose = &self.shapes[k].1;
+        let to_local = |p: &Vector3<f64>| nvec(opose.inverse_transform_point(pvec(p)));
+        let (lo_o, hi_o) = &self.boxes[k];
+        let (c, radius, lo, hi) = match *hull {
+            Hull::Segment(a, b, r) => {
+                let (la, lb) = (to_local(&a), to_local(&b));
+                let pad = Vector3::repeat(r);
+                let half = 0.5 * (lb - la).norm();
+                (
+                    0.5 * (la + lb),
+                    half + r,
+                    la.inf(&lb) - pad,
+                    la.sup(&lb) + pad,
+                )
+            }
+            Hull::Disk(x, n, rd, ht) => {
+                let lc = to_local(&x);
+                let ln = to_local(&(x + n)) - lc;
+                // Half extent of a disk (axis n, radius rd, half thickness ht) along e_i.
+                let e = Vector3::from_fn(|i, _| {
+                    rd * (1.0 - ln[i] * ln[i]).max(0.0).sqrt() + ht * ln[i].abs()
+                });
+                (lc, rd.hypot(ht), lc - e, lc + e)
+            }
+        };
+        let ball = Vector3::from_fn(|i, _| (lo_o[i] - c[i]).max(c[i] - hi_o[i]).max(0.0));
+        let boxes = Vector3::from_fn(|i, _| (lo_o[i] - hi[i]).max(lo[i] - hi_o[i]).max(0.0));
+        (ball.norm() - radius).max(boxes.norm())
+    }
+
+    /// The feature–obstacle pairs within the margin at this pose whose distance may be at most
+    /// `limit` (≤ the margin), linearized. A pair whose [`SectionWorld::distance_bound`]
+    /// exceeds `limit + PRUNE_SLACK` is not queried: parry would find it beyond the margin
+    /// (`limit` = margin: the same answer, None) or farther than `limit` (where a caller
+    /// asking for less than the margin does not read it).
     ///
     /// With `n` the unit normal from the robot point `a` towards the obstacle, moving `a` by
     /// `δa` changes the distance by `−n·δa`. Points carried by the new disk move as
     /// `δa = R δp − R Q [ℓ]× δω` (ℓ: the point in the disk frame), points on a segment from a
     /// fixed end to a moving end by the fraction `t` of that.
-    pub(super) fn pairs(&self, pose: &Pose) -> Vec<Pair> {
+    fn pairs_within(&self, pose: &Pose, limit: f64) -> Vec<Pair> {
         let r = &self.r_prev;
         let x0 = self.x_prev + r * pose.p;
         let ri = r * pose.q;
@@ -168,8 +242,22 @@ impl SectionWorld {
             .iter()
             .map(|(c, hp, h)| (*c, *hp, x0 + ri * h, *h))
             .collect();
+        let far = limit + PRUNE_SLACK;
         for (k, (shape, opose)) in self.shapes.iter().enumerate() {
             let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
+                let hull = match feature {
+                    Feature::Backbone => Hull::Segment(self.x_prev, x0, self.backbone_radius),
+                    Feature::Disk => Hull::Disk(
+                        x0,
+                        ri.column(2).into_owned(),
+                        self.disk_radius,
+                        self.half_thickness,
+                    ),
+                    Feature::Cable(j) => Hull::Segment(chords[j].1, chords[j].2, 0.0),
+                };
+                if self.distance_bound(k, &hull) > far {
+                    return;
+                }
                 let Some((w, _)) = features::witness(g, gpose, &**shape, opose, self.margin) else {
                     return;
                 };
@@ -221,5 +309,91 @@ impl SectionWorld {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Model;
+    use crate::numeric::so3::exp_so3;
+
+    /// The pruned queries change nothing: over random section poses next to the wall and the
+    /// pillar (separated, touching and penetrating), the pairs within the margin are the
+    /// unpruned ones bit for bit (`limit = ∞` prunes nothing), the penetration is their sum,
+    /// and every bound is below parry's distance of the pair.
+    #[test]
+    fn pruned_pairs_equal_the_unpruned_ones() {
+        let robot = Model::from_file("models/paper/case1.toml").unwrap().robot;
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = |a: f64, b: f64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            a + (b - a) * (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut kept, mut pruned, mut touching) = (0, 0, 0);
+        for scene in ["wall", "pillar"] {
+            let scene = Scene::from_file(format!("models/scenes/{scene}.toml")).unwrap();
+            let relevant: Vec<usize> = (0..scene.obstacles.len()).collect();
+            for _ in 0..300 {
+                let r_prev = exp_so3(&Vector3::new(
+                    rnd(-0.6, 0.6),
+                    rnd(-0.6, 0.6),
+                    rnd(-3.2, 3.2),
+                ));
+                let x_prev = Vector3::new(rnd(0.0, 0.05), rnd(0.0, 0.09), rnd(0.06, 0.13));
+                let i = 1 + (rnd(0.0, 8.99) as usize);
+                let Some(w) = SectionWorld::new(&robot, &scene, &relevant, i, &r_prev, &x_prev)
+                else {
+                    continue;
+                };
+                let l = robot.section_length(i);
+                let w_rot = Vector3::new(rnd(-0.5, 0.5), rnd(-0.5, 0.5), rnd(-0.5, 0.5));
+                let pose = Pose {
+                    p: exp_so3(&(0.5 * w_rot)) * Vector3::new(0.0, 0.0, l),
+                    q: exp_so3(&w_rot),
+                };
+                let all = w.pairs_within(&pose, f64::INFINITY);
+                let near = w.pairs(&pose);
+                let key = |p: &Pair| (p.obstacle, p.feature, p.dist.to_bits(), p.grad);
+                let all_keys: Vec<_> = all.iter().map(key).collect();
+                assert_eq!(all_keys, near.iter().map(key).collect::<Vec<_>>());
+                let pen = penetration_of(&all, w.clearance);
+                // Equal values; a sum with no term is −0.0 where the unpruned one adds +0.0
+                // terms (the merit adds it to Σ|c|, so the merit is the same to the bit).
+                assert_eq!(pen, w.penetration(&pose));
+                kept += all.len();
+                touching += all.iter().filter(|p| p.dist < 1e-3).count();
+                // Pruned from the penetration: pairs beyond the clearance.
+                pruned += all.len() - w.pairs_within(&pose, w.clearance).len();
+                let x0 = w.x_prev + w.r_prev * pose.p;
+                for p in &all {
+                    let hull = match p.feature {
+                        Feature::Backbone => Hull::Segment(w.x_prev, x0, w.backbone_radius),
+                        Feature::Disk => Hull::Disk(
+                            x0,
+                            (w.r_prev * pose.q).column(2).into_owned(),
+                            w.disk_radius,
+                            w.half_thickness,
+                        ),
+                        _ => continue,
+                    };
+                    // A bound on the unsigned distance (0 for overlapping shapes).
+                    let bound = w.distance_bound(p.obstacle, &hull);
+                    assert!(
+                        bound <= p.dist.max(0.0) + 1e-12,
+                        "{:?}: {bound} > {}",
+                        p.feature,
+                        p.dist
+                    );
+                }
+            }
+        }
+        // The sample reaches every regime.
+        assert!(
+            kept > 200 && pruned > 50 && touching > 20,
+            "{kept} {pruned} {touching}"
+        );
     }
 }

@@ -115,10 +115,9 @@ pub(super) struct SectionData {
     /// change upstream would move their recorded tips by up to ~2e-5 m (measured on the pillar).
     pub(super) gram_schmidt: bool,
     /// Search with the start nudges and stall count from before issue 16 (the quick search's
-    /// are smaller, see `faces::nudge` and `newton::MAX_SHORT_STEPS`): always near obstacles,
-    /// whose contact candidates converge only to the contact noise (with the quick search the
-    /// recorded pillar tip moved 4.6e-9 m), and as a retry where the quick search found no
-    /// certified pose.
+    /// are smaller, see `faces::nudge` and `newton::MAX_SHORT_STEPS`): a retry where the quick
+    /// search found no certified pose. (Sections near obstacles took it always while their
+    /// contact candidates converged only to 1e-7; see `Geometric::solve_section`.)
     pub(super) former_search: Cell<bool>,
 }
 
