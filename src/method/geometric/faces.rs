@@ -143,9 +143,15 @@ impl Geometric {
         // of its own: a 16-cable robot that the former search solves failed the quick one.
         // Near obstacles too since contact candidates converge to 1e-11 (`CONTACT_STEP_TOL`):
         // same tips to 8e-13 m on wall and pillar; `geometric-squared` keeps the former one.
-        for former in [false, true] {
-            data.former_search
-                .set(former || (squared && data.world.is_some()));
+        // A section near obstacles where neither certified a pose at 1e-11 is searched once
+        // more with the former search at the former contact tolerance (`loose_contacts`).
+        let near = data.world.is_some();
+        for (former, loose) in [(false, false), (true, false), (true, true)] {
+            if loose && (!near || squared) {
+                break;
+            }
+            data.loose_contacts.set(loose);
+            data.former_search.set(former || (squared && near));
             let spent = tally.iterations;
             tally.iterations = 0;
             let mut starts = self.starts(data, prev, &mut tally.iterations);
@@ -154,7 +160,7 @@ impl Geometric {
             }
             found = self.search_taut_sets(data, &starts, squared, &mut tally);
             tally.iterations += spent;
-            if found.is_some() || (squared && data.world.is_some()) {
+            if found.is_some() || (squared && near) {
                 break;
             }
         }

@@ -119,6 +119,11 @@ pub(super) struct SectionData {
     /// search found no certified pose. (Sections near obstacles took it always while their
     /// contact candidates converged only to 1e-7; see `Geometric::solve_section`.)
     pub(super) former_search: Cell<bool>,
+    /// Contact candidates converge at the step tolerance from before issue 16
+    /// (`newton::FORMER_CONTACT_STEP_TOL`, 1e-7) instead of 1e-11: the last retry of a section
+    /// near obstacles where neither search certified a pose at 1e-11 (see
+    /// `Geometric::solve_section`).
+    pub(super) loose_contacts: Cell<bool>,
 }
 
 pub(super) const SAME_POINT: f64 = 1e-12;
@@ -237,6 +242,7 @@ impl SectionData {
             world: None,
             gram_schmidt: true,
             former_search: Cell::new(false),
+            loose_contacts: Cell::new(false),
         };
         match data.prove_infeasible() {
             Some(e) => Err(e),
