@@ -117,6 +117,8 @@ pub struct FitReport {
     pub stop: String,
     /// The fitted model (base position moved by the remaining mean offset).
     pub model: Model,
+    /// Wall time of the fit \[s\] (a report, not a result: it varies with the machine's load).
+    pub seconds: f64,
 }
 
 /// The residual at one point: every row's shape, the aligned residuals, the mean offset.
@@ -211,6 +213,7 @@ pub fn calibrate(
     data: &Dataset,
     opts: &FitOptions,
 ) -> Result<FitReport, SolveError> {
+    let clock = std::time::Instant::now();
     let (mut f, used) = Fitter::new(model, data, opts)?;
     let x0 = DVector::from_iterator(
         f.params.len(),
@@ -242,6 +245,7 @@ pub fn calibrate(
         rows_excluded: data.len() - used,
         stop,
         model: fitted_model,
+        seconds: clock.elapsed().as_secs_f64(),
     })
 }
 
