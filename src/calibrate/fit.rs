@@ -421,8 +421,9 @@ fn aligned_errors_of(r: &DVector<f64>) -> Vec<f64> {
     aligned_errors(&sim, &vec![Vector3::zeros(); n])
 }
 
-/// The text of a model file with `[hardware]` replaced by `model`'s and each cable's
-/// `stiffness` set to `model`'s where it has one (comments are lost; `header` is written
+/// The text of a model file with `[hardware]` replaced by `model`'s, each cable's
+/// `stiffness` set to `model`'s where it has one and the backbone's `stiffening` where it is
+/// positive (comments are lost; `header` is written
 /// first as comment lines).
 pub fn fitted_toml(original: &str, model: &Model, header: &str) -> Result<String, SolveError> {
     let mut t: toml::Table = toml::from_str(original).map_err(|e| SolveError::InvalidInput {
@@ -439,6 +440,17 @@ pub fn fitted_toml(original: &str, model: &Model, header: &str) -> Result<String
             if let (toml::Value::Table(fc), Some(k)) = (fc, c.stiffness) {
                 fc.insert("stiffness".into(), toml::Value::Float(k));
             }
+        }
+    }
+    // A fitted curvature stiffening goes to the backbone.
+    let beta = model.robot.backbone.stiffening;
+    if beta > 0.0 {
+        if let Some(toml::Value::Table(bb)) = t
+            .get_mut("robot")
+            .and_then(|r| r.as_table_mut())
+            .and_then(|r| r.get_mut("backbone"))
+        {
+            bb.insert("stiffening".into(), toml::Value::Float(beta));
         }
     }
     let body = toml::to_string(&t).map_err(|e| SolveError::InvalidInput {

@@ -19,8 +19,9 @@
 //! m_i` then has `∂r_i = ∂s_i − mean_j ∂s_j`. One pass over the data per Jacobian instead of
 //! one per parameter; a unit test checks it against the finite differences below.
 //!
-//! The capstan friction coefficient (`friction`) has no such formula: its column alone comes
-//! from finite differences, the others still from the sensitivities (which the energy model
+//! The capstan friction coefficient (`friction`) and the backbone's curvature stiffening
+//! (`stiffening`) have no such formula (they change the equilibrium equations, not a cable's
+//! shortening): their columns alone come from finite differences, the others still from the sensitivities (which the energy model
 //! also reports with friction, `energy/friction.rs`).
 //!
 //! **Finite differences** otherwise: `∂r/∂x_k ≈ (r(x + h e_k) − r(x)) / h`, `h = 10⁻⁴` in
@@ -45,7 +46,8 @@ impl Fitter<'_> {
     ) -> Result<DMatrix<f64>, SolveError> {
         match self.sensitivity_jacobian(x, at) {
             Some((mut j, missing)) => {
-                // Columns the sensitivities do not give (friction): finite differences.
+                // Columns the sensitivities do not give (friction, stiffening): finite
+                // differences.
                 for k in missing {
                     let col = self.difference_column(x, at, k)?;
                     j.set_column(k, &col);
@@ -57,7 +59,8 @@ impl Fitter<'_> {
     }
 
     /// From the rows' tip sensitivities; `None` where the rows carry none, else the matrix
-    /// with the columns of the parameters they do not cover (`friction`) left zero and listed.
+    /// with the columns of the parameters they do not cover (`friction`, `stiffening`) left zero
+    /// and listed.
     pub(super) fn sensitivity_jacobian(
         &self,
         x: &DVector<f64>,
@@ -71,7 +74,12 @@ impl Fitter<'_> {
             ds.push(tip_derivatives(&m, &self.params, shape.as_ref()?, u, dir)?);
         }
         let missing: Vec<usize> = (0..np)
-            .filter(|&k| matches!(self.params[k].target, Target::Friction(_)))
+            .filter(|&k| {
+                matches!(
+                    self.params[k].target,
+                    Target::Friction(_) | Target::Stiffening
+                )
+            })
             .collect();
         let mut j = DMatrix::zeros(3 * n, np);
         for k in (0..np).filter(|k| !missing.contains(k)) {
@@ -189,7 +197,7 @@ fn tip_derivatives(
             }
             Target::Marker(_) => None,
             // Not from the sensitivities: finite differences (`sensitivity_jacobian`).
-            Target::Friction(_) => Some(Vector3::zeros()),
+            Target::Friction(_) | Target::Stiffening => Some(Vector3::zeros()),
         })
         .collect()
 }
