@@ -197,13 +197,25 @@ fn main() -> Result<()> {
 
 /// The candidate parameter sets (each ≤ 9 scalars, the protocol's limit): the default set
 /// (per-segment gain and offset, one cable compliance, the marker), the same plus one common
-/// backlash, plus the base rotation about z, and the EA form of the compliance (`k = EA/ℓ`:
-/// longer cables softer) in place of the uniform one.
+/// backlash, plus the base rotation about z, plus capstan friction, the EA form of the
+/// compliance (`k = EA/ℓ`: longer cables softer) in place of the uniform one, plus the
+/// backbone's curvature stiffening `β` (bending energy `½ EI κ² (1 + β κ²)`), and `β` with the
+/// backlash or with the base rotation in place of the marker (kept at the nominal 8 mm).
 fn candidates(nominal: &Model) -> Vec<Candidate> {
     let default = ccrkit::calibrate::params::default_names(&nominal.robot);
     let with = |extra: &str| {
         let mut v = default.clone();
         v.push(extra.into());
+        v
+    };
+    // Two additions within 9 scalars: the marker stays at the repository's 8 mm.
+    let no_marker = |extra: &[&str]| {
+        let mut v: Vec<String> = default
+            .iter()
+            .filter(|n| *n != "marker.z")
+            .cloned()
+            .collect();
+        v.extend(extra.iter().map(|e| e.to_string()));
         v
     };
     let ea = default
@@ -222,6 +234,12 @@ fn candidates(nominal: &Model) -> Vec<Candidate> {
         ("fitted+base.rz", with("base.rz")),
         ("fitted+friction", with("friction")),
         ("fitted_EA", ea),
+        ("fitted+stiffening", with("stiffening")),
+        (
+            "backlash+stiffening",
+            no_marker(&["backlash", "stiffening"]),
+        ),
+        ("base.rz+stiffening", no_marker(&["base.rz", "stiffening"])),
     ]
     .into_iter()
     .map(|(label, params)| Candidate {
@@ -268,6 +286,22 @@ fn report(v: &str, label: &str, rep: &FitReport, text: &str, dir: &Path) -> Resu
                 p.name,
                 p.value,
                 1.0 / p.value,
+                p.initial
+            );
+            continue;
+        }
+        if p.unit == "m²" {
+            // Curvature stiffening β: also the bend radius 1/√β at which it doubles the
+            // stiffness (`1 + 2βκ² = 2` at κ = 1/√(2β)).
+            let sig = p
+                .sigma
+                .map(|s| format!("{s:.2e}"))
+                .unwrap_or_else(|| "singular".into());
+            println!(
+                "  {:<10} {:>9.3e} ± {sig} m²  (M/κ = 2 EI at bend radius √(2β) = {:.1} mm; nominal {:.1e})",
+                p.name,
+                p.value,
+                1e3 * (2.0 * p.value).sqrt(),
                 p.initial
             );
             continue;

@@ -27,7 +27,8 @@
 //! **Finite differences** otherwise: `∂r/∂x_k ≈ (r(x + h e_k) − r(x)) / h`, `h = 10⁻⁴` in
 //! scaled variables (gain 10⁻⁴, lengths 0.1 µm, compliance 10⁻⁸ m/N: ≥ 10³ times the energy
 //! solver's 10⁻¹⁰ m tolerance), each row of the perturbed solve warm-started from that row's
-//! solution at `x` (one or two Newton steps); backwards where the forward point fails.
+//! solution at `x` (one or two Newton steps); backwards where the forward point fails, then
+//! the same with steps 10⁻³ and 10⁻⁵ where both fail.
 
 use super::fit::{Eval, Fitter};
 use super::params::{Param, Target};
@@ -108,30 +109,33 @@ impl Fitter<'_> {
     }
 
     /// Column `k` by forward differences (backwards where the forward point fails, or leaves
-    /// the parameter's range), module docs.
+    /// the parameter's range), module docs; where both sides fail, again with the step ×10 and
+    /// ÷10 (a row of a nearly degenerate active set — rigid tendons, several taut cables per
+    /// segment — can miss the solver's tolerance at one perturbed point and not at another).
     fn difference_column(
         &mut self,
         x: &DVector<f64>,
         at: &Eval,
         k: usize,
     ) -> Result<DVector<f64>, SolveError> {
-        let h = 1e-4;
-        let mut xp = x.clone();
-        xp[k] += h;
-        let inside = self.params[k].admissible(xp[k] * self.params[k].scale());
-        if let Some(e) = inside.then(|| self.eval(&xp, Some(&at.shapes))).flatten() {
-            return Ok((&e.r - &at.r) / h);
+        for h in [1e-4, 1e-3, 1e-5] {
+            for sign in [1.0, -1.0] {
+                let mut xp = x.clone();
+                xp[k] += sign * h;
+                if !self.params[k].admissible(xp[k] * self.params[k].scale()) {
+                    continue;
+                }
+                if let Some(e) = self.eval(&xp, Some(&at.shapes)) {
+                    return Ok((&e.r - &at.r) / (sign * h));
+                }
+            }
         }
-        xp[k] = x[k] - h;
-        let e = self
-            .eval(&xp, Some(&at.shapes))
-            .ok_or_else(|| SolveError::InvalidInput {
-                field: format!("fit `{}`", self.params[k].name),
-                reason:
-                    "rows fail to solve on both sides of the current value (finite differences)"
-                        .into(),
-            })?;
-        Ok((&at.r - &e.r) / h)
+        Err(SolveError::InvalidInput {
+            field: format!("fit `{}`", self.params[k].name),
+            reason: "rows fail to solve on both sides of the current value (finite differences \
+                     with steps 1e-4, 1e-3, 1e-5 of its scale)"
+                .into(),
+        })
     }
 }
 
