@@ -113,6 +113,14 @@ fn main() -> Result<()> {
             let name = format!("{label} ({})", s.candidate.params.len());
             rows.push((name, fitted, Some(1e3 * s.holdout_rmse)));
         }
+        for (c, e) in &sel.failed {
+            println!("\nFTDCR {v} {}: not fitted ({e})", c.label);
+            table.push(format!(
+                "| {v} | {} ({}) | fit failed: {e} |",
+                c.label,
+                c.params.len()
+            ));
+        }
         let best = Some(sel.best);
         // Only now is val read.
         let val = read("val")?;
@@ -142,10 +150,12 @@ fn main() -> Result<()> {
                 ""
             };
             let cv = cv.map_or("–".into(), |c| format!("{c:.2}"));
-            table.push(format!(
+            let line = format!(
                 "| {v} | {name}{chosen} | {:.2} | {cv} | **{:.2}** | {:.2} | {:.2} | {:.2} | {:.2} / {:.2} / {:.2} | {:.2} | {} |",
                 rmse(&et), sv.rmse, fam[0], fam[1], fam[2], sv.mean, sv.median, sv.max, rmse(&fpv), ft + fv
-            ));
+            );
+            println!("TABLE {line}");
+            table.push(line);
             if k == 0 || best.map(|b| b + 1) == Some(k) {
                 val_pred.push((name.to_string(), pv));
             }

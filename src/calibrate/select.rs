@@ -67,8 +67,10 @@ pub struct Scored {
 /// The outcome of [`select`].
 #[derive(Debug, Clone)]
 pub struct Selection {
-    /// Every candidate, in the order given.
+    /// Every candidate that fitted, in the order given.
     pub scored: Vec<Scored>,
+    /// Candidates whose fit (or hold-out prediction) failed, with the error: not chosen.
+    pub failed: Vec<(Candidate, SolveError)>,
     /// Index of the chosen candidate in `scored`.
     pub best: usize,
     /// The held-out rows (indices into train).
@@ -83,8 +85,9 @@ impl Selection {
 }
 
 /// Fit every candidate on `train` and choose one on a hold-out split of `train` (module docs).
-/// Errors name the field: no candidate, no labels, an empty hold-out or an empty remainder, a
-/// fit that fails, a hold-out where no row solves.
+/// A candidate whose fit fails, or whose hold-out has no row that solves, is listed in
+/// [`Selection::failed`] and not chosen. Errors name the field: no candidate, no labels, an
+/// empty hold-out or an empty remainder, every candidate failed.
 pub fn select(
     model: &Model,
     train: &Dataset,
@@ -118,36 +121,23 @@ pub fn select(
         ));
     }
     let (fit_rows, test_rows) = (train.select(&rest), train.select(&held));
-    let meas = test_rows.tips.clone().unwrap_or_default();
     let mut scored = Vec::with_capacity(candidates.len());
+    let mut failed = vec![];
     for cand in candidates {
-        let mut fo = opts.fit.clone();
-        fo.params = cand.params.clone();
-        let full = calibrate(model, train, &fo)?;
-        let reduced = calibrate(model, &fit_rows, &fo)?;
-        let pred = predict(&reduced.model, &test_rows, &fo.predict)?;
-        let (mut sim, mut real) = (Vec::<Vector3<f64>>::new(), Vec::new());
-        for (p, m) in pred.iter().zip(&meas) {
-            if let Ok(t) = &p.tip {
-                sim.push(*t);
-                real.push(*m);
-            }
+        match score(model, train, cand, opts, (&fit_rows, &test_rows)) {
+            Ok(sc) => scored.push(sc),
+            Err(e) => failed.push((cand.clone(), e)),
         }
-        let rmse = ErrorStats::of(&aligned_errors(&sim, &real))
-            .ok_or_else(|| {
-                bad(
-                    "holdout",
-                    format!("no held-out row solves with candidate `{}`", cand.label),
-                )
-            })?
-            .rmse;
-        scored.push(Scored {
-            candidate: cand.clone(),
-            full,
-            reduced,
-            holdout_rmse: rmse,
-            holdout_failed: pred.len() - sim.len(),
-        });
+    }
+    if scored.is_empty() {
+        let why: Vec<String> = failed
+            .iter()
+            .map(|(c, e)| format!("`{}`: {e}", c.label))
+            .collect();
+        return Err(bad(
+            "candidates",
+            format!("every candidate failed: {}", why.join("; ")),
+        ));
     }
     let mut best = 0;
     for (i, s) in scored.iter().enumerate() {
@@ -157,7 +147,46 @@ pub fn select(
     }
     Ok(Selection {
         scored,
+        failed,
         best,
         holdout_rows: held,
+    })
+}
+
+/// Fit `cand` on all of train and on `split.0` (train without the hold-out), and score the
+/// latter on `split.1` (the hold-out).
+fn score(
+    model: &Model,
+    train: &Dataset,
+    cand: &Candidate,
+    opts: &SelectOptions,
+    split: (&Dataset, &Dataset),
+) -> Result<Scored, SolveError> {
+    let (fit_rows, test_rows) = split;
+    let mut fo = opts.fit.clone();
+    fo.params = cand.params.clone();
+    let full = calibrate(model, train, &fo)?;
+    let reduced = calibrate(model, fit_rows, &fo)?;
+    let pred = predict(&reduced.model, test_rows, &fo.predict)?;
+    let meas = test_rows.tips.clone().unwrap_or_default();
+    let (mut sim, mut real) = (Vec::<Vector3<f64>>::new(), Vec::new());
+    for (p, m) in pred.iter().zip(&meas) {
+        if let Ok(t) = &p.tip {
+            sim.push(*t);
+            real.push(*m);
+        }
+    }
+    let rmse = ErrorStats::of(&aligned_errors(&sim, &real))
+        .ok_or_else(|| SolveError::InvalidInput {
+            field: "holdout".into(),
+            reason: format!("no held-out row solves with candidate `{}`", cand.label),
+        })?
+        .rmse;
+    Ok(Scored {
+        candidate: cand.clone(),
+        full,
+        reduced,
+        holdout_rmse: rmse,
+        holdout_failed: pred.len() - sim.len(),
     })
 }
