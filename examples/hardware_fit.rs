@@ -15,8 +15,9 @@
 
 use anyhow::Result;
 use ccrkit::calibrate::data::{family, DataOptions, Dataset};
-use ccrkit::calibrate::fit::{calibrate, fitted_toml, FitOptions};
+use ccrkit::calibrate::fit::{fitted_toml, FitOptions, FitReport};
 use ccrkit::calibrate::predict::{predict, PredictOptions, DEFAULT_CHUNK};
+use ccrkit::calibrate::select::{select, Candidate, SelectOptions};
 use ccrkit::calibrate::{aligned_errors, first_point_errors, ErrorStats};
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
@@ -24,7 +25,6 @@ use ccrkit::Model;
 use nalgebra::Vector3;
 use plotters::prelude::*;
 use std::path::Path;
-use std::time::Instant;
 
 /// A 2-D projection of a 3-D point, in mm.
 type Projection = fn(&Vector3<f64>) -> (f64, f64);
@@ -92,47 +92,39 @@ fn main() -> Result<()> {
                 &DataOptions::default(),
             )
         };
-        let (train, val) = (read("train")?, read("val")?);
+        let train = read("train")?;
         let text = std::fs::read_to_string(&file)?;
-        // Model selection on train only (protocol §8: val is never used to choose): each
-        // candidate is also fitted on train without the two-segment `_same_` patterns and
-        // scored on them (the train family nearest to val's three-segment motions); the
-        // candidate with the lowest held-out RMSE is marked `selected`.
-        let same: Vec<usize> = (0..train.len())
-            .filter(|&i| {
-                train
-                    .labels
-                    .as_ref()
-                    .is_some_and(|l| l[i].contains("_same_"))
-            })
-            .collect();
-        let rest: Vec<usize> = (0..train.len()).filter(|i| !same.contains(i)).collect();
-        let (cv_fit, cv_test) = (train.select(&rest), train.select(&same));
-        let mut val_pred = vec![];
+        // Fits and the choice among the candidates on train only (protocol §8), in the library
+        // function that sees nothing but train: `calibrate::select` fits each candidate on all
+        // of train and on train without the two-segment `_same_` patterns, scores the latter on
+        // them and chooses the lowest (tests/hardware_select.rs).
+        let fo = FitOptions::new(options());
+        let sel = select(
+            &nominal,
+            &train,
+            &candidates(&nominal),
+            &SelectOptions::new(fo),
+        )?;
         let mut rows = vec![];
-        for (label, names) in candidates(&nominal) {
-            let mut opts = FitOptions::new(options());
-            opts.params = names.clone();
-            let fitted = fit(v, label, &nominal, &train, &opts, &text, &dir)?;
-            let cv_model = fit(
-                v,
-                &format!("{label}_cv"),
-                &nominal,
-                &cv_fit,
-                &opts,
-                &text,
-                &dir,
-            )?;
-            let (pc, _) = tips(&cv_model, &cv_test)?;
-            let cv = rmse(&errors(&pc, &cv_test).0);
-            rows.push((format!("{label} ({})", names.len()), fitted, Some(cv)));
+        for s in &sel.scored {
+            let label = &s.candidate.label;
+            let fitted = report(v, label, &s.full, &text, &dir)?;
+            report(v, &format!("{label}_cv"), &s.reduced, &text, &dir)?;
+            let name = format!("{label} ({})", s.candidate.params.len());
+            rows.push((name, fitted, Some(1e3 * s.holdout_rmse)));
         }
-        let best = rows
-            .iter()
-            .enumerate()
-            .filter_map(|(i, r)| r.2.map(|c| (i, c)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(i, _)| i);
+        for (c, e) in &sel.failed {
+            println!("\nFTDCR {v} {}: not fitted ({e})", c.label);
+            table.push(format!(
+                "| {v} | {} ({}) | fit failed: {e} |",
+                c.label,
+                c.params.len()
+            ));
+        }
+        let best = Some(sel.best);
+        // Only now is val read.
+        let val = read("val")?;
+        let mut val_pred = vec![];
         rows.insert(0, ("nominal".into(), nominal.clone(), None));
         for (k, (name, model, cv)) in rows.iter().enumerate() {
             let (pt, ft) = tips(model, &train)?;
@@ -158,10 +150,12 @@ fn main() -> Result<()> {
                 ""
             };
             let cv = cv.map_or("–".into(), |c| format!("{c:.2}"));
-            table.push(format!(
+            let line = format!(
                 "| {v} | {name}{chosen} | {:.2} | {cv} | **{:.2}** | {:.2} | {:.2} | {:.2} | {:.2} / {:.2} / {:.2} | {:.2} | {} |",
                 rmse(&et), sv.rmse, fam[0], fam[1], fam[2], sv.mean, sv.median, sv.max, rmse(&fpv), ft + fv
-            ));
+            );
+            println!("TABLE {line}");
+            table.push(line);
             if k == 0 || best.map(|b| b + 1) == Some(k) {
                 val_pred.push((name.to_string(), pv));
             }
@@ -213,13 +207,25 @@ fn main() -> Result<()> {
 
 /// The candidate parameter sets (each ≤ 9 scalars, the protocol's limit): the default set
 /// (per-segment gain and offset, one cable compliance, the marker), the same plus one common
-/// backlash, plus the base rotation about z, and the EA form of the compliance (`k = EA/ℓ`:
-/// longer cables softer) in place of the uniform one.
-fn candidates(nominal: &Model) -> Vec<(&'static str, Vec<String>)> {
+/// backlash, plus the base rotation about z, plus capstan friction, the EA form of the
+/// compliance (`k = EA/ℓ`: longer cables softer) in place of the uniform one, plus the
+/// backbone's curvature stiffening `β` (bending energy `½ EI κ² (1 + β κ²)`), and `β` with the
+/// backlash or with the base rotation in place of the marker (kept at the nominal 8 mm).
+fn candidates(nominal: &Model) -> Vec<Candidate> {
     let default = ccrkit::calibrate::params::default_names(&nominal.robot);
     let with = |extra: &str| {
         let mut v = default.clone();
         v.push(extra.into());
+        v
+    };
+    // Two additions within 9 scalars: the marker stays at the repository's 8 mm.
+    let no_marker = |extra: &[&str]| {
+        let mut v: Vec<String> = default
+            .iter()
+            .filter(|n| *n != "marker.z")
+            .cloned()
+            .collect();
+        v.extend(extra.iter().map(|e| e.to_string()));
         v
     };
     let ea = default
@@ -232,30 +238,30 @@ fn candidates(nominal: &Model) -> Vec<(&'static str, Vec<String>)> {
             }
         })
         .collect();
-    vec![
+    [
         ("fitted", default.clone()),
         ("fitted+backlash", with("backlash")),
         ("fitted+base.rz", with("base.rz")),
         ("fitted+friction", with("friction")),
         ("fitted_EA", ea),
+        ("fitted+stiffening", with("stiffening")),
+        (
+            "backlash+stiffening",
+            no_marker(&["backlash", "stiffening"]),
+        ),
+        ("base.rz+stiffening", no_marker(&["base.rz", "stiffening"])),
     ]
+    .into_iter()
+    .map(|(label, params)| Candidate {
+        label: label.into(),
+        params,
+    })
+    .collect()
 }
 
-/// Calibrate `start` on `train` with `opts`, print the report, write and reload the fitted
-/// model (`DIR/ftdcr_{v}_{label}.toml`).
-fn fit(
-    v: &str,
-    label: &str,
-    start: &Model,
-    train: &Dataset,
-    opts: &FitOptions,
-    text: &str,
-    dir: &Path,
-) -> Result<Model> {
-    let t = Instant::now();
-    let rep = calibrate(start, train, opts)?;
-    let fit_s = t.elapsed().as_secs_f64();
-    println!("\nFTDCR {v} {label}: calibrated on train ({} rows, {} left out) in {fit_s:.1} s, {} iterations, {} passes over the data ({})", rep.rows_used, rep.rows_excluded, rep.history.len() - 1, rep.history.last().map_or(0, |h| h.passes), rep.stop);
+/// Print a fit's report, write and reload the fitted model (`DIR/ftdcr_{v}_{label}.toml`).
+fn report(v: &str, label: &str, rep: &FitReport, text: &str, dir: &Path) -> Result<Model> {
+    println!("\nFTDCR {v} {label}: calibrated ({} rows, {} left out) in {:.1} s, {} iterations, {} passes over the data ({})", rep.rows_used, rep.rows_excluded, rep.seconds, rep.history.len() - 1, rep.history.last().map_or(0, |h| h.passes), rep.stop);
     for h in &rep.history {
         println!(
             "  iteration {:>2}: train RMSE {:.3} mm",
@@ -290,6 +296,22 @@ fn fit(
                 p.name,
                 p.value,
                 1.0 / p.value,
+                p.initial
+            );
+            continue;
+        }
+        if p.unit == "m²" {
+            // Curvature stiffening β: also the bend radius 1/√β at which it doubles the
+            // stiffness (`1 + 2βκ² = 2` at κ = 1/√(2β)).
+            let sig = p
+                .sigma
+                .map(|s| format!("{s:.2e}"))
+                .unwrap_or_else(|| "singular".into());
+            println!(
+                "  {:<10} {:>9.3e} ± {sig} m²  (M/κ = 2 EI at bend radius √(2β) = {:.1} mm; nominal {:.1e})",
+                p.name,
+                p.value,
+                1e3 * (2.0 * p.value).sqrt(),
                 p.initial
             );
             continue;

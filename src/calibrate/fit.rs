@@ -117,6 +117,8 @@ pub struct FitReport {
     pub stop: String,
     /// The fitted model (base position moved by the remaining mean offset).
     pub model: Model,
+    /// Wall time of the fit \[s\] (a report, not a result: it varies with the machine's load).
+    pub seconds: f64,
 }
 
 /// The residual at one point: every row's shape, the aligned residuals, the mean offset.
@@ -211,6 +213,7 @@ pub fn calibrate(
     data: &Dataset,
     opts: &FitOptions,
 ) -> Result<FitReport, SolveError> {
+    let clock = std::time::Instant::now();
     let (mut f, used) = Fitter::new(model, data, opts)?;
     let x0 = DVector::from_iterator(
         f.params.len(),
@@ -242,6 +245,7 @@ pub fn calibrate(
         rows_excluded: data.len() - used,
         stop,
         model: fitted_model,
+        seconds: clock.elapsed().as_secs_f64(),
     })
 }
 
@@ -417,8 +421,9 @@ fn aligned_errors_of(r: &DVector<f64>) -> Vec<f64> {
     aligned_errors(&sim, &vec![Vector3::zeros(); n])
 }
 
-/// The text of a model file with `[hardware]` replaced by `model`'s and each cable's
-/// `stiffness` set to `model`'s where it has one (comments are lost; `header` is written
+/// The text of a model file with `[hardware]` replaced by `model`'s, each cable's
+/// `stiffness` set to `model`'s where it has one and the backbone's `stiffening` where it is
+/// positive (comments are lost; `header` is written
 /// first as comment lines).
 pub fn fitted_toml(original: &str, model: &Model, header: &str) -> Result<String, SolveError> {
     let mut t: toml::Table = toml::from_str(original).map_err(|e| SolveError::InvalidInput {
@@ -435,6 +440,17 @@ pub fn fitted_toml(original: &str, model: &Model, header: &str) -> Result<String
             if let (toml::Value::Table(fc), Some(k)) = (fc, c.stiffness) {
                 fc.insert("stiffness".into(), toml::Value::Float(k));
             }
+        }
+    }
+    // A fitted curvature stiffening goes to the backbone.
+    let beta = model.robot.backbone.stiffening;
+    if beta > 0.0 {
+        if let Some(toml::Value::Table(bb)) = t
+            .get_mut("robot")
+            .and_then(|r| r.as_table_mut())
+            .and_then(|r| r.get_mut("backbone"))
+        {
+            bb.insert("stiffening".into(), toml::Value::Float(beta));
         }
     }
     let body = toml::to_string(&t).map_err(|e| SolveError::InvalidInput {

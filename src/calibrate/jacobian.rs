@@ -19,14 +19,16 @@
 //! m_i` then has `∂r_i = ∂s_i − mean_j ∂s_j`. One pass over the data per Jacobian instead of
 //! one per parameter; a unit test checks it against the finite differences below.
 //!
-//! The capstan friction coefficient (`friction`) has no such formula: its column alone comes
-//! from finite differences, the others still from the sensitivities (which the energy model
+//! The capstan friction coefficient (`friction`) and the backbone's curvature stiffening
+//! (`stiffening`) have no such formula (they change the equilibrium equations, not a cable's
+//! shortening): their columns alone come from finite differences, the others still from the sensitivities (which the energy model
 //! also reports with friction, `energy/friction.rs`).
 //!
 //! **Finite differences** otherwise: `∂r/∂x_k ≈ (r(x + h e_k) − r(x)) / h`, `h = 10⁻⁴` in
 //! scaled variables (gain 10⁻⁴, lengths 0.1 µm, compliance 10⁻⁸ m/N: ≥ 10³ times the energy
 //! solver's 10⁻¹⁰ m tolerance), each row of the perturbed solve warm-started from that row's
-//! solution at `x` (one or two Newton steps); backwards where the forward point fails.
+//! solution at `x` (one or two Newton steps); backwards where the forward point fails, then
+//! the same with steps 10⁻³ and 10⁻⁵ where both fail.
 
 use super::fit::{Eval, Fitter};
 use super::params::{Param, Target};
@@ -45,7 +47,8 @@ impl Fitter<'_> {
     ) -> Result<DMatrix<f64>, SolveError> {
         match self.sensitivity_jacobian(x, at) {
             Some((mut j, missing)) => {
-                // Columns the sensitivities do not give (friction): finite differences.
+                // Columns the sensitivities do not give (friction, stiffening): finite
+                // differences.
                 for k in missing {
                     let col = self.difference_column(x, at, k)?;
                     j.set_column(k, &col);
@@ -57,7 +60,8 @@ impl Fitter<'_> {
     }
 
     /// From the rows' tip sensitivities; `None` where the rows carry none, else the matrix
-    /// with the columns of the parameters they do not cover (`friction`) left zero and listed.
+    /// with the columns of the parameters they do not cover (`friction`, `stiffening`) left zero
+    /// and listed.
     pub(super) fn sensitivity_jacobian(
         &self,
         x: &DVector<f64>,
@@ -71,7 +75,12 @@ impl Fitter<'_> {
             ds.push(tip_derivatives(&m, &self.params, shape.as_ref()?, u, dir)?);
         }
         let missing: Vec<usize> = (0..np)
-            .filter(|&k| matches!(self.params[k].target, Target::Friction(_)))
+            .filter(|&k| {
+                matches!(
+                    self.params[k].target,
+                    Target::Friction(_) | Target::Stiffening
+                )
+            })
             .collect();
         let mut j = DMatrix::zeros(3 * n, np);
         for k in (0..np).filter(|k| !missing.contains(k)) {
@@ -100,30 +109,33 @@ impl Fitter<'_> {
     }
 
     /// Column `k` by forward differences (backwards where the forward point fails, or leaves
-    /// the parameter's range), module docs.
+    /// the parameter's range), module docs; where both sides fail, again with the step ×10 and
+    /// ÷10 (a row of a nearly degenerate active set — rigid tendons, several taut cables per
+    /// segment — can miss the solver's tolerance at one perturbed point and not at another).
     fn difference_column(
         &mut self,
         x: &DVector<f64>,
         at: &Eval,
         k: usize,
     ) -> Result<DVector<f64>, SolveError> {
-        let h = 1e-4;
-        let mut xp = x.clone();
-        xp[k] += h;
-        let inside = self.params[k].admissible(xp[k] * self.params[k].scale());
-        if let Some(e) = inside.then(|| self.eval(&xp, Some(&at.shapes))).flatten() {
-            return Ok((&e.r - &at.r) / h);
+        for h in [1e-4, 1e-3, 1e-5] {
+            for sign in [1.0, -1.0] {
+                let mut xp = x.clone();
+                xp[k] += sign * h;
+                if !self.params[k].admissible(xp[k] * self.params[k].scale()) {
+                    continue;
+                }
+                if let Some(e) = self.eval(&xp, Some(&at.shapes)) {
+                    return Ok((&e.r - &at.r) / (sign * h));
+                }
+            }
         }
-        xp[k] = x[k] - h;
-        let e = self
-            .eval(&xp, Some(&at.shapes))
-            .ok_or_else(|| SolveError::InvalidInput {
-                field: format!("fit `{}`", self.params[k].name),
-                reason:
-                    "rows fail to solve on both sides of the current value (finite differences)"
-                        .into(),
-            })?;
-        Ok((&at.r - &e.r) / h)
+        Err(SolveError::InvalidInput {
+            field: format!("fit `{}`", self.params[k].name),
+            reason: "rows fail to solve on both sides of the current value (finite differences \
+                     with steps 1e-4, 1e-3, 1e-5 of its scale)"
+                .into(),
+        })
     }
 }
 
@@ -189,7 +201,7 @@ fn tip_derivatives(
             }
             Target::Marker(_) => None,
             // Not from the sensitivities: finite differences (`sensitivity_jacobian`).
-            Target::Friction(_) => Some(Vector3::zeros()),
+            Target::Friction(_) | Target::Stiffening => Some(Vector3::zeros()),
         })
         .collect()
 }

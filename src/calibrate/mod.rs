@@ -1,5 +1,6 @@
 //! Real robots against measured data: batch prediction ([`predict`]) and calibration
-//! ([`fit`]) of a model's parameters to measured tips, with the metric of the OpenCR FTDCR
+//! ([`fit`]) of a model's parameters to measured tips, the choice among candidate parameter
+//! sets on training data only ([`select`]), with the metric of the OpenCR FTDCR
 //! benchmark ([`aligned_errors`]).
 //!
 //! The metric (data README §5, the repository's): the predicted tips are shifted by the mean
@@ -12,6 +13,7 @@ pub mod fit;
 mod jacobian;
 pub mod params;
 pub mod predict;
+pub mod select;
 
 use nalgebra::Vector3;
 

@@ -10,6 +10,7 @@
 //! | `axial-compliance`, `axial-compliance.segK`, `axial-compliance.CABLE` | `1/EA` of the cables: each gets `k = EA/ℓ` (below) | 1/N |
 //! | `base.rz` | rotation of the base about the measurement frame's z axis ([`Hardware::base_rotation`] z) | rad |
 //! | `friction`, `friction.segK`, `friction.CABLE` | capstan coefficient `μ` ([`Hardware::friction`], sequences only) | – |
+//! | `stiffening` | the backbone's curvature stiffening `β` ([`Backbone::stiffening`]: bending energy `½ EI κ² (1 + β κ²)`; energy model only) | m² |
 //!
 //! The compliance `1/k` rather than the stiffness `k` is fitted: the stretch `T/k` is linear in
 //! it, and 0 (the inextensible cable, the nominal models) is inside its range. A trial value
@@ -41,11 +42,12 @@
 //! [`Hardware::backlash`]: crate::model::hardware::Hardware::backlash
 //! [`Hardware::friction`]: crate::model::hardware::Hardware::friction
 //! [`Hardware::base_rotation`]: crate::model::hardware::Hardware::base_rotation
+//! [`Backbone::stiffening`]: crate::model::robot::Backbone::stiffening
 //! [`Robot::undeformed_chord_length`]: crate::model::robot::Robot::undeformed_chord_length
 
 use crate::error::SolveError;
 use crate::model::hardware::MAX_FRICTION;
-use crate::model::robot::Robot;
+use crate::model::robot::{Robot, MAX_STIFFENING};
 use crate::model::Model;
 
 /// Which cables a per-cable parameter acts on.
@@ -76,6 +78,8 @@ pub enum Target {
     BaseRotationZ,
     /// Capstan friction coefficient `μ` \[-\].
     Friction(Group),
+    /// The backbone's curvature stiffening `β` \[m²\].
+    Stiffening,
 }
 
 /// A named, fittable parameter.
@@ -154,6 +158,10 @@ impl Param {
             "backlash" => Target::Backlash(group(tail)?),
             "friction" => Target::Friction(group(tail)?),
             "axial-compliance" => Target::AxialCompliance(group(tail)?),
+            "stiffening" => match tail {
+                None => Target::Stiffening,
+                Some(_) => return Err(bad("`stiffening` is one value of the backbone".into())),
+            },
             "base" => match tail {
                 Some("rz") => Target::BaseRotationZ,
                 _ => return Err(bad("give base.rz".into())),
@@ -168,7 +176,8 @@ impl Param {
                 return Err(bad(
                     "unknown parameter: gain[.segK|.CABLE], offset[.segK|.CABLE], \
                      compliance[.segK|.CABLE], axial-compliance[.segK|.CABLE], \
-                     backlash[.segK|.CABLE], friction[.segK|.CABLE], marker.x|y|z, base.rz"
+                     backlash[.segK|.CABLE], friction[.segK|.CABLE], marker.x|y|z, base.rz, \
+                     stiffening"
                         .into(),
                 ))
             }
@@ -185,7 +194,7 @@ impl Param {
             Target::Gain(_) | Target::Friction(_) => 1.0,
             Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => 1e-3,
             Target::Compliance(_) => 1e-4,
-            Target::AxialCompliance(_) => 1e-3,
+            Target::AxialCompliance(_) | Target::Stiffening => 1e-3,
             Target::BaseRotationZ => 1e-2,
         }
     }
@@ -196,6 +205,7 @@ impl Param {
             Target::Gain(_) => v > 0.0,
             Target::Compliance(_) | Target::Backlash(_) | Target::AxialCompliance(_) => v >= 0.0,
             Target::Friction(_) => (0.0..=MAX_FRICTION).contains(&v),
+            Target::Stiffening => (0.0..=MAX_STIFFENING).contains(&v),
             Target::Offset(_) | Target::Marker(_) | Target::BaseRotationZ => true,
         }
     }
@@ -208,6 +218,7 @@ impl Param {
             Target::Gain(_) => v.max(MIN_GAIN),
             Target::Compliance(_) | Target::Backlash(_) | Target::AxialCompliance(_) => v.max(0.0),
             Target::Friction(_) => v.clamp(0.0, MAX_FRICTION),
+            Target::Stiffening => v.clamp(0.0, MAX_STIFFENING),
             Target::Offset(_) | Target::Marker(_) | Target::BaseRotationZ => v,
         }
     }
@@ -220,6 +231,7 @@ impl Param {
             Target::Compliance(_) => "m/N",
             Target::AxialCompliance(_) => "1/N",
             Target::BaseRotationZ => "rad",
+            Target::Stiffening => "m²",
         }
     }
 
@@ -257,6 +269,7 @@ impl Param {
                 mean(&c, g)
             }
             Target::BaseRotationZ => hw.base_rotation.z,
+            Target::Stiffening => model.robot.backbone.stiffening,
         }
     }
 
@@ -267,6 +280,10 @@ impl Param {
             for c in Self::cables(g, n) {
                 model.robot.cables[c].stiffness = (v > 0.0).then(|| 1.0 / v);
             }
+            return;
+        }
+        if let Target::Stiffening = self.target {
+            model.robot.backbone.stiffening = v;
             return;
         }
         if let Target::AxialCompliance(g) = &self.target {
@@ -290,7 +307,7 @@ impl Param {
             Target::Friction(g) => Self::cables(g, n)
                 .into_iter()
                 .for_each(|c| hw.friction[c] = v),
-            Target::Compliance(_) | Target::AxialCompliance(_) => {}
+            Target::Compliance(_) | Target::AxialCompliance(_) | Target::Stiffening => {}
         }
     }
 }
@@ -317,7 +334,8 @@ pub fn parse_all(names: &[String], robot: &Robot) -> Result<Vec<Param>, SolveErr
                     cx.iter().any(|c| cy.contains(c))
                 }
                 (Target::Marker(x), Target::Marker(y)) => x == y,
-                (Target::BaseRotationZ, Target::BaseRotationZ) => true,
+                (Target::BaseRotationZ, Target::BaseRotationZ)
+                | (Target::Stiffening, Target::Stiffening) => true,
                 _ => false,
             };
             if overlap {

@@ -60,6 +60,9 @@ pub struct MethodInfo {
     pub loads: LoadSupport,
     /// Whether it models compliant cables (`stiffness`, `pretension` of a cable).
     pub cable_compliance: bool,
+    /// Whether it models a bending stiffness that rises with curvature (the backbone's
+    /// `stiffening` β, [`crate::model::robot::Backbone::stiffening`]).
+    pub bending_stiffening: bool,
     /// Settings it takes (by name).
     pub settings: &'static [SettingInfo],
     /// Unit of its contact multipliers (`N` where they are reactions, `rad/m` for the
@@ -267,6 +270,7 @@ const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> Met
             tip_moment: true,
         },
         cable_compliance: true,
+        bending_stiffening: false,
         settings: ROD_SETTINGS,
         contact_unit: "",
         resolutions: ROD_RESOLUTIONS,
@@ -283,6 +287,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: true,
         loads: NO_LOADS,
         cable_compliance: false,
+        bending_stiffening: false,
         settings: GEOMETRIC_SETTINGS,
         contact_unit: "rad/m",
         resolutions: DEFAULT_RESOLUTION,
@@ -296,6 +301,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: true,
         loads: NO_LOADS,
         cable_compliance: false,
+        bending_stiffening: false,
         settings: GEOMETRIC_SETTINGS,
         contact_unit: "rad²/m",
         resolutions: DEFAULT_RESOLUTION,
@@ -313,6 +319,7 @@ const INFO: [MethodInfo; 6] = [
             tip_moment: false,
         },
         cable_compliance: true,
+        bending_stiffening: true,
         settings: ENERGY_SETTINGS,
         contact_unit: "N",
         resolutions: DEFAULT_RESOLUTION,
@@ -336,6 +343,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: false,
         loads: NO_LOADS,
         cable_compliance: false,
+        bending_stiffening: false,
         settings: CC_SETTINGS,
         contact_unit: "",
         resolutions: &[
@@ -507,6 +515,20 @@ impl MethodKind {
                     by.join(" or ")
                 ));
             }
+        }
+        if !info.bending_stiffening && robot.backbone.stiffening > 0.0 {
+            let by: Vec<&str> = Self::ALL
+                .iter()
+                .filter(|k| k.info().bending_stiffening)
+                .map(|k| k.name())
+                .collect();
+            return refuse(format!(
+                "the backbone's `stiffening` (β = {} m², a bending stiffness rising with \
+                 curvature) is not modelled by {} (it would be ignored); use {}, or drop it",
+                robot.backbone.stiffening,
+                info.name,
+                by.join(" or ")
+            ));
         }
         if !info.cable_compliance {
             if let Some(c) = robot

@@ -4,7 +4,7 @@
 use super::actuation::{Actuation, CableDrive, Shortening};
 use super::bounds;
 use super::hardware::{FileHardware, Hardware};
-use super::robot::{Backbone, Cable, Loads, Robot};
+use super::robot::{Backbone, Cable, Loads, Robot, MAX_STIFFENING};
 use super::routing::Helix;
 use super::scene::Scene;
 use super::scene_file::FileObstacle;
@@ -60,6 +60,8 @@ struct FileBackbone {
     diameter: f64,
     #[serde(default)]
     density: Option<f64>,
+    #[serde(default)]
+    stiffening: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -363,11 +365,21 @@ impl FileBackbone {
             Some(d) => bounds::DENSITY.check("robot.backbone.density", d)?,
             None => 0.0,
         };
+        let stiffening = finite("robot.backbone.stiffening", self.stiffening.unwrap_or(0.0))?;
+        if !(0.0..=MAX_STIFFENING).contains(&stiffening) {
+            return Err(ModelError::invalid(
+                "robot.backbone.stiffening",
+                format!(
+                    "must lie in [0, {MAX_STIFFENING}] m² (the β of ½ EI κ² (1 + β κ²)), got {stiffening}"
+                ),
+            ));
+        }
         Ok(Backbone {
             youngs_modulus,
             poisson_ratio,
             diameter,
             density,
+            stiffening,
         })
     }
 }

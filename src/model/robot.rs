@@ -22,7 +22,17 @@ pub struct Backbone {
     pub diameter: f64,
     /// Density [kg/m³] (0 when the file gives none: weightless backbone).
     pub density: f64,
+    /// Curvature stiffening `β` \[m²\] (0: linear elastic, the default): the bending energy
+    /// per length is `½ EI κ² (1 + β κ²)`, so a constant-curvature arc under a pure moment has
+    /// `M = EI κ (1 + 2 β κ²)` (a bending stiffness that rises with curvature, e.g. a backbone
+    /// whose spacer disks start to touch). The energy model honours it
+    /// (`method/energy/problem.rs`); every other method refuses a robot with `β > 0` by name.
+    pub stiffening: f64,
 }
+
+/// Largest curvature stiffening `β` a model file may give \[m²\]: at 1 m² the stiffness has
+/// doubled at κ = 1 m⁻¹ (a bend radius of 1 m), beyond any physical backbone.
+pub const MAX_STIFFENING: f64 = 1.0;
 
 impl Backbone {
     /// Shear modulus G = E / (2(1 + ν)) \[Pa\].

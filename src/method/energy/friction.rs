@@ -371,8 +371,10 @@ impl<'a> Problem<'a> {
             .collect();
         let mut r = DVector::zeros(nv + taut.len());
         let mut stat = 0.0f64;
+        let mut ge = vec![0.0; nv];
+        self.energy_gradient(xi, &mut ge);
         for i in 0..nv {
-            let g = self.k[i] * xi[i] + (0..nc).map(|c| wgt[c] * work.grad[c][i]).sum::<f64>();
+            let g = ge[i] + (0..nc).map(|c| wgt[c] * work.grad[c][i]).sum::<f64>();
             r[i] = g;
             stat = stat.max(g.abs());
         }

@@ -74,7 +74,7 @@ impl Problem<'_> {
     pub(super) fn evaluate(&self, xi: &[f64], wgt: &[f64], w: &mut Work, exact: bool) {
         let nb = self.nb;
         if self.set.cable_length == LengthMeasure::Chord {
-            self.energy_hessian(w);
+            self.energy_hessian(xi, w);
         }
         for (c, cable) in self.robot.cables.iter().enumerate() {
             let g = &mut w.grad[c];
@@ -176,8 +176,9 @@ impl Problem<'_> {
         }
     }
 
-    /// Reset the Hessian blocks to the energy's `K`.
-    pub(super) fn energy_hessian(&self, w: &mut Work) {
+    /// Reset the Hessian blocks to the energy's `∇²E` at `xi`: the diagonal `K`, plus each
+    /// sub-arc's curvature stiffening block when `β > 0` ([`Problem::stiffening_block`]).
+    pub(super) fn energy_hessian(&self, xi: &[f64], w: &mut Work) {
         let nb = self.nb;
         w.hess.fill(0.0);
         for b in 0..self.nblocks {
@@ -185,11 +186,24 @@ impl Problem<'_> {
                 w.hess[b * nb * nb + i * nb + i] = self.k[b * nb + i];
             }
         }
+        if self.stiffening == 0.0 {
+            return;
+        }
+        for j in 0..self.nsub {
+            // Sub-arc j's curvatures are the global variables 4j, 4j + 1, in block 4j / nb.
+            let (b, o) = ((4 * j) / nb, (4 * j) % nb);
+            let h = self.stiffening_block(xi, j);
+            for a in 0..2 {
+                for c in 0..2 {
+                    w.hess[b * nb * nb + (o + a) * nb + o + c] += h[a][c];
+                }
+            }
+        }
     }
 
     /// Path measure: Hessian blocks `K + Σ wgt_c Σ_nodes Bᵀ (I − ŵŵᵀ) B / |w| ds` (exact).
     pub(super) fn path_hessian(&self, xi: &[f64], wgt: &[f64], w: &mut Work) {
-        self.energy_hessian(w);
+        self.energy_hessian(xi, w);
         for (c, cable) in self.robot.cables.iter().enumerate() {
             let wc = wgt[c];
             if wc == 0.0 {

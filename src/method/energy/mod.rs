@@ -21,7 +21,9 @@
 //!
 //! # Energy and constraints
 //!
-//! `E(ξ) = Σ_j ½ ℓ_j (EI (κx² + κy²) + GJ τ² + EA ε²)`, minimized over all strains `ξ` subject,
+//! `E(ξ) = Σ_j ½ ℓ_j (EI (κx² + κy²) + GJ τ² + EA ε²)` (with the backbone's curvature
+//! stiffening `β > 0` the bending term is `EI κ² (1 + β κ²)`, `κ² = κx² + κy²`:
+//! [`crate::model::robot::Backbone::stiffening`], `problem.rs`), minimized over all strains `ξ` subject,
 //! for every displacement-driven cable `c`, to `L_c(ξ) ≤ L_c⁰ − δ_c`: cables pull, never push
 //! (a cable whose path comes out shorter than its length is slack, tension 0). `δ_c` is
 //! [`Actuation::shortening_length`] (metres; a percentage is of the straight-chord undeformed

@@ -55,6 +55,9 @@ pub(super) struct Problem<'a> {
     pub(super) ell: Vec<f64>,
     /// Diagonal stiffness of each variable (ℓ·EI, ℓ·EI, ℓ·GJ, ℓ·EA).
     pub(super) k: Vec<f64>,
+    /// The backbone's curvature stiffening `β` \[m²\] (0: the energy is the quadratic
+    /// `½ Σ k ξ²`; [`Problem::energy`]).
+    pub(super) stiffening: f64,
     /// Gauss samples `[c][j][q]` (path measure; empty for sub-arcs the cable does not reach).
     pub(super) nodes: Cow<'a, [NodeRow]>,
     pub(super) targets: Vec<Target>,
@@ -136,8 +139,54 @@ impl Problem<'_> {
             .sum()
     }
 
+    /// The elastic energy `E(ξ) = Σ_j ½ ℓ_j (EI κ_j² (1 + β κ_j²) + GJ τ_j² + EA ε_j²)`,
+    /// `κ_j² = κx² + κy²` \[J\]. With the backbone's curvature stiffening `β = 0` it is the
+    /// quadratic `½ Σ k ξ²` of the module docs of [`super`]; `β > 0` adds `½ β ℓ EI κ⁴` per
+    /// sub-arc, convex (κ⁴ is), so the problem stays convex. A constant-curvature arc under a
+    /// pure moment `M` is stationary at `∂/∂κ (½ EI κ² (1 + β κ²)) = EI κ (1 + 2 β κ²) = M`
+    /// (`tests/stiffening.rs` checks that closed form).
     pub(super) fn energy(&self, xi: &[f64]) -> f64 {
-        0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>()
+        let quad = 0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>();
+        if self.stiffening == 0.0 {
+            return quad;
+        }
+        quad + (0..self.nsub)
+            .map(|j| {
+                let k2 = xi[4 * j] * xi[4 * j] + xi[4 * j + 1] * xi[4 * j + 1];
+                0.5 * self.stiffening * self.k[4 * j] * k2 * k2
+            })
+            .sum::<f64>()
+    }
+
+    /// `∇E` into `g` (overwritten): `k_i ξ_i`, plus `2 β ℓ EI κ² κ_a` on the two curvatures
+    /// `κ_a` of each sub-arc when `β > 0` ([`Problem::energy`]).
+    pub(super) fn energy_gradient(&self, xi: &[f64], g: &mut [f64]) {
+        for i in 0..self.nvar() {
+            g[i] = self.k[i] * xi[i];
+        }
+        if self.stiffening == 0.0 {
+            return;
+        }
+        for j in 0..self.nsub {
+            let (kx, ky) = (xi[4 * j], xi[4 * j + 1]);
+            let c = 2.0 * self.stiffening * self.k[4 * j] * (kx * kx + ky * ky);
+            g[4 * j] += c * kx;
+            g[4 * j + 1] += c * ky;
+        }
+    }
+
+    /// `∇²E`'s 2×2 curvature block of sub-arc `j` beyond the diagonal `k` when `β > 0`:
+    /// `ℓ EI β (2 κ² δ_ab + 4 κ_a κ_b)`, `a, b ∈ {x, y}` (the exact second derivative of
+    /// `½ β ℓ EI κ⁴`; [`Problem::energy`]). Zero for `β = 0`.
+    #[inline]
+    pub(super) fn stiffening_block(&self, xi: &[f64], j: usize) -> [[f64; 2]; 2] {
+        let (kx, ky) = (xi[4 * j], xi[4 * j + 1]);
+        let c = self.stiffening * self.k[4 * j];
+        let k2 = kx * kx + ky * ky;
+        [
+            [c * (2.0 * k2 + 4.0 * kx * kx), c * 4.0 * kx * ky],
+            [c * 4.0 * kx * ky, c * (2.0 * k2 + 4.0 * ky * ky)],
+        ]
     }
 
     /// Whether an iterate needs its frames (obstacles or dead loads); they are computed once
@@ -288,6 +337,7 @@ impl Energy {
             nsub,
             ell,
             k,
+            stiffening: bb.stiffening,
             nodes,
             targets: vec![Target::Free; robot.cables.len()],
             compliance: robot.cables.iter().map(|c| c.compliance()).collect(),

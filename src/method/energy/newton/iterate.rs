@@ -81,9 +81,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
             })
             .collect();
         let w = &mut self.w;
-        for i in 0..prob.nvar() {
-            w.gobj[i] = prob.k[i] * self.xi[i];
-        }
+        prob.energy_gradient(&self.xi, &mut w.gobj);
         for c in 0..nc {
             if let Target::Tension(t) = prob.targets[c] {
                 for i in 0..prob.nvar() {
@@ -146,7 +144,9 @@ impl<'p, 'a> Sqp<'p, 'a> {
             );
             // `w.hess` now holds `K + Σ w_c ∇²L_c` at the solution (path lengths); the
             // scratch ends with this solve, so the blocks are moved, not copied.
-            if self.prob.set.cable_length == LengthMeasure::Path {
+            // With curvature stiffening the energy block depends on the strains and `β`, which
+            // the warm state does not record: no blocks to reuse.
+            if self.prob.set.cable_length == LengthMeasure::Path && self.prob.stiffening == 0.0 {
                 hessian = Some(EnergyHessian {
                     blocks: std::mem::take(&mut self.w.hess),
                     weights: std::mem::take(&mut self.wgt),
