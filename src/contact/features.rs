@@ -6,7 +6,7 @@ use crate::model::robot::Robot;
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3};
 use parry3d::math::Pose as PPose;
-use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape};
+use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape, ShapeType};
 
 /// A backbone piece from `a` to `b`: a capsule of the backbone radius `radius`.
 pub(crate) fn backbone(a: &Vector3<f64>, b: &Vector3<f64>, radius: f64) -> Capsule {
@@ -51,6 +51,26 @@ pub(crate) fn witness(
         polish(g, gpose, shape, opose, &rough).unwrap_or(rough),
         ct.dist,
     ))
+}
+
+/// A lower bound on the distance from anything inside the ball `(center, radius)` to
+/// `shape` at `pose`: the distance from the centre to the solid shape minus the radius (a
+/// point of the ball is at most `radius` from the centre, and the distance to a set is
+/// 1-Lipschitz), for the shapes whose point distance parry computes in closed form (ball,
+/// box, capsule, cylinder); `None` for the others. Tighter than the distance to the shape's
+/// axis-aligned bounds for a rotated shape (a tilted cylinder's bounds hold much empty space).
+pub(crate) fn ball_gap(
+    shape: &dyn PShape,
+    pose: &PPose,
+    center: &Vector3<f64>,
+    radius: f64,
+) -> Option<f64> {
+    match shape.shape_type() {
+        ShapeType::Ball | ShapeType::Cuboid | ShapeType::Capsule | ShapeType::Cylinder => {
+            Some(shape.distance_to_point(pose, pvec(center), true) - radius)
+        }
+        _ => None,
+    }
 }
 
 /// The point of a disk (frame `r`, centre `x`, radius `radius`, half thickness `half`)

@@ -395,6 +395,14 @@ impl Collect<'_, '_> {
                 self.clear = self.clear.min(lower);
                 continue;
             }
+            // The exact distance from the centre of the feature's ball to a simple shape, the
+            // same way: a pair it puts beyond the margin is one the query would find beyond it.
+            if features::ball_gap(&*o.shape, &o.parry_pose, &center, radius)
+                .is_some_and(|gap| gap > margin)
+            {
+                self.clear = self.clear.min(margin);
+                continue;
+            }
             let Some((mut w, raw)) = features::witness(g, gpose, &*o.shape, &o.parry_pose, margin)
             else {
                 self.clear = self.clear.min(margin);

@@ -13,12 +13,20 @@ use crate::numeric::dense::chol_factor;
 use crate::numeric::qp::nonneg_qp;
 use crate::numeric::semisep::SemiSepFactor;
 
-/// Solve `H x = rhs` in place with the factor of [`Sqp::factor`]: the semiseparable one when
-/// the curvature of loads or contacts is in, else the blocks.
-fn solve_h(curved: Option<&SemiSepFactor>, prob: &Problem, hess: &[f64], x: &mut [f64]) {
-    match curved {
-        Some(f) => f.solve(x),
-        None => prob.block_solve(hess, x),
+/// Solve `H x = rhs` in place for `z` and every `ys` with the factor of [`Sqp::factor`]: the
+/// semiseparable one when the curvature of loads or contacts is in, else the blocks.
+fn solve_h(
+    curved: Option<&SemiSepFactor>,
+    prob: &Problem,
+    hess: &[f64],
+    z: &mut [f64],
+    ys: &mut [Vec<f64>],
+) {
+    for x in std::iter::once(z).chain(ys.iter_mut().map(|y| y.as_mut_slice())) {
+        match curved {
+            Some(f) => f.solve(x),
+            None => prob.block_solve(hess, x),
+        }
     }
 }
 
@@ -101,15 +109,20 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let prob = self.prob;
         let nrow = self.cable_rows.len() + self.pairs.len();
         self.w.z.copy_from_slice(&self.w.gobj);
-        solve_h(self.curved.as_ref(), prob, &self.w.hess, &mut self.w.z);
         let mut ys = std::mem::take(&mut self.w.y);
         ys.resize_with(nrow, Vec::new);
         for (r, y) in ys.iter_mut().enumerate() {
             let (a, sign, _) = self.row(r);
             y.clear();
             y.extend(a.iter().map(|v| sign * v));
-            solve_h(self.curved.as_ref(), prob, &self.w.hess, y);
         }
+        solve_h(
+            self.curved.as_ref(),
+            prob,
+            &self.w.hess,
+            &mut self.w.z,
+            &mut ys,
+        );
         let mut s_mat = vec![0.0; nrow * nrow];
         let mut q = vec![0.0; nrow];
         let mut lam_new = vec![0.0; nrow];
