@@ -1,7 +1,7 @@
 //! The robot's features as parry shapes, the witness of one feature–obstacle pair, and the
 //! contact record a shape reports.
 
-use super::{nvec, polish, ppose, pvec, query, y_to_z, Witness};
+use super::{nvec, polish, ppose, pvec, query, query_near, y_to_z, Witness};
 use crate::model::robot::Robot;
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3};
@@ -40,7 +40,41 @@ pub(crate) fn witness(
     opose: &PPose,
     margin: f64,
 ) -> Option<(Witness, f64)> {
-    let ct = query(gpose, g, opose, shape, margin)?;
+    witness_of(
+        g,
+        gpose,
+        shape,
+        opose,
+        query(gpose, g, opose, shape, margin)?,
+    )
+}
+
+/// [`witness`] of a pair that was near touching a moment ago with `(normal, distance)` `near`
+/// (normal from the obstacle towards the robot): parry's answer from [`query_near`], else
+/// from [`query`].
+pub(crate) fn witness_near(
+    g: &dyn PShape,
+    gpose: &PPose,
+    shape: &dyn PShape,
+    opose: &PPose,
+    margin: f64,
+    near: (&Vector3<f64>, f64),
+) -> Option<(Witness, f64)> {
+    let ct = match query_near(gpose, g, opose, shape, margin, near) {
+        Some(answer) => answer?,
+        None => query(gpose, g, opose, shape, margin)?,
+    };
+    witness_of(g, gpose, shape, opose, ct)
+}
+
+/// The polished witness of parry's contact `ct` and parry's distance.
+fn witness_of(
+    g: &dyn PShape,
+    gpose: &PPose,
+    shape: &dyn PShape,
+    opose: &PPose,
+    ct: parry3d::query::Contact,
+) -> Option<(Witness, f64)> {
     let rough = Witness {
         robot: nvec(ct.point1),
         obstacle: nvec(ct.point2),
