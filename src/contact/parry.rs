@@ -124,7 +124,8 @@ fn shifted(
 /// `ε` off the contact normal changes the signed distance by `shift` to within
 /// `shift (1 − cos ε)`, and the witness is polished afterwards as any other.
 /// `Some(None)` beyond `margin` (the move changes the distance by at most `shift`); `None` when
-/// this cannot answer (the moved feature still overlaps, an unsupported pair): use [`query`].
+/// this cannot answer (a non-convex obstacle, the moved feature still overlaps, an unsupported
+/// pair): use [`query`].
 pub(crate) fn query_near(
     gpose: &PPose,
     g: &dyn PShape,
@@ -133,14 +134,33 @@ pub(crate) fn query_near(
     margin: f64,
     (normal0, dist0): (&Vector3<f64>, f64),
 ) -> Option<Option<PContact>> {
+    // Convex obstacles only: a mesh's distance is unsigned, its old normal may point through it.
+    if !shape.is_convex() {
+        return None;
+    }
     let shift = SEPARATION_SHIFT + (-dist0).max(0.0);
-    match shifted(gpose, g, opose, shape, margin, &-normal0, shift) {
+    let c = match shifted(gpose, g, opose, shape, margin, &-normal0, shift) {
         // GJK answered (the moved feature is clear of the obstacle).
-        Ok(Some(c)) if c.dist + shift > 0.0 => Some(Some(c)),
-        Ok(None) => Some(None),
-        _ => None,
+        Ok(Some(c)) if c.dist + shift > 0.0 => c,
+        Ok(None) => return Some(None),
+        _ => return None,
+    };
+    // Where the normal has turned, once more along the new one (as `query` moves the feature
+    // along its first answer's normal): the shifted answer's error grows with the angle.
+    let n1 = nvec(c.normal1);
+    if (n1 + normal0).norm() <= NORMAL_KEPT {
+        return Some(Some(c));
+    }
+    let shift = SEPARATION_SHIFT + (-c.dist).max(0.0);
+    match shifted(gpose, g, opose, shape, margin, &n1, shift) {
+        Ok(Some(c2)) if c2.dist + shift > 0.0 => Some(Some(c2)),
+        _ => Some(Some(c)),
     }
 }
+
+/// [`query_near`] moves the feature along the new normal again when it differs from the old
+/// one by more than this \[rad\].
+const NORMAL_KEPT: f64 = 1e-6;
 
 /// Closest points of one feature–obstacle pair.
 #[derive(Debug, Clone, Copy)]
