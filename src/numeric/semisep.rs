@@ -177,22 +177,37 @@ impl SemiSep {
 }
 
 impl SemiSepFactor {
-    /// Solve `A x = rhs` in place (`x` holds `rhs`).
+    /// Solve `A x = rhs` in place (`x` holds `rhs`): [`SemiSepFactor::forward`], then
+    /// [`SemiSepFactor::backward`].
     pub fn solve(&self, x: &mut [f64]) {
+        self.forward(x);
+        self.backward(x);
+    }
+
+    /// Solve `L y = rhs` in place (the factor's lower triangle; `A = L Lᵀ`).
+    pub fn forward(&self, x: &mut [f64]) {
         // As in [`SemiSep::factor`]: four-strain blocks with `b` a constant.
         if self.b == 4 {
-            self.solve_b(x, 4);
+            self.forward_b(x, 4);
         } else {
-            self.solve_b(x, self.b);
+            self.forward_b(x, self.b);
         }
     }
 
-    /// [`SemiSepFactor::solve`] with block size `b` (`== self.b`).
+    /// Solve `Lᵀ x = y` in place.
+    pub fn backward(&self, x: &mut [f64]) {
+        if self.b == 4 {
+            self.backward_b(x, 4);
+        } else {
+            self.backward_b(x, self.b);
+        }
+    }
+
+    /// [`SemiSepFactor::forward`] with block size `b` (`== self.b`).
     #[inline(always)]
-    fn solve_b(&self, x: &mut [f64], b: usize) {
+    fn forward_b(&self, x: &mut [f64], b: usize) {
         let (n, r) = (self.n, self.r);
         let mut acc = vec![0.0; r];
-        // Forward: L y = rhs.
         for i in 0..n {
             let (vi, qi) = (
                 &self.v[i * r * b..(i + 1) * r * b],
@@ -222,8 +237,13 @@ impl SemiSepFactor {
                 acc[p] = s;
             }
         }
-        // Backward: Lᵀ x = y.
-        acc.fill(0.0);
+    }
+
+    /// [`SemiSepFactor::backward`] with block size `b` (`== self.b`).
+    #[inline(always)]
+    fn backward_b(&self, x: &mut [f64], b: usize) {
+        let (n, r) = (self.n, self.r);
+        let mut acc = vec![0.0; r];
         for i in (0..n).rev() {
             let (vi, qi) = (
                 &self.v[i * r * b..(i + 1) * r * b],
@@ -314,6 +334,12 @@ mod tests {
                 want[k]
             );
         }
+        // The forward sweep alone: |L⁻¹ b|² = bᵀ A⁻¹ b.
+        let mut y = rhs.clone();
+        fac.forward(&mut y);
+        let quad: f64 = rhs.iter().zip(want.iter()).map(|(b, x)| b * x).sum();
+        let yy: f64 = y.iter().map(|v| v * v).sum();
+        assert!((yy - quad).abs() < 1e-12 * quad.abs(), "{yy} vs {quad}");
         // Indefinite: a large negative diagonal entry in the last block.
         let mut bad = a.clone();
         bad.diag[(n - 1) * b * b] = -50.0;
