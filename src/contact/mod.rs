@@ -24,4 +24,6 @@ pub(crate) mod curvature;
 pub(crate) mod features;
 pub(crate) mod parry;
 
-pub(crate) use parry::{nvec, polish, ppose, pvec, query, y_to_z, Witness, CONTACT_TOL};
+pub(crate) use parry::{
+    nvec, polish, ppose, pvec, query, query_near, y_to_z, Witness, CONTACT_TOL,
+};

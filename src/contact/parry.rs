@@ -87,19 +87,80 @@ pub(crate) fn query(
         return Some(ct);
     }
     let shift = SEPARATION_SHIFT + (-ct.dist).max(0.0);
-    let n0 = nvec(ct.normal1);
-    let moved = PPose::from_parts(gpose.translation - pvec(&(shift * n0)), gpose.rotation);
-    match parry3d::query::contact(&moved, g, opose, shape, margin + shift) {
-        Ok(Some(mut c2)) => {
-            c2.dist -= shift;
-            c2.point1 += pvec(&(shift * n0));
-            Some(c2)
-        }
+    match shifted(gpose, g, opose, shape, margin, &nvec(ct.normal1), shift) {
+        Ok(Some(c2)) => Some(c2),
         // Without the GJK answer, the first one only if it was a real one.
         _ if exact => Some(ct),
         _ => None,
     }
 }
+
+/// The contact of the feature moved `shift` away along `-n0` (`n0` from the feature towards
+/// the obstacle), brought back: distance minus `shift`, the feature's point moved back.
+fn shifted(
+    gpose: &PPose,
+    g: &dyn PShape,
+    opose: &PPose,
+    shape: &dyn PShape,
+    margin: f64,
+    n0: &Vector3<f64>,
+    shift: f64,
+) -> Result<Option<PContact>, parry3d::query::Unsupported> {
+    let moved = PPose::from_parts(gpose.translation - pvec(&(shift * n0)), gpose.rotation);
+    Ok(
+        parry3d::query::contact(&moved, g, opose, shape, margin + shift)?.map(|mut c2| {
+            c2.dist -= shift;
+            c2.point1 += pvec(&(shift * n0));
+            c2
+        }),
+    )
+}
+
+/// [`query`] for a pair that was near touching ([`SEPARATION_SHIFT`]) a moment ago, at
+/// distance `dist0` with normal `normal0` (from the obstacle towards the robot): the feature
+/// is moved clear along that normal at once, where GJK alone answers, without the first query
+/// (and the EPA it runs when the two barely overlap). The shifted answer is the same as
+/// [`query`]'s up to GJK's tolerance: moving a convex feature by `shift` along a direction
+/// `ε` off the contact normal changes the signed distance by `shift` to within
+/// `shift (1 − cos ε)`, and the witness is polished afterwards as any other.
+/// `Some(None)` beyond `margin` (the move changes the distance by at most `shift`); `None` when
+/// this cannot answer (a non-convex obstacle, the moved feature still overlaps, an unsupported
+/// pair): use [`query`].
+pub(crate) fn query_near(
+    gpose: &PPose,
+    g: &dyn PShape,
+    opose: &PPose,
+    shape: &dyn PShape,
+    margin: f64,
+    (normal0, dist0): (&Vector3<f64>, f64),
+) -> Option<Option<PContact>> {
+    // Convex obstacles only: a mesh's distance is unsigned, its old normal may point through it.
+    if !shape.is_convex() {
+        return None;
+    }
+    let shift = SEPARATION_SHIFT + (-dist0).max(0.0);
+    let c = match shifted(gpose, g, opose, shape, margin, &-normal0, shift) {
+        // GJK answered (the moved feature is clear of the obstacle).
+        Ok(Some(c)) if c.dist + shift > 0.0 => c,
+        Ok(None) => return Some(None),
+        _ => return None,
+    };
+    // Where the normal has turned, once more along the new one (as `query` moves the feature
+    // along its first answer's normal): the shifted answer's error grows with the angle.
+    let n1 = nvec(c.normal1);
+    if (n1 + normal0).norm() <= NORMAL_KEPT {
+        return Some(Some(c));
+    }
+    let shift = SEPARATION_SHIFT + (-c.dist).max(0.0);
+    match shifted(gpose, g, opose, shape, margin, &n1, shift) {
+        Ok(Some(c2)) if c2.dist + shift > 0.0 => Some(Some(c2)),
+        _ => Some(Some(c)),
+    }
+}
+
+/// [`query_near`] moves the feature along the new normal again when it differs from the old
+/// one by more than this \[rad\].
+const NORMAL_KEPT: f64 = 1e-6;
 
 /// Closest points of one feature–obstacle pair.
 #[derive(Debug, Clone, Copy)]

@@ -90,7 +90,19 @@ impl SemiSep {
 
     /// The factor, or `None` if the matrix is not positive definite.
     pub fn factor(&self) -> Option<SemiSepFactor> {
-        let (n, b, r) = (self.n, self.b, self.r);
+        // Blocks of one sub-arc's four strains: the same code with `b` a constant, so that
+        // the short loops over a block are unrolled (the same operations in the same order).
+        if self.b == 4 {
+            self.factor_b(4)
+        } else {
+            self.factor_b(self.b)
+        }
+    }
+
+    /// [`SemiSep::factor`] with block size `b` (`== self.b`).
+    #[inline(always)]
+    fn factor_b(&self, b: usize) -> Option<SemiSepFactor> {
+        let (n, r) = (self.n, self.r);
         let mut s = vec![0.0; r * r];
         let mut l = vec![0.0; n * b * b];
         let mut q = vec![0.0; n * r * b];
@@ -165,11 +177,37 @@ impl SemiSep {
 }
 
 impl SemiSepFactor {
-    /// Solve `A x = rhs` in place (`x` holds `rhs`).
+    /// Solve `A x = rhs` in place (`x` holds `rhs`): [`SemiSepFactor::forward`], then
+    /// [`SemiSepFactor::backward`].
     pub fn solve(&self, x: &mut [f64]) {
-        let (n, b, r) = (self.n, self.b, self.r);
+        self.forward(x);
+        self.backward(x);
+    }
+
+    /// Solve `L y = rhs` in place (the factor's lower triangle; `A = L Lᵀ`).
+    pub fn forward(&self, x: &mut [f64]) {
+        // As in [`SemiSep::factor`]: four-strain blocks with `b` a constant.
+        if self.b == 4 {
+            self.forward_b(x, 4);
+        } else {
+            self.forward_b(x, self.b);
+        }
+    }
+
+    /// Solve `Lᵀ x = y` in place.
+    pub fn backward(&self, x: &mut [f64]) {
+        if self.b == 4 {
+            self.backward_b(x, 4);
+        } else {
+            self.backward_b(x, self.b);
+        }
+    }
+
+    /// [`SemiSepFactor::forward`] with block size `b` (`== self.b`).
+    #[inline(always)]
+    fn forward_b(&self, x: &mut [f64], b: usize) {
+        let (n, r) = (self.n, self.r);
         let mut acc = vec![0.0; r];
-        // Forward: L y = rhs.
         for i in 0..n {
             let (vi, qi) = (
                 &self.v[i * r * b..(i + 1) * r * b],
@@ -178,26 +216,34 @@ impl SemiSepFactor {
             let li = &self.l[i * b * b..(i + 1) * b * b];
             let xi = &mut x[i * b..(i + 1) * b];
             for p in 0..r {
-                for (t, &v) in xi.iter_mut().zip(&vi[p * b..(p + 1) * b]) {
-                    *t -= v * acc[p];
+                let (a, vp) = (acc[p], &vi[p * b..(p + 1) * b]);
+                for t in 0..b {
+                    xi[t] -= vp[t] * a;
                 }
             }
             for a in 0..b {
-                let (done, rest) = xi.split_at_mut(a);
-                let mut t = rest[0];
-                for (&lc, &xc) in li[a * b..a * b + a].iter().zip(done.iter()) {
-                    t -= lc * xc;
+                let mut t = xi[a];
+                for c in 0..a {
+                    t -= li[a * b + c] * xi[c];
                 }
-                rest[0] = t / li[a * b + a];
+                xi[a] = t / li[a * b + a];
             }
             for p in 0..r {
-                for (&qc, &xc) in qi[p * b..(p + 1) * b].iter().zip(xi.iter()) {
-                    acc[p] += qc * xc;
+                let qp = &qi[p * b..(p + 1) * b];
+                let mut s = acc[p];
+                for t in 0..b {
+                    s += qp[t] * xi[t];
                 }
+                acc[p] = s;
             }
         }
-        // Backward: Lᵀ x = y.
-        acc.fill(0.0);
+    }
+
+    /// [`SemiSepFactor::backward`] with block size `b` (`== self.b`).
+    #[inline(always)]
+    fn backward_b(&self, x: &mut [f64], b: usize) {
+        let (n, r) = (self.n, self.r);
+        let mut acc = vec![0.0; r];
         for i in (0..n).rev() {
             let (vi, qi) = (
                 &self.v[i * r * b..(i + 1) * r * b],
@@ -206,8 +252,9 @@ impl SemiSepFactor {
             let li = &self.l[i * b * b..(i + 1) * b * b];
             let xi = &mut x[i * b..(i + 1) * b];
             for p in 0..r {
-                for (t, &q) in xi.iter_mut().zip(&qi[p * b..(p + 1) * b]) {
-                    *t -= q * acc[p];
+                let (a, qp) = (acc[p], &qi[p * b..(p + 1) * b]);
+                for t in 0..b {
+                    xi[t] -= qp[t] * a;
                 }
             }
             for a in (0..b).rev() {
@@ -218,9 +265,12 @@ impl SemiSepFactor {
                 xi[a] = t / li[a * b + a];
             }
             for p in 0..r {
-                for (&vc, &xc) in vi[p * b..(p + 1) * b].iter().zip(xi.iter()) {
-                    acc[p] += vc * xc;
+                let vp = &vi[p * b..(p + 1) * b];
+                let mut s = acc[p];
+                for t in 0..b {
+                    s += vp[t] * xi[t];
                 }
+                acc[p] = s;
             }
         }
     }
@@ -284,6 +334,12 @@ mod tests {
                 want[k]
             );
         }
+        // The forward sweep alone: |L⁻¹ b|² = bᵀ A⁻¹ b.
+        let mut y = rhs.clone();
+        fac.forward(&mut y);
+        let quad: f64 = rhs.iter().zip(want.iter()).map(|(b, x)| b * x).sum();
+        let yy: f64 = y.iter().map(|v| v * v).sum();
+        assert!((yy - quad).abs() < 1e-12 * quad.abs(), "{yy} vs {quad}");
         // Indefinite: a large negative diagonal entry in the last block.
         let mut bad = a.clone();
         bad.diag[(n - 1) * b * b] = -50.0;

@@ -45,6 +45,7 @@
 
 use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use crate::contact::features::{self, Touching};
+use crate::contact::parry::SEPARATION_SHIFT;
 use crate::contact::{broad, polish, Witness};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
@@ -225,19 +226,21 @@ impl<'a> World<'a> {
     /// the smallest distance found, the margin for a pair beyond it, or the distance to the
     /// bounds of an obstacle not queried.
     pub fn pairs(&self, kin: &Kin) -> (Vec<Pair>, f64) {
-        self.pairs_among(kin, None)
+        self.pairs_near(kin, &[])
     }
 
-    /// [`World::pairs`] restricted to the pairs `only` (by [`Pair::key`]) when given: the
-    /// other feature–obstacle pairs are not queried (their distances do not bound `clear`).
-    pub fn pairs_among(&self, kin: &Kin, only: Option<&[(usize, Feat)]>) -> (Vec<Pair>, f64) {
+    /// [`World::pairs`] at a state close to the one where `hints` were found (a line search's
+    /// trial point and its iterate): a pair that was near touching there is queried from its
+    /// old normal at once ([`features::witness_near`]), without the query that would run EPA
+    /// when the two barely overlap. The same pairs, witnesses equal to GJK's tolerance.
+    pub fn pairs_near(&self, kin: &Kin, hints: &[Pair]) -> (Vec<Pair>, f64) {
         let (lo, hi) = self.robot_box(kin);
         let (candidates, clear) = broad::within_box(self.scene, &self.near, &lo, &hi, self.margin);
         let mut q = Collect {
             world: self,
             kin,
             candidates,
-            only,
+            hints,
             clear,
             out: vec![],
         };
@@ -364,7 +367,8 @@ struct Collect<'w, 'a> {
     kin: &'w Kin,
     /// Obstacles the robot-level pass kept.
     candidates: Vec<usize>,
-    only: Option<&'w [(usize, Feat)]>,
+    /// Pairs found at a nearby state ([`World::pairs_near`]).
+    hints: &'w [Pair],
     /// Lower bound on the distance between the robot and the obstacles so far \[m\].
     clear: f64,
     out: Vec<Pair>,
@@ -385,9 +389,6 @@ impl Collect<'_, '_> {
         let (scene, margin) = (world.scene, world.margin);
         let robot = world.robot;
         for &k in &self.candidates {
-            if self.only.is_some_and(|keys| !keys.contains(&(k, feat))) {
-                continue;
-            }
             let o = &scene.obstacles[k];
             // Bounds farther than the margin: no query, their distance bounds `clear`.
             let lower = scene.bounds_distance(k, &center) - radius;
@@ -395,8 +396,30 @@ impl Collect<'_, '_> {
                 self.clear = self.clear.min(lower);
                 continue;
             }
-            let Some((mut w, raw)) = features::witness(g, gpose, &*o.shape, &o.parry_pose, margin)
-            else {
+            // The exact distance from the centre of the feature's ball to a simple shape, the
+            // same way: a pair it puts beyond the margin is one the query would find beyond it.
+            if features::ball_gap(&*o.shape, &o.parry_pose, &center, radius)
+                .is_some_and(|gap| gap > margin)
+            {
+                self.clear = self.clear.min(margin);
+                continue;
+            }
+            let near = self
+                .hints
+                .iter()
+                .find(|h| h.key() == (k, feat) && h.dist < SEPARATION_SHIFT);
+            let found = match near {
+                Some(h) => features::witness_near(
+                    g,
+                    gpose,
+                    &*o.shape,
+                    &o.parry_pose,
+                    margin,
+                    (&h.normal, h.dist),
+                ),
+                None => features::witness(g, gpose, &*o.shape, &o.parry_pose, margin),
+            };
+            let Some((mut w, raw)) = found else {
                 self.clear = self.clear.min(margin);
                 continue;
             };

@@ -177,13 +177,19 @@ impl Energy {
                 residual: resid,
                 detail: "Hessian block cannot be made positive definite".into(),
             })?;
-            let lam_new = sqp.dual_step().ok_or_else(|| SolveError::NotConverged {
-                method: self.name().into(),
-                section: None,
-                iterations: it,
-                residual: resid,
-                detail: "the step's QP (cable and contact multipliers) did not converge".into(),
-            })?;
+            let Some(lam_new) = sqp.dual_step() else {
+                // Still inside an obstacle: that is the named reason (a start that crosses it).
+                return Err(self.obstructed(&sqp, it).unwrap_or_else(|| {
+                    SolveError::NotConverged {
+                        method: self.name().into(),
+                        section: None,
+                        iterations: it,
+                        residual: resid,
+                        detail: "the step's QP (cable and contact multipliers) did not converge"
+                            .into(),
+                    }
+                }));
+            };
             let alpha = sqp.line_search(&lam_new);
             sqp.take_step(alpha, &lam_new);
         }
@@ -232,32 +238,8 @@ impl Energy {
         if let Err(e) = self.check_stretch(prob, &sqp.xi, &sqp.lam) {
             return e;
         }
-        // Still inside an obstacle: the start crossed it (the straight robot through a wall,
-        // or a tube it does not fit).
-        let clearance = sqp.clearance;
-        if let Some(p) = sqp
-            .pairs
-            .iter()
-            .filter(|p| p.dist < clearance - CONTACT_RESIDUAL)
-            .min_by(|a, b| a.dist.total_cmp(&b.dist))
-        {
-            let c = sqp.world.map(|wd| wd.contact(p, 0.0));
-            return SolveError::Obstructed {
-                obstacle: c.as_ref().map(|c| c.obstacle.clone()).unwrap_or_default(),
-                section: c.and_then(|c| c.section.or(c.disk)).unwrap_or(0),
-                reason: format!(
-                    "after {} iterations the {} still lies {:.3e} m inside the clearance: the \
-                     start crosses the obstacle; start from a shape that is clear of it (e.g. \
-                     the geometric method's, `--warm-from geometric`)",
-                    self.max_iterations,
-                    match p.feat {
-                        Feat::Backbone(_) => "backbone",
-                        Feat::Disk(_) => "disk",
-                        Feat::Cable(..) => "cable",
-                    },
-                    clearance - p.dist
-                ),
-            };
+        if let Some(e) = self.obstructed(sqp, self.max_iterations) {
+            return e;
         }
         SolveError::NotConverged {
             method: self.name().into(),
@@ -266,6 +248,38 @@ impl Energy {
             residual: resid,
             detail: "residual = max(length error [m], contact gap [m], r̄·|∇ℒ|∞/(EI ℓ))".into(),
         }
+    }
+
+    /// [`SolveError::Obstructed`] when the iterate, after `iterations`, still lies inside an
+    /// obstacle: the start crossed it (the straight robot through a wall, or a tube it does
+    /// not fit).
+    fn obstructed(&self, sqp: &Sqp, iterations: usize) -> Option<SolveError> {
+        let clearance = sqp.clearance;
+        if let Some(p) = sqp
+            .pairs
+            .iter()
+            .filter(|p| p.dist < clearance - CONTACT_RESIDUAL)
+            .min_by(|a, b| a.dist.total_cmp(&b.dist))
+        {
+            let c = sqp.world.map(|wd| wd.contact(p, 0.0));
+            return Some(SolveError::Obstructed {
+                obstacle: c.as_ref().map(|c| c.obstacle.clone()).unwrap_or_default(),
+                section: c.and_then(|c| c.section.or(c.disk)).unwrap_or(0),
+                reason: format!(
+                    "after {} iterations the {} still lies {:.3e} m inside the clearance: the \
+                     start crosses the obstacle; start from a shape that is clear of it (e.g. \
+                     the geometric method's, `--warm-from geometric`)",
+                    iterations,
+                    match p.feat {
+                        Feat::Backbone(_) => "backbone",
+                        Feat::Disk(_) => "disk",
+                        Feat::Cable(..) => "cable",
+                    },
+                    clearance - p.dist
+                ),
+            });
+        }
+        None
     }
 
     /// A solution that compresses the backbone below `min_stretch` means the cable lengths

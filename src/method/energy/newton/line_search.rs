@@ -73,7 +73,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 .needs_frames()
                 .then(|| contacts::kinematics(&self.trial, &prob.ell, false));
             let (trial_pairs, trial_clear) = match (self.world, &kin_trial) {
-                (Some(wd), Some(k)) if stretch_ok => wd.pairs(k),
+                (Some(wd), Some(k)) if stretch_ok => wd.pairs_near(k, &self.pairs),
                 _ => (vec![], f64::INFINITY),
             };
             // No feature may pass through an obstacle between two iterates (distances to

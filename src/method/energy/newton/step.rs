@@ -7,20 +7,9 @@
 
 use super::dot;
 use super::Sqp;
-use crate::method::energy::problem::Problem;
 use crate::model::actuation::LengthMeasure;
 use crate::numeric::dense::chol_factor;
 use crate::numeric::qp::nonneg_qp;
-use crate::numeric::semisep::SemiSepFactor;
-
-/// Solve `H x = rhs` in place with the factor of [`Sqp::factor`]: the semiseparable one when
-/// the curvature of loads or contacts is in, else the blocks.
-fn solve_h(curved: Option<&SemiSepFactor>, prob: &Problem, hess: &[f64], x: &mut [f64]) {
-    match curved {
-        Some(f) => f.solve(x),
-        None => prob.block_solve(hess, x),
-    }
-}
 
 impl<'p, 'a> Sqp<'p, 'a> {
     /// Factor the Lagrangian Hessian: its blocks in place (shifted towards the energy block
@@ -94,7 +83,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
     }
 
     /// The QP of this step in its dual: rows a_r, values c_r ≤ 0 ([`Sqp::row`]). With
-    /// z = H⁻¹ ∇f and y_r = H⁻¹ a_r the step is −z − Σ λ_r y_r (into `dxi`), where λ ≥ 0
+    /// z = H⁻¹ ∇f and y_r = H⁻¹ a_r (a_r with the row's sign) the step is −z − Σ λ_r y_r (into `dxi`), where λ ≥ 0
     /// minimizes ½ λᵀ (S + C) λ − qᵀ λ, S = [a_rᵀ y_s], q_r = c_r − a_rᵀ z, C the diagonal of
     /// the cables' compliances `1/k` (a compliant row `a·d + c − λ/k ≤ 0` is the primal QP
     /// with a stretch `s` costing `½ k s²`; eliminating `s = λ/k` puts `1/k` on the dual's
@@ -103,23 +92,40 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let prob = self.prob;
         let nrow = self.cable_rows.len() + self.pairs.len();
         self.w.z.copy_from_slice(&self.w.gobj);
-        solve_h(self.curved.as_ref(), prob, &self.w.hess, &mut self.w.z);
         let mut ys = std::mem::take(&mut self.w.y);
         ys.resize_with(nrow, Vec::new);
         for (r, y) in ys.iter_mut().enumerate() {
             let (a, sign, _) = self.row(r);
             y.clear();
             y.extend(a.iter().map(|v| sign * v));
-            solve_h(self.curved.as_ref(), prob, &self.w.hess, y);
+        }
+        // With the semiseparable factor `H = L Lᵀ` the forward sweeps alone give
+        // `w = L⁻¹ (∇f, â_r)`: `S_rs = w_r · w_s`, `q_r = c_r − w_r · w_z`, and the step is one
+        // backward sweep, `−L⁻ᵀ (w_z + Σ λ_r w_r)`. The blocks solve in full.
+        let curved = self.curved.as_ref();
+        for x in std::iter::once(&mut self.w.z).chain(ys.iter_mut()) {
+            match curved {
+                Some(f) => f.forward(x),
+                None => prob.block_solve(&self.w.hess, x),
+            }
         }
         let mut s_mat = vec![0.0; nrow * nrow];
         let mut q = vec![0.0; nrow];
         let mut lam_new = vec![0.0; nrow];
         for r in 0..nrow {
             let (a, sign, c) = self.row(r);
-            q[r] = c - sign * dot(a, &self.w.z);
-            for s in 0..nrow {
-                s_mat[r * nrow + s] = sign * dot(a, &ys[s]);
+            if curved.is_some() {
+                q[r] = c - dot(&ys[r], &self.w.z);
+                for s in r..nrow {
+                    let v = dot(&ys[r], &ys[s]);
+                    s_mat[r * nrow + s] = v;
+                    s_mat[s * nrow + r] = v;
+                }
+            } else {
+                q[r] = c - sign * dot(a, &self.w.z);
+                for s in 0..nrow {
+                    s_mat[r * nrow + s] = sign * dot(a, &ys[s]);
+                }
             }
             lam_new[r] = if r < self.cable_rows.len() {
                 s_mat[r * nrow + r] += prob.compliance[self.cable_rows[r]];
@@ -136,6 +142,9 @@ impl<'p, 'a> Sqp<'p, 'a> {
                     d -= lam_new[r] * ys[r][i];
                 }
                 self.dxi[i] = d;
+            }
+            if let Some(f) = curved {
+                f.backward(&mut self.dxi);
             }
             self.unpenalize(&mut lam_new);
         }
