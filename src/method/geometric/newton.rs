@@ -54,7 +54,8 @@ impl Geometric {
     /// certified candidate or why not.
     ///
     /// Obstacle pairs within the margin enter each step as linearized inequalities
-    /// `d_j + ∇d_j·dx ≥ clearance`; such steps are convex QPs solved by clarabel, steps without
+    /// `d_j + ∇d_j·dx ≥ clearance`; such steps are convex QPs solved exactly by a dual active set
+    /// ([`crate::numeric::active_qp`]; clarabel where it makes no claim), steps without
     /// near pairs are the dense equality-only Newton–KKT step. The line search uses the ℓ1
     /// merit `F + ρ (Σ|c| + Σ max(0, clearance − d_j))`.
     pub(super) fn newton(
@@ -124,17 +125,9 @@ impl Geometric {
                 .map(|p| clearance - p.dist)
                 .fold(0.0f64, f64::max);
             last_res = res.max(worst_gap);
-            // With active contacts converge at CONTACT_STEP_TOL (see there).
             let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
             let in_contact = mu_max > 1e-10;
-            // By the method, not by this run's objective: the literal method's squared start
-            // runs converge like its own.
-            let step_tol = match (in_contact, self.objective == Objective::Squared) {
-                (true, false) if !data.loose_contacts.get() => CONTACT_STEP_TOL,
-                (true, false) => FORMER_CONTACT_STEP_TOL,
-                (true, true) => FORMER_CONTACT_STEP_TOL,
-                (false, _) => 1e-11,
-            };
+            let step_tol = self.step_tolerance(data, in_contact);
             if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= step_tol {
                 // Active contacts join the equalities for the second-order check.
                 let contacts: Vec<Contact> = (0..pairs.len())
@@ -212,6 +205,19 @@ impl Geometric {
             residual: last_res,
             escape: None,
         })
+    }
+
+    /// The Newton step size at which a run has converged: 1e-11, or with active contacts
+    /// [`CONTACT_STEP_TOL`] — [`FORMER_CONTACT_STEP_TOL`] for `geometric-squared` (by the
+    /// method, not by the run's objective: the literal method's squared start runs converge
+    /// like its own) and on the literal method's last retry ([`SectionData::loose_contacts`]).
+    fn step_tolerance(&self, data: &SectionData, in_contact: bool) -> f64 {
+        let former = self.objective == Objective::Squared || data.loose_contacts.get();
+        match (in_contact, former) {
+            (true, false) => CONTACT_STEP_TOL,
+            (true, true) => FORMER_CONTACT_STEP_TOL,
+            (false, _) => 1e-11,
+        }
     }
 
     /// Whether Newton ran a term that this face keeps non-zero into its kink.
