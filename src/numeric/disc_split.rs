@@ -68,13 +68,8 @@ mod tests {
     /// Random pairs of discs: the closed form equals clarabel's cone program.
     #[test]
     fn two_discs_in_closed_form_equal_the_cone_program() {
-        let mut seed = 7u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = crate::numeric::test_rng::Rng(7);
+        let mut rnd = move || rng.next() * 2.0 - 1.0;
         for _ in 0..300 {
             let (w1, w2) = (1.0 + rnd().abs(), 1.0 + 2.0 * rnd().abs());
             let mut disc = |w: f64| {

@@ -1,5 +1,6 @@
 //! A small deterministic generator (xorshift64), so every run of a test draws the same values;
-//! included with `#[path = "common/rng.rs"] mod rng;` by tests that do not take all of `common`.
+//! included with `#[path = "common/rng.rs"] mod rng;` by tests that do not take all of `common`,
+//! and by the library's unit tests as `crate::numeric::test_rng`.
 
 /// Xorshift64 state; seed it with any non-zero value.
 pub struct Rng(pub u64);

@@ -325,13 +325,8 @@ mod tests {
     #[test]
     fn pruned_pairs_equal_the_unpruned_ones() {
         let robot = Model::from_file("models/paper/case1.toml").unwrap().robot;
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = |a: f64, b: f64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            a + (b - a) * (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::numeric::test_rng::Rng(0x2545_f491_4f6c_dd1d);
+        let mut rnd = |a: f64, b: f64| rng.range(a, b);
         let (mut kept, mut pruned, mut touching) = (0, 0, 0);
         for scene in ["wall", "pillar"] {
             let scene = Scene::from_file(format!("models/scenes/{scene}.toml")).unwrap();
