@@ -9,8 +9,7 @@ use super::{plain_number, plain_scene};
 #[path = "../../tests/common/scenes.rs"]
 mod scenes;
 
-#[path = "../../tests/common/rng.rs"]
-mod rng;
+use crate::numeric::test_rng as rng;
 
 /// Checks the rule on `text`; `Some(true)` when the one-pass reader read it.
 fn agrees(text: &str) -> bool {
