@@ -46,7 +46,7 @@ pub fn qp_step6(
     match qp6_active_set(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs) {
         Qp6::Solved(step, _) => Some(step),
         Qp6::Infeasible => None,
-        Qp6::Undecided => qp_step6_clarabel(h, g, eq_rows, eq_rhs, in_rows, in_rhs, reg),
+        Qp6::Undecided => clarabel_step6(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs),
     }
 }
 
@@ -72,7 +72,25 @@ pub fn qp_step6_clarabel(
     in_rhs: &[f64],
     reg: f64,
 ) -> Option<QpStep> {
-    let hp = clamped_hessian(h, reg);
+    clarabel_step6(
+        &clamped_hessian(h, reg),
+        g,
+        eq_rows,
+        eq_rhs,
+        in_rows,
+        in_rhs,
+    )
+}
+
+/// [`qp_step6_clarabel`] on the already clamped Hessian `hp`.
+fn clarabel_step6(
+    hp: &Matrix6<f64>,
+    g: &Vector6<f64>,
+    eq_rows: &[Vector6<f64>],
+    eq_rhs: &[f64],
+    in_rows: &[Vector6<f64>],
+    in_rhs: &[f64],
+) -> Option<QpStep> {
     // P: upper triangle, column-major CSC.
     let (mut colptr, mut rowval, mut nzval) = (vec![0usize], vec![], vec![]);
     for j in 0..6 {
