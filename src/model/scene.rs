@@ -151,14 +151,9 @@ impl Scene {
     /// they overlap, infinite for an index out of range): a lower bound on the distance from
     /// anything inside the box to the obstacle.
     pub fn bounds_gap(&self, k: usize, lo: &Vector3<f64>, hi: &Vector3<f64>) -> f64 {
-        self.obstacles.get(k).map_or(f64::INFINITY, |o| {
-            let mut d2 = 0.0;
-            for a in 0..3 {
-                let g = (o.aabb.0[a] - hi[a]).max(lo[a] - o.aabb.1[a]).max(0.0);
-                d2 += g * g;
-            }
-            d2.sqrt()
-        })
+        self.obstacles
+            .get(k)
+            .map_or(f64::INFINITY, |o| aabb_gap(&o.aabb, lo, hi))
     }
 
     /// Broad phase on a subset: the indices in `among` (e.g. an earlier [`Scene::near`]
@@ -213,7 +208,8 @@ impl Scene {
     }
 }
 
-fn aabb_ball_distance(aabb: &(Vector3<f64>, Vector3<f64>), c: &Vector3<f64>) -> f64 {
+/// Distance from the point `c` to the box `aabb` (min and max corners; 0 inside it).
+pub(crate) fn aabb_ball_distance(aabb: &(Vector3<f64>, Vector3<f64>), c: &Vector3<f64>) -> f64 {
     let mut d2 = 0.0;
     for k in 0..3 {
         let v = if c[k] < aabb.0[k] {
@@ -224,6 +220,21 @@ fn aabb_ball_distance(aabb: &(Vector3<f64>, Vector3<f64>), c: &Vector3<f64>) -> 
             0.0
         };
         d2 += v * v;
+    }
+    d2.sqrt()
+}
+
+/// Distance between the box `aabb` (min and max corners) and the box `lo..hi` (0 when they
+/// overlap).
+pub(crate) fn aabb_gap(
+    aabb: &(Vector3<f64>, Vector3<f64>),
+    lo: &Vector3<f64>,
+    hi: &Vector3<f64>,
+) -> f64 {
+    let mut d2 = 0.0;
+    for a in 0..3 {
+        let g = (aabb.0[a] - hi[a]).max(lo[a] - aabb.1[a]).max(0.0);
+        d2 += g * g;
     }
     d2.sqrt()
 }

@@ -7,7 +7,7 @@ use crate::contact::features::{self, Touching};
 use crate::contact::Witness;
 use crate::contact::{nvec, pvec};
 use crate::model::robot::Robot;
-use crate::model::scene::Scene;
+use crate::model::scene::{aabb_ball_distance, aabb_gap, Scene};
 use crate::shape::Contact;
 use nalgebra::{Matrix3, Vector3, Vector6};
 use parry3d::math::Pose as PPose;
@@ -188,7 +188,6 @@ impl SectionWorld {
     fn distance_bound(&self, k: usize, hull: &Hull) -> f64 {
         let opose = &self.shapes[k].1;
         let to_local = |p: &Vector3<f64>| nvec(opose.inverse_transform_point(pvec(p)));
-        let (lo_o, hi_o) = &self.boxes[k];
         let (c, radius, lo, hi) = match *hull {
             Hull::Segment(a, b, r) => {
                 let (la, lb) = (to_local(&a), to_local(&b));
@@ -211,9 +210,8 @@ impl SectionWorld {
                 (lc, rd.hypot(ht), lc - e, lc + e)
             }
         };
-        let ball = Vector3::from_fn(|i, _| (lo_o[i] - c[i]).max(c[i] - hi_o[i]).max(0.0));
-        let boxes = Vector3::from_fn(|i, _| (lo_o[i] - hi[i]).max(lo[i] - hi_o[i]).max(0.0));
-        (ball.norm() - radius).max(boxes.norm())
+        let obstacle_box = &self.boxes[k];
+        (aabb_ball_distance(obstacle_box, &c) - radius).max(aabb_gap(obstacle_box, &lo, &hi))
     }
 
     /// The feature–obstacle pairs within the margin at this pose whose distance may be at most
