@@ -60,6 +60,10 @@ pub struct MethodInfo {
     pub loads: LoadSupport,
     /// Whether it models compliant cables (`stiffness`, `pretension` of a cable).
     pub cable_compliance: bool,
+    /// Whether it models capstan friction along the cables (a cable's
+    /// [`capstan`](crate::model::actuation::CableDrive::capstan) coefficient, set by hardware
+    /// rows); a method that does not refuses a cable with friction ([`MethodKind::drives`]).
+    pub capstan_friction: bool,
     /// Whether it models a bending stiffness that rises with curvature (the backbone's
     /// `stiffening` β, [`crate::model::robot::Backbone::stiffening`]).
     pub bending_stiffening: bool,
@@ -270,6 +274,7 @@ const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> Met
             tip_moment: true,
         },
         cable_compliance: true,
+        capstan_friction: false,
         bending_stiffening: false,
         settings: ROD_SETTINGS,
         contact_unit: "",
@@ -287,6 +292,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: true,
         loads: NO_LOADS,
         cable_compliance: false,
+        capstan_friction: false,
         bending_stiffening: false,
         settings: GEOMETRIC_SETTINGS,
         contact_unit: "rad/m",
@@ -301,6 +307,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: true,
         loads: NO_LOADS,
         cable_compliance: false,
+        capstan_friction: false,
         bending_stiffening: false,
         settings: GEOMETRIC_SETTINGS,
         contact_unit: "rad²/m",
@@ -319,6 +326,7 @@ const INFO: [MethodInfo; 6] = [
             tip_moment: false,
         },
         cable_compliance: true,
+        capstan_friction: true,
         bending_stiffening: true,
         settings: ENERGY_SETTINGS,
         contact_unit: "N",
@@ -343,6 +351,7 @@ const INFO: [MethodInfo; 6] = [
         obstacles: false,
         loads: NO_LOADS,
         cable_compliance: false,
+        capstan_friction: false,
         bending_stiffening: false,
         settings: CC_SETTINGS,
         contact_unit: "",
@@ -565,14 +574,36 @@ impl MethodKind {
 
     /// Each cable's drive under this method: the actuation resolved against the inputs the
     /// registry lists for it (`MethodInfo::inputs`, the one place they are written), a cable
-    /// that gives both driven by `prefer`.
+    /// that gives both driven by `prefer`. A cable with capstan friction is refused by name
+    /// unless the method models it (`MethodInfo::capstan_friction`).
     pub fn drives(
         self,
         robot: &Robot,
         act: &Actuation,
         prefer: Input,
     ) -> Result<Vec<Drive>, SolveError> {
-        act.drives(robot, self.name(), self.info().inputs, prefer)
+        let info = self.info();
+        if !info.capstan_friction {
+            if let Some(c) = act.cables.iter().position(|d| d.capstan != 0.0) {
+                let by: Vec<&str> = Self::ALL
+                    .iter()
+                    .filter(|k| k.info().capstan_friction)
+                    .map(|k| k.name())
+                    .collect();
+                return Err(SolveError::Unsupported {
+                    method: info.name.into(),
+                    reason: format!(
+                        "cable `{}` slides with capstan friction (`hardware.friction` in a \
+                         sequence of rows): only the {} model honours it; set the friction to \
+                         0 or use `--method {}`",
+                        robot.cables.get(c).map_or("?", |k| k.name.as_str()),
+                        by.join(" or "),
+                        by.join("` or `--method ")
+                    ),
+                });
+            }
+        }
+        act.drives(robot, info.name, info.inputs, prefer)
     }
 }
 
