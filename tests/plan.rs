@@ -414,6 +414,30 @@ fn roadmap_queries_and_repair() {
         )
         .unwrap();
     dense_recheck(&model, &p);
+    // The roadmap checks the options as `plan` does (a negative margin was taken silently,
+    // a zero output step cut the path into unboundedly many pieces).
+    for (field, opts) in [
+        (
+            "margin",
+            PlanOptions {
+                margin: Some(-1e-3),
+                ..PlanOptions::default()
+            },
+        ),
+        (
+            "output_step",
+            PlanOptions {
+                output_step: 0.0,
+                ..PlanOptions::default()
+            },
+        ),
+    ] {
+        let to = Goal::Actuation(TO.to_vec());
+        match rm.query(&model, &energy(), Some(FROM.to_vec()), &to, &opts) {
+            Err(ccrkit::error::SolveError::InvalidInput { field: f, .. }) => assert_eq!(f, field),
+            other => panic!("{field}: refused by name, got ok = {}", other.is_ok()),
+        }
+    }
 }
 
 fn vessel_model() -> Model {

@@ -376,6 +376,21 @@ fn check_options(o: &PlanOptions) -> Result<(), SolveError> {
     Ok(())
 }
 
+/// The front both planners share ([`plan`], [`Roadmap::query`]): the options checked (a bad
+/// margin or step is refused by name whichever planner is asked), the clock started, the
+/// space of `request` on `model` opened, and the margin kept (the options', else the space's).
+pub(crate) fn open(
+    model: &Model,
+    request: &SolveRequest,
+    opts: &PlanOptions,
+) -> Result<(Instant, Space, f64), SolveError> {
+    check_options(opts)?;
+    let t0 = Instant::now();
+    let space = Space::new(model, request, false)?;
+    let margin = opts.margin.unwrap_or(space.margin);
+    Ok((t0, space, margin))
+}
+
 /// Plan from `start` (default: the model's actuation) to `goal` for `model` solved by
 /// `request` (obstacles: the model's and the request's).
 pub fn plan(
@@ -385,10 +400,7 @@ pub fn plan(
     goal: &Goal,
     opts: &PlanOptions,
 ) -> Result<Plan, SolveError> {
-    check_options(opts)?;
-    let t0 = Instant::now();
-    let space = Space::new(model, request, false)?;
-    let margin = opts.margin.unwrap_or(space.margin);
+    let (t0, space, margin) = open(model, request, opts)?;
     let mut ck = Checker::new(&space, margin).keep_samples();
     let (s, g) = endpoints(&mut ck, model, start, goal)?;
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);

@@ -400,10 +400,8 @@ impl Roadmap {
         goal: &Goal,
         opts: &PlanOptions,
     ) -> Result<Plan, SolveError> {
-        let t0 = Instant::now();
-        let space = Space::new(model, request, false)?;
+        let (t0, space, margin) = super::open(model, request, opts)?;
         self.check_fits(&space, request)?;
-        let margin = opts.margin.unwrap_or(space.margin);
         let trusted = margin == self.margin && scene_fingerprint(&space.scene) == self.scene;
         let mut ck = Checker::new(&space, margin).keep_samples();
         let (s, g) = endpoints(&mut ck, model, start, goal)?;
