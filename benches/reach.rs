@@ -84,6 +84,7 @@ fn bench_plan(c: &mut Criterion) {
                 Some(from.clone()),
                 &Goal::Actuation(to.clone()),
                 &opts,
+                None,
             )
             .unwrap()
         })
@@ -91,12 +92,13 @@ fn bench_plan(c: &mut Criterion) {
     let rm = build(&model, &energy(), &BuildOptions::default()).unwrap();
     g.bench_function("ball_detour_roadmap_query", |b| {
         b.iter(|| {
-            rm.query(
+            plan(
                 &model,
                 &energy(),
                 Some(from.clone()),
                 &Goal::Actuation(to.clone()),
                 &opts,
+                Some(&rm),
             )
             .unwrap()
         })
@@ -123,6 +125,7 @@ fn bench_plan(c: &mut Criterion) {
                 Some(s.clone()),
                 &Goal::Actuation(t.clone()),
                 &opts,
+                None,
             )
             .unwrap()
         })
@@ -133,12 +136,13 @@ fn bench_plan(c: &mut Criterion) {
     let rm = build(&model, &req, &BuildOptions::default()).unwrap();
     g.bench_function("vessel_roadmap_query", |b| {
         b.iter(|| {
-            rm.query(
+            plan(
                 &model,
                 &req,
                 Some(s.clone()),
                 &Goal::Actuation(t.clone()),
                 &opts,
+                Some(&rm),
             )
             .unwrap()
         })
@@ -148,12 +152,13 @@ fn bench_plan(c: &mut Criterion) {
         b.iter(|| {
             for i in 0..ends.len() {
                 for j in i + 1..ends.len() {
-                    rm.query(
+                    plan(
                         &model,
                         &req,
                         Some(ends[i].clone()),
                         &Goal::Actuation(ends[j].clone()),
                         &opts,
+                        Some(&rm),
                     )
                     .unwrap();
                 }

@@ -59,6 +59,7 @@ fn main() -> anyhow::Result<()> {
         Some(start.clone()),
         &Goal::Actuation(goal.clone()),
         &opts,
+        None,
     )?;
     println!(
         "plan (cold, RRT-Connect): {} waypoints, clearance {:.2} mm measured, {:.2} mm certified, {} samples, {} solves, {:.0} ms",
@@ -81,12 +82,13 @@ fn main() -> anyhow::Result<()> {
         rm.edges.len(),
         rm.build_time_s
     );
-    match rm.query(
+    match plan(
         &model,
         &req,
         Some(start.clone()),
         &Goal::Actuation(goal.clone()),
         &opts,
+        Some(&rm),
     ) {
         Ok(q) => println!(
             "plan (roadmap): {} waypoints, clearance {:.2} mm, {:.0} ms",

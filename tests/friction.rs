@@ -236,7 +236,11 @@ fn friction_is_refused_or_validated_by_name() {
     let m = planar(0.004);
     let mut act = m.actuation.clone();
     act.cables[0].capstan = 0.2;
-    for kind in [MethodKind::Cosserat, MethodKind::ConstantCurvature] {
+    for kind in [
+        MethodKind::Geometric,
+        MethodKind::Cosserat,
+        MethodKind::ConstantCurvature,
+    ] {
         let e = kind
             .build(&Settings::new())
             .expect("builds")
@@ -245,6 +249,11 @@ fn friction_is_refused_or_validated_by_name() {
         assert!(matches!(e, SolveError::Unsupported { .. }), "{kind}: {e}");
         assert!(e.to_string().contains("`A`"), "{kind}: {e}");
         assert!(e.to_string().contains("friction"), "{kind}: {e}");
+        // The method that models it is named from the registry (`capstan_friction`).
+        assert!(
+            e.to_string().contains("use `--method energy`"),
+            "{kind}: {e}"
+        );
     }
     let chord = Energy::default().with_cable_length(ccrkit::actuation::LengthMeasure::Chord);
     let e = chord

@@ -194,6 +194,7 @@ fn plan_past_blocked_edge(
         Some(from.to_vec()),
         &Goal::Actuation(to.to_vec()),
         &PlanOptions::default(),
+        None,
     )
     .unwrap();
     assert_eq!(p.waypoints[0].u, from);
@@ -284,6 +285,7 @@ fn same_seed_same_path() {
             Some(FROM.to_vec()),
             &Goal::Actuation(TO.to_vec()),
             &o,
+            None,
         )
         .unwrap()
     };
@@ -388,12 +390,13 @@ fn roadmap_queries_and_repair() {
     let (mut ok, n) = (0, 20);
     for _ in 0..n {
         let (s, g) = (draw(&mut ck), draw(&mut ck));
-        if let Ok(p) = rm.query(
+        if let Ok(p) = plan(
             &model,
             &energy(),
             Some(s),
             &Goal::Actuation(g),
             &PlanOptions::default(),
+            Some(&rm),
         ) {
             dense_recheck(&model, &p);
             ok += 1;
@@ -404,16 +407,47 @@ fn roadmap_queries_and_repair() {
     let mut free = model.clone();
     free.scene = Scene::empty();
     let rm_free = build(&free, &energy(), &BuildOptions::default()).unwrap();
-    let p = rm_free
-        .query(
+    let p = plan(
+        &model,
+        &energy(),
+        Some(FROM.to_vec()),
+        &Goal::Actuation(TO.to_vec()),
+        &PlanOptions::default(),
+        Some(&rm_free),
+    )
+    .unwrap();
+    dense_recheck(&model, &p);
+    // On a roadmap the options are checked as without one (a roadmap query took a negative
+    // margin silently and cut a path with a zero output step into unboundedly many pieces).
+    for (field, opts) in [
+        (
+            "margin",
+            PlanOptions {
+                margin: Some(-1e-3),
+                ..PlanOptions::default()
+            },
+        ),
+        (
+            "output_step",
+            PlanOptions {
+                output_step: 0.0,
+                ..PlanOptions::default()
+            },
+        ),
+    ] {
+        let to = Goal::Actuation(TO.to_vec());
+        match plan(
             &model,
             &energy(),
             Some(FROM.to_vec()),
-            &Goal::Actuation(TO.to_vec()),
-            &PlanOptions::default(),
-        )
-        .unwrap();
-    dense_recheck(&model, &p);
+            &to,
+            &opts,
+            Some(&rm),
+        ) {
+            Err(ccrkit::error::SolveError::InvalidInput { field: f, .. }) => assert_eq!(f, field),
+            other => panic!("{field}: refused by name, got ok = {}", other.is_ok()),
+        }
+    }
 }
 
 fn vessel_model() -> Model {
@@ -510,8 +544,8 @@ fn vessel_queries_succeed() {
             let goal = Goal::Actuation(ends[j].clone());
             let from = Some(ends[i].clone());
             let answers = [
-                plan(&model, &energy(), from.clone(), &goal, &opts),
-                rm.query(&model, &energy(), from, &goal, &opts),
+                plan(&model, &energy(), from.clone(), &goal, &opts, None),
+                plan(&model, &energy(), from, &goal, &opts, Some(&rm)),
             ];
             for (k, a) in answers.into_iter().enumerate() {
                 let Ok(p) = a else { continue };

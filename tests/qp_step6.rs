@@ -113,8 +113,9 @@ fn active_set_qp_matches_kkt_and_clarabel() {
         let kind = (case % 3) as u32;
         let qp = random_qp(&mut rng, kind);
         let (h, g, eq, e, gi, hi) = &qp;
-        let ipm = qp_step6_clarabel(h, g, eq, e, gi, hi, 1e-10);
-        match qp6_active_set(&clamped_hessian(h, 1e-10), g, eq, e, gi, hi) {
+        let hp = clamped_hessian(h, 1e-10);
+        let ipm = qp_step6_clarabel(&hp, g, eq, e, gi, hi);
+        match qp6_active_set(&hp, g, eq, e, gi, hi) {
             Qp6::Solved(step, active) => {
                 assert_ne!(kind, 2, "case {case}: an infeasible QP was solved");
                 check_kkt(&qp, &step.x, &step.lambda_eq, &step.mu, case);

@@ -1,5 +1,5 @@
 //! `Model.reach` and `Model.plan`: thin wrappers over `ccrkit::reach::reach` and
-//! `ccrkit::plan::plan` / `Roadmap::query`, numpy in and out. Their `to_json()` is the
+//! `ccrkit::plan::plan` (with or without a `Roadmap`), numpy in and out. Their `to_json()` is the
 //! command line's `ccrkit reach --json` / `ccrkit plan --json` text (same writer).
 
 use crate::errors::{export_error, invalid, model_error, solve_error};
@@ -346,10 +346,7 @@ pub fn plan(
     let p = py
         .detach(|| {
             request.prepare()?;
-            match &roadmap {
-                None => ccrkit::plan::plan(model, &request, start, &goal, &opts),
-                Some(rm) => rm.query(model, &request, start, &goal, &opts),
-            }
+            ccrkit::plan::plan(model, &request, start, &goal, &opts, roadmap.as_ref())
         })
         .map_err(|e| solve_error(py, &e))?;
     let json = serde_json::to_string_pretty(&p.to_json())

@@ -50,14 +50,12 @@
 use crate::error::SolveError;
 use crate::method::output::cable_paths;
 use crate::method::settings::{parse_control, Configure};
-use crate::method::{Method, MethodKind};
-use crate::model::actuation::{Actuation, Drive, Input};
+use crate::method::{Method, MethodKind, SolveInput};
+use crate::model::actuation::{Drive, Input};
 use crate::model::robot::Robot;
-use crate::model::scene::Scene;
 use crate::numeric::so3::exp_so3;
 use crate::shape::{DiskFrame, Shape, SolveReport};
 use nalgebra::{Matrix2, Vector2, Vector3};
-use std::time::Instant;
 
 /// Largest hole-angle change \[rad\] (and relative radius change) still read as a straight cable.
 pub const STRAIGHT_TOL: f64 = 1e-9;
@@ -128,16 +126,9 @@ impl Method for ConstantCurvature {
         MethodKind::ConstantCurvature
     }
 
-    fn solve(
-        &self,
-        robot: &Robot,
-        act: &Actuation,
-        scene: &Scene,
-        _warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError> {
-        let start = Instant::now();
+    fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError> {
+        let (robot, act) = (input.robot, input.act);
         let name = self.name().to_string();
-        self.kind().check_support(robot, scene)?;
         let drives = self.kind().drives(robot, act, self.control)?;
         let n = robot.sections();
         let len = robot.length();
@@ -208,7 +199,7 @@ impl Method for ConstantCurvature {
                 converged: true,
                 iterations: 1,
                 residual,
-                solve_time_s: start.elapsed().as_secs_f64(),
+                solve_time_s: 0.0, // filled in by `Method::solve`
                 sections: vec![],
                 base_wrench: None,
                 notes,

@@ -30,12 +30,16 @@ use crate::model::actuation::Actuation;
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Shape;
+use std::time::Instant;
 
 pub use registry::{LoadSupport, MethodInfo, MethodKind};
 pub use settings::{Configure, SettingInfo, Settings};
 pub use warm::WarmState;
 
 /// A way to compute a robot's shape.
+///
+/// Callers call [`Method::solve`]; a method implements [`Method::solve_supported`], its own
+/// work, and inherits the contract every solve keeps ([`checked_and_timed`]).
 pub trait Method: Send + Sync {
     /// Which registered method this is.
     fn kind(&self) -> MethodKind;
@@ -44,14 +48,28 @@ pub trait Method: Send + Sync {
         self.kind().name()
     }
     /// Solve for the shape. `warm` is a previous shape of the same robot to start from (any
-    /// method's: its disk frames; the same method's also carries [`WarmState`]).
+    /// method's: its disk frames; the same method's also carries [`WarmState`]). What the
+    /// method does not model is refused by name before any work, and `report.solve_time_s`
+    /// is the time of this call ([`checked_and_timed`]).
     fn solve(
         &self,
         robot: &Robot,
         act: &Actuation,
         scene: &Scene,
         warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError>;
+    ) -> Result<Shape, SolveError> {
+        let input = SolveInput {
+            robot,
+            act,
+            scene,
+            warm,
+        };
+        checked_and_timed(self.kind(), input, |i| self.solve_supported(i))
+    }
+    /// The method's own work behind [`Method::solve`], which has already refused what the
+    /// method does not model ([`MethodKind::check_support`]) and fills in
+    /// `report.solve_time_s`. Call [`Method::solve`], not this.
+    fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError>;
 
     /// This method readied for `robot`: what depends on the robot and the settings alone
     /// (e.g. the energy model's routing samples) is computed once, so repeated solves of the
@@ -65,16 +83,63 @@ pub trait Method: Send + Sync {
     }
 }
 
+/// What one solve is asked: a robot under an actuation in a scene, and optionally a previous
+/// shape of the same robot to start from (see [`Method::solve`]).
+#[derive(Clone, Copy)]
+pub struct SolveInput<'a> {
+    /// The robot.
+    pub robot: &'a Robot,
+    /// Its actuation.
+    pub act: &'a Actuation,
+    /// The obstacles.
+    pub scene: &'a Scene,
+    /// A previous shape to start from.
+    pub warm: Option<&'a Shape>,
+}
+
 /// A method readied for one robot ([`Method::prepare`]): solves that robot for any
-/// actuation and scene, as [`Method::solve`] does.
+/// actuation and scene, as [`Method::solve`] does and under the same contract
+/// ([`checked_and_timed`]).
 pub trait Prepared: Send + Sync {
+    /// Which registered method this is.
+    fn kind(&self) -> MethodKind;
+    /// The robot it was readied for.
+    fn robot(&self) -> &Robot;
     /// Solve the prepared robot (same contract as [`Method::solve`]).
     fn solve(
         &self,
         act: &Actuation,
         scene: &Scene,
         warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError>;
+    ) -> Result<Shape, SolveError> {
+        let input = SolveInput {
+            robot: self.robot(),
+            act,
+            scene,
+            warm,
+        };
+        checked_and_timed(self.kind(), input, |i| self.solve_supported(i))
+    }
+    /// The prepared method's own work behind [`Prepared::solve`] (as
+    /// [`Method::solve_supported`]; `input.robot` is [`Prepared::robot`]). Call
+    /// [`Prepared::solve`], not this.
+    fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError>;
+}
+
+/// The contract of every solve, written once for [`Method::solve`] and [`Prepared::solve`]:
+/// an obstacle, load or cable property that `kind` does not model is refused by name before
+/// any work ([`MethodKind::check_support`]: never silently left out of a shape), and the
+/// shape's `report.solve_time_s` is the wall time of the whole call, `solve` included.
+fn checked_and_timed<'a>(
+    kind: MethodKind,
+    input: SolveInput<'a>,
+    solve: impl FnOnce(SolveInput<'a>) -> Result<Shape, SolveError>,
+) -> Result<Shape, SolveError> {
+    let start = Instant::now();
+    kind.check_support(input.robot, input.scene)?;
+    let mut shape = solve(input)?;
+    shape.report.solve_time_s = start.elapsed().as_secs_f64();
+    Ok(shape)
 }
 
 /// [`Method::prepare`] of a method with nothing to prepare.
@@ -84,13 +149,14 @@ struct Unprepared<'a, M: ?Sized> {
 }
 
 impl<M: Method + ?Sized> Prepared for Unprepared<'_, M> {
-    fn solve(
-        &self,
-        act: &Actuation,
-        scene: &Scene,
-        warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError> {
-        self.method.solve(self.robot, act, scene, warm)
+    fn kind(&self) -> MethodKind {
+        self.method.kind()
+    }
+    fn robot(&self) -> &Robot {
+        self.robot
+    }
+    fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError> {
+        self.method.solve_supported(input)
     }
 }
 

@@ -123,11 +123,10 @@ impl SolveRequest {
     /// The JSON of `shape` solved by this request on `model`, with the model's name and the
     /// input that drove the solve (the method's `control`, its settings, each cable's drive).
     pub fn json(&self, model: &Model, shape: &Shape) -> ShapeJson {
-        let info = self.method.info();
         let control = self.method.input_with(&self.settings);
-        let drives = model
-            .actuation
-            .drives(&model.robot, info.name, info.inputs, control)
+        let drives = self
+            .method
+            .drives(&model.robot, &model.actuation, control)
             .unwrap_or_default();
         let cables = model
             .robot

@@ -157,34 +157,11 @@ impl Actuation {
     /// `accepts` and prefers `prefer` where a cable gives both. A cable that gives only an
     /// input the method cannot use is refused by name (never silently treated as free).
     /// Values are checked: finite, tension ≥ 0, shortening below the cable's undeformed
-    /// length (a fraction in (−1, 1)). A cable with capstan friction
-    /// ([`CableDrive::capstan`] ≠ 0) is refused by name: a method that models it resolves the
-    /// drives with [`Actuation::drives_with_friction`].
+    /// length (a fraction in (−1, 1)). A cable's capstan friction ([`CableDrive::capstan`])
+    /// is checked (finite, on a displacement-driven cable) and left for the method to read;
+    /// whether the method models it at all is the registry's to say, and a method that does
+    /// not refuses it by name before resolving (`MethodKind::drives`, the one caller).
     pub fn drives(
-        &self,
-        robot: &Robot,
-        method: &str,
-        accepts: &[Input],
-        prefer: Input,
-    ) -> Result<Vec<Drive>, SolveError> {
-        if let Some(c) = self.cables.iter().position(|d| d.capstan != 0.0) {
-            return Err(SolveError::Unsupported {
-                method: method.into(),
-                reason: format!(
-                    "cable `{}` slides with capstan friction (`hardware.friction` in a \
-                     sequence of rows): only the energy model honours it; set the friction to \
-                     0 or use `--method energy`",
-                    robot.cables.get(c).map_or("?", |k| k.name.as_str())
-                ),
-            });
-        }
-        self.drives_with_friction(robot, method, accepts, prefer)
-    }
-
-    /// [`Actuation::drives`] for a method that models capstan friction: the friction
-    /// coefficient is checked (finite) and left for the method to read; a cable with friction
-    /// that is not displacement-driven is refused by name.
-    pub fn drives_with_friction(
         &self,
         robot: &Robot,
         method: &str,

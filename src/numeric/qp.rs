@@ -46,7 +46,7 @@ pub fn qp_step6(
     match qp6_active_set(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs) {
         Qp6::Solved(step, _) => Some(step),
         Qp6::Infeasible => None,
-        Qp6::Undecided => clarabel_step6(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs),
+        Qp6::Undecided => qp_step6_clarabel(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs),
     }
 }
 
@@ -61,29 +61,10 @@ pub fn clamped_hessian(h: &Matrix6<f64>, reg: f64) -> Matrix6<f64> {
     e.eigenvectors * Matrix6::from_diagonal(&d) * e.eigenvectors.transpose()
 }
 
-/// [`qp_step6`] by clarabel's interior point alone (accurate to its tolerances, ~1e-8 to
-/// 1e-7 on a step); `None` if clarabel reports anything but (almost) solved.
+/// [`qp_step6`] by clarabel's interior point alone, on the Hessian `hp` already made positive
+/// definite ([`clamped_hessian`]): accurate to its tolerances, ~1e-8 to 1e-7 on a step; `None`
+/// if clarabel reports anything but (almost) solved.
 pub fn qp_step6_clarabel(
-    h: &Matrix6<f64>,
-    g: &Vector6<f64>,
-    eq_rows: &[Vector6<f64>],
-    eq_rhs: &[f64],
-    in_rows: &[Vector6<f64>],
-    in_rhs: &[f64],
-    reg: f64,
-) -> Option<QpStep> {
-    clarabel_step6(
-        &clamped_hessian(h, reg),
-        g,
-        eq_rows,
-        eq_rhs,
-        in_rows,
-        in_rhs,
-    )
-}
-
-/// [`qp_step6_clarabel`] on the already clamped Hessian `hp`.
-fn clarabel_step6(
     hp: &Matrix6<f64>,
     g: &Vector6<f64>,
     eq_rows: &[Vector6<f64>],

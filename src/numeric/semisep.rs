@@ -203,18 +203,31 @@ impl SemiSepFactor {
         }
     }
 
+    /// The blocks both sweeps visit, base to tip: block `i`'s generators `v_i`, `q_i` (`r`
+    /// rows of `b`), its diagonal factor `L_ii` (`b × b`, row-major) and its part of `x`, for
+    /// block size `b` (`== self.b`). [`SemiSepFactor::backward`] takes them in reverse.
+    #[inline(always)]
+    fn blocks<'a>(
+        &'a self,
+        x: &'a mut [f64],
+        b: usize,
+    ) -> impl DoubleEndedIterator<Item = (&'a [f64], &'a [f64], &'a [f64], &'a mut [f64])> {
+        let rb = self.r * b;
+        self.v
+            .chunks_exact(rb)
+            .zip(self.q.chunks_exact(rb))
+            .zip(self.l.chunks_exact(b * b))
+            .zip(x.chunks_exact_mut(b))
+            .take(self.n)
+            .map(|(((v, q), l), x)| (v, q, l, x))
+    }
+
     /// [`SemiSepFactor::forward`] with block size `b` (`== self.b`).
     #[inline(always)]
     fn forward_b(&self, x: &mut [f64], b: usize) {
-        let (n, r) = (self.n, self.r);
+        let r = self.r;
         let mut acc = vec![0.0; r];
-        for i in 0..n {
-            let (vi, qi) = (
-                &self.v[i * r * b..(i + 1) * r * b],
-                &self.q[i * r * b..(i + 1) * r * b],
-            );
-            let li = &self.l[i * b * b..(i + 1) * b * b];
-            let xi = &mut x[i * b..(i + 1) * b];
+        for (vi, qi, li, xi) in self.blocks(x, b) {
             for p in 0..r {
                 let (a, vp) = (acc[p], &vi[p * b..(p + 1) * b]);
                 for t in 0..b {
@@ -242,15 +255,9 @@ impl SemiSepFactor {
     /// [`SemiSepFactor::backward`] with block size `b` (`== self.b`).
     #[inline(always)]
     fn backward_b(&self, x: &mut [f64], b: usize) {
-        let (n, r) = (self.n, self.r);
+        let r = self.r;
         let mut acc = vec![0.0; r];
-        for i in (0..n).rev() {
-            let (vi, qi) = (
-                &self.v[i * r * b..(i + 1) * r * b],
-                &self.q[i * r * b..(i + 1) * r * b],
-            );
-            let li = &self.l[i * b * b..(i + 1) * b * b];
-            let xi = &mut x[i * b..(i + 1) * b];
+        for (vi, qi, li, xi) in self.blocks(x, b).rev() {
             for p in 0..r {
                 let (a, qp) = (acc[p], &qi[p * b..(p + 1) * b]);
                 for t in 0..b {

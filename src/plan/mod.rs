@@ -33,6 +33,7 @@ use crate::shape::ShapeJson;
 use nalgebra::Vector3;
 use rand_core::SeedableRng;
 use rand_xorshift::XorShiftRng;
+use roadmap::Roadmap;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -377,20 +378,31 @@ fn check_options(o: &PlanOptions) -> Result<(), SolveError> {
 }
 
 /// Plan from `start` (default: the model's actuation) to `goal` for `model` solved by
-/// `request` (obstacles: the model's and the request's).
+/// `request` (obstacles: the model's and the request's): on `roadmap` when one is given
+/// ([`Roadmap`]: its graph searched, repaired where the scene changed), else by RRT-Connect.
+/// Both planners share everything up to the solved, admissible end points: the options
+/// checked (a bad margin or step is refused by name whichever planner is asked), the clock,
+/// the space, the margin (the options', else the space's), the checker.
 pub fn plan(
     model: &Model,
     request: &SolveRequest,
     start: Option<Vec<f64>>,
     goal: &Goal,
     opts: &PlanOptions,
+    roadmap: Option<&Roadmap>,
 ) -> Result<Plan, SolveError> {
     check_options(opts)?;
     let t0 = Instant::now();
     let space = Space::new(model, request, false)?;
+    if let Some(rm) = roadmap {
+        rm.check_fits(&space, request)?;
+    }
     let margin = opts.margin.unwrap_or(space.margin);
     let mut ck = Checker::new(&space, margin).keep_samples();
     let (s, g) = endpoints(&mut ck, model, start, goal)?;
+    if let Some(rm) = roadmap {
+        return rm.query(&mut ck, s, g, opts, t0);
+    }
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);
     let range = space
         .lo

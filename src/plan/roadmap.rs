@@ -29,7 +29,7 @@
 //! that the uniform phase touched.
 
 use super::edge::{dist, Checker, EdgeCheck, Node};
-use super::{endpoints, finish, Goal, Plan, PlanOptions, PlanStats};
+use super::{finish, Plan, PlanOptions, PlanStats};
 use crate::error::{ModelError, SolveError};
 use crate::method::run::SolveRequest;
 use crate::model::scene::Scene;
@@ -361,7 +361,11 @@ impl Roadmap {
         })
     }
 
-    fn check_fits(&self, space: &Space, request: &SolveRequest) -> Result<(), SolveError> {
+    pub(super) fn check_fits(
+        &self,
+        space: &Space,
+        request: &SolveRequest,
+    ) -> Result<(), SolveError> {
         let bad = |reason: String| {
             Err(SolveError::InvalidInput {
                 field: "roadmap".into(),
@@ -391,28 +395,23 @@ impl Roadmap {
         Ok(())
     }
 
-    /// Plan from `start` (default: the model's actuation) to `goal` on this roadmap.
-    pub fn query(
+    /// [`plan`](super::plan) on this roadmap, from the solved end points `s`, `g` checked by
+    /// `ck` (clock started at `t0`).
+    pub(super) fn query(
         &self,
-        model: &Model,
-        request: &SolveRequest,
-        start: Option<Vec<f64>>,
-        goal: &Goal,
+        ck: &mut Checker,
+        s: Node,
+        g: Node,
         opts: &PlanOptions,
+        t0: Instant,
     ) -> Result<Plan, SolveError> {
-        let t0 = Instant::now();
-        let space = Space::new(model, request, false)?;
-        self.check_fits(&space, request)?;
-        let margin = opts.margin.unwrap_or(space.margin);
-        let trusted = margin == self.margin && scene_fingerprint(&space.scene) == self.scene;
-        let mut ck = Checker::new(&space, margin).keep_samples();
-        let (s, g) = endpoints(&mut ck, model, start, goal)?;
+        let trusted = ck.margin == self.margin && scene_fingerprint(&ck.space.scene) == self.scene;
         let mut stats = PlanStats {
             planner: "roadmap",
             ..PlanStats::default()
         };
         if let EdgeCheck::Clear { .. } = ck.edge(&s, &g) {
-            return finish(&mut ck, vec![s, g], opts, stats, t0);
+            return finish(ck, vec![s, g], opts, stats, t0);
         }
         let n = self.nodes.len();
         let (si, gi) = (n, n + 1);
@@ -456,7 +455,7 @@ impl Roadmap {
                 None if want < 3 => {
                     want = if want == 0 { 1 } else { 3 };
                     for (e, (end, idx)) in [(&s, si), (&g, gi)].into_iter().enumerate() {
-                        for j in self.links(&mut ck, &mut solved, end, want, &linked[e], trusted) {
+                        for j in self.links(ck, &mut solved, end, want, &linked[e], trusted) {
                             link(&mut adj, idx, j);
                             linked[e].push(j);
                         }
@@ -480,7 +479,7 @@ impl Roadmap {
                     g.clone()
                 } else {
                     let warm = path[path.len() - 1].shape.clone();
-                    match self.solve_node(&mut ck, &mut solved, b, &warm, trusted) {
+                    match self.solve_node(ck, &mut solved, b, &warm, trusted) {
                         Some(x) => x,
                         None => {
                             broken = Some((w[0], b));
@@ -495,7 +494,7 @@ impl Roadmap {
                 path.push(node);
             }
             match broken {
-                None => return finish(&mut ck, path, opts, stats, t0),
+                None => return finish(ck, path, opts, stats, t0),
                 Some((a, b)) => {
                     stats.edges_repaired += 1;
                     adj[a].retain(|e| e.0 != b);

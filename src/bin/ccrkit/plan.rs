@@ -1,5 +1,5 @@
 //! `ccrkit plan`: a clear path of actuations to a tip or an actuation
-//! ([`ccrkit::plan::plan`], or a roadmap's [`ccrkit::plan::roadmap::Roadmap::query`]).
+//! ([`ccrkit::plan::plan`], on a loaded [`ccrkit::plan::roadmap::Roadmap`] when one is given).
 
 use super::reach::{vec3, write_json, InverseArgs};
 use anyhow::{bail, Context, Result};
@@ -61,10 +61,8 @@ pub(crate) fn run(a: PlanArgs) -> Result<()> {
         max_samples: a.max_samples,
         ..PlanOptions::default()
     };
-    let p: Plan = match &a.roadmap {
-        None => plan(&model, &request, start, &goal, &opts)?,
-        Some(path) => Roadmap::load(path)?.query(&model, &request, start, &goal, &opts)?,
-    };
+    let roadmap = a.roadmap.as_deref().map(Roadmap::load).transpose()?;
+    let p: Plan = plan(&model, &request, start, &goal, &opts, roadmap.as_ref())?;
     let quiet = a.json.as_deref() == Some("-");
     if let Some(j) = &a.json {
         write_json(j, &serde_json::to_string_pretty(&p.to_json())?)?;

@@ -8,14 +8,11 @@ use super::warm::Warm;
 use super::{Cosserat, RodModel};
 use crate::error::SolveError;
 use crate::method::warm::WarmState;
-use crate::method::{Method, MethodKind};
-use crate::model::actuation::{Actuation, Drive};
-use crate::model::robot::Robot;
-use crate::model::scene::Scene;
+use crate::method::{Method, MethodKind, SolveInput};
+use crate::model::actuation::Drive;
 use crate::numeric::so3::gram_schmidt;
 use crate::shape::{CablePath, DiskFrame, Shape, SolveReport};
 use nalgebra::{DVector, Vector3};
-use std::time::Instant;
 
 impl Method for Cosserat {
     fn kind(&self) -> MethodKind {
@@ -25,16 +22,9 @@ impl Method for Cosserat {
         }
     }
 
-    fn solve(
-        &self,
-        robot: &Robot,
-        act: &Actuation,
-        scene: &Scene,
-        warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError> {
-        let start = Instant::now();
+    fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError> {
+        let (robot, act, warm) = (input.robot, input.act, input.warm);
         let name = self.name().to_string();
-        self.kind().check_support(robot, scene)?;
         let (prob, mut notes) = self.problem(robot, act)?;
         let nc = robot.cables.len();
         let length_cables: Vec<usize> = (0..nc)
@@ -119,7 +109,7 @@ impl Method for Cosserat {
                     notes.push("stability not checked (stability = skip)".into());
                     (None, jac)
                 };
-                let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, start, notes);
+                let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, notes);
                 shape.report.stable = stable;
                 let targets = setup.unknown.iter().map(|&c| prob.target(c, 1.0)).collect();
                 shape.report.warm = jac.map(|jacobian| WarmState::Rod {
@@ -190,7 +180,6 @@ impl Cosserat {
         changed
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn build_shape(
         &self,
         prob: &Problem,
@@ -198,7 +187,6 @@ impl Cosserat {
         setup: &Setup,
         iterations: usize,
         residual: f64,
-        start: Instant,
         notes: Vec<String>,
     ) -> Shape {
         let robot = prob.robot;
@@ -259,7 +247,7 @@ impl Cosserat {
                 converged: true,
                 iterations,
                 residual,
-                solve_time_s: start.elapsed().as_secs_f64(),
+                solve_time_s: 0.0, // filled in by `Method::solve`
                 sections: vec![],
                 base_wrench: Some([n0.x, n0.y, n0.z, m0.x, m0.y, m0.z]),
                 notes,

@@ -10,7 +10,6 @@ use crate::method::warm::{EnergyWarm, WarmState};
 use crate::method::Method;
 use crate::shape::{DiskFrame, Shape, SolveReport};
 use nalgebra::{Matrix3, Vector3};
-use std::time::Instant;
 
 impl Energy {
     /// Assemble the [`Shape`] of the solution `sol` of `prob`.
@@ -18,7 +17,6 @@ impl Energy {
         &self,
         prob: &Problem,
         sol: Solution,
-        start: Instant,
         mut notes: Vec<String>,
     ) -> Shape {
         if !sol.contacts.is_empty() {
@@ -100,7 +98,7 @@ impl Energy {
                 converged: true,
                 iterations: sol.iterations,
                 residual: sol.residual,
-                solve_time_s: start.elapsed().as_secs_f64(),
+                solve_time_s: 0.0, // filled in by `Method::solve`
                 sections: vec![],
                 base_wrench: None,
                 notes,

@@ -164,7 +164,7 @@ use crate::method::settings::{
     parse_choice, parse_control, parse_count, parse_in, parse_length, parse_routing, Configure,
     MAX_ITERATIONS,
 };
-use crate::method::{Method, MethodKind, Prepared};
+use crate::method::{Method, MethodKind, Prepared, SolveInput};
 use crate::model::actuation::{Actuation, Input, LengthMeasure};
 use crate::model::robot::Robot;
 use crate::model::routing::RoutingFit;
@@ -172,7 +172,6 @@ use crate::model::scene::Scene;
 use crate::shape::Shape;
 use problem::{Problem, RobotPart, Target};
 use std::borrow::Cow;
-use std::time::Instant;
 
 /// Settings of the whole-robot energy method.
 #[derive(Debug, Clone)]
@@ -269,18 +268,8 @@ impl Method for Energy {
         MethodKind::Energy
     }
 
-    fn solve(
-        &self,
-        robot: &Robot,
-        act: &Actuation,
-        scene: &Scene,
-        warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError> {
-        let start = Instant::now();
-        let prepared = self.ready(robot)?;
-        let mut shape = prepared.solve_at(act, scene, warm, start)?;
-        shape.report.solve_time_s = start.elapsed().as_secs_f64();
-        Ok(shape)
+    fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError> {
+        self.ready(input.robot)?.solve_supported(input)
     }
 
     fn prepare<'a>(&'a self, robot: &'a Robot) -> Result<Box<dyn Prepared + 'a>, SolveError> {
@@ -297,13 +286,14 @@ struct ReadyEnergy<'a> {
 }
 
 impl Prepared for ReadyEnergy<'_> {
-    fn solve(
-        &self,
-        act: &Actuation,
-        scene: &Scene,
-        warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError> {
-        self.solve_at(act, scene, warm, Instant::now())
+    fn kind(&self) -> MethodKind {
+        self.set.kind()
+    }
+    fn robot(&self) -> &Robot {
+        self.robot
+    }
+    fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError> {
+        self.solve_at(input.act, input.scene, input.warm)
     }
 }
 
@@ -343,13 +333,12 @@ impl Energy {
 }
 
 impl ReadyEnergy<'_> {
-    /// One solve, its time counted from `start`.
+    /// One solve of a robot and scene the method supports ([`Prepared::solve_supported`]).
     fn solve_at(
         &self,
         act: &Actuation,
         scene: &Scene,
         warm: Option<&Shape>,
-        start: Instant,
     ) -> Result<Shape, SolveError> {
         let (set, robot) = (self.set, self.robot);
         let prob = set.setup_from(
@@ -359,7 +348,6 @@ impl ReadyEnergy<'_> {
             Cow::Borrowed(&self.part.nodes),
             &self.part.len0,
         )?;
-        set.kind().check_support(robot, scene)?;
         let mut notes = vec![format!(
             "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
             set.sub_arcs, set.cable_length, set.routing
@@ -403,10 +391,10 @@ impl ReadyEnergy<'_> {
             );
             let from = set.start_point(&prob, warm);
             let (prob, sol) = set.solve_with_friction(prob, &self.part.nodes, &a, from)?;
-            return Ok(set.build_shape(&prob, sol, start, notes));
+            return Ok(set.build_shape(&prob, sol, notes));
         }
         let sol = set.newton(&prob, warm)?;
-        Ok(set.build_shape(&prob, sol, start, notes))
+        Ok(set.build_shape(&prob, sol, notes))
     }
 }
 

@@ -367,8 +367,7 @@ impl Energy {
             prob.world = World::new(robot, scene, near, self.sub_arcs);
         }
         // Capstan friction is this method's to honour (`energy/friction.rs`).
-        let drives =
-            act.drives_with_friction(robot, self.name(), self.kind().info().inputs, self.control)?;
+        let drives = self.kind().drives(robot, act, self.control)?;
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.targets[c] = match drives[c] {
                 Drive::Shorten { length: d, .. } => {

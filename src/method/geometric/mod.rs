@@ -84,10 +84,8 @@ use crate::contact::broad;
 use crate::error::SolveError;
 use crate::method::output::cable_paths;
 use crate::method::settings::{parse_count, parse_in, Configure, MAX_ITERATIONS};
-use crate::method::{Method, MethodKind};
-use crate::model::actuation::{Actuation, Drive, Input};
-use crate::model::robot::Robot;
-use crate::model::scene::Scene;
+use crate::method::{Method, MethodKind, SolveInput};
+use crate::model::actuation::{Drive, Input};
 use crate::numeric::so3::orthonormalize;
 use crate::shape::{DiskFrame, Shape, SolveReport};
 use faces::SectionSolution;
@@ -95,7 +93,6 @@ pub use faces::{MAX_ENUMERATED_CABLES, SECTION_BUDGET};
 use nalgebra::{Matrix3, Vector3};
 use obstacles::SectionWorld;
 use problem::{Pose, SectionData};
-use std::time::Instant;
 
 /// Which objective the sections minimize.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -158,16 +155,9 @@ impl Method for Geometric {
         }
     }
 
-    fn solve(
-        &self,
-        robot: &Robot,
-        act: &Actuation,
-        scene: &Scene,
-        warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError> {
-        let start = Instant::now();
+    fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError> {
+        let (robot, act, scene, warm) = (input.robot, input.act, input.scene, input.warm);
         let n = robot.sections();
-        self.kind().check_support(robot, scene)?;
         let mut notes = vec![
             "cable segment length after actuation = (1 - shortening) x undeformed straight chord between holes".to_string(),
         ];
@@ -254,7 +244,7 @@ impl Method for Geometric {
                 converged: true,
                 iterations: total_it,
                 residual: worst,
-                solve_time_s: start.elapsed().as_secs_f64(),
+                solve_time_s: 0.0, // filled in by `Method::solve`
                 sections,
                 base_wrench: None,
                 notes,

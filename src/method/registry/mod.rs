@@ -4,7 +4,7 @@ use super::constant_curvature::ConstantCurvature;
 use super::cosserat::Cosserat;
 use super::energy::Energy;
 use super::geometric::Geometric;
-use super::settings::{canonical, common, Configure, SettingInfo, Settings};
+use super::settings::{canonical, Configure, SettingInfo, Settings};
 use super::Method;
 use crate::error::SolveError;
 use crate::model::actuation::{Actuation, Drive, Input};
@@ -12,6 +12,10 @@ use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use std::fmt;
 use std::str::FromStr;
+
+mod info;
+use info::INFO;
+pub(super) use info::NAMES;
 
 /// Every method ccrkit has. The only place a method's name is spelled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -60,6 +64,10 @@ pub struct MethodInfo {
     pub loads: LoadSupport,
     /// Whether it models compliant cables (`stiffness`, `pretension` of a cable).
     pub cable_compliance: bool,
+    /// Whether it models capstan friction along the cables (a cable's
+    /// [`capstan`](crate::model::actuation::CableDrive::capstan) coefficient, set by hardware
+    /// rows); a method that does not refuses a cable with friction ([`MethodKind::drives`]).
+    pub capstan_friction: bool,
     /// Whether it models a bending stiffness that rises with curvature (the backbone's
     /// `stiffening` β, [`crate::model::robot::Backbone::stiffening`]).
     pub bending_stiffening: bool,
@@ -71,297 +79,6 @@ pub struct MethodInfo {
     /// Its resolution ladder for the speed–accuracy study: (label, settings as `name=value`).
     pub resolutions: &'static [(&'static str, &'static [(&'static str, &'static str)])],
 }
-
-const NO_LOADS: LoadSupport = LoadSupport {
-    gravity: false,
-    tip_force: false,
-    tip_moment: false,
-};
-
-const GEOMETRIC_SETTINGS: &[SettingInfo] = &[
-    common::max_iterations("40"),
-    common::tolerance("1e-12", "constraint residual a candidate must reach [m]"),
-    SettingInfo {
-        name: "zero-angle",
-        values: "(0, 1e-3]",
-        default: "1e-7",
-        help: "an angle at or below this is zero (on a kink) [rad]",
-    },
-];
-
-const ENERGY_SETTINGS: &[SettingInfo] = &[
-    common::control("displacement"),
-    SettingInfo {
-        name: "sub-arcs",
-        values: "1..=64 (≤ 4 with length = chord)",
-        default: "4",
-        help: "constant-strain sub-arcs per section",
-    },
-    common::LENGTH,
-    common::ROUTING,
-    common::max_iterations("60"),
-    common::tolerance("1e-10", "length and stationarity tolerance [m]"),
-    SettingInfo {
-        name: "min-stretch",
-        values: "(0, 1]",
-        default: "0.5",
-        help: "smallest backbone stretch 1 + ε accepted before Infeasible",
-    },
-    SettingInfo {
-        name: "samples-per-sub-arc",
-        values: "1..=64",
-        default: "1",
-        help: "backbone samples per sub-arc in the output shape",
-    },
-    SettingInfo {
-        name: "contact-sensitivity",
-        values: "on | off",
-        default: "off",
-        help: "stable and jacobian also with pressing contacts (adds the contact curvature, \
-               dear near obstacles: cost measured in the README)",
-    },
-    SettingInfo {
-        name: "sensitivity",
-        values: "on | off",
-        default: "on",
-        help: "stable and jacobian at all (off: skip their KKT solves; `predict` turns it off)",
-    },
-];
-
-const ROD_SETTINGS: &[SettingInfo] = &[
-    common::control("force"),
-    common::ROUTING,
-    common::LENGTH,
-    SettingInfo {
-        name: "rk4-steps",
-        values: "1..=1000",
-        default: "3",
-        help: "RK4 steps per section before bend refinement",
-    },
-    SettingInfo {
-        name: "adaptive",
-        values: "(1e-14, 1]",
-        default: "off",
-        help: "adaptive Dormand–Prince RK45 with this tolerance instead of fixed RK4",
-    },
-    SettingInfo {
-        name: "bend-refine",
-        values: "(0, inf] (inf: off)",
-        default: "0.5",
-        help: "route bend above which a section gets more RK4 steps",
-    },
-    common::max_iterations("50"),
-    common::tolerance("1e-9", "shooting residual [N]"),
-    SettingInfo {
-        name: "stability",
-        values: "check | skip",
-        default: "check",
-        help: "focal-point stability test of the answer; skip: report.stable is None (not \
-               checked), one variational pass saved",
-    },
-];
-
-const CC_SETTINGS: &[SettingInfo] = &[common::control("displacement")];
-
-// Every rung skips the focal-point stability check: the adaptive rungs have no variational
-// pass to run it on (`stable` is None there), so with the check on, the fixed-step rungs
-// timed about twice the work of the adaptive ones (case I: 2.80 M instructions with the
-// check, 1.42 M without). The chart compares the shape solves alone.
-const ROD_RESOLUTIONS: &[(&str, &[(&str, &str)])] = &[
-    (
-        "rk4 2/section",
-        &[
-            ("rk4-steps", "2"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "rk4 3/section",
-        &[
-            ("rk4-steps", "3"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "rk4 4/section",
-        &[
-            ("rk4-steps", "4"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "rk4 6/section",
-        &[
-            ("rk4-steps", "6"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "rk4 8/section",
-        &[
-            ("rk4-steps", "8"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "rk4 12/section",
-        &[
-            ("rk4-steps", "12"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "rk4 20/section",
-        &[
-            ("rk4-steps", "20"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "adaptive 1e-3",
-        &[
-            ("adaptive", "1e-3"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "adaptive 1e-5",
-        &[
-            ("adaptive", "1e-5"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-    (
-        "adaptive 1e-7",
-        &[
-            ("adaptive", "1e-7"),
-            ("control", "force"),
-            ("stability", "skip"),
-        ],
-    ),
-];
-
-const DEFAULT_RESOLUTION: &[(&str, &[(&str, &str)])] = &[("default", &[])];
-
-const BOTH: &[Input] = &[Input::Shortening, Input::Tension];
-const SHORTENING: &[Input] = &[Input::Shortening];
-
-/// The two rods share everything but their constitutive law.
-const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> MethodInfo {
-    MethodInfo {
-        kind,
-        name,
-        summary,
-        inputs: BOTH,
-        default_input: Input::Tension,
-        obstacles: false,
-        loads: LoadSupport {
-            gravity: true,
-            tip_force: true,
-            tip_moment: true,
-        },
-        cable_compliance: true,
-        bending_stiffening: false,
-        settings: ROD_SETTINGS,
-        contact_unit: "",
-        resolutions: ROD_RESOLUTIONS,
-    }
-}
-
-const INFO: [MethodInfo; 6] = [
-    MethodInfo {
-        kind: MethodKind::Geometric,
-        name: "geometric",
-        summary: "the paper's section solver, read literally (sum of angles), certified",
-        inputs: SHORTENING,
-        default_input: Input::Shortening,
-        obstacles: true,
-        loads: NO_LOADS,
-        cable_compliance: false,
-        bending_stiffening: false,
-        settings: GEOMETRIC_SETTINGS,
-        contact_unit: "rad/m",
-        resolutions: DEFAULT_RESOLUTION,
-    },
-    MethodInfo {
-        kind: MethodKind::GeometricSquared,
-        name: "geometric-squared",
-        summary: "the same sections minimizing squared angles (a discrete bending energy)",
-        inputs: SHORTENING,
-        default_input: Input::Shortening,
-        obstacles: true,
-        loads: NO_LOADS,
-        cable_compliance: false,
-        bending_stiffening: false,
-        settings: GEOMETRIC_SETTINGS,
-        contact_unit: "rad²/m",
-        resolutions: DEFAULT_RESOLUTION,
-    },
-    MethodInfo {
-        kind: MethodKind::Energy,
-        name: "energy",
-        summary: "whole robot: constant-strain sub-arcs, elastic energy, pull-only cable lengths",
-        inputs: BOTH,
-        default_input: Input::Shortening,
-        obstacles: true,
-        loads: LoadSupport {
-            gravity: true,
-            tip_force: true,
-            tip_moment: false,
-        },
-        cable_compliance: true,
-        bending_stiffening: true,
-        settings: ENERGY_SETTINGS,
-        contact_unit: "N",
-        resolutions: DEFAULT_RESOLUTION,
-    },
-    rod(
-        MethodKind::Cosserat,
-        "cosserat",
-        "Rucker–Webster Cosserat rod with shear and extension, shooting (the reference)",
-    ),
-    rod(
-        MethodKind::Kirchhoff,
-        "kirchhoff",
-        "the same rod, inextensible and unshearable",
-    ),
-    MethodInfo {
-        kind: MethodKind::ConstantCurvature,
-        name: "constant-curvature",
-        summary: "closed-form arc for straight, parallel cables tied at the tip",
-        inputs: BOTH,
-        default_input: Input::Shortening,
-        obstacles: false,
-        loads: NO_LOADS,
-        cable_compliance: false,
-        bending_stiffening: false,
-        settings: CC_SETTINGS,
-        contact_unit: "",
-        resolutions: &[
-            ("displacement", &[("control", "displacement")]),
-            ("force", &[("control", "force")]),
-        ],
-    },
-];
-
-/// Names in registry order.
-pub(super) const NAMES: [&str; 6] = [
-    INFO[0].name,
-    INFO[1].name,
-    INFO[2].name,
-    INFO[3].name,
-    INFO[4].name,
-    INFO[5].name,
-];
 
 impl MethodKind {
     /// Every method, in registry order.
@@ -565,14 +282,36 @@ impl MethodKind {
 
     /// Each cable's drive under this method: the actuation resolved against the inputs the
     /// registry lists for it (`MethodInfo::inputs`, the one place they are written), a cable
-    /// that gives both driven by `prefer`.
+    /// that gives both driven by `prefer`. A cable with capstan friction is refused by name
+    /// unless the method models it (`MethodInfo::capstan_friction`).
     pub fn drives(
         self,
         robot: &Robot,
         act: &Actuation,
         prefer: Input,
     ) -> Result<Vec<Drive>, SolveError> {
-        act.drives(robot, self.name(), self.info().inputs, prefer)
+        let info = self.info();
+        if !info.capstan_friction {
+            if let Some(c) = act.cables.iter().position(|d| d.capstan != 0.0) {
+                let by: Vec<&str> = Self::ALL
+                    .iter()
+                    .filter(|k| k.info().capstan_friction)
+                    .map(|k| k.name())
+                    .collect();
+                return Err(SolveError::Unsupported {
+                    method: info.name.into(),
+                    reason: format!(
+                        "cable `{}` slides with capstan friction (`hardware.friction` in a \
+                         sequence of rows): only the {} model honours it; set the friction to \
+                         0 or use `--method {}`",
+                        robot.cables.get(c).map_or("?", |k| k.name.as_str()),
+                        by.join(" or "),
+                        by.join("` or `--method ")
+                    ),
+                });
+            }
+        }
+        act.drives(robot, info.name, info.inputs, prefer)
     }
 }
 
