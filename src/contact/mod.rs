@@ -11,6 +11,8 @@
 //!   witness polish);
 //! * [`curvature`]: the Hessian of an obstacle's distance function (its surface curvature),
 //!   for the second derivative of a feature–obstacle distance;
+//! * [`primitives`]: closed-form distances of the features to a box where one of its faces
+//!   decides them (parry otherwise);
 //! * [`broad`]: the broad phase (obstacles within reach of the robot, exact duplicates
 //!   merged, bounds against a box), the contact budget ([`broad::MAX_PAIRS`]) and the
 //!   base-disk check.
@@ -23,6 +25,7 @@ pub(crate) mod broad;
 pub(crate) mod curvature;
 pub(crate) mod features;
 pub(crate) mod parry;
+pub(crate) mod primitives;
 
 pub(crate) use parry::{
     nvec, polish, ppose, pvec, query, query_near, y_to_z, Witness, CONTACT_TOL,

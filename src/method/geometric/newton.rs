@@ -2,7 +2,7 @@
 //! with an ℓ1-merit line search.
 
 use super::faces::{Candidate, Rejected, Step};
-use super::obstacles::{penetration_of, Pair};
+use super::obstacles::{penetration_of, Feature, Pair};
 use super::problem::{Pose, SectionData};
 use super::{Geometric, Objective};
 use crate::contact::CONTACT_TOL;
@@ -16,19 +16,24 @@ use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 /// 1e-7 (clarabel's interior-point steps and parry's unpolished GJK noise): candidates stopped
 /// with steps of up to 1e-7 and stationarity up to 8e-6 (wall, pillar), ~1e-9 m from the
 /// minimum. With the exact QP step ([`crate::numeric::active_qp`]) and polished witnesses the
-/// polish converges on (linearly: the step leaves the contact curvature out) to the free
-/// tolerance: on the wall and the pillar every certified contact candidate ends with a step
-/// ≤ 1e-11 and stationarity ≤ 7e-10 (issue 16), 2–4 iterations more per candidate.
+/// polish converges on to the free tolerance: on the wall and the pillar every certified
+/// contact candidate ends with a step ≤ 1e-11 and stationarity ≤ 7e-10 (issue 16). Since the
+/// step carries the contact curvature (`contact_curvature.rs`) the last steps converge
+/// quadratically (wall, disk 8: 1.7e-5 → 2.0e-10 → 1.3e-15, was 1.2e-5 → 1.1e-7 → 9.6e-10 →
+/// 8.5e-12).
 pub(super) const CONTACT_STEP_TOL: f64 = 1e-11;
 
 /// [`CONTACT_STEP_TOL`] before issue 16, kept by `geometric-squared`: with 1e-11 its pillar
 /// solve found no certified candidate in section 5 (not measured further; the squared
 /// objective is not the paper's method).
 /// The literal method falls back to it in a section near obstacles where no candidate
-/// converged at 1e-11 ([`SectionData::loose_contacts`]): the contact step leaves the contact
-/// curvature out, so it converges linearly and a slow candidate can run out of iterations
-/// before 1e-11 (found by `tests/adversarial_files.rs`: the pillar turned by 1e5 rad solved
-/// before issue 16's tightening and not after).
+/// converged at 1e-11 ([`SectionData::loose_contacts`]): found by `tests/adversarial_files.rs`
+/// (the pillar turned by 1e5 rad solved before issue 16's tightening and not after). The
+/// contact curvature did not make it unneeded: on the 40 turned pillars of
+/// `tests/geometric_contact.rs` the failing candidates chatter with steps of 1e-8–1e-6 at a
+/// residual of 1e-13 — the noise of parry's distance and normal for the disk against the
+/// pillar's side, not a slow step — and without the retry 34 of 40 fail (39 without the
+/// curvature).
 const FORMER_CONTACT_STEP_TOL: f64 = 1e-7;
 
 /// Stationarity a candidate with active contacts must meet, relative to (1 + largest contact
@@ -56,7 +61,9 @@ impl Geometric {
     /// Obstacle pairs within the margin enter each step as linearized inequalities
     /// `d_j + ∇d_j·dx ≥ clearance`; such steps are convex QPs solved exactly by a dual active set
     /// ([`crate::numeric::active_qp`]; clarabel where it makes no claim), steps without
-    /// near pairs are the dense equality-only Newton–KKT step. The line search uses the ℓ1
+    /// near pairs are the dense equality-only Newton–KKT step. The Lagrangian Hessian carries
+    /// the contact curvature `−μ ∇²d` of every pair that pressed at the last step
+    /// (`contact_curvature.rs`), so the contact steps converge quadratically. The line search uses the ℓ1
     /// merit `F + ρ (Σ|c| + Σ max(0, clearance − d_j))`.
     pub(super) fn newton(
         &self,
@@ -79,6 +86,8 @@ impl Geometric {
             MAX_SHORT_STEPS
         };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
+        // (obstacle, feature, multiplier) of the pairs pressing at the last step.
+        let mut pressed: Vec<(usize, Feature, f64)> = vec![];
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
                 Err(Rejected {
@@ -101,7 +110,7 @@ impl Geometric {
             rows.clear();
             rows.extend(c.iter().map(|cj| Vector6::from_row_slice(&cj.g)));
             let cv: Vec<f64> = c.iter().map(|cj| cj.v).collect();
-            let (h, lam) = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref());
+            let (mut h, lam) = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref());
             if h.iter().any(|x| !x.is_finite()) {
                 return reject(last_res);
             }
@@ -110,6 +119,19 @@ impl Geometric {
                 return reject(cv.iter().fold(0.0f64, |m, x| m.max(x.abs())));
             }
             let pairs = world.map(|w| w.pairs(&pose)).unwrap_or_default();
+            if let Some(w) = world {
+                // The contact curvature −Σ μ ∇²d of the pairs that pressed at the last step.
+                for p in &pairs {
+                    if let Some((_, _, m)) = pressed
+                        .iter()
+                        .find(|(k, f, _)| *k == p.obstacle && *f == p.feature)
+                    {
+                        if let Some(d2) = w.distance_hessian(&pose, p) {
+                            h -= d2 * *m;
+                        }
+                    }
+                }
+            }
             let clearance = world.map_or(0.0, |w| w.clearance);
             let (step, mu) = if pairs.is_empty() {
                 (self.step(&h, &g, &rows, &cv, data.gram_schmidt), vec![])
@@ -199,6 +221,12 @@ impl Geometric {
                 _ => return reject(last_res),
             }
             lambda = Some(step.lambda);
+            pressed = pairs
+                .iter()
+                .zip(&mu)
+                .filter(|(_, m)| **m > 0.0)
+                .map(|(p, m)| (p.obstacle, p.feature, *m))
+                .collect();
         }
         Err(Rejected {
             iterations: self.max_iterations,

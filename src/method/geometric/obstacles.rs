@@ -4,6 +4,7 @@
 
 use super::problem::Pose;
 use crate::contact::features::{self, Touching};
+use crate::contact::primitives::{box_witness, Convex};
 use crate::contact::Witness;
 use crate::contact::{nvec, pvec};
 use crate::model::robot::Robot;
@@ -256,7 +257,19 @@ impl SectionWorld {
                 if self.distance_bound(k, &hull) > far {
                     return;
                 }
-                let Some((w, _)) = features::witness(g, gpose, &**shape, opose, self.margin) else {
+                // A box face decides the distance in closed form where it can (the wall).
+                let closed = shape.as_cuboid().and_then(|c| {
+                    let convex = match hull {
+                        Hull::Segment(a, b, r) => Convex::Segment(a, b, r),
+                        Hull::Disk(x, _, rd, ht) => Convex::Disk(ri, x, rd, ht),
+                    };
+                    box_witness(&nvec(c.half_extents), opose, &convex, self.margin)
+                });
+                let w = match closed {
+                    Some(decided) => decided,
+                    None => features::witness(g, gpose, &**shape, opose, self.margin).map(|w| w.0),
+                };
+                let Some(w) = w else {
                     return;
                 };
                 // `n` from the robot towards the obstacle.
