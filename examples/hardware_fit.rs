@@ -210,7 +210,7 @@ fn main() -> Result<()> {
 /// backlash, plus the base rotation about z, plus capstan friction, the EA form of the
 /// compliance (`k = EA/ℓ`: longer cables softer) in place of the uniform one, plus the
 /// backbone's curvature stiffening `β` (bending energy `½ EI κ² (1 + β κ²)`), and `β` with the
-/// backlash or with the base rotation in place of the marker (kept at the nominal 8 mm).
+/// backlash, the base rotation or the friction in place of the marker (kept at the nominal 8 mm).
 fn candidates(nominal: &Model) -> Vec<Candidate> {
     let default = ccrkit::calibrate::params::default_names(&nominal.robot);
     let with = |extra: &str| {
@@ -250,6 +250,10 @@ fn candidates(nominal: &Model) -> Vec<Candidate> {
             no_marker(&["backlash", "stiffening"]),
         ),
         ("base.rz+stiffening", no_marker(&["base.rz", "stiffening"])),
+        (
+            "friction+stiffening",
+            no_marker(&["friction", "stiffening"]),
+        ),
     ]
     .into_iter()
     .map(|(label, params)| Candidate {

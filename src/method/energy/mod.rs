@@ -99,7 +99,9 @@
 //! problem, primal active set in [`crate::numeric::qp::nonneg_qp`]) and the step is
 //! `−z − Σ λ_r y_r`. A cable whose multiplier is zero is slack; a contact whose multiplier is positive presses. Line
 //! search on the ℓ1 merit `E + Σ T L + μ Σ max(0, c_r)`, with every pair re-queried at the
-//! trial point. Converged when the length residual is ≤ [`Energy::tolerance`] \[m\] and the
+//! trial point; a step whose predicted and actual merit changes both lie below the merit's
+//! round-off from the cable lengths is taken (the merit cannot judge it; `Problem::merit_roundoff`).
+//! Converged when the length residual is ≤ [`Energy::tolerance`] \[m\] and the
 //! stationarity residual, expressed as a length (`r̄ |∇ℒ|∞ / (EI ℓ)`, a curvature error
 //! times the hole radius), is below the same tolerance (with active contacts, see
 //! `energy/contacts.rs` and `CONTACT_STEP`). Cost per iteration is linear in the number of

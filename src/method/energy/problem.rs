@@ -113,6 +113,51 @@ impl Problem<'_> {
         }
     }
 
+    /// Bound on the round-off of the cable terms of the merit at lengths `len` \[J\]: each
+    /// cable's weight (`pen` on a length target — the ℓ1 penalty of a rigid cable and, as
+    /// `pen ≥ λ`, the slope `k (L − t)₊` of a compliant cable's spring — or `|T|` on a tension
+    /// target) times the round-off of its computed length.
+    ///
+    /// A length is a recursively summed total of `n` positive terms (`ds |w|` at every Gauss
+    /// node for paths; one chord per section, each a chain of `m` exponentials, for chords),
+    /// each term good to a few units of round-off `u`. Recursive summation errs by at most
+    /// `γ_{n−1} Σ|x_i|`, `γ_n = n u / (1 − n u)` (Higham, *Accuracy and Stability of Numerical
+    /// Algorithms*, 2nd ed., §4.2), so `|L̂ − L| ≤ (n + 8) ε L` with `ε = 2u` bounds the terms'
+    /// own error, the sum and the subtraction of the target (`8 m` terms per chord).
+    ///
+    /// Why the line search takes a step within this bound (`newton/line_search.rs`): near the
+    /// solution the ℓ1 merit `φ = E + pen Σ (L_c − t_c)₊ + …` changes by `∇φ·d ≈ −dᵀHd` (H the
+    /// Lagrangian Hessian, ⪰ K the energy's) once the lengths are met. With `β > 0` (non-quadratic
+    /// energy) the second Newton step of an FTDCR row predicts ~1e-15 J while `pen × δL` is
+    /// ~1e-14 J, so `φ(x + d) − φ(x)` is round-off of either sign and Armijo's test rejected the
+    /// unit step at random; the backtracked step then took the step's multipliers with a tiny
+    /// `α`, and stationarity stalled at 1e-8–1e-6 (issue 15; `tests/hardware_roundoff.rs`).
+    /// A merit that cannot resolve the decrease cannot judge the step, so it is taken when both
+    /// the predicted decrease and the actual change lie below the bound: the unit Newton step is
+    /// what converges locally (Nocedal & Wright, *Numerical Optimization*, 2nd ed., §18.7; the
+    /// rows of the test take two iterations), merits that reject it near
+    /// the solution are the known failure of §15.5–15.6, and accepting within an error bound of
+    /// `φ` is the approximate Armijo test of Hager & Zhang (SIAM J. Optim. 16 (2005) 170–192,
+    /// §4: near a minimizer `φ` differences lose their accuracy). The residuals still decide
+    /// convergence, and `|∇φ·d| ≤ bound` keeps the step small: the step's QP gives
+    /// `∇φ·d ≤ −dᵀHd`, and `H ⪰ K` for the convex cable terms, so `dᵀKd ≤ bound`.
+    pub(super) fn merit_roundoff(&self, len: &[f64], pen: f64) -> f64 {
+        (0..len.len())
+            .map(|c| {
+                let weight = match self.targets[c] {
+                    Target::Length(_) => pen,
+                    Target::Tension(t) => t.abs(),
+                    Target::Free => 0.0,
+                };
+                let terms = match self.set.cable_length {
+                    LengthMeasure::Path => self.nodes[c].len() * GL_NODES,
+                    LengthMeasure::Chord => self.robot.cables[c].ends_at * 8 * self.m,
+                };
+                weight * (terms + 8) as f64 * f64::EPSILON * len[c].abs()
+            })
+            .sum()
+    }
+
     /// Whether cable `c` is a displacement-driven compliant cable (a spring, not a constraint,
     /// in the merit).
     #[inline]

@@ -58,6 +58,11 @@ impl<'p, 'a> Sqp<'p, 'a> {
             pen * CONTACT_NOISE
         };
         let tiny = dphi.abs() <= 1e-12 * phi0.abs() + noise;
+        // A merit difference resolves no better than twice the cable lengths' round-off in it
+        // (`Problem::merit_roundoff`): a step whose predicted decrease and actual change both
+        // lie below that is judged by the residuals.
+        let floor = 2.0 * prob.merit_roundoff(&self.w.len, pen);
+        let within = |phi: f64| dphi.abs() <= floor && phi - phi0 <= floor;
         let mut alpha: f64 = 1.0;
         for _ in 0..40 {
             for i in 0..prob.nvar() {
@@ -102,7 +107,9 @@ impl<'p, 'a> Sqp<'p, 'a> {
                     pen,
                 );
                 if phi.is_finite()
-                    && (tiny || phi <= phi0 + 1e-4 * alpha * dphi.min(0.0) + 1e-14 * phi0.abs())
+                    && (tiny
+                        || phi <= phi0 + 1e-4 * alpha * dphi.min(0.0) + 1e-14 * phi0.abs()
+                        || within(phi))
                 {
                     self.stalled = false;
                     // `take_step` moves to this very trial point (same operations).
