@@ -1,11 +1,11 @@
 //! The TOML form of a model file and its validation into a [`Model`]: every rule is checked
 //! here, once, with an error naming the field.
 
-use super::actuation::{Actuation, CableDrive, Shortening};
+use super::actuation::Actuation;
 use super::bounds;
+use super::file_cable::FileCable;
 use super::hardware::{FileHardware, Hardware};
 use super::robot::{Backbone, Cable, Loads, Robot, MAX_STIFFENING};
-use super::routing::Helix;
 use super::scene::Scene;
 use super::scene_file::FileObstacle;
 use super::{Model, MAX_SECTIONS};
@@ -77,87 +77,7 @@ struct FileLoads {
     tip_moment: Option<[f64; 3]>,
 }
 
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum FileRadius {
-    One(f64),
-    PerDisk(Vec<f64>),
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields, rename_all = "snake_case")]
-enum FileAngleRule {
-    Straight(f64),
-    Helix { start: f64, per_disk: f64 },
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum FileAngles {
-    PerDisk(Vec<f64>),
-    Rule(FileAngleRule),
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct FileCable {
-    name: String,
-    radius: FileRadius,
-    angles: FileAngles,
-    ends_at: Option<i64>,
-    shorten: Option<f64>,
-    shorten_percent: Option<f64>,
-    tension: Option<f64>,
-    /// Axial stiffness of cable and actuator \[N/m\] (absent: inextensible).
-    stiffness: Option<f64>,
-    /// Pretension \[N\] (needs `stiffness`).
-    pretension: Option<f64>,
-}
-
-/// Undeformed straight-chord length of `cable` through disks at arc lengths `disk_s` \[m\].
-fn chord_length(cable: &Cable, disk_s: &[f64]) -> f64 {
-    (1..=cable.ends_at)
-        .map(|i| {
-            (cable.hole(i) - cable.hole(i - 1) + Vector3::new(0.0, 0.0, disk_s[i] - disk_s[i - 1]))
-                .norm()
-        })
-        .sum()
-}
-
-/// A cable's `stiffness` and `pretension`, checked (`f` names a field of this cable; the
-/// pretension's stretch must stay below the cable's undeformed length `len`).
-fn compliance(
-    fc: &FileCable,
-    f: &dyn Fn(&str) -> String,
-    len: f64,
-) -> Result<(Option<f64>, f64), ModelError> {
-    let k = fc
-        .stiffness
-        .map(|k| bounds::CABLE_STIFFNESS.check(&f("stiffness"), k))
-        .transpose()?;
-    let t0 = match (fc.pretension, k) {
-        (None, _) => 0.0,
-        (Some(_), None) => {
-            return Err(ModelError::invalid(
-                f("pretension"),
-                "a pretension needs the cable's `stiffness` (it is the tension of a cable tied stretched by pretension/stiffness)",
-            ))
-        }
-        (Some(t), Some(k)) => {
-            let t = bounds::TENSION.check(&f("pretension"), t)?;
-            if t / k >= len {
-                return Err(ModelError::invalid(
-                    f("pretension"),
-                    format!("stretches the cable by {:e} m, not less than its length {len:.6} m", t / k),
-                ));
-            }
-            t
-        }
-    };
-    Ok((k, t0))
-}
-
-fn finite(field: &str, v: f64) -> Result<f64, ModelError> {
+pub(super) fn finite(field: &str, v: f64) -> Result<f64, ModelError> {
     if v.is_finite() {
         Ok(v)
     } else {
@@ -168,7 +88,7 @@ fn finite(field: &str, v: f64) -> Result<f64, ModelError> {
     }
 }
 
-fn positive(field: &str, v: f64) -> Result<f64, ModelError> {
+pub(super) fn positive(field: &str, v: f64) -> Result<f64, ModelError> {
     finite(field, v)?;
     if v > 0.0 {
         Ok(v)
@@ -394,204 +314,6 @@ impl FileLoads {
             },
             tip_force: vec3("loads.tip_force", self.tip_force, bounds::TIP_FORCE)?,
             tip_moment: vec3("loads.tip_moment", self.tip_moment, bounds::TIP_MOMENT)?,
-        })
-    }
-}
-
-impl FileCable {
-    /// The routed cable `cables[ci]`: end disk, hole radii and angles, checked against the disk
-    /// and the backbone.
-    fn cable(
-        &self,
-        ci: usize,
-        disk_s: &[f64],
-        disk_radius: f64,
-        backbone: &Backbone,
-    ) -> Result<Cable, ModelError> {
-        let f = |name: &str| format!("cables[{ci}].{name}");
-        if self.name.trim().is_empty() {
-            return Err(ModelError::invalid(f("name"), "must not be empty"));
-        }
-        let n = disk_s.len() - 1;
-        let ends_at = match self.ends_at {
-            None => n,
-            Some(e) if e >= 1 && e as usize <= n => e as usize,
-            Some(e) => {
-                return Err(ModelError::invalid(
-                    f("ends_at"),
-                    format!("must be a disk between 1 and {n}, got {e}"),
-                ))
-            }
-        };
-        let mut cable = Cable {
-            name: self.name.clone(),
-            ends_at,
-            radius: self.radii(ci, ends_at, disk_radius, backbone)?,
-            angle: self.angles(ci, ends_at)?,
-            helix: match &self.angles {
-                FileAngles::Rule(FileAngleRule::Straight(a)) => Some(Helix {
-                    start: *a,
-                    per_disk: 0.0,
-                }),
-                FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => Some(Helix {
-                    start: *start,
-                    per_disk: *per_disk,
-                }),
-                FileAngles::PerDisk(_) => None,
-            },
-            stiffness: None,
-            pretension: 0.0,
-        };
-        (cable.stiffness, cable.pretension) = compliance(self, &f, chord_length(&cable, disk_s))?;
-        Ok(cable)
-    }
-
-    /// One hole radius per disk `0..=ends_at`, each between the backbone and the disk rim.
-    fn radii(
-        &self,
-        ci: usize,
-        ends_at: usize,
-        disk_radius: f64,
-        backbone: &Backbone,
-    ) -> Result<Vec<f64>, ModelError> {
-        let count = ends_at + 1;
-        let radius = match &self.radius {
-            FileRadius::One(r) => vec![*r; count],
-            FileRadius::PerDisk(v) => {
-                if v.len() != count {
-                    return Err(ModelError::invalid(
-                        format!("cables[{ci}].radius"),
-                        format!(
-                            "needs one radius per disk the cable passes (0..={ends_at}: {count}), got {}",
-                            v.len()
-                        ),
-                    ));
-                }
-                v.clone()
-            }
-        };
-        for (k, rr) in radius.iter().enumerate() {
-            let field = if matches!(self.radius, FileRadius::One(_)) {
-                format!("cables[{ci}].radius")
-            } else {
-                format!("cables[{ci}].radius[{k}]")
-            };
-            positive(&field, *rr)?;
-            if *rr >= disk_radius {
-                return Err(ModelError::invalid(
-                    field,
-                    format!("hole radius {rr} m lies beyond the disk (radius {disk_radius} m)"),
-                ));
-            }
-            if *rr <= backbone.radius() {
-                return Err(ModelError::invalid(
-                    field,
-                    format!(
-                        "hole radius {rr} m lies inside the backbone (radius {} m)",
-                        backbone.radius()
-                    ),
-                ));
-            }
-        }
-        Ok(radius)
-    }
-
-    /// One hole angle per disk `0..=ends_at`, from a rule or a per-disk table.
-    fn angles(&self, ci: usize, ends_at: usize) -> Result<Vec<f64>, ModelError> {
-        let f = |name: &str| format!("cables[{ci}].{name}");
-        let count = ends_at + 1;
-        Ok(match &self.angles {
-            FileAngles::Rule(FileAngleRule::Straight(a)) => {
-                vec![bounds::ANGLE.check(&f("angles.straight"), *a)?; count]
-            }
-            FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => {
-                bounds::ANGLE.check(&f("angles.helix.start"), *start)?;
-                bounds::HELIX_PER_DISK.check(&f("angles.helix.per_disk"), *per_disk)?;
-                (0..count).map(|k| start + per_disk * k as f64).collect()
-            }
-            FileAngles::PerDisk(v) => {
-                if v.len() != count {
-                    return Err(ModelError::invalid(
-                        f("angles"),
-                        format!(
-                            "needs one angle per disk the cable passes (0..={ends_at}: {count}), got {}",
-                            v.len()
-                        ),
-                    ));
-                }
-                for (k, a) in v.iter().enumerate() {
-                    bounds::ANGLE.check(&format!("cables[{ci}].angles[{k}]"), *a)?;
-                }
-                v.clone()
-            }
-        })
-    }
-
-    /// The file's shortening and tension for this cable, bounded by its undeformed length.
-    fn drive(&self, ci: usize, cable: &Cable, disk_s: &[f64]) -> Result<CableDrive, ModelError> {
-        let f = |name: &str| format!("cables[{ci}].{name}");
-        let shorten = match (self.shorten, self.shorten_percent) {
-            (Some(_), Some(_)) => {
-                return Err(ModelError::invalid(
-                    f("shorten_percent"),
-                    "give either shorten or shorten_percent, not both",
-                ))
-            }
-            (Some(d), None) => {
-                finite(&f("shorten"), d)?;
-                // Undeformed chord length, to check an absolute shortening against.
-                let chord_len = chord_length(cable, disk_s);
-                if d >= chord_len {
-                    return Err(ModelError::invalid(
-                        f("shorten"),
-                        format!(
-                            "{d} m is not less than the cable's undeformed length {chord_len:.6} m"
-                        ),
-                    ));
-                }
-                if d <= -chord_len {
-                    return Err(ModelError::invalid(
-                        f("shorten"),
-                        format!(
-                            "a payout of {:e} m is not smaller than the cable's undeformed length {chord_len:.6} m",
-                            -d
-                        ),
-                    ));
-                }
-                Some(Shortening::Length(d))
-            }
-            (None, Some(p)) => {
-                finite(&f("shorten_percent"), p)?;
-                if p >= 100.0 {
-                    return Err(ModelError::invalid(
-                        f("shorten_percent"),
-                        format!("{p} % would shorten the cable to nothing (must be < 100)"),
-                    ));
-                }
-                if p <= -100.0 {
-                    return Err(ModelError::invalid(
-                        f("shorten_percent"),
-                        format!("{p} % is not a plausible payout (must be > -100)"),
-                    ));
-                }
-                Some(Shortening::Fraction(p / 100.0))
-            }
-            (None, None) => None,
-        };
-        let tension = match self.tension {
-            Some(t) if t.is_finite() && t < 0.0 => {
-                return Err(ModelError::invalid(
-                    f("tension"),
-                    format!("cables pull, they do not push: must be >= 0, got {t}"),
-                ))
-            }
-            Some(t) => Some(bounds::TENSION.check(&f("tension"), t)?),
-            None => None,
-        };
-        Ok(CableDrive {
-            shorten,
-            tension,
-            capstan: 0.0,
         })
     }
 }

@@ -27,6 +27,7 @@
 pub mod actuation;
 pub mod bounds;
 mod file;
+mod file_cable;
 pub mod hardware;
 pub mod limits;
 pub mod mesh;
