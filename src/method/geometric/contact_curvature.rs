@@ -196,39 +196,9 @@ fn sliding(g: &Matrix3<f64>, jac: &Jac, params: &[Param]) -> Matrix6<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::robot::Robot;
+    use crate::method::geometric::obstacles::random_section_worlds;
     use crate::model::scene::Scene;
     use crate::model::Model;
-    use crate::numeric::so3::exp_so3;
-
-    /// Random section worlds next to the wall (a box: flat face) and the pillar (a cylinder)
-    /// with a pose whose features are within the margin.
-    fn worlds(robot: &Robot, scene: &Scene, seed: u64) -> Vec<(SectionWorld, Pose)> {
-        let mut rng = crate::numeric::test_rng::Rng(seed);
-        let mut rnd = |a: f64, b: f64| rng.range(a, b);
-        let relevant: Vec<usize> = (0..scene.obstacles.len()).collect();
-        let mut out = vec![];
-        for _ in 0..300 {
-            let r_prev = exp_so3(&Vector3::new(
-                rnd(-0.6, 0.6),
-                rnd(-0.6, 0.6),
-                rnd(-3.2, 3.2),
-            ));
-            let x_prev = Vector3::new(rnd(0.0, 0.05), rnd(0.0, 0.09), rnd(0.06, 0.13));
-            let i = 1 + (rnd(0.0, 8.99) as usize);
-            let Some(w) = SectionWorld::new(robot, scene, &relevant, i, &r_prev, &x_prev) else {
-                continue;
-            };
-            let l = robot.section_length(i);
-            let w_rot = Vector3::new(rnd(-0.5, 0.5), rnd(-0.5, 0.5), rnd(-0.5, 0.5));
-            let pose = Pose {
-                p: exp_so3(&(0.5 * w_rot)) * Vector3::new(0.0, 0.0, l),
-                q: exp_so3(&w_rot),
-            };
-            out.push((w, pose));
-        }
-        out
-    }
 
     /// Every pair's `∇²d` (disk rims and faces, cable chords, backbone capsules; against the
     /// wall's flat faces and the pillar's curved side) equals central differences of the
@@ -250,7 +220,11 @@ mod tests {
         let (mut worst, mut all) = ([0.0f64; 2], vec![]);
         for (s, name) in ["wall", "pillar"].iter().enumerate() {
             let scene = Scene::from_file(format!("models/scenes/{name}.toml")).unwrap();
-            for (w, pose) in worlds(&robot, &scene, 0x9e37_79b9_7f4a_7c15 + s as u64) {
+            for (w, pose) in random_section_worlds(
+                &robot,
+                &scene,
+                &mut crate::numeric::test_rng::Rng(0x9e37_79b9_7f4a_7c15 + s as u64),
+            ) {
                 let pairs = w.pairs(&pose);
                 for p in pairs.iter().filter(|p| p.dist > 1e-4) {
                     let Some(h) = w.distance_hessian(&pose, p) else {

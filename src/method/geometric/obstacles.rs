@@ -323,11 +323,45 @@ impl SectionWorld {
     }
 }
 
+/// Up to 300 random section worlds of `robot` next to `scene`, each with a pose whose features
+/// are within the margin (separated, touching and penetrating pairs): the sample the unit tests
+/// of the contact queries and of their curvature draw from.
+#[cfg(test)]
+pub(super) fn random_section_worlds(
+    robot: &Robot,
+    scene: &Scene,
+    rng: &mut crate::numeric::test_rng::Rng,
+) -> Vec<(SectionWorld, Pose)> {
+    use crate::numeric::so3::exp_so3;
+    let mut rnd = |a: f64, b: f64| rng.range(a, b);
+    let relevant: Vec<usize> = (0..scene.obstacles.len()).collect();
+    let mut out = vec![];
+    for _ in 0..300 {
+        let r_prev = exp_so3(&Vector3::new(
+            rnd(-0.6, 0.6),
+            rnd(-0.6, 0.6),
+            rnd(-3.2, 3.2),
+        ));
+        let x_prev = Vector3::new(rnd(0.0, 0.05), rnd(0.0, 0.09), rnd(0.06, 0.13));
+        let i = 1 + (rnd(0.0, 8.99) as usize);
+        let Some(w) = SectionWorld::new(robot, scene, &relevant, i, &r_prev, &x_prev) else {
+            continue;
+        };
+        let l = robot.section_length(i);
+        let w_rot = Vector3::new(rnd(-0.5, 0.5), rnd(-0.5, 0.5), rnd(-0.5, 0.5));
+        let pose = Pose {
+            p: exp_so3(&(0.5 * w_rot)) * Vector3::new(0.0, 0.0, l),
+            q: exp_so3(&w_rot),
+        };
+        out.push((w, pose));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::model::Model;
-    use crate::numeric::so3::exp_so3;
 
     /// The pruned queries change nothing: over random section poses next to the wall and the
     /// pillar (separated, touching and penetrating), the pairs within the margin are the
@@ -337,29 +371,10 @@ mod tests {
     fn pruned_pairs_equal_the_unpruned_ones() {
         let robot = Model::from_file("models/paper/case1.toml").unwrap().robot;
         let mut rng = crate::numeric::test_rng::Rng(0x2545_f491_4f6c_dd1d);
-        let mut rnd = |a: f64, b: f64| rng.range(a, b);
         let (mut kept, mut pruned, mut touching) = (0, 0, 0);
         for scene in ["wall", "pillar"] {
             let scene = Scene::from_file(format!("models/scenes/{scene}.toml")).unwrap();
-            let relevant: Vec<usize> = (0..scene.obstacles.len()).collect();
-            for _ in 0..300 {
-                let r_prev = exp_so3(&Vector3::new(
-                    rnd(-0.6, 0.6),
-                    rnd(-0.6, 0.6),
-                    rnd(-3.2, 3.2),
-                ));
-                let x_prev = Vector3::new(rnd(0.0, 0.05), rnd(0.0, 0.09), rnd(0.06, 0.13));
-                let i = 1 + (rnd(0.0, 8.99) as usize);
-                let Some(w) = SectionWorld::new(&robot, &scene, &relevant, i, &r_prev, &x_prev)
-                else {
-                    continue;
-                };
-                let l = robot.section_length(i);
-                let w_rot = Vector3::new(rnd(-0.5, 0.5), rnd(-0.5, 0.5), rnd(-0.5, 0.5));
-                let pose = Pose {
-                    p: exp_so3(&(0.5 * w_rot)) * Vector3::new(0.0, 0.0, l),
-                    q: exp_so3(&w_rot),
-                };
+            for (w, pose) in random_section_worlds(&robot, &scene, &mut rng) {
                 let all = w.pairs_within(&pose, f64::INFINITY);
                 let near = w.pairs(&pose);
                 let key = |p: &Pair| (p.obstacle, p.feature, p.dist.to_bits(), p.grad);
