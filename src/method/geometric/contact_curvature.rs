@@ -93,7 +93,48 @@ fn disk_point_curvature(m: &Vector3<f64>, l: &Vector3<f64>) -> Matrix6<f64> {
     h
 }
 
+/// The pairs pressing at the last Newton step: (obstacle, feature, multiplier μ > 0).
+#[derive(Default)]
+pub(super) struct Pressed(Vec<(usize, Feature, f64)>);
+
+impl Pressed {
+    /// The pairs of `pairs` whose multiplier in `mu` is positive.
+    pub(super) fn of(pairs: &[Pair], mu: &[f64]) -> Self {
+        Pressed(
+            pairs
+                .iter()
+                .zip(mu)
+                .filter(|(_, m)| **m > 0.0)
+                .map(|(p, m)| (p.obstacle, p.feature, *m))
+                .collect(),
+        )
+    }
+}
+
 impl SectionWorld {
+    /// Adds the contact curvature `−Σ μ ∇²d` of the pairs that pressed at the last step to the
+    /// Lagrangian Hessian `h` (each pair of `pairs` found in `pressed`, with its multiplier;
+    /// a pair whose `∇²d` is not defined, a disk seen face-on, adds nothing).
+    pub(super) fn add_pressed_curvature(
+        &self,
+        pose: &Pose,
+        pairs: &[Pair],
+        pressed: &Pressed,
+        h: &mut Matrix6<f64>,
+    ) {
+        for p in pairs {
+            if let Some((_, _, m)) = pressed
+                .0
+                .iter()
+                .find(|(k, f, _)| *k == p.obstacle && *f == p.feature)
+            {
+                if let Some(d2) = self.distance_hessian(pose, p) {
+                    *h -= d2 * *m;
+                }
+            }
+        }
+    }
+
     /// `∇²d` of the pair `p` at `pose` in the section's variables (module docs); `None` for a
     /// disk whose normal is within [`FACE_ON`] of its axis.
     pub(super) fn distance_hessian(&self, pose: &Pose, p: &Pair) -> Option<Matrix6<f64>> {

@@ -1,8 +1,9 @@
 //! Newton–KKT on one face from one start (an SQP with clarabel's QP when obstacles are near),
 //! with an ℓ1-merit line search.
 
+use super::contact_curvature::Pressed;
 use super::faces::{Candidate, Rejected, Step};
-use super::obstacles::{penetration_of, Feature, Pair};
+use super::obstacles::{penetration_of, worst_gap, Pair};
 use super::problem::{Pose, SectionData};
 use super::{Geometric, Objective};
 use crate::contact::CONTACT_TOL;
@@ -86,8 +87,7 @@ impl Geometric {
             MAX_SHORT_STEPS
         };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
-        // (obstacle, feature, multiplier) of the pairs pressing at the last step.
-        let mut pressed: Vec<(usize, Feature, f64)> = vec![];
+        let mut pressed = Pressed::default();
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
                 Err(Rejected {
@@ -120,17 +120,7 @@ impl Geometric {
             }
             let pairs = world.map(|w| w.pairs(&pose)).unwrap_or_default();
             if let Some(w) = world {
-                // The contact curvature −Σ μ ∇²d of the pairs that pressed at the last step.
-                for p in &pairs {
-                    if let Some((_, _, m)) = pressed
-                        .iter()
-                        .find(|(k, f, _)| *k == p.obstacle && *f == p.feature)
-                    {
-                        if let Some(d2) = w.distance_hessian(&pose, p) {
-                            h -= d2 * *m;
-                        }
-                    }
-                }
+                w.add_pressed_curvature(&pose, &pairs, &pressed, &mut h);
             }
             let clearance = world.map_or(0.0, |w| w.clearance);
             let (step, mu) = if pairs.is_empty() {
@@ -142,10 +132,7 @@ impl Geometric {
                 }
             };
             let res = cv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let worst_gap = pairs
-                .iter()
-                .map(|p| clearance - p.dist)
-                .fold(0.0f64, f64::max);
+            let worst_gap = worst_gap(&pairs, clearance);
             last_res = res.max(worst_gap);
             let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
             let in_contact = mu_max > 1e-10;
@@ -221,12 +208,7 @@ impl Geometric {
                 _ => return reject(last_res),
             }
             lambda = Some(step.lambda);
-            pressed = pairs
-                .iter()
-                .zip(&mu)
-                .filter(|(_, m)| **m > 0.0)
-                .map(|(p, m)| (p.obstacle, p.feature, *m))
-                .collect();
+            pressed = Pressed::of(&pairs, &mu);
         }
         Err(Rejected {
             iterations: self.max_iterations,

@@ -25,6 +25,14 @@ pub(super) fn penetration_of(pairs: &[Pair], clearance: f64) -> f64 {
     pairs.iter().map(|p| (clearance - p.dist).max(0.0)).sum()
 }
 
+/// `max(0, max (clearance − d))` over the pairs: the deepest one inside the clearance \[m\].
+pub(super) fn worst_gap(pairs: &[Pair], clearance: f64) -> f64 {
+    pairs
+        .iter()
+        .map(|p| clearance - p.dist)
+        .fold(0.0f64, f64::max)
+}
+
 /// What holds a feature, for [`SectionWorld::distance_bound`]: a segment (ends, radius) or a
 /// disk (centre, unit axis, radius, half thickness).
 enum Hull {
