@@ -148,11 +148,7 @@ impl MethodKind {
         if self.info().settings.iter().any(|s| s.name == name) {
             return Ok(());
         }
-        let takers: Vec<&str> = Self::ALL
-            .iter()
-            .filter(|k| k.info().settings.iter().any(|s| s.name == name))
-            .map(|k| k.name())
-            .collect();
+        let takers = Self::names_with(|i| i.settings.iter().any(|s| s.name == name));
         let own: Vec<&str> = self.info().settings.iter().map(|s| s.name).collect();
         Err(SolveError::InvalidInput {
             field: name.clone(),
@@ -189,12 +185,7 @@ impl MethodKind {
                  clear of obstacles: {}",
                 info.name,
                 scene.obstacles.len(),
-                Self::ALL
-                    .iter()
-                    .filter(|k| k.info().obstacles)
-                    .map(|k| k.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                Self::names_with(|i| i.obstacles).join(", ")
             ));
         }
         let l = &robot.loads;
@@ -214,18 +205,11 @@ impl MethodKind {
         ];
         for (name, present, modelled) in loads {
             if present && !modelled {
-                let by: Vec<&str> = Self::ALL
-                    .iter()
-                    .filter(|k| {
-                        let s = k.info().loads;
-                        match name {
-                            "gravity" => s.gravity,
-                            "loads.tip_force" => s.tip_force,
-                            _ => s.tip_moment,
-                        }
-                    })
-                    .map(|k| k.name())
-                    .collect();
+                let by = Self::names_with(|i| match name {
+                    "gravity" => i.loads.gravity,
+                    "loads.tip_force" => i.loads.tip_force,
+                    _ => i.loads.tip_moment,
+                });
                 return refuse(format!(
                     "the model's `{name}` is not modelled by {} (it would be ignored); use {}",
                     info.name,
@@ -234,11 +218,7 @@ impl MethodKind {
             }
         }
         if !info.bending_stiffening && robot.backbone.stiffening > 0.0 {
-            let by: Vec<&str> = Self::ALL
-                .iter()
-                .filter(|k| k.info().bending_stiffening)
-                .map(|k| k.name())
-                .collect();
+            let by = Self::names_with(|i| i.bending_stiffening);
             return refuse(format!(
                 "the backbone's `stiffening` (β = {} m², a bending stiffness rising with \
                  curvature) is not modelled by {} (it would be ignored); use {}, or drop it",
@@ -253,11 +233,7 @@ impl MethodKind {
                 .iter()
                 .find(|c| c.stiffness.is_some() || c.pretension > 0.0)
             {
-                let by: Vec<&str> = Self::ALL
-                    .iter()
-                    .filter(|k| k.info().cable_compliance)
-                    .map(|k| k.name())
-                    .collect();
+                let by = Self::names_with(|i| i.cable_compliance);
                 return refuse(format!(
                     "cable `{}` has a `stiffness` (compliant cable), which {} does not model \
                      (its cables are inextensible); use {}, or drop the stiffness",
@@ -293,11 +269,7 @@ impl MethodKind {
         let info = self.info();
         if !info.capstan_friction {
             if let Some(c) = act.cables.iter().position(|d| d.capstan != 0.0) {
-                let by: Vec<&str> = Self::ALL
-                    .iter()
-                    .filter(|k| k.info().capstan_friction)
-                    .map(|k| k.name())
-                    .collect();
+                let by = Self::names_with(|i| i.capstan_friction);
                 return Err(SolveError::Unsupported {
                     method: info.name.into(),
                     reason: format!(
@@ -320,6 +292,16 @@ impl MethodKind {
     pub fn from_name(name: &str) -> Option<MethodKind> {
         Self::ALL.into_iter().find(|k| k.name() == name)
     }
+
+    /// The names of the methods whose registry entry satisfies `has` (a capability), in
+    /// registry order: what an error names as the methods to use instead.
+    fn names_with(has: impl Fn(&MethodInfo) -> bool) -> Vec<&'static str> {
+        Self::ALL
+            .into_iter()
+            .filter(|k| has(k.info()))
+            .map(|k| k.name())
+            .collect()
+    }
 }
 
 impl fmt::Display for MethodKind {
@@ -331,12 +313,9 @@ impl fmt::Display for MethodKind {
 impl FromStr for MethodKind {
     type Err = SolveError;
     fn from_str(s: &str) -> Result<Self, SolveError> {
-        Self::ALL
-            .into_iter()
-            .find(|k| k.name() == s.trim())
-            .ok_or_else(|| SolveError::InvalidInput {
-                field: "method".into(),
-                reason: format!("unknown method `{s}`; known: {}", NAMES.join(", ")),
-            })
+        Self::from_name(s.trim()).ok_or_else(|| SolveError::InvalidInput {
+            field: "method".into(),
+            reason: format!("unknown method `{s}`; known: {}", NAMES.join(", ")),
+        })
     }
 }
