@@ -56,13 +56,33 @@
 //!
 //! # Newton polish
 //!
-//! The lagged passes converge linearly (a factor ≈ 0.02–0.9 per pass on the FTDCR rows, worse
-//! at large bends and stiff tendons). After the first pass the taut set is known, so full
-//! Newton steps on the friction equilibrium (`[∇E + Σ_c λ_c Σ_j w_cj ∇L_cj; L_c − t_c −
-//! λ_c/k_c]` with the non-symmetric matrix of `Problem::friction_jacobian`) are tried; they
-//! converge quadratically. A step that does not halve the residual, makes a tension negative
-//! or stretches a slack cable hands back to the lagged passes. A solve without friction (`a = 0`
-//! for every cable) never enters this file: it is today's model to the bit. The tip Jacobian
+//! The lagged passes are a fixed-point (Picard) iteration `x^{k+1} = G(x^k)`; near a fixed
+//! point they converge linearly with the rate `ρ(G')`, the spectral radius of its Jacobian, and
+//! only when `ρ < 1` (Ostrowski's theorem: Ortega & Rheinboldt, *Iterative Solution of
+//! Nonlinear Equations in Several Variables*, 1970, 10.1.3). `G'` is `−K̃⁻¹ M` on the taut
+//! cables' tangent space (`K̃` the lagged problem's Hessian, `M = Σ_c λ_c Σ_j ∇L_cj ∇w_cjᵀ` of
+//! `Problem::friction_jacobian`): a change `Δθ` of wrap changes the weights by `a Δθ` and the
+//! generalized force by `λ a Δθ ∇L`, against a bending stiffness `EI/ℓ`, so `ρ` grows like
+//! `μ λ r ℓ / EI`. With compliant tendons `λ` stays a few newtons and `ρ` ≈ 0.02–0.5; with
+//! rigid tendons pulling against each other (the nominal v4's `all3_same_dir180_hold` rows: the
+//! three distal tendons taut at 110–150 N, compressing the backbone) `ρ` ≈ 0.8 to ≥ 1, and the
+//! passes creep or wander (`tests/hardware_friction.rs`).
+//!
+//! Full Newton steps on the friction equilibrium (`[∇E + Σ_c λ_c Σ_j w_cj ∇L_cj; L_c − t_c −
+//! λ_c/k_c]` with the non-symmetric matrix of `Problem::friction_jacobian`, the taut set held
+//! fixed) converge quadratically from close enough whatever `ρ` (Dennis & Schnabel, *Numerical
+//! Methods for Unconstrained Optimization and Nonlinear Equations*, 1983, Thm 5.2.1), provided
+//! the taut set is the solution's: with it fixed the complementarity becomes equations, as an
+//! SQP method's once its active set is identified (Nocedal & Wright, *Numerical Optimization*,
+//! 2nd ed., §18.1). So the polish is tried after pass 0 and again whenever the taut set is the
+//! one of the previous pass (settled) and the residual has fallen below [`POLISH_RETRY`] times
+//! the one a failed polish started from (at most one try per tenfold gain, a few per row). A
+//! step that does not halve the residual, makes a tension negative or stretches a slack cable
+//! hands back to the lagged passes, which bring the iterate closer. A row the passes end at
+//! pass 0 or 1, or without a polish, is computed as before to the bit; a row they would have
+//! ended later may now end earlier by a polish, at another point within [`FRICTION_TOLERANCE`].
+//! A solve without friction (`a = 0` for every cable) never enters this file: it is today's
+//! model to the bit. The tip Jacobian
 //! of a solve with friction comes from the full, non-symmetric linearization
 //! (`Problem::friction_jacobian`); its stability is not reported.
 
@@ -86,6 +106,10 @@ pub const MAX_FRICTION_PASSES: usize = 60;
 
 /// Most full Newton steps of one polish ([`Problem::friction_newton`]).
 const POLISH_STEPS: usize = 8;
+
+/// A polish that failed is tried again from the same taut set only once the lagged passes have
+/// brought the residual below this fraction of the residual it was tried at (module docs).
+const POLISH_RETRY: f64 = 0.1;
 
 /// The signed capstan coefficient of every cable, `None` when no cable has friction.
 pub(super) fn coefficients(act: &Actuation) -> Option<Vec<f64>> {
@@ -185,6 +209,10 @@ impl Energy {
         let (mut len, mut lenw) = (vec![0.0; nc], vec![0.0; nc]);
         let mut iterations = 0;
         let mut resid = f64::INFINITY;
+        // The taut set of the previous pass, and the residual of the last polish tried from
+        // it ("Newton polish": retried once the taut set has settled).
+        let mut prev_taut: Vec<usize> = vec![];
+        let mut polished_at = f64::INFINITY;
         for pass in 0..MAX_FRICTION_PASSES {
             // The lagged problem at ξ^k: weighted samples, shifted targets.
             prob.nodes = Cow::Borrowed(base);
@@ -221,7 +249,14 @@ impl Energy {
             resid = self.friction_residual(&mut prob, base, &targets, &w, &w_new, &xi, &lam);
             w = w_new;
             let mut sol = sol;
-            if resid > FRICTION_TOLERANCE && pass == 0 {
+            let taut: Vec<usize> = (0..nc).filter(|&c| lam[c] > 0.0).collect();
+            if taut != prev_taut {
+                polished_at = f64::INFINITY;
+            }
+            let settled = taut == prev_taut && resid < POLISH_RETRY * polished_at;
+            prev_taut = taut;
+            if resid > FRICTION_TOLERANCE && (pass == 0 || settled) {
+                polished_at = resid;
                 if let Some((x, l, r, steps)) = prob.friction_newton(base, a, &xi, &lam) {
                     (xi, lam, resid) = (x, l, r);
                     iterations += steps;
