@@ -121,6 +121,7 @@ fn mutated_models_and_scenes_end_named_and_bounded() {
             job(p.display().to_string(), None, &mut jobs);
         }
     }
+    let first_scene = jobs.len();
     for s in ["wall", "pillar", "vessel"] {
         let text =
             std::fs::read_to_string(root().join(format!("models/scenes/{s}.toml"))).expect("scene");
@@ -144,6 +145,17 @@ fn mutated_models_and_scenes_end_named_and_bounded() {
         .len();
     for (j, (a, _)) in jobs[first_vessel..].iter_mut().enumerate() {
         a[3] = no_obstacles[j % no_obstacles.len()].clone();
+    }
+    // The wall's and the pillar's mutants go to the methods that read an obstacle's geometry
+    // (a box of zero, negative or huge half extent reaches the closed-form box distance of
+    // both obstacle methods, not a refusal by a method without obstacles).
+    let with_obstacles: Vec<String> = MethodKind::ALL
+        .iter()
+        .filter(|k| k.info().obstacles)
+        .map(|k| k.name().to_string())
+        .collect();
+    for (j, (a, _)) in jobs[first_scene..first_vessel].iter_mut().enumerate() {
+        a[3] = with_obstacles[j % with_obstacles.len()].clone();
     }
     assert!(jobs.len() > 500, "{} mutants", jobs.len());
     let t = run_all(&dir, jobs, BUDGET);
@@ -359,3 +371,79 @@ fn json_scenes_and_cable_compliance_end_named_and_bounded() {
 
 // Dense scenes (thousands of obstacles within reach; the finding that was
 // `many_obstacles_solve_within_the_budget`): `tests/dense_scenes.rs`.
+
+/// The fields of a real robot's model that the paper cases do not have: every number of the
+/// `[hardware]` table (gain, offset, base pose, marker, backlash, capstan friction) and of the
+/// backbone (with its curvature stiffening) replaced by each absurd value, each of those lines
+/// deleted and duplicated; each mutant predicts 12 measured rows (a sequence: backlash and
+/// friction act) with the energy model, and the unmutated model with every method (the
+/// methods without capstan friction refuse it by name).
+#[test]
+fn hardware_models_end_named_and_bounded() {
+    let dir = scratch("hardware");
+    let text = std::fs::read_to_string(root().join("models/hardware/ftdcr_v4.toml"))
+        .expect("hardware model")
+        .replace(
+            "marker = [0.0, 0.0, 0.008]\n",
+            "marker = [0.0, 0.0, 0.008]\nbacklash = 1e-4\nfriction = 0.2\n",
+        )
+        .replace(
+            "diameter = 0.001 }",
+            "diameter = 0.001, stiffening = 1e-5 }",
+        );
+    assert!(text.contains("friction = 0.2") && text.contains("stiffening"));
+    let data = std::fs::read_to_string(
+        root().join("models/hardware/data/v4/tdcr_sysid_20260511-183002_val.csv"),
+    )
+    .expect("hardware data");
+    let rows: Vec<&str> = data.lines().take(13).collect();
+    let data = write(&dir, "rows.csv", &rows.join("\n"));
+    let fields = [
+        "gain", "offset", "base_", "marker", "backlash", "friction", "backbone",
+    ];
+    let line_of = |at: usize| text[..at].rsplit('\n').next().unwrap_or("").trim_start();
+    let mut files = vec![];
+    for (a, b) in numbers(&text) {
+        if fields.iter().any(|f| line_of(a).starts_with(f)) {
+            for v in VALUES {
+                files.push(format!("{}{}{}", &text[..a], v, &text[b..]));
+            }
+        }
+    }
+    let lines: Vec<&str> = text.lines().collect();
+    for (k, l) in lines.iter().enumerate() {
+        if fields.iter().any(|f| l.starts_with(f)) {
+            let mut del = lines.clone();
+            del.remove(k);
+            files.push(del.join("\n"));
+            let mut dup = lines.clone();
+            dup.insert(k, l);
+            files.push(dup.join("\n"));
+        }
+    }
+    assert!(files.len() > 150, "{} mutants", files.len());
+    let predict = |file: &Path, method: &str, k: usize| {
+        let out = dir.join(format!("out{k}.csv")).display().to_string();
+        let a = [
+            "predict",
+            &file.display().to_string(),
+            "--data",
+            &data.display().to_string(),
+            "--out",
+            &out,
+            "--method",
+            method,
+        ];
+        (a.iter().map(|s| s.to_string()).collect::<Vec<_>>(), None)
+    };
+    let mut jobs = vec![];
+    for (k, m) in files.iter().enumerate() {
+        jobs.push(predict(&write(&dir, &format!("m{k}.toml"), m), "energy", k));
+    }
+    let plain = write(&dir, "plain.toml", &text);
+    for (j, m) in methods().iter().enumerate() {
+        jobs.push(predict(&plain, m, files.len() + j));
+    }
+    let t = run_all(&dir, jobs, BUDGET);
+    t.report_and_assert("hardware models");
+}

@@ -44,7 +44,7 @@ fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         for s in i.settings {
             let sd = PyDict::new(py);
             sd.set_item("name", s.name)?;
-            sd.set_item("values", s.values)?;
+            sd.set_item("values", s.values.to_string())?;
             sd.set_item("default", s.default)?;
             sd.set_item("help", s.help)?;
             settings.append(sd)?;

@@ -49,7 +49,7 @@
 
 use crate::error::SolveError;
 use crate::method::output::cable_paths;
-use crate::method::settings::{parse_control, Configure};
+use crate::method::settings::{common, Configure};
 use crate::method::{Method, MethodKind, SolveInput};
 use crate::model::actuation::{Drive, Input};
 use crate::model::robot::Robot;
@@ -113,9 +113,10 @@ fn arc_frame(u: &Vector2<f64>, s: f64) -> (Vector3<f64>, nalgebra::Matrix3<f64>)
 
 impl Configure for ConstantCurvature {
     fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        let range = self.kind().setting(name)?.values;
         match name {
-            "control" => self.control = parse_control(value)?,
-            _ => return self.kind().check_setting(name),
+            "control" => self.control = range.pick(name, value, common::CONTROL_INPUTS)?,
+            _ => return Err(self.kind().unapplied(name)),
         }
         Ok(())
     }

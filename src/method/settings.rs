@@ -6,8 +6,8 @@
 //! Every value is parsed and bounded here, so no setting can make a solve run unbounded.
 
 use crate::error::SolveError;
-use crate::model::actuation::{Input, LengthMeasure};
-use crate::model::routing::RoutingFit;
+use crate::model::actuation::Input;
+use std::fmt;
 
 /// Settings as `name = value` pairs, applied in order (a later value of the same name wins).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -73,16 +73,151 @@ impl Settings {
 }
 
 /// One setting a method takes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SettingInfo {
     /// Name (kebab-case, as on the command line).
     pub name: &'static str,
-    /// Accepted values (a list or a range).
-    pub values: &'static str,
+    /// Accepted values: the one place they are written; printed by `ccrkit methods` and
+    /// checked by the method's [`Configure::set`] (which reads it from the registry).
+    pub values: Range,
     /// Default value.
     pub default: &'static str,
     /// What it does.
     pub help: &'static str,
+}
+
+/// The values a setting takes, typed: it prints (its `Display`, what `ccrkit methods` and
+/// Python's `methods()` show) and it parses ([`Range::count`], [`Range::number`],
+/// [`Range::pick`]), so the printed range and the enforced one cannot disagree.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Range {
+    /// A whole number from `min` to `max`, printed `min..=max`, then `(note)` if `note` is not
+    /// empty (a further limit the method checks against the rest of its settings).
+    Count {
+        /// Smallest accepted.
+        min: usize,
+        /// Largest accepted.
+        max: usize,
+        /// A further limit, printed after the range.
+        note: &'static str,
+    },
+    /// A finite number in `(lo, hi]` (`lo` excluded), printed `(lo, hi]`, then ` | word` for
+    /// each word of `off` (a word that turns the feature off).
+    Number {
+        /// Excluded lower bound.
+        lo: f64,
+        /// Included upper bound.
+        hi: f64,
+        /// Words that mean "off" instead of a number (matched after trimming).
+        off: &'static [&'static str],
+    },
+    /// One of a list of words, each with the index of the value it picks (several words may
+    /// pick the same value: aliases). Printed `a | b`: the first word of each value.
+    Choice(&'static [(&'static str, usize)]),
+}
+
+impl Range {
+    /// A whole number from `min` to `max`, no note.
+    pub const fn whole(min: usize, max: usize) -> Range {
+        Range::Count { min, max, note: "" }
+    }
+
+    /// A finite number in `(lo, hi]`, no word for off.
+    pub const fn interval(lo: f64, hi: f64) -> Range {
+        Range::Number { lo, hi, off: &[] }
+    }
+
+    /// A whole-number setting.
+    pub fn count(&self, name: &str, value: &str) -> Result<usize, SolveError> {
+        match *self {
+            Range::Count { min, max, .. } => parse_count(name, value.trim(), min, max),
+            _ => Err(self.misread(name, "a whole number")),
+        }
+    }
+
+    /// A number setting; `None` for one of its `off` words.
+    pub fn number(&self, name: &str, value: &str) -> Result<Option<f64>, SolveError> {
+        match *self {
+            Range::Number { lo, hi, off } => {
+                let value = value.trim();
+                if off.contains(&value) {
+                    return Ok(None);
+                }
+                parse_in(name, value, lo, hi).map(Some)
+            }
+            _ => Err(self.misread(name, "a number")),
+        }
+    }
+
+    /// A number setting without `off` words.
+    pub fn real(&self, name: &str, value: &str) -> Result<f64, SolveError> {
+        self.number(name, value)?
+            .ok_or_else(|| self.misread(name, "a number without an off word"))
+    }
+
+    /// A choice: the value of `values` (in the order of the choice's value indices) that the
+    /// word `value` picks (case and surrounding space ignored).
+    pub fn pick<T: Copy, const N: usize>(
+        &self,
+        name: &str,
+        value: &str,
+        values: [T; N],
+    ) -> Result<T, SolveError> {
+        match *self {
+            Range::Choice(words) if words.iter().all(|&(_, i)| i < N) => {
+                let typed: Vec<(&str, T)> = words.iter().map(|&(w, i)| (w, values[i])).collect();
+                parse_choice(name, value, &typed)
+            }
+            _ => Err(self.misread(name, &format!("a choice among {N} values"))),
+        }
+    }
+
+    /// A setting read as another kind than the registry lists: a bug in ccrkit, reported
+    /// as an error naming the setting rather than a panic.
+    fn misread(&self, name: &str, kind: &str) -> SolveError {
+        invalid(
+            name,
+            format!("the registry lists `{self}` but the method reads {kind} (a bug in ccrkit)"),
+        )
+    }
+}
+
+/// A bound as the range prints it: the shorter of the plain and the exponent form
+/// (`0`, `1`, `1e-3`, `1e-14`, `1e6`).
+fn short(x: f64) -> String {
+    let (plain, exp) = (format!("{x}"), format!("{x:e}"));
+    if exp.len() < plain.len() {
+        exp
+    } else {
+        plain
+    }
+}
+
+impl fmt::Display for Range {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Range::Count { min, max, note } => {
+                write!(f, "{min}..={max}")?;
+                if !note.is_empty() {
+                    write!(f, " ({note})")?;
+                }
+                Ok(())
+            }
+            Range::Number { lo, hi, off } => {
+                write!(f, "({}, {}]", short(lo), short(hi))?;
+                off.iter().try_for_each(|w| write!(f, " | {w}"))
+            }
+            Range::Choice(words) => {
+                let shown: Vec<&str> = words
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, &(_, i))| !words[..k].iter().any(|&(_, j)| j == i))
+                    .map(|(_, &(w, _))| w)
+                    .collect();
+                f.write_str(&shown.join(" | "))
+            }
+        }
+    }
 }
 
 /// Method settings that can be set by name.
@@ -109,7 +244,7 @@ fn invalid(name: &str, reason: String) -> SolveError {
 }
 
 /// An integer in `[min, max]`.
-pub fn parse_count(name: &str, value: &str, min: usize, max: usize) -> Result<usize, SolveError> {
+fn parse_count(name: &str, value: &str, min: usize, max: usize) -> Result<usize, SolveError> {
     match value.parse::<u64>() {
         Ok(v) if (min as u64..=max as u64).contains(&v) => Ok(v as usize),
         _ => Err(invalid(
@@ -120,7 +255,7 @@ pub fn parse_count(name: &str, value: &str, min: usize, max: usize) -> Result<us
 }
 
 /// A finite number in `(lo, hi]` (`lo` excluded, `hi` included).
-pub fn parse_in(name: &str, value: &str, lo: f64, hi: f64) -> Result<f64, SolveError> {
+fn parse_in(name: &str, value: &str, lo: f64, hi: f64) -> Result<f64, SolveError> {
     match value.parse::<f64>() {
         Ok(v) if v.is_finite() && v > lo && v <= hi => Ok(v),
         _ => Err(invalid(
@@ -131,11 +266,7 @@ pub fn parse_in(name: &str, value: &str, lo: f64, hi: f64) -> Result<f64, SolveE
 }
 
 /// One of a list of names.
-pub fn parse_choice<T: Copy>(
-    name: &str,
-    value: &str,
-    choices: &[(&str, T)],
-) -> Result<T, SolveError> {
+fn parse_choice<T: Copy>(name: &str, value: &str, choices: &[(&str, T)]) -> Result<T, SolveError> {
     let v = value.trim().to_ascii_lowercase();
     choices
         .iter()
@@ -153,40 +284,7 @@ pub fn parse_choice<T: Copy>(
 /// `control`: which input drives a cable that gives both (`force`/`tension` or
 /// `displacement`/`shortening`).
 pub fn parse_control(value: &str) -> Result<Input, SolveError> {
-    parse_choice(
-        "control",
-        value,
-        &[
-            ("force", Input::Tension),
-            ("tension", Input::Tension),
-            ("displacement", Input::Shortening),
-            ("shortening", Input::Shortening),
-        ],
-    )
-}
-
-/// `length`: how a cable's length is measured (`path` or `chord`).
-pub fn parse_length(value: &str) -> Result<LengthMeasure, SolveError> {
-    parse_choice(
-        "length",
-        value,
-        &[
-            ("path", LengthMeasure::Path),
-            ("chord", LengthMeasure::Chord),
-        ],
-    )
-}
-
-/// `routing`: the cable routing fit (`spline` or `fourier8`).
-pub fn parse_routing(value: &str) -> Result<RoutingFit, SolveError> {
-    parse_choice(
-        "routing",
-        value,
-        &[
-            ("spline", RoutingFit::Spline),
-            ("fourier8", RoutingFit::Fourier8),
-        ],
-    )
+    common::CONTROL.pick("control", value, common::CONTROL_INPUTS)
 }
 
 /// The `control` value of an input (`displacement` or `force`), as the command line spells it.
@@ -197,15 +295,41 @@ pub fn control_name(i: Input) -> &'static str {
     }
 }
 
-/// Shared settings descriptions.
+/// Shared settings descriptions, and the typed values of the shared choices (in the order
+/// of their words' value indices).
 pub mod common {
-    use super::SettingInfo;
+    use super::{Range, SettingInfo, MAX_ITERATIONS};
+    use crate::model::actuation::{Input, LengthMeasure};
+    use crate::model::routing::RoutingFit;
+
+    /// `control`'s words: `force`/`tension` pick a cable's tension, `displacement`/
+    /// `shortening` its shortening ([`CONTROL_INPUTS`]).
+    pub const CONTROL: Range = Range::Choice(&[
+        ("force", 0),
+        ("tension", 0),
+        ("displacement", 1),
+        ("shortening", 1),
+    ]);
+    /// What [`CONTROL`]'s words pick.
+    pub const CONTROL_INPUTS: [Input; 2] = [Input::Tension, Input::Shortening];
+    /// `length`'s values, as [`LENGTH_MEASURES`].
+    pub const LENGTH_WORDS: Range = Range::Choice(&[("path", 0), ("chord", 1)]);
+    /// What [`LENGTH_WORDS`] pick.
+    pub const LENGTH_MEASURES: [LengthMeasure; 2] = [LengthMeasure::Path, LengthMeasure::Chord];
+    /// `routing`'s values, as [`ROUTING_FITS`].
+    pub const ROUTING_WORDS: Range = Range::Choice(&[("spline", 0), ("fourier8", 1)]);
+    /// What [`ROUTING_WORDS`] pick.
+    pub const ROUTING_FITS: [RoutingFit; 2] = [RoutingFit::Spline, RoutingFit::Fourier8];
+    /// A switch: `on | off`, as [`ON_OFF`].
+    pub const SWITCH: Range = Range::Choice(&[("on", 0), ("off", 1)]);
+    /// What [`SWITCH`] and a two-word choice whose first word turns something on pick.
+    pub const ON_OFF: [bool; 2] = [true, false];
 
     /// `control` with the given default.
     pub const fn control(default: &'static str) -> SettingInfo {
         SettingInfo {
             name: "control",
-            values: "force | displacement",
+            values: CONTROL,
             default,
             help: "input used for a cable that gives both a tension and a shortening",
         }
@@ -213,14 +337,14 @@ pub mod common {
     /// `routing`.
     pub const ROUTING: SettingInfo = SettingInfo {
         name: "routing",
-        values: "spline | fourier8",
+        values: ROUTING_WORDS,
         default: "spline",
         help: "cable routing fit through the holes",
     };
     /// `length`.
     pub const LENGTH: SettingInfo = SettingInfo {
         name: "length",
-        values: "path | chord",
+        values: LENGTH_WORDS,
         default: "path",
         help: "cable length measure under displacement control (alias cable-length)",
     };
@@ -228,7 +352,7 @@ pub mod common {
     pub const fn max_iterations(default: &'static str) -> SettingInfo {
         SettingInfo {
             name: "max-iterations",
-            values: "1..=100000",
+            values: Range::whole(1, MAX_ITERATIONS),
             default,
             help: "Newton iterations (per candidate / load step) before NotConverged",
         }
@@ -237,7 +361,7 @@ pub mod common {
     pub const fn tolerance(default: &'static str, help: &'static str) -> SettingInfo {
         SettingInfo {
             name: "tolerance",
-            values: "(0, 1]",
+            values: Range::interval(0.0, 1.0),
             default,
             help,
         }

@@ -51,6 +51,7 @@
 //! measurement frame (the OpenCR repository's 8 mm world-z shift) is a base translation.
 
 use super::actuation::{Actuation, Shortening};
+use super::bounds;
 use super::robot::Robot;
 use crate::error::ModelError;
 use crate::numeric::so3::exp_so3;
@@ -174,16 +175,15 @@ fn per_cable(
     Ok(out)
 }
 
-fn vec3(field: &str, v: Option<[f64; 3]>) -> Result<Vector3<f64>, ModelError> {
-    let v = v.unwrap_or([0.0; 3]);
-    for (k, x) in v.iter().enumerate() {
-        if !x.is_finite() {
-            return Err(ModelError::invalid(
-                format!("{field}[{k}]"),
-                format!("must be a finite number, got {x}"),
-            ));
-        }
-    }
+/// A 3-vector of the table (zero when absent), each component finite and in `range`: a base
+/// or marker 1e308 m away, or a rotation vector of 1e308 rad (whose norm overflows), made
+/// every prediction NaN or inf with exit 0.
+fn vec3(
+    field: &str,
+    v: Option<[f64; 3]>,
+    range: &bounds::Range,
+) -> Result<Vector3<f64>, ModelError> {
+    let v = range.check3(field, v.unwrap_or([0.0; 3]))?;
     Ok(Vector3::new(v[0], v[1], v[2]))
 }
 
@@ -267,9 +267,13 @@ impl Hardware {
             backlash,
             gain,
             offset,
-            base_position: vec3("hardware.base_position", f.base_position)?,
-            base_rotation: vec3("hardware.base_rotation", f.base_rotation)?,
-            marker: vec3("hardware.marker", f.marker)?,
+            base_position: vec3(
+                "hardware.base_position",
+                f.base_position,
+                &bounds::COORDINATE,
+            )?,
+            base_rotation: vec3("hardware.base_rotation", f.base_rotation, &bounds::ANGLE)?,
+            marker: vec3("hardware.marker", f.marker, &bounds::COORDINATE)?,
         })
     }
 

@@ -3,10 +3,7 @@
 //! each with its default and its bounded parser (`Configure`).
 
 use crate::error::SolveError;
-use crate::method::settings::{
-    parse_choice, parse_control, parse_count, parse_in, parse_length, parse_routing, Configure,
-    MAX_ITERATIONS,
-};
+use crate::method::settings::{common, Configure};
 use crate::method::Method;
 use crate::model::actuation::{Input, LengthMeasure};
 use crate::model::routing::RoutingFit;
@@ -115,30 +112,18 @@ impl Cosserat {
 
 impl Configure for Cosserat {
     fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        let range = self.kind().setting(name)?.values;
         match name {
-            "control" => self.control = parse_control(value)?,
-            "routing" => self.routing = parse_routing(value)?,
-            "length" => self.length = parse_length(value)?,
-            "rk4-steps" => self.steps_per_section = parse_count(name, value, 1, 1000)?,
-            "adaptive" => {
-                self.adaptive = match value.trim() {
-                    "off" | "none" => None,
-                    v => Some(parse_in(name, v, 1e-14, 1.0)?),
-                }
-            }
-            "bend-refine" => {
-                self.bend_refine = match value.trim() {
-                    "inf" | "off" => f64::INFINITY,
-                    v => parse_in(name, v, 0.0, 1e6)?,
-                }
-            }
-            "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
-            "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
-            "stability" => {
-                self.check_stability =
-                    parse_choice(name, value, &[("check", true), ("skip", false)])?
-            }
-            _ => return self.kind().check_setting(name),
+            "control" => self.control = range.pick(name, value, common::CONTROL_INPUTS)?,
+            "routing" => self.routing = range.pick(name, value, common::ROUTING_FITS)?,
+            "length" => self.length = range.pick(name, value, common::LENGTH_MEASURES)?,
+            "rk4-steps" => self.steps_per_section = range.count(name, value)?,
+            "adaptive" => self.adaptive = range.number(name, value)?,
+            "bend-refine" => self.bend_refine = range.number(name, value)?.unwrap_or(f64::INFINITY),
+            "max-iterations" => self.max_iterations = range.count(name, value)?,
+            "tolerance" => self.tolerance = range.real(name, value)?,
+            "stability" => self.check_stability = range.pick(name, value, common::ON_OFF)?,
+            _ => return Err(self.kind().unapplied(name)),
         }
         Ok(())
     }

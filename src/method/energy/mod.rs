@@ -162,10 +162,7 @@ mod test_fixture;
 pub use kinematics::GL_NODES;
 
 use crate::error::SolveError;
-use crate::method::settings::{
-    parse_choice, parse_control, parse_count, parse_in, parse_length, parse_routing, Configure,
-    MAX_ITERATIONS,
-};
+use crate::method::settings::{common, Configure};
 use crate::method::{Method, MethodKind, Prepared, SolveInput};
 use crate::model::actuation::{Actuation, Input, LengthMeasure};
 use crate::model::robot::Robot;
@@ -243,23 +240,21 @@ impl Energy {
 
 impl Configure for Energy {
     fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        let range = self.kind().setting(name)?.values;
         match name {
-            "control" => self.control = parse_control(value)?,
-            "sub-arcs" => self.sub_arcs = parse_count(name, value, 1, 64)?,
-            "length" => self.cable_length = parse_length(value)?,
-            "routing" => self.routing = parse_routing(value)?,
-            "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
-            "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
-            "min-stretch" => self.min_stretch = parse_in(name, value, 0.0, 1.0)?,
-            "samples-per-sub-arc" => self.samples_per_sub_arc = parse_count(name, value, 1, 64)?,
+            "control" => self.control = range.pick(name, value, common::CONTROL_INPUTS)?,
+            "sub-arcs" => self.sub_arcs = range.count(name, value)?,
+            "length" => self.cable_length = range.pick(name, value, common::LENGTH_MEASURES)?,
+            "routing" => self.routing = range.pick(name, value, common::ROUTING_FITS)?,
+            "max-iterations" => self.max_iterations = range.count(name, value)?,
+            "tolerance" => self.tolerance = range.real(name, value)?,
+            "min-stretch" => self.min_stretch = range.real(name, value)?,
+            "samples-per-sub-arc" => self.samples_per_sub_arc = range.count(name, value)?,
             "contact-sensitivity" => {
-                self.contact_sensitivity =
-                    parse_choice(name, value, &[("on", true), ("off", false)])?
+                self.contact_sensitivity = range.pick(name, value, common::ON_OFF)?
             }
-            "sensitivity" => {
-                self.sensitivity = parse_choice(name, value, &[("on", true), ("off", false)])?
-            }
-            _ => return self.kind().check_setting(name),
+            "sensitivity" => self.sensitivity = range.pick(name, value, common::ON_OFF)?,
+            _ => return Err(self.kind().unapplied(name)),
         }
         Ok(())
     }

@@ -84,7 +84,7 @@ mod starts;
 use crate::contact::broad;
 use crate::error::SolveError;
 use crate::method::output::cable_paths;
-use crate::method::settings::{parse_count, parse_in, Configure, MAX_ITERATIONS};
+use crate::method::settings::Configure;
 use crate::method::{Method, MethodKind, SolveInput};
 use crate::model::actuation::{Drive, Input};
 use crate::numeric::so3::orthonormalize;
@@ -138,11 +138,12 @@ impl Geometric {
 
 impl Configure for Geometric {
     fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError> {
+        let range = self.kind().setting(name)?.values;
         match name {
-            "max-iterations" => self.max_iterations = parse_count(name, value, 1, MAX_ITERATIONS)?,
-            "tolerance" => self.tolerance = parse_in(name, value, 0.0, 1.0)?,
-            "zero-angle" => self.zero_angle = parse_in(name, value, 0.0, 1e-3)?,
-            _ => return self.kind().check_setting(name),
+            "max-iterations" => self.max_iterations = range.count(name, value)?,
+            "tolerance" => self.tolerance = range.real(name, value)?,
+            "zero-angle" => self.zero_angle = range.real(name, value)?,
+            _ => return Err(self.kind().unapplied(name)),
         }
         Ok(())
     }

@@ -3,7 +3,7 @@
 //! else spells a method's name.
 
 use super::{LoadSupport, MethodInfo, MethodKind};
-use crate::method::settings::{common, SettingInfo};
+use crate::method::settings::{common, Range, SettingInfo};
 use crate::model::actuation::Input;
 
 const NO_LOADS: LoadSupport = LoadSupport {
@@ -17,7 +17,7 @@ const GEOMETRIC_SETTINGS: &[SettingInfo] = &[
     common::tolerance("1e-12", "constraint residual a candidate must reach [m]"),
     SettingInfo {
         name: "zero-angle",
-        values: "(0, 1e-3]",
+        values: Range::interval(0.0, 1e-3),
         default: "1e-7",
         help: "an angle at or below this is zero (on a kink) [rad]",
     },
@@ -27,7 +27,11 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
     common::control("displacement"),
     SettingInfo {
         name: "sub-arcs",
-        values: "1..=64 (≤ 4 with length = chord)",
+        values: Range::Count {
+            min: 1,
+            max: 64,
+            note: "≤ 4 with length = chord",
+        },
         default: "4",
         help: "constant-strain sub-arcs per section",
     },
@@ -37,26 +41,26 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
     common::tolerance("1e-10", "length and stationarity tolerance [m]"),
     SettingInfo {
         name: "min-stretch",
-        values: "(0, 1]",
+        values: Range::interval(0.0, 1.0),
         default: "0.5",
         help: "smallest backbone stretch 1 + ε accepted before Infeasible",
     },
     SettingInfo {
         name: "samples-per-sub-arc",
-        values: "1..=64",
+        values: Range::whole(1, 64),
         default: "1",
         help: "backbone samples per sub-arc in the output shape",
     },
     SettingInfo {
         name: "contact-sensitivity",
-        values: "on | off",
+        values: common::SWITCH,
         default: "off",
         help: "stable and jacobian also with pressing contacts (adds the contact curvature, \
                dear near obstacles: cost measured in the README)",
     },
     SettingInfo {
         name: "sensitivity",
-        values: "on | off",
+        values: common::SWITCH,
         default: "on",
         help: "stable and jacobian at all (off: skip their KKT solves; `predict` turns it off)",
     },
@@ -68,19 +72,27 @@ const ROD_SETTINGS: &[SettingInfo] = &[
     common::LENGTH,
     SettingInfo {
         name: "rk4-steps",
-        values: "1..=1000",
+        values: Range::whole(1, 1000),
         default: "3",
         help: "RK4 steps per section before bend refinement",
     },
     SettingInfo {
         name: "adaptive",
-        values: "(1e-14, 1]",
+        values: Range::Number {
+            lo: 1e-14,
+            hi: 1.0,
+            off: &["off", "none"],
+        },
         default: "off",
         help: "adaptive Dormand–Prince RK45 with this tolerance instead of fixed RK4",
     },
     SettingInfo {
         name: "bend-refine",
-        values: "(0, inf] (inf: off)",
+        values: Range::Number {
+            lo: 0.0,
+            hi: 1e6,
+            off: &["inf", "off"],
+        },
         default: "0.5",
         help: "route bend above which a section gets more RK4 steps",
     },
@@ -88,7 +100,7 @@ const ROD_SETTINGS: &[SettingInfo] = &[
     common::tolerance("1e-9", "shooting residual [N]"),
     SettingInfo {
         name: "stability",
-        values: "check | skip",
+        values: Range::Choice(&[("check", 0), ("skip", 1)]),
         default: "check",
         help: "focal-point stability test of the answer; skip: report.stable is None (not \
                checked), one variational pass saved",

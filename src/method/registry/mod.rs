@@ -110,24 +110,21 @@ impl MethodKind {
     /// method does not take is an error naming the methods that do.
     pub fn build(self, settings: &Settings) -> Result<Box<dyn Method>, SolveError> {
         fn apply<M: Configure + Method + 'static>(
-            kind: MethodKind,
             mut m: M,
             settings: &Settings,
         ) -> Result<Box<dyn Method>, SolveError> {
             for (name, value) in settings.iter() {
-                let name = canonical(name);
-                kind.check_setting(&name)?;
-                m.set(&name, value)?;
+                m.set(&canonical(name), value)?;
             }
             Ok(Box::new(m))
         }
         match self {
-            MethodKind::Geometric => apply(self, Geometric::literal(), settings),
-            MethodKind::GeometricSquared => apply(self, Geometric::squared(), settings),
-            MethodKind::Energy => apply(self, Energy::default(), settings),
-            MethodKind::Cosserat => apply(self, Cosserat::full(), settings),
-            MethodKind::Kirchhoff => apply(self, Cosserat::kirchhoff(), settings),
-            MethodKind::ConstantCurvature => apply(self, ConstantCurvature::default(), settings),
+            MethodKind::Geometric => apply(Geometric::literal(), settings),
+            MethodKind::GeometricSquared => apply(Geometric::squared(), settings),
+            MethodKind::Energy => apply(Energy::default(), settings),
+            MethodKind::Cosserat => apply(Cosserat::full(), settings),
+            MethodKind::Kirchhoff => apply(Cosserat::kirchhoff(), settings),
+            MethodKind::ConstantCurvature => apply(ConstantCurvature::default(), settings),
         }
     }
 
@@ -144,9 +141,16 @@ impl MethodKind {
 
     /// Refuse a setting this method does not take, naming the methods that take it.
     pub fn check_setting(self, name: &str) -> Result<(), SolveError> {
+        self.setting(name).map(|_| ())
+    }
+
+    /// The registry's entry of a setting this method takes (its range is what the method's
+    /// [`Configure::set`] parses with); a setting it does not take is refused, naming the
+    /// methods that take it.
+    pub fn setting(self, name: &str) -> Result<&'static SettingInfo, SolveError> {
         let name = canonical(name);
-        if self.info().settings.iter().any(|s| s.name == name) {
-            return Ok(());
+        if let Some(s) = self.info().settings.iter().find(|s| s.name == name) {
+            return Ok(s);
         }
         let takers = Self::names_with(|i| i.settings.iter().any(|s| s.name == name));
         let own: Vec<&str> = self.info().settings.iter().map(|s| s.name).collect();
@@ -291,6 +295,18 @@ impl MethodKind {
     /// The method with this command-line name, if any.
     pub fn from_name(name: &str) -> Option<MethodKind> {
         Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// The error of a setting the registry lists for this method but its
+    /// [`Configure::set`] does not apply (a bug in ccrkit, never a silently ignored setting).
+    pub fn unapplied(self, name: &str) -> SolveError {
+        SolveError::InvalidInput {
+            field: name.into(),
+            reason: format!(
+                "listed for {} in the registry but not applied by it (a bug in ccrkit)",
+                self.name()
+            ),
+        }
     }
 
     /// The names of the methods whose registry entry satisfies `has` (a capability), in
