@@ -129,7 +129,7 @@ impl Geometric {
             let (step, mu) = if pairs.is_empty() {
                 (self.step(&h, &g, &rows, &cv, data.gram_schmidt), vec![])
             } else {
-                match self.contact_step(&h, &g, &rows, &cv, &pairs, clearance, data.gram_schmidt) {
+                match self.contact_step(&h, &g, &rows, &cv, &pairs, data) {
                     Some(s) => s,
                     None => return reject(last_res),
                 }
@@ -244,7 +244,7 @@ impl Geometric {
 
     /// One step with obstacle pairs near: a convex QP with the pairs as linearized
     /// inequalities, then, once feasible to 1e-8, an exact Newton–KKT polish with the active
-    /// contacts as equalities (its rows split as `gram_schmidt` says). Returns the step and the pairs' multipliers (≥ 0 when pressing).
+    /// contacts as equalities (its rows split as `data.gram_schmidt` says). Returns the step and the pairs' multipliers (≥ 0 when pressing).
     fn contact_step(
         &self,
         h: &Matrix6<f64>,
@@ -252,9 +252,9 @@ impl Geometric {
         rows: &[Vector6<f64>],
         cv: &[f64],
         pairs: &[Pair],
-        clearance: f64,
-        gram_schmidt: bool,
+        data: &SectionData,
     ) -> Option<(Step, Vec<f64>)> {
+        let clearance = data.world.as_ref().map_or(0.0, |w| w.clearance);
         let in_rows: Vec<Vector6<f64>> = pairs.iter().map(|p| -p.grad).collect();
         let in_rhs: Vec<f64> = pairs.iter().map(|p| p.dist - clearance).collect();
         let eq_rhs: Vec<f64> = cv.iter().map(|x| -x).collect();
@@ -278,7 +278,7 @@ impl Geometric {
                 all.push(pairs[j].grad);
                 cc.push(pairs[j].dist - clearance);
             }
-            let st = self.step(h, g, &all, &cc, gram_schmidt);
+            let st = self.step(h, g, &all, &cc, data.gram_schmidt);
             let mut mu = vec![0.0; pairs.len()];
             for (k, &j) in act.iter().enumerate() {
                 mu[j] = -st.lambda[rows.len() + k];
