@@ -30,8 +30,9 @@ fn squared_objective_solves_the_contact_scenes() {
 /// tightening. Found by `tests/adversarial_files.rs` (the pillar at yaw 1e5 rad). With the retry
 /// 14 fail (15 with the yaws written `-3.14 + 0.157 i`: outcomes next to the iteration limit move
 /// with rounding). Since the contact step carries the contact curvature, 9 fail (34 without the
-/// retry: the failing candidates chatter at parry's noise, not at a slow step), so the ceiling
-/// is 10; every failure must be the named `NotConverged`.
+/// retry: the failing candidates chatter at parry's noise, not at a slow step); since sections
+/// near obstacles take the closed-form derivatives and the Gram–Schmidt split, 7 (36 without
+/// the retry), so the ceiling is 8; every failure must be the named `NotConverged`.
 #[test]
 fn turned_pillars_solve_as_often_as_before_the_tightening() {
     let model = Model::from_file(file("models/paper/case1.toml")).unwrap();
@@ -63,7 +64,7 @@ fn turned_pillars_solve_as_often_as_before_the_tightening() {
         failed.len()
     );
     assert!(
-        failed.len() <= 10,
+        failed.len() <= 8,
         "{} of 40 not converged: {failed:?}",
         failed.len()
     );

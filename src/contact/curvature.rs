@@ -16,7 +16,7 @@
 //! `d → 0` has unbounded curvature (the distance is not twice differentiable there): `None`.
 
 use super::parry::{nvec, pvec};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{DMatrix, Matrix3, Vector3};
 use parry3d::math::Pose as PPose;
 use parry3d::shape::Shape as PShape;
 
@@ -64,6 +64,34 @@ pub(crate) fn distance_hessian(
     }
     let g = gd * m.try_inverse()?;
     Some((g + g.transpose()) * 0.5)
+}
+
+/// `φ_ss⁻¹` of the envelope theorem's sliding term `−φ_ξs φ_ss⁻¹ φ_sξ` of a distance's second
+/// derivative (`method/energy/contact_curvature.rs`, `method/geometric/contact_curvature.rs`
+/// derive it), the one place both models decide it: `φ_ss = x_sᵀ G x_s + diag(n · x_ss)` over
+/// the witness's parameters `s` (tangents `x_s`, normal curvatures `n · x_ss`) with `G` the
+/// obstacle's distance Hessian. `None` where there is no parameter or `d` is not twice
+/// differentiable: `φ_ss` zero, or not positive definite (its Cholesky factor's smallest
+/// diagonal at most `1e-6 √max|φ_ss|`: a segment parallel to a plane, a face on a face).
+pub(crate) fn sliding_inverse(
+    g: &Matrix3<f64>,
+    tangents: &[Vector3<f64>],
+    normal_curv: &[f64],
+) -> Option<DMatrix<f64>> {
+    let k = tangents.len();
+    let mut phi_ss = DMatrix::zeros(k, k);
+    for (a, ta) in tangents.iter().enumerate() {
+        for (b, tb) in tangents.iter().enumerate() {
+            phi_ss[(a, b)] = ta.dot(&(g * tb));
+        }
+        phi_ss[(a, a)] += normal_curv[a];
+    }
+    let scale = phi_ss.amax();
+    (k > 0 && scale > 0.0)
+        .then(|| phi_ss.cholesky())
+        .flatten()
+        .filter(|c| c.l().diagonal().min() > 1e-6 * scale.sqrt())
+        .map(|c| c.inverse())
 }
 
 #[cfg(test)]

@@ -29,7 +29,8 @@ use super::{nvec, pvec, Witness};
 use nalgebra::{Matrix3, Vector3};
 use parry3d::math::Pose as PPose;
 
-/// A robot feature as a convex set, in the base frame.
+/// A robot feature as a convex set, in the base frame: what the closed-form distances here
+/// and the literal method's distance bounds (`method::geometric::obstacles`) read.
 pub(crate) enum Convex {
     /// The segment `a → b` swept by a ball of radius `r` (0: a cable chord).
     Segment(Vector3<f64>, Vector3<f64>, f64),

@@ -36,7 +36,7 @@
 
 use super::contacts::{Ends, Feat, Kin, Pair, World};
 use super::curvature::{point_velocity, twists, FrameLoads, LowRank};
-use crate::contact::curvature::distance_hessian;
+use crate::contact::curvature::{distance_hessian, sliding_inverse};
 use crate::contact::features::segment_fraction;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
@@ -128,14 +128,8 @@ impl World<'_> {
     ) {
         let nv = jac[0].len();
         let gm = g.unwrap_or_else(Matrix3::zeros);
-        let k = params.len();
-        let mut phi_ss = DMatrix::zeros(k, k);
         let mut rows = vec![];
-        for (a, pa) in params.iter().enumerate() {
-            for (b, pb) in params.iter().enumerate() {
-                phi_ss[(a, b)] = pa.tangent.dot(&(gm * pb.tangent));
-            }
-            phi_ss[(a, a)] += pa.normal_curv;
+        for pa in params {
             let gx = gm * pa.tangent;
             rows.push(
                 (0..nv)
@@ -143,12 +137,9 @@ impl World<'_> {
                     .collect::<Vec<f64>>(),
             );
         }
-        let scale = phi_ss.amax();
-        let sliding = (k > 0 && scale > 0.0)
-            .then(|| phi_ss.clone().cholesky())
-            .flatten()
-            .filter(|c| c.l().diagonal().min() > 1e-6 * scale.sqrt())
-            .map(|c| c.inverse() * mu);
+        let tangents: Vec<Vector3<f64>> = params.iter().map(|p| p.tangent).collect();
+        let curv: Vec<f64> = params.iter().map(|p| p.normal_curv).collect();
+        let sliding = sliding_inverse(&gm, &tangents, &curv).map(|inv| inv * mu);
         if let Some(g) = g {
             low.push(LowRank {
                 w: jac.to_vec(),

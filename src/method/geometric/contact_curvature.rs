@@ -46,9 +46,9 @@
 
 use super::obstacles::{Feature, Pair, SectionWorld};
 use super::problem::Pose;
-use crate::contact::curvature::distance_hessian;
+use crate::contact::curvature::{distance_hessian, sliding_inverse};
 use crate::contact::features::segment_fraction;
-use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3, Vector6};
+use nalgebra::{DMatrix, Matrix3, Matrix6, SMatrix, Vector3, Vector6};
 
 /// A disk whose contact normal `m` (its own frame) has `|m_xy| ≤` this is seen face on: its
 /// witness may jump between the rim and a face, or sit on the rim edge where `ν · x_θθ =
@@ -204,34 +204,20 @@ impl SectionWorld {
     }
 }
 
-/// `−φ_δs φ_ss⁻¹ φ_sδ` (module docs), zero where `φ_ss` is not positive definite.
+/// `−φ_δs φ_ss⁻¹ φ_sδ` (module docs), zero where `φ_ss` is not positive definite
+/// ([`sliding_inverse`], the energy model's criterion).
 fn sliding(g: &Matrix3<f64>, jac: &Jac, params: &[Param]) -> Matrix6<f64> {
-    let k = params.len();
-    if k == 0 {
+    let tangents: Vec<Vector3<f64>> = params.iter().map(|p| p.tangent).collect();
+    let curv: Vec<f64> = params.iter().map(|p| p.normal_curv).collect();
+    let Some(inv) = sliding_inverse(g, &tangents, &curv) else {
         return Matrix6::zeros();
-    }
-    let mut ss = nalgebra::Matrix2::zeros();
-    let mut rows = SMatrix::<f64, 2, 6>::zeros();
-    for (a, pa) in params.iter().enumerate() {
-        for (b, pb) in params.iter().enumerate() {
-            ss[(a, b)] = pa.tangent.dot(&(g * pb.tangent));
-        }
-        ss[(a, a)] += pa.normal_curv;
-        let row = (g * pa.tangent).transpose() * jac + pa.turn.transpose();
-        rows.set_row(a, &row);
-    }
-    let ss = ss.view((0, 0), (k, k)).into_owned();
-    let rows = rows.rows(0, k).into_owned();
-    let scale = ss.amax();
-    let chol = (scale > 0.0).then(|| ss.cholesky()).flatten();
-    match chol {
-        Some(c) if c.l().diagonal().min() > 1e-6 * scale.sqrt() => {
-            let inv = c.inverse();
-            let m = rows.transpose() * inv * rows;
-            -Matrix6::from_fn(|i, j| m[(i, j)])
-        }
-        _ => Matrix6::zeros(),
-    }
+    };
+    let rows = DMatrix::from_fn(params.len(), 6, |a, j| {
+        let row = (g * params[a].tangent).transpose() * jac + params[a].turn.transpose();
+        row[j]
+    });
+    let m = rows.transpose() * inv * rows;
+    -Matrix6::from_fn(|i, j| m[(i, j)])
 }
 
 #[cfg(test)]

@@ -196,7 +196,7 @@ impl Method for Geometric {
         for i in 1..=n {
             let mut data = SectionData::new(robot, &frac, i)?;
             data.world = SectionWorld::new(robot, scene, &relevant, i, &rot, &pos);
-            data.gram_schmidt = relevant.is_empty();
+            data.gram_schmidt = relevant.is_empty() || self.objective == Objective::Literal;
             let warm_i = warm_rel.as_ref().map(|w| w[i - 1]);
             let sol = match repeat
                 .as_ref()

@@ -34,7 +34,7 @@ pub(super) const CONTACT_STEP_TOL: f64 = 1e-11;
 /// `tests/geometric_contact.rs` the failing candidates chatter with steps of 1e-8–1e-6 at a
 /// residual of 1e-13 — the noise of parry's distance and normal for the disk against the
 /// pillar's side, not a slow step — and without the retry 34 of 40 fail (39 without the
-/// curvature).
+/// curvature; with the closed-form derivatives next to obstacles 7 of 40 with it, 36 without).
 const FORMER_CONTACT_STEP_TOL: f64 = 1e-7;
 
 /// Stationarity a candidate with active contacts must meet, relative to (1 + largest contact
@@ -96,9 +96,12 @@ impl Geometric {
                     escape: None,
                 })
             };
-            // Contact sections keep the dual numbers their recorded tips were solved with
-            // (recorded when they converged only to 1e-7; the closed form is not measured there).
-            let (f, c) = if data.world.is_some() {
+            // The closed-form derivatives (`derivatives.rs`), next to obstacles too since the
+            // literal method's contact candidates converge to 1e-11 (issue 16; the dual numbers
+            // were 16 % of a solve next to the wall). `geometric-squared` next to obstacles
+            // keeps the dual numbers its tips were recorded with (they stop at a 1e-7 step, so
+            // rounding upstream moves them by ~1e-8 m; see [`SectionData::gram_schmidt`]).
+            let (f, c) = if data.world.is_some() && !data.gram_schmidt {
                 data.eval::<D2<6>>(&pose, face, active, squared)
             } else {
                 data.eval_d2(&pose, face, active, squared)
@@ -126,7 +129,7 @@ impl Geometric {
             let (step, mu) = if pairs.is_empty() {
                 (self.step(&h, &g, &rows, &cv, data.gram_schmidt), vec![])
             } else {
-                match self.contact_step(&h, &g, &rows, &cv, &pairs, clearance) {
+                match self.contact_step(&h, &g, &rows, &cv, &pairs, data) {
                     Some(s) => s,
                     None => return reject(last_res),
                 }
@@ -241,7 +244,7 @@ impl Geometric {
 
     /// One step with obstacle pairs near: a convex QP with the pairs as linearized
     /// inequalities, then, once feasible to 1e-8, an exact Newton–KKT polish with the active
-    /// contacts as equalities. Returns the step and the pairs' multipliers (≥ 0 when pressing).
+    /// contacts as equalities (its rows split as `data.gram_schmidt` says). Returns the step and the pairs' multipliers (≥ 0 when pressing).
     fn contact_step(
         &self,
         h: &Matrix6<f64>,
@@ -249,8 +252,9 @@ impl Geometric {
         rows: &[Vector6<f64>],
         cv: &[f64],
         pairs: &[Pair],
-        clearance: f64,
+        data: &SectionData,
     ) -> Option<(Step, Vec<f64>)> {
+        let clearance = data.world.as_ref().map_or(0.0, |w| w.clearance);
         let in_rows: Vec<Vector6<f64>> = pairs.iter().map(|p| -p.grad).collect();
         let in_rhs: Vec<f64> = pairs.iter().map(|p| p.dist - clearance).collect();
         let eq_rhs: Vec<f64> = cv.iter().map(|x| -x).collect();
@@ -274,7 +278,7 @@ impl Geometric {
                 all.push(pairs[j].grad);
                 cc.push(pairs[j].dist - clearance);
             }
-            let st = self.step(h, g, &all, &cc, false);
+            let st = self.step(h, g, &all, &cc, data.gram_schmidt);
             let mut mu = vec![0.0; pairs.len()];
             for (k, &j) in act.iter().enumerate() {
                 mu[j] = -st.lambda[rows.len() + k];
@@ -302,7 +306,7 @@ impl Geometric {
     /// One Newton–KKT step: the allocation-free 6×6 kernel, or the general one when the
     /// constraint rows are redundant (its multiplier system is singular). `gram_schmidt`:
     /// split the rows by Gram–Schmidt ([`kkt_step6_gs`], same step in exact arithmetic,
-    /// cheaper); solves with obstacles near the robot keep the eigen split their recorded tips
+    /// cheaper); `geometric-squared` next to obstacles keeps the eigen split its recorded tips
     /// were solved with (see [`SectionData::gram_schmidt`]).
     pub(super) fn step(
         &self,

@@ -33,13 +33,6 @@ pub(super) fn worst_gap(pairs: &[Pair], clearance: f64) -> f64 {
         .fold(0.0f64, f64::max)
 }
 
-/// What holds a feature, for [`SectionWorld::distance_bound`]: a segment (ends, radius) or a
-/// disk (centre, unit axis, radius, half thickness).
-enum Hull {
-    Segment(Vector3<f64>, Vector3<f64>, f64),
-    Disk(Vector3<f64>, Vector3<f64>, f64, f64),
-}
-
 /// A robot feature of one section.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Feature {
@@ -194,11 +187,11 @@ impl SectionWorld {
     /// its bounding box (its own frame), the feature in its bounding ball and in its bounding
     /// box in that frame, so the distance is at least the larger of the (closed-form)
     /// distances from the box to the ball and between the two boxes.
-    fn distance_bound(&self, k: usize, hull: &Hull) -> f64 {
+    fn distance_bound(&self, k: usize, hull: &Convex) -> f64 {
         let opose = &self.shapes[k].1;
         let to_local = |p: &Vector3<f64>| nvec(opose.inverse_transform_point(pvec(p)));
         let (c, radius, lo, hi) = match *hull {
-            Hull::Segment(a, b, r) => {
+            Convex::Segment(a, b, r) => {
                 let (la, lb) = (to_local(&a), to_local(&b));
                 let pad = Vector3::repeat(r);
                 let half = 0.5 * (lb - la).norm();
@@ -209,7 +202,8 @@ impl SectionWorld {
                     la.sup(&lb) + pad,
                 )
             }
-            Hull::Disk(x, n, rd, ht) => {
+            Convex::Disk(rot, x, rd, ht) => {
+                let n = rot.column(2).into_owned();
                 let lc = to_local(&x);
                 let ln = to_local(&(x + n)) - lc;
                 // Half extent of a disk (axis n, radius rd, half thickness ht) along e_i.
@@ -253,26 +247,17 @@ impl SectionWorld {
         for (k, (shape, opose)) in self.shapes.iter().enumerate() {
             let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
                 let hull = match feature {
-                    Feature::Backbone => Hull::Segment(self.x_prev, x0, self.backbone_radius),
-                    Feature::Disk => Hull::Disk(
-                        x0,
-                        ri.column(2).into_owned(),
-                        self.disk_radius,
-                        self.half_thickness,
-                    ),
-                    Feature::Cable(j) => Hull::Segment(chords[j].1, chords[j].2, 0.0),
+                    Feature::Backbone => Convex::Segment(self.x_prev, x0, self.backbone_radius),
+                    Feature::Disk => Convex::Disk(ri, x0, self.disk_radius, self.half_thickness),
+                    Feature::Cable(j) => Convex::Segment(chords[j].1, chords[j].2, 0.0),
                 };
                 if self.distance_bound(k, &hull) > far {
                     return;
                 }
                 // A box face decides the distance in closed form where it can (the wall).
-                let closed = shape.as_cuboid().and_then(|c| {
-                    let convex = match hull {
-                        Hull::Segment(a, b, r) => Convex::Segment(a, b, r),
-                        Hull::Disk(x, _, rd, ht) => Convex::Disk(ri, x, rd, ht),
-                    };
-                    box_witness(&nvec(c.half_extents), opose, &convex, self.margin)
-                });
+                let closed = shape
+                    .as_cuboid()
+                    .and_then(|c| box_witness(&nvec(c.half_extents), opose, &hull, self.margin));
                 let w = match closed {
                     Some(decided) => decided,
                     None => features::witness(g, gpose, &**shape, opose, self.margin).map(|w| w.0),
@@ -399,13 +384,10 @@ mod tests {
                 let x0 = w.x_prev + w.r_prev * pose.p;
                 for p in &all {
                     let hull = match p.feature {
-                        Feature::Backbone => Hull::Segment(w.x_prev, x0, w.backbone_radius),
-                        Feature::Disk => Hull::Disk(
-                            x0,
-                            (w.r_prev * pose.q).column(2).into_owned(),
-                            w.disk_radius,
-                            w.half_thickness,
-                        ),
+                        Feature::Backbone => Convex::Segment(w.x_prev, x0, w.backbone_radius),
+                        Feature::Disk => {
+                            Convex::Disk(w.r_prev * pose.q, x0, w.disk_radius, w.half_thickness)
+                        }
                         _ => continue,
                     };
                     // A bound on the unsigned distance (0 for overlapping shapes).

@@ -110,9 +110,12 @@ pub(super) struct SectionData {
     /// Obstacles this section can touch (None: none near).
     pub(super) world: Option<SectionWorld>,
     /// Newton steps split the constraint rows by Gram–Schmidt
-    /// ([`crate::numeric::kkt::kkt_step6_gs`]); false in a scene with obstacles near the robot,
-    /// whose contact sections converge only to the contact noise, so that a rounding-level
-    /// change upstream would move their recorded tips by up to ~2e-5 m (measured on the pillar).
+    /// ([`crate::numeric::kkt::kkt_step6_gs`]) and take the closed-form derivatives
+    /// ([`SectionData::eval_d2`]); false for `geometric-squared` in a scene with obstacles near
+    /// the robot, whose contact candidates stop at a 1e-7 step, so that a rounding-level change
+    /// upstream moves its recorded tips (by 1.2e-8 m on the pillar, measured 2026-11-27). The
+    /// literal method takes both next to obstacles too since its contact candidates converge
+    /// to 1e-11 (issue 16: wall tips moved 2e-15 m, pillar 1e-11 m, the parry noise there).
     pub(super) gram_schmidt: bool,
     /// Search with the start nudges and stall count from before issue 16 (the quick search's
     /// are smaller, see `faces::nudge` and `newton::MAX_SHORT_STEPS`): a retry where the quick
@@ -291,6 +294,9 @@ impl SectionData {
 
     /// Objective and constraints at pose ⊕ δ (δ = (dp, dω)) evaluated at δ = 0, generic over
     /// the scalar: `f64` for values, [`D2`] for exact first and second derivatives in δ.
+    /// Inlined where it is called (the line search's trial points: 0.3 M instructions of a
+    /// 13 M paper case I once it was not).
+    #[inline]
     pub(super) fn eval<T: SectionScalar>(
         &self,
         pose: &Pose,
