@@ -96,11 +96,7 @@ impl Geometric {
                     escape: None,
                 })
             };
-            // The closed-form derivatives (`derivatives.rs`), next to obstacles too since the
-            // literal method's contact candidates converge to 1e-11 (issue 16; the dual numbers
-            // were 16 % of a solve next to the wall). `geometric-squared` next to obstacles
-            // keeps the dual numbers its tips were recorded with (they stop at a 1e-7 step, so
-            // rounding upstream moves them by ~1e-8 m; see [`SectionData::gram_schmidt`]).
+            // Closed-form derivatives, or the dual numbers where `gram_schmidt` is off (its doc).
             let (f, c) = if data.world.is_some() && !data.gram_schmidt {
                 data.eval::<D2<6>>(&pose, face, active, squared)
             } else {
