@@ -234,6 +234,22 @@ impl<'a> World<'a> {
     /// old normal at once ([`features::witness_near`]), without the query that would run EPA
     /// when the two barely overlap. The same pairs, witnesses equal to GJK's tolerance.
     pub fn pairs_near(&self, kin: &Kin, hints: &[Pair]) -> (Vec<Pair>, f64) {
+        self.pairs_until(kin, hints, None)
+            .expect("no stop rule: every pair is queried")
+    }
+
+    /// [`World::pairs_near`] that gives up (`None`) as soon as `stop.rejects` is true of the
+    /// pairs found so far (asked each time a pair closer than `stop.clearance` is found, in
+    /// the order of the returned pairs). The rule must be monotone in the pairs found (true
+    /// of a prefix ⇒ true of every longer one, as for a sum of the non-negative terms
+    /// `max(0, clearance − d)`). A call that does not give up returns what
+    /// [`World::pairs_near`] returns, to the bit.
+    pub fn pairs_until(
+        &self,
+        kin: &Kin,
+        hints: &[Pair],
+        stop: Option<Stop<'_>>,
+    ) -> Option<(Vec<Pair>, f64)> {
         let (lo, hi) = self.robot_box(kin);
         let (candidates, clear) = broad::within_box(self.scene, &self.near, &lo, &hi, self.margin);
         let mut q = Collect {
@@ -243,6 +259,8 @@ impl<'a> World<'a> {
             hints,
             clear,
             out: vec![],
+            stop,
+            stopped: false,
         };
         let robot = self.robot;
         let m = self.m;
@@ -288,7 +306,7 @@ impl<'a> World<'a> {
                 );
             }
         }
-        (q.out, q.clear)
+        (!q.stopped).then_some((q.out, q.clear))
     }
 
     /// Fill in `∂d/∂ξ` of `pairs` found at the frames of `kin` without the integrals
@@ -361,7 +379,16 @@ impl<'a> World<'a> {
     }
 }
 
-/// The pairs of one [`World::pairs_among`] call, gathered feature by feature.
+/// When a line search's trial is rejected whatever the pairs not yet queried
+/// ([`World::pairs_until`]).
+pub(super) struct Stop<'s> {
+    /// The clearance each pair's distance is held to \[m\].
+    pub clearance: f64,
+    /// Whether the pairs found so far prove the trial rejected (monotone in them).
+    pub rejects: &'s dyn Fn(&[Pair]) -> bool,
+}
+
+/// The pairs of one [`World::pairs_until`] call, gathered feature by feature.
 struct Collect<'w, 'a> {
     world: &'w World<'a>,
     kin: &'w Kin,
@@ -372,6 +399,10 @@ struct Collect<'w, 'a> {
     /// Lower bound on the distance between the robot and the obstacles so far \[m\].
     clear: f64,
     out: Vec<Pair>,
+    /// The stop rule, with the running violation.
+    stop: Option<Stop<'w>>,
+    /// The stop rule fired: the call returns nothing.
+    stopped: bool,
 }
 
 impl Collect<'_, '_> {
@@ -389,6 +420,9 @@ impl Collect<'_, '_> {
         let (scene, margin) = (world.scene, world.margin);
         let robot = world.robot;
         for &k in &self.candidates {
+            if self.stopped {
+                return;
+            }
             let o = &scene.obstacles[k];
             // Bounds farther than the margin: no query, their distance bounds `clear`.
             let lower = scene.bounds_distance(k, &center) - radius;
@@ -457,6 +491,7 @@ impl Collect<'_, '_> {
             } else {
                 World::grad(kin, ends, &a, &w.normal)
             };
+            let violates = self.stop.as_ref().filter(|st| st.clearance - w.dist > 0.0);
             self.out.push(Pair {
                 obstacle: k,
                 feat,
@@ -467,6 +502,9 @@ impl Collect<'_, '_> {
                 normal: w.normal,
                 ends,
             });
+            if let Some(st) = violates {
+                self.stopped = (st.rejects)(&self.out);
+            }
         }
     }
 }
@@ -484,6 +522,69 @@ pub(super) enum Ends {
 mod tests {
     use super::*;
     use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
+
+    /// `pairs_until` with a rule that never fires is `pairs_near` to the bit; with the rule
+    /// "violation above `t`" it gives up exactly when the full violation of those pairs
+    /// (summed as the line search's merit sums it) is above `t`.
+    #[test]
+    fn stopped_query_gives_up_only_on_a_rejected_sum() {
+        let model = case2_beside(Third::Capsule);
+        let robot = &model.robot;
+        let m = 2;
+        let nsub = robot.sections() * m;
+        let ell: Vec<f64> = (0..nsub)
+            .map(|j| robot.section_length(j / m + 1) / m as f64)
+            .collect();
+        let world = world(&model, m);
+        // A clearance that puts many pairs in violation, the bent state and a copy of it
+        // pushed further (whose query starts from the first's normals, as a trial does).
+        let clearance = 0.02;
+        let xi = bent_state(4 * nsub);
+        let kin = kinematics(&xi, &ell, false);
+        let (hints, _) = world.pairs(&kin);
+        let pushed: Vec<f64> = xi.iter().map(|v| 1.1 * v).collect();
+        let kin = kinematics(&pushed, &ell, false);
+        let (all, clear) = world.pairs_near(&kin, &hints);
+        let terms: Vec<f64> = all.iter().map(|p| (clearance - p.dist).max(0.0)).collect();
+        let total = terms.iter().fold(0.25, |v, t| v + t);
+        assert!(terms.iter().filter(|&&t| t > 0.0).count() >= 3, "{terms:?}");
+        let never = |_: &[Pair]| false;
+        let stop = Stop {
+            clearance,
+            rejects: &never,
+        };
+        let (same, same_clear) = world.pairs_until(&kin, &hints, Some(stop)).expect("kept");
+        assert_eq!(same_clear.to_bits(), clear.to_bits());
+        assert_eq!(same.len(), all.len());
+        for (a, b) in same.iter().zip(&all) {
+            assert_eq!(a.key(), b.key());
+            assert_eq!(a.dist.to_bits(), b.dist.to_bits());
+            assert_eq!(a.normal, b.normal);
+            assert_eq!(a.point_robot, b.point_robot);
+        }
+        // Thresholds below, at and above every partial sum: gives up iff the total is above.
+        let sum = |ps: &[Pair]| {
+            ps.iter()
+                .fold(0.25, |v, p| v + (clearance - p.dist).max(0.0))
+        };
+        let mut partial = vec![0.25];
+        for t in &terms {
+            partial.push(partial.last().expect("start") + t);
+        }
+        for &t in partial.iter().chain(&[0.0, total * 2.0]) {
+            for t in [t, t * (1.0 - 1e-15), t * (1.0 + 1e-15)] {
+                let above = move |ps: &[Pair]| sum(ps) > t;
+                let stop = Stop {
+                    clearance,
+                    rejects: &above,
+                };
+                let gave_up = world.pairs_until(&kin, &hints, Some(stop)).is_none();
+                // A threshold below the cables' part alone is not seen before a pair violates.
+                let expect = total > t && terms.iter().any(|&x| x > 0.0);
+                assert_eq!(gave_up, expect, "threshold {t}, total {total}");
+            }
+        }
+    }
 
     /// The analytic `∂d/∂ξ` of every pair matches central differences of parry's distance on
     /// a bent, twisted, stretched state next to a box, a sphere and a capsule.

@@ -86,7 +86,8 @@ struct Sqp<'p, 'a> {
     clear: f64,
     dxi: Vec<f64>,
     trial: Vec<f64>,
-    trial_len: Vec<f64>,
+    /// Cable lengths at the line search's trial point (filled when its merit is asked for).
+    trial_len: std::cell::RefCell<Vec<f64>>,
     /// The factored Hessian with the curvature of loads and contacts, when there is some
     /// ([`Sqp::factor`]).
     curved: Option<SemiSepFactor>,
