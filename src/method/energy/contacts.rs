@@ -46,7 +46,8 @@
 use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use crate::contact::features::{self, Touching};
 use crate::contact::parry::SEPARATION_SHIFT;
-use crate::contact::{broad, polish, Witness};
+use crate::contact::primitives::{self, Convex};
+use crate::contact::{broad, nvec, polish, Witness};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Contact;
@@ -272,8 +273,8 @@ impl<'a> World<'a> {
             let (pa, pb) = (kin.pos[j - 1], kin.pos[j]);
             q.feature(
                 Feat::Backbone(j),
-                &features::backbone(&pa, &pb, rb),
-                &identity,
+                (&features::backbone(&pa, &pb, rb), &identity),
+                || Convex::Segment(pa, pb, rb),
                 (0.5 * (pa + pb), 0.5 * (pb - pa).norm() + rb),
                 Ends::Segment((j - 1, pa), (j, pb)),
             );
@@ -283,8 +284,8 @@ impl<'a> World<'a> {
             let f = k * m;
             q.feature(
                 Feat::Disk(k),
-                &disk,
-                &features::disk_pose(&kin.rot[f], &kin.pos[f]),
+                (&disk, &features::disk_pose(&kin.rot[f], &kin.pos[f])),
+                || Convex::Disk(kin.rot[f], kin.pos[f], rd, ht),
                 (kin.pos[f], (rd * rd + ht * ht).sqrt()),
                 Ends::Rigid(f),
             );
@@ -299,8 +300,8 @@ impl<'a> World<'a> {
                 }
                 q.feature(
                     Feat::Cable(c, i),
-                    &features::chord(&pa, &pb),
-                    &identity,
+                    (&features::chord(&pa, &pb), &identity),
+                    || Convex::Segment(pa, pb, 0.0),
                     (0.5 * (pa + pb), 0.5 * (pb - pa).norm()),
                     Ends::Segment((fa, pa), (fb, pb)),
                 );
@@ -406,13 +407,16 @@ struct Collect<'w, 'a> {
 }
 
 impl Collect<'_, '_> {
-    /// Query feature `feat` (shape `g` at `gpose`, inside the ball `(centre, radius)`, moving
-    /// as `ends`) against every candidate obstacle.
+    /// Query feature `feat` (shape `g` at `gpose`, the same as the convex set `convex()`, inside
+    /// the ball `(centre, radius)`, moving as `ends`) against every candidate obstacle: in
+    /// closed form against a box where a face decides the distance
+    /// ([`primitives::box_witness`], exact; parry's answer agrees to its own accuracy), else
+    /// by parry.
     fn feature(
         &mut self,
         feat: Feat,
-        g: &dyn PShape,
-        gpose: &PPose,
+        (g, gpose): (&dyn PShape, &PPose),
+        convex: impl Fn() -> Convex,
         (center, radius): (Vector3<f64>, f64),
         ends: Ends,
     ) {
@@ -438,20 +442,26 @@ impl Collect<'_, '_> {
                 self.clear = self.clear.min(margin);
                 continue;
             }
+            let closed = o.shape.as_cuboid().and_then(|c| {
+                primitives::box_witness(&nvec(c.half_extents), &o.parry_pose, &convex(), margin)
+            });
             let near = self
                 .hints
                 .iter()
                 .find(|h| h.key() == (k, feat) && h.dist < SEPARATION_SHIFT);
-            let found = match near {
-                Some(h) => features::witness_near(
-                    g,
-                    gpose,
-                    &*o.shape,
-                    &o.parry_pose,
-                    margin,
-                    (&h.normal, h.dist),
-                ),
-                None => features::witness(g, gpose, &*o.shape, &o.parry_pose, margin),
+            let found = match (closed, near) {
+                (Some(decided), _) => decided.map(|w| (w, w.dist)),
+                (None, near) => match near {
+                    Some(h) => features::witness_near(
+                        g,
+                        gpose,
+                        &*o.shape,
+                        &o.parry_pose,
+                        margin,
+                        (&h.normal, h.dist),
+                    ),
+                    None => features::witness(g, gpose, &*o.shape, &o.parry_pose, margin),
+                },
             };
             let Some((mut w, raw)) = found else {
                 self.clear = self.clear.min(margin);
@@ -462,7 +472,7 @@ impl Collect<'_, '_> {
             // projections of the polish converge slowly there, and the normal's error
             // (~1e-5 rad after one polish) would be the floor of the stationarity residual
             // with the contact curvature in the Hessian; continue them near touching.
-            if matches!(feat, Feat::Disk(_)) && w.dist.abs() < TOUCHING {
+            if matches!(feat, Feat::Disk(_)) && w.dist.abs() < TOUCHING && closed.is_none() {
                 for _ in 0..EXTRA_POLISH {
                     match polish(g, gpose, &*o.shape, &o.parry_pose, &w) {
                         // A fixed point: `polish` reads only the obstacle point, normal and
