@@ -322,6 +322,18 @@ fn warm_hessian(warm: Option<&Shape>, xi: &[f64]) -> Option<EnergyHessian> {
     }
 }
 
+/// The routing fingerprint of [`EnergyHessian::routing`]: sub-arc lengths, then per cable
+/// the disk it ends at, its hole radii and angles.
+fn routing(prob: &Problem) -> Vec<f64> {
+    let mut out = prob.ell.clone();
+    for cable in &prob.robot.cables {
+        out.push(cable.ends_at as f64);
+        out.extend(&cable.radius);
+        out.extend(&cable.angle);
+    }
+    out
+}
+
 #[inline]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()

@@ -151,6 +151,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
                     blocks: std::mem::take(&mut self.w.hess),
                     weights: std::mem::take(&mut self.wgt),
                     stiffness: self.prob.k.clone(),
+                    routing: super::routing(self.prob),
                 });
             }
             s
