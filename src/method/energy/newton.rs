@@ -325,11 +325,18 @@ fn warm_hessian(warm: Option<&Shape>, xi: &[f64]) -> Option<EnergyHessian> {
 /// The routing fingerprint of [`EnergyHessian::routing`]: sub-arc lengths, then per cable
 /// the disk it ends at, its hole radii and angles.
 fn routing(prob: &Problem) -> Vec<f64> {
-    let mut out = prob.ell.clone();
-    for cable in &prob.robot.cables {
+    let cables = &prob.robot.cables;
+    let n = prob.ell.len()
+        + cables
+            .iter()
+            .map(|c| 1 + c.radius.len() + c.angle.len())
+            .sum::<usize>();
+    let mut out = Vec::with_capacity(n);
+    out.extend_from_slice(&prob.ell);
+    for cable in cables {
         out.push(cable.ends_at as f64);
-        out.extend(&cable.radius);
-        out.extend(&cable.angle);
+        out.extend_from_slice(&cable.radius);
+        out.extend_from_slice(&cable.angle);
     }
     out
 }
