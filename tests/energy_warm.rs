@@ -114,3 +114,57 @@ fn carried_hessian_is_the_rebuilt_one() {
         assert_eq!(with.report.residual, without.report.residual);
     }
 }
+
+/// A warm state carries Hessian blocks built with its robot's cable routing: two robots that
+/// differ only in one cable's hole angles have the same strains, weights and stiffness, and
+/// the other robot's blocks must not be taken. Robot B warm-started from robot A's solve equals,
+/// to 1e-12 m, B warm-started from the same state without the blocks (which rebuilds them), and
+/// ends where B's cold solve ends (to the solver's tolerance).
+#[test]
+fn warm_hessian_of_another_routing_is_rebuilt() {
+    let scene = Scene::empty();
+    let method = Energy::default();
+    let a = paper(2);
+    let mut b = a.clone();
+    for angle in &mut b.robot.cables[0].angle {
+        *angle += 0.3;
+    }
+    let from_a = method
+        .solve(&a.robot, &a.actuation, &scene, None)
+        .expect("robot A");
+    let mut stripped = from_a.clone();
+    match &mut stripped.report.warm {
+        Some(WarmState::Energy(e)) => {
+            assert!(e.hessian.is_some(), "no Hessian kept");
+            e.hessian = None;
+        }
+        other => panic!("warm state {other:?}"),
+    }
+    let with = method
+        .solve(&b.robot, &b.actuation, &scene, Some(&from_a))
+        .expect("B warm from A");
+    let rebuilt = method
+        .solve(&b.robot, &b.actuation, &scene, Some(&stripped))
+        .expect("B warm from A without the blocks");
+    let cold = method
+        .solve(&b.robot, &b.actuation, &scene, None)
+        .expect("B cold");
+    let gap = |x: &ccrkit::Shape, y: &ccrkit::Shape| {
+        x.disks
+            .iter()
+            .zip(&y.disks)
+            .map(|(p, q)| (p.position - q.position).norm())
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        gap(&with, &rebuilt) <= 1e-12,
+        "{:e} m",
+        gap(&with, &rebuilt)
+    );
+    assert_eq!(with.report.iterations, rebuilt.report.iterations);
+    assert!(
+        gap(&with, &cold) <= 1e-8,
+        "{:e} m from cold",
+        gap(&with, &cold)
+    );
+}

@@ -53,6 +53,11 @@ pub struct EnergyHessian {
     pub weights: Vec<f64>,
     /// The energy's stiffness diagonal they were built with.
     pub stiffness: Vec<f64>,
+    /// The geometry the cable curvature in them comes from: the sub-arc lengths \[m\], then
+    /// per cable the disk it ends at, its hole radii \[m\] and angles \[rad\]. Two robots
+    /// that differ only in a cable's routing have the same strains, weights and stiffness but
+    /// not the same blocks: a warm start from the other robot's solve rebuilds them.
+    pub routing: Vec<f64>,
 }
 
 impl WarmState {

@@ -46,7 +46,8 @@
 use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
 use crate::contact::features::{self, Touching};
 use crate::contact::parry::SEPARATION_SHIFT;
-use crate::contact::{broad, polish, Witness};
+use crate::contact::primitives::{self, Convex};
+use crate::contact::{broad, nvec, polish, Witness};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Contact;
@@ -234,6 +235,22 @@ impl<'a> World<'a> {
     /// old normal at once ([`features::witness_near`]), without the query that would run EPA
     /// when the two barely overlap. The same pairs, witnesses equal to GJK's tolerance.
     pub fn pairs_near(&self, kin: &Kin, hints: &[Pair]) -> (Vec<Pair>, f64) {
+        self.pairs_until(kin, hints, None)
+            .expect("no stop rule: every pair is queried")
+    }
+
+    /// [`World::pairs_near`] that gives up (`None`) as soon as `stop.rejects` is true of the
+    /// pairs found so far (asked each time a pair closer than `stop.clearance` is found, in
+    /// the order of the returned pairs). The rule must be monotone in the pairs found (true
+    /// of a prefix ⇒ true of every longer one, as for a sum of the non-negative terms
+    /// `max(0, clearance − d)`). A call that does not give up returns what
+    /// [`World::pairs_near`] returns, to the bit.
+    pub fn pairs_until(
+        &self,
+        kin: &Kin,
+        hints: &[Pair],
+        stop: Option<Stop<'_>>,
+    ) -> Option<(Vec<Pair>, f64)> {
         let (lo, hi) = self.robot_box(kin);
         let (candidates, clear) = broad::within_box(self.scene, &self.near, &lo, &hi, self.margin);
         let mut q = Collect {
@@ -243,6 +260,8 @@ impl<'a> World<'a> {
             hints,
             clear,
             out: vec![],
+            stop,
+            stopped: false,
         };
         let robot = self.robot;
         let m = self.m;
@@ -254,8 +273,8 @@ impl<'a> World<'a> {
             let (pa, pb) = (kin.pos[j - 1], kin.pos[j]);
             q.feature(
                 Feat::Backbone(j),
-                &features::backbone(&pa, &pb, rb),
-                &identity,
+                (&features::backbone(&pa, &pb, rb), &identity),
+                || Convex::Segment(pa, pb, rb),
                 (0.5 * (pa + pb), 0.5 * (pb - pa).norm() + rb),
                 Ends::Segment((j - 1, pa), (j, pb)),
             );
@@ -265,8 +284,8 @@ impl<'a> World<'a> {
             let f = k * m;
             q.feature(
                 Feat::Disk(k),
-                &disk,
-                &features::disk_pose(&kin.rot[f], &kin.pos[f]),
+                (&disk, &features::disk_pose(&kin.rot[f], &kin.pos[f])),
+                || Convex::Disk(kin.rot[f], kin.pos[f], rd, ht),
                 (kin.pos[f], (rd * rd + ht * ht).sqrt()),
                 Ends::Rigid(f),
             );
@@ -281,14 +300,14 @@ impl<'a> World<'a> {
                 }
                 q.feature(
                     Feat::Cable(c, i),
-                    &features::chord(&pa, &pb),
-                    &identity,
+                    (&features::chord(&pa, &pb), &identity),
+                    || Convex::Segment(pa, pb, 0.0),
                     (0.5 * (pa + pb), 0.5 * (pb - pa).norm()),
                     Ends::Segment((fa, pa), (fb, pb)),
                 );
             }
         }
-        (q.out, q.clear)
+        (!q.stopped).then_some((q.out, q.clear))
     }
 
     /// Fill in `∂d/∂ξ` of `pairs` found at the frames of `kin` without the integrals
@@ -361,7 +380,16 @@ impl<'a> World<'a> {
     }
 }
 
-/// The pairs of one [`World::pairs_among`] call, gathered feature by feature.
+/// When a line search's trial is rejected whatever the pairs not yet queried
+/// ([`World::pairs_until`]).
+pub(super) struct Stop<'s> {
+    /// The clearance each pair's distance is held to \[m\].
+    pub clearance: f64,
+    /// Whether the pairs found so far prove the trial rejected (monotone in them).
+    pub rejects: &'s dyn Fn(&[Pair]) -> bool,
+}
+
+/// The pairs of one [`World::pairs_until`] call, gathered feature by feature.
 struct Collect<'w, 'a> {
     world: &'w World<'a>,
     kin: &'w Kin,
@@ -372,16 +400,23 @@ struct Collect<'w, 'a> {
     /// Lower bound on the distance between the robot and the obstacles so far \[m\].
     clear: f64,
     out: Vec<Pair>,
+    /// The stop rule, with the running violation.
+    stop: Option<Stop<'w>>,
+    /// The stop rule fired: the call returns nothing.
+    stopped: bool,
 }
 
 impl Collect<'_, '_> {
-    /// Query feature `feat` (shape `g` at `gpose`, inside the ball `(centre, radius)`, moving
-    /// as `ends`) against every candidate obstacle.
+    /// Query feature `feat` (shape `g` at `gpose`, the same as the convex set `convex()`, inside
+    /// the ball `(centre, radius)`, moving as `ends`) against every candidate obstacle: in
+    /// closed form against a box where a face decides the distance
+    /// ([`primitives::box_witness`], exact; parry's answer agrees to its own accuracy), else
+    /// by parry.
     fn feature(
         &mut self,
         feat: Feat,
-        g: &dyn PShape,
-        gpose: &PPose,
+        (g, gpose): (&dyn PShape, &PPose),
+        convex: impl Fn() -> Convex,
         (center, radius): (Vector3<f64>, f64),
         ends: Ends,
     ) {
@@ -389,6 +424,9 @@ impl Collect<'_, '_> {
         let (scene, margin) = (world.scene, world.margin);
         let robot = world.robot;
         for &k in &self.candidates {
+            if self.stopped {
+                return;
+            }
             let o = &scene.obstacles[k];
             // Bounds farther than the margin: no query, their distance bounds `clear`.
             let lower = scene.bounds_distance(k, &center) - radius;
@@ -404,20 +442,26 @@ impl Collect<'_, '_> {
                 self.clear = self.clear.min(margin);
                 continue;
             }
+            let closed = o.shape.as_cuboid().and_then(|c| {
+                primitives::box_witness(&nvec(c.half_extents), &o.parry_pose, &convex(), margin)
+            });
             let near = self
                 .hints
                 .iter()
                 .find(|h| h.key() == (k, feat) && h.dist < SEPARATION_SHIFT);
-            let found = match near {
-                Some(h) => features::witness_near(
-                    g,
-                    gpose,
-                    &*o.shape,
-                    &o.parry_pose,
-                    margin,
-                    (&h.normal, h.dist),
-                ),
-                None => features::witness(g, gpose, &*o.shape, &o.parry_pose, margin),
+            let found = match (closed, near) {
+                (Some(decided), _) => decided.map(|w| (w, w.dist)),
+                (None, near) => match near {
+                    Some(h) => features::witness_near(
+                        g,
+                        gpose,
+                        &*o.shape,
+                        &o.parry_pose,
+                        margin,
+                        (&h.normal, h.dist),
+                    ),
+                    None => features::witness(g, gpose, &*o.shape, &o.parry_pose, margin),
+                },
             };
             let Some((mut w, raw)) = found else {
                 self.clear = self.clear.min(margin);
@@ -428,7 +472,7 @@ impl Collect<'_, '_> {
             // projections of the polish converge slowly there, and the normal's error
             // (~1e-5 rad after one polish) would be the floor of the stationarity residual
             // with the contact curvature in the Hessian; continue them near touching.
-            if matches!(feat, Feat::Disk(_)) && w.dist.abs() < TOUCHING {
+            if matches!(feat, Feat::Disk(_)) && w.dist.abs() < TOUCHING && closed.is_none() {
                 for _ in 0..EXTRA_POLISH {
                     match polish(g, gpose, &*o.shape, &o.parry_pose, &w) {
                         // A fixed point: `polish` reads only the obstacle point, normal and
@@ -457,6 +501,7 @@ impl Collect<'_, '_> {
             } else {
                 World::grad(kin, ends, &a, &w.normal)
             };
+            let violates = self.stop.as_ref().filter(|st| st.clearance - w.dist > 0.0);
             self.out.push(Pair {
                 obstacle: k,
                 feat,
@@ -467,6 +512,9 @@ impl Collect<'_, '_> {
                 normal: w.normal,
                 ends,
             });
+            if let Some(st) = violates {
+                self.stopped = (st.rejects)(&self.out);
+            }
         }
     }
 }
@@ -481,65 +529,4 @@ pub(super) enum Ends {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
-
-    /// The analytic `∂d/∂ξ` of every pair matches central differences of parry's distance on
-    /// a bent, twisted, stretched state next to a box, a sphere and a capsule.
-    #[test]
-    fn distance_gradients_match_finite_differences() {
-        let model = case2_beside(Third::Capsule);
-        let robot = &model.robot;
-        let m = 2;
-        let nsub = robot.sections() * m;
-        let ell: Vec<f64> = (0..nsub)
-            .map(|j| robot.section_length(j / m + 1) / m as f64)
-            .collect();
-        let world = world(&model, m);
-        let xi = bent_state(4 * nsub);
-        let (pairs, _) = world.pairs(&kinematics(&xi, &ell, true));
-        let kinds: Vec<Feat> = pairs.iter().map(|p| p.feat).collect();
-        assert!(kinds.iter().any(|f| matches!(f, Feat::Backbone(_))));
-        assert!(kinds.iter().any(|f| matches!(f, Feat::Disk(_))));
-        assert!(kinds.iter().any(|f| matches!(f, Feat::Cable(..))));
-        let dist_at = |x: &[f64], key: (usize, Feat)| -> f64 {
-            world
-                .pairs(&kinematics(x, &ell, false))
-                .0
-                .into_iter()
-                .find(|p| p.key() == key)
-                .map(|p| p.dist)
-                .expect("pair still present")
-        };
-        let h = 1e-4;
-        let mut checked = 0;
-        for p in &pairs {
-            // Skip pairs whose witness sits on an edge/vertex switch (nonsmooth distance).
-            for i in (0..4 * nsub).step_by(3) {
-                let (mut xp, mut xm) = (xi.clone(), xi.clone());
-                // Steps that move the points by ~1e-8 m, far above GJK's noise.
-                let hi = if i % 4 == 3 { 1e-5 } else { h };
-                xp[i] += hi;
-                xm[i] -= hi;
-                let fd = (dist_at(&xp, p.key()) - dist_at(&xm, p.key())) / (2.0 * hi);
-                let scale = p.grad.iter().fold(0.0f64, |m, g| m.max(g.abs()));
-                // The polished normals are good to ~1e-5 where the alternating projections
-                // converge slowly (a segment nearly parallel to a capsule); GJK alone: ~5e-5 (the
-                // distance itself is stationary in the normal, so the differences are better):
-                // an error of that size times the pair's largest lever.
-                assert!(
-                    (fd - p.grad[i]).abs() <= 2e-5 * scale,
-                    "{:?} vs {} at {:e} m: ∂d/∂ξ[{i}] analytic {} fd {}",
-                    p.feat,
-                    p.obstacle,
-                    p.dist,
-                    p.grad[i],
-                    fd
-                );
-                checked += 1;
-            }
-        }
-        assert!(checked > 100, "{checked}");
-    }
-}
+mod tests;

@@ -86,7 +86,8 @@ struct Sqp<'p, 'a> {
     clear: f64,
     dxi: Vec<f64>,
     trial: Vec<f64>,
-    trial_len: Vec<f64>,
+    /// Cable lengths at the line search's trial point (filled when its merit is asked for).
+    trial_len: std::cell::RefCell<Vec<f64>>,
     /// The factored Hessian with the curvature of loads and contacts, when there is some
     /// ([`Sqp::factor`]).
     curved: Option<SemiSepFactor>,
@@ -319,6 +320,25 @@ fn warm_hessian(warm: Option<&Shape>, xi: &[f64]) -> Option<EnergyHessian> {
         Some(WarmState::Energy(e)) if e.strains == xi => e.hessian.clone(),
         _ => None,
     }
+}
+
+/// The routing fingerprint of [`EnergyHessian::routing`]: sub-arc lengths, then per cable
+/// the disk it ends at, its hole radii and angles.
+fn routing(prob: &Problem) -> Vec<f64> {
+    let cables = &prob.robot.cables;
+    let n = prob.ell.len()
+        + cables
+            .iter()
+            .map(|c| 1 + c.radius.len() + c.angle.len())
+            .sum::<usize>();
+    let mut out = Vec::with_capacity(n);
+    out.extend_from_slice(&prob.ell);
+    for cable in cables {
+        out.push(cable.ends_at as f64);
+        out.extend_from_slice(&cable.radius);
+        out.extend_from_slice(&cable.angle);
+    }
+    out
 }
 
 #[inline]

@@ -36,7 +36,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
             clear: f64::INFINITY,
             dxi: vec![0.0; nv],
             trial: vec![0.0; nv],
-            trial_len: vec![0.0; nc],
+            trial_len: std::cell::RefCell::new(vec![0.0; nc]),
             curved: None,
             penalty: vec![],
             history: vec![],
@@ -151,6 +151,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
                     blocks: std::mem::take(&mut self.w.hess),
                     weights: std::mem::take(&mut self.wgt),
                     stiffness: self.prob.k.clone(),
+                    routing: super::routing(self.prob),
                 });
             }
             s

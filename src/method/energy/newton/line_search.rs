@@ -7,6 +7,7 @@
 use super::{dot, Sqp, CONTACT_NOISE};
 use crate::method::energy::contacts::{self, Kin, Pair};
 use crate::method::energy::problem::Target;
+use std::cell::OnceCell;
 
 impl<'p, 'a> Sqp<'p, 'a> {
     /// Summed violation of the constraints at lengths `len` and pairs `ps` \[m\] (compliant
@@ -24,9 +25,9 @@ impl<'p, 'a> Sqp<'p, 'a> {
         v
     }
 
-    /// The ℓ1 merit `E + V + Σ T L + Σ ½ k (L − t)₊² + pen · violation` (the compliant
+    /// The smooth part of the merit, `E + V + Σ T L + Σ ½ k (L − t)₊²` (the compliant
     /// cables' springs, [`Problem::spring_energy`]).
-    fn merit(&self, x: &[f64], kin: Option<&Kin>, len: &[f64], ps: &[Pair], pen: f64) -> f64 {
+    fn smooth_merit(&self, x: &[f64], kin: Option<&Kin>, len: &[f64]) -> f64 {
         let prob = self.prob;
         let mut f = prob.energy(x) + prob.load_potential(kin) + prob.spring_energy(len);
         for c in 0..prob.robot.cables.len() {
@@ -34,7 +35,12 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 f += t * len[c];
             }
         }
-        f + pen * self.violation(len, ps)
+        f
+    }
+
+    /// The ℓ1 merit: [`Sqp::smooth_merit`] `+ pen · violation`.
+    fn merit(&self, x: &[f64], kin: Option<&Kin>, len: &[f64], ps: &[Pair], pen: f64) -> f64 {
+        self.smooth_merit(x, kin, len) + pen * self.violation(len, ps)
     }
 
     /// Backtracking on the ℓ1 merit along `dxi` (every pair re-queried at the trial point);
@@ -63,22 +69,56 @@ impl<'p, 'a> Sqp<'p, 'a> {
         // lie below that is judged by the residuals.
         let floor = 2.0 * prob.merit_roundoff(&self.w.len, pen);
         let within = |phi: f64| dphi.abs() <= floor && phi - phi0 <= floor;
+        let armijo = |alpha: f64| phi0 + 1e-4 * alpha * dphi.min(0.0) + 1e-14 * phi0.abs();
         let mut alpha: f64 = 1.0;
         for _ in 0..40 {
             for i in 0..prob.nvar() {
                 self.trial[i] = self.xi[i] + alpha * self.dxi[i];
             }
             let stretch_ok = (0..prob.nsub).all(|j| self.trial[4 * j + 3] > -1.0 + 1e-3);
-            // No point may move farther than the robot's distance to the obstacles, or
-            // than half the pair margin when closer: features near an obstacle are held
-            // by their linearized constraints, the others cannot reach one, so nothing
-            // passes through an obstacle between two iterates (distances to open meshes
-            // are unsigned: a jump through a wall would look clear).
+            if !stretch_ok {
+                alpha *= 0.5;
+                continue;
+            }
             let kin_trial = prob
                 .needs_frames()
                 .then(|| contacts::kinematics(&self.trial, &prob.ell, false));
+            // The lengths and the smooth part of the merit, once asked for.
+            let smooth: OnceCell<f64> = OnceCell::new();
+            let merit = |ps: &[Pair]| {
+                let smooth = *smooth.get_or_init(|| {
+                    let mut len = self.trial_len.borrow_mut();
+                    prob.lengths(&self.trial, &mut len);
+                    self.smooth_merit(&self.trial, kin_trial.as_ref(), &len)
+                });
+                smooth + pen * self.violation(&self.trial_len.borrow(), ps)
+            };
+            let bound = armijo(alpha);
+            // The trial is rejected once the merit with the pairs found so far fails both
+            // tests of acceptance below: the violation is a sum of non-negative terms and
+            // rounded addition is monotone, as are `+ smooth` and `· pen > 0`, so the merit of
+            // a prefix of the pairs is at most the full merit, which fails them too, whatever
+            // the pairs left (and whatever the step guard would say: acceptance needs both). A
+            // trial that is not given up computes every pair in the same order, so what is
+            // accepted is unchanged to the bit.
+            let rejects = |ps: &[Pair]| {
+                let phi = merit(ps);
+                !tiny && phi > bound && (dphi.abs() > floor || phi - phi0 > floor)
+            };
             let (trial_pairs, trial_clear) = match (self.world, &kin_trial) {
-                (Some(wd), Some(k)) if stretch_ok => wd.pairs_near(k, &self.pairs),
+                (Some(wd), Some(k)) => {
+                    let stop = contacts::Stop {
+                        clearance: self.clearance,
+                        rejects: &rejects,
+                    };
+                    match wd.pairs_until(k, &self.pairs, Some(stop)) {
+                        Some(found) => found,
+                        None => {
+                            alpha *= 0.5;
+                            continue;
+                        }
+                    }
+                }
                 _ => (vec![], f64::INFINITY),
             };
             // No feature may pass through an obstacle between two iterates (distances to
@@ -97,20 +137,9 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 }
                 _ => true,
             };
-            if stretch_ok && near_enough {
-                prob.lengths(&self.trial, &mut self.trial_len);
-                let phi = self.merit(
-                    &self.trial,
-                    kin_trial.as_ref(),
-                    &self.trial_len,
-                    &trial_pairs,
-                    pen,
-                );
-                if phi.is_finite()
-                    && (tiny
-                        || phi <= phi0 + 1e-4 * alpha * dphi.min(0.0) + 1e-14 * phi0.abs()
-                        || within(phi))
-                {
+            if near_enough {
+                let phi = merit(&trial_pairs);
+                if phi.is_finite() && (tiny || phi <= bound || within(phi)) {
                     self.stalled = false;
                     // `take_step` moves to this very trial point (same operations).
                     self.next_pairs = kin_trial.is_some().then_some((trial_pairs, trial_clear));

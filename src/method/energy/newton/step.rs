@@ -22,13 +22,14 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let w = &mut self.w;
         if prob.set.cable_length == LengthMeasure::Path {
             // A warm start's first Hessian is the last one of the solve it comes from when
-            // strains, weights and stiffness are those (the same numbers, not rebuilt) and there
+            // strains, weights, stiffness and cable routing are those (the same numbers, not rebuilt) and there
             // is no curvature stiffening (whose block the warm state does not record).
             match self.warm_hessian.take() {
                 Some(h)
                     if h.blocks.len() == w.hess.len()
                         && h.weights == self.wgt
                         && h.stiffness == prob.k
+                        && h.routing == super::routing(prob)
                         && prob.stiffening == 0.0 =>
                 {
                     w.hess.copy_from_slice(&h.blocks);
