@@ -166,6 +166,7 @@ impl World<'_> {
 mod tests {
     use super::*;
     use crate::method::energy::contacts::kinematics;
+    use crate::method::energy::test_fixture::sub_arc_lengths;
     use crate::model::Model;
 
     /// Case 1 (straight) beside a thin wall (2 mm thick box) whose face is at `x = face`.
@@ -182,9 +183,7 @@ mod tests {
         ))
         .expect("model");
         let m = 4;
-        let ell = (0..model.robot.sections() * m)
-            .map(|j| model.robot.section_length(j / m + 1) / m as f64)
-            .collect();
+        let ell = sub_arc_lengths(&model.robot, m);
         (model, ell)
     }
 

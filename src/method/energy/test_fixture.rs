@@ -4,6 +4,7 @@
 //! backbone, the disks and the cable chords all come near an obstacle.
 
 use super::contacts::World;
+use crate::model::robot::Robot;
 use crate::model::Model;
 
 /// The third obstacle beside the box and the ball. The tests differ here on purpose: the
@@ -60,6 +61,13 @@ pub(super) fn world(model: &Model, m: usize) -> World<'_> {
     let mut world = World::new(&model.robot, &model.scene, near, m).expect("world");
     world.margin = 0.05;
     world
+}
+
+/// The length of each of the `sections × m` sub-arcs of `robot` (`m` per section).
+pub(super) fn sub_arc_lengths(robot: &Robot, m: usize) -> Vec<f64> {
+    (0..robot.sections() * m)
+        .map(|j| robot.section_length(j / m + 1) / m as f64)
+        .collect()
 }
 
 /// A bent, twisted, stretched state of `nv` strains (four per sub-arc: two curvatures,

@@ -2,7 +2,9 @@
 //! the stopped pair query of the line search.
 
 use super::*;
-use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
+use crate::method::energy::test_fixture::{
+    bent_state, case2_beside, sub_arc_lengths, world, Third,
+};
 
 /// `pairs_until` with a rule that never fires is `pairs_near` to the bit; with the rule
 /// "violation above `t`" it gives up exactly when the full violation of those pairs
@@ -10,12 +12,9 @@ use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third
 #[test]
 fn stopped_query_gives_up_only_on_a_rejected_sum() {
     let model = case2_beside(Third::Capsule);
-    let robot = &model.robot;
     let m = 2;
-    let nsub = robot.sections() * m;
-    let ell: Vec<f64> = (0..nsub)
-        .map(|j| robot.section_length(j / m + 1) / m as f64)
-        .collect();
+    let ell = sub_arc_lengths(&model.robot, m);
+    let nsub = ell.len();
     let world = world(&model, m);
     // A clearance that puts many pairs in violation, the bent state and a copy of it
     // pushed further (whose query starts from the first's normals, as a trial does).
@@ -72,12 +71,9 @@ fn stopped_query_gives_up_only_on_a_rejected_sum() {
 #[test]
 fn distance_gradients_match_finite_differences() {
     let model = case2_beside(Third::Capsule);
-    let robot = &model.robot;
     let m = 2;
-    let nsub = robot.sections() * m;
-    let ell: Vec<f64> = (0..nsub)
-        .map(|j| robot.section_length(j / m + 1) / m as f64)
-        .collect();
+    let ell = sub_arc_lengths(&model.robot, m);
+    let nsub = ell.len();
     let world = world(&model, m);
     let xi = bent_state(4 * nsub);
     let (pairs, _) = world.pairs(&kinematics(&xi, &ell, true));
