@@ -76,8 +76,8 @@ impl Geometric {
     ) -> Result<(Candidate, usize), Rejected> {
         let mut pose = *start;
         let world = data.world.as_ref();
-        let penetration = |pose: &Pose| world.map_or(0.0, |w| w.penetration(pose));
-        let eval_f64 = |pose: &Pose| data.eval::<f64>(pose, face, active, squared);
+        // The line search's trials reuse these buffers (constraints, pairs).
+        let (mut trial_cons, mut trial_pairs) = (Vec::new(), Vec::new());
         let mut lambda: Option<Vec<f64>> = None;
         let mut last_res = f64::INFINITY;
         let mut short_steps = 0;
@@ -194,8 +194,9 @@ impl Geometric {
                 0.0
             };
             let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial| {
-                let (ft, ct) = eval_f64(trial);
-                merit(ft, &ct, penetration(trial))
+                let ft = data.eval_into::<f64>(trial, face, active, squared, &mut trial_cons);
+                let pen = world.map_or(0.0, |w| w.penetration(trial, &mut trial_pairs));
+                merit(ft, &trial_cons, pen)
             });
             if alpha < SHORT_STEP {
                 short_steps += 1;
@@ -369,7 +370,7 @@ fn line_search(
     dx: &Vector6<f64>,
     m0: f64,
     floor: f64,
-    merit_at: impl Fn(&Pose) -> f64,
+    mut merit_at: impl FnMut(&Pose) -> f64,
 ) -> (Option<Pose>, f64) {
     let mut alpha = 1.0;
     for _ in 0..20 {

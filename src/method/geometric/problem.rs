@@ -304,11 +304,28 @@ impl SectionData {
         active: &[usize],
         squared: bool,
     ) -> (T, Vec<T>) {
+        let mut cons = Vec::with_capacity(1 + active.len() + 2 * self.terms.len() + 1);
+        let obj = self.eval_into(pose, face, active, squared, &mut cons);
+        (obj, cons)
+    }
+
+    /// [`SectionData::eval`] writing the constraints into `cons` (cleared first) and returning
+    /// the objective: the line search's trial points reuse one buffer instead of allocating
+    /// a `Vec` per trial (same values, bit for bit).
+    #[inline]
+    pub(super) fn eval_into<T: SectionScalar>(
+        &self,
+        pose: &Pose,
+        face: u32,
+        active: &[usize],
+        squared: bool,
+        cons: &mut Vec<T>,
+    ) -> T {
         let p = T::position(&pose.p);
         let q = &pose.q;
         let rot = |h: &Vector3<f64>| -> V3<T> { T::rotated(q, h) };
         let mut obj = T::cst(0.0);
-        let mut cons = Vec::with_capacity(1 + active.len() + 2 * self.terms.len() + 1);
+        cons.clear();
         cons.push(p.norm() + (-self.l0));
         for &j in active {
             let k = &self.cons[j];
@@ -346,7 +363,7 @@ impl SectionData {
             let n = rot(&Vector3::z());
             cons.push(n.dot(&rot(u).cross(&p)) * T::cst(1.0 / (self.l0 * u.norm())));
         }
-        (obj, cons)
+        obj
     }
 
     pub(super) fn term_angles(&self, pose: &Pose) -> Vec<f64> {
