@@ -87,6 +87,8 @@ impl Geometric {
             MAX_SHORT_STEPS
         };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
+        // Per-iteration buffers, reused: constraints, their values, the pairs.
+        let (mut c, mut cv, mut pairs) = (Vec::new(), Vec::new(), Vec::new());
         let mut pressed = Pressed::default();
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
@@ -97,10 +99,10 @@ impl Geometric {
                 })
             };
             // Closed-form derivatives, or the dual numbers where `gram_schmidt` is off (its doc).
-            let (f, c) = if data.world.is_some() && !data.gram_schmidt {
-                data.eval::<D2<6>>(&pose, face, active, squared)
+            let f = if data.world.is_some() && !data.gram_schmidt {
+                data.eval::<D2<6>>(&pose, face, active, squared, &mut c)
             } else {
-                data.eval_d2(&pose, face, active, squared)
+                data.eval_d2(&pose, face, active, squared, &mut c)
             };
             if !f.v.is_finite() || c.iter().any(|x| !x.v.is_finite()) {
                 return reject(last_res);
@@ -108,7 +110,8 @@ impl Geometric {
             let g = Vector6::from_row_slice(&f.g);
             rows.clear();
             rows.extend(c.iter().map(|cj| Vector6::from_row_slice(&cj.g)));
-            let cv: Vec<f64> = c.iter().map(|cj| cj.v).collect();
+            cv.clear();
+            cv.extend(c.iter().map(|cj| cj.v));
             let (mut h, lam) = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref());
             if h.iter().any(|x| !x.is_finite()) {
                 return reject(last_res);
@@ -117,7 +120,10 @@ impl Geometric {
                 // This candidate belongs to a face where that term is zero.
                 return reject(cv.iter().fold(0.0f64, |m, x| m.max(x.abs())));
             }
-            let pairs = world.map(|w| w.pairs(&pose)).unwrap_or_default();
+            match world {
+                Some(w) => w.pairs_into(&pose, &mut pairs),
+                None => pairs.clear(),
+            }
             if let Some(w) = world {
                 w.add_pressed_curvature(&pose, &pairs, &pressed, &mut h);
             }
@@ -194,7 +200,7 @@ impl Geometric {
                 0.0
             };
             let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial| {
-                let ft = data.eval_into::<f64>(trial, face, active, squared, &mut trial_cons);
+                let ft = data.eval::<f64>(trial, face, active, squared, &mut trial_cons);
                 let pen = world.map_or(0.0, |w| w.penetration(trial, &mut trial_pairs));
                 merit(ft, &trial_cons, pen)
             });
@@ -232,11 +238,8 @@ impl Geometric {
 
     /// Whether Newton ran a term that this face keeps non-zero into its kink.
     fn runs_into_kink(&self, data: &SectionData, pose: &Pose, face: u32) -> bool {
-        let angles = data.term_angles(pose);
-        data.terms
-            .iter()
-            .enumerate()
-            .any(|(t, _)| face & (1 << t) == 0 && angles[t] < 10.0 * self.zero_angle)
+        (0..data.terms.len())
+            .any(|t| face & (1 << t) == 0 && data.term_angle(pose, t) < 10.0 * self.zero_angle)
     }
 
     /// One step with obstacle pairs near: a convex QP with the pairs as linearized

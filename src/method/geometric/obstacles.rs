@@ -184,6 +184,11 @@ impl SectionWorld {
         self.pairs_within(pose, self.margin)
     }
 
+    /// [`SectionWorld::pairs`] into `out` (cleared first; Newton reuses one buffer).
+    pub(super) fn pairs_into(&self, pose: &Pose, out: &mut Vec<Pair>) {
+        self.pairs_within_into(pose, self.margin, out)
+    }
+
     /// A lower bound on the distance between obstacle `k` and a feature (0 or less when they
     /// may overlap; a pair is pruned only for a positive bound): the obstacle lies in
     /// its bounding box (its own frame), the feature in its bounding ball and in its bounding

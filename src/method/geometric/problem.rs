@@ -293,27 +293,13 @@ impl SectionData {
     }
 
     /// Objective and constraints at pose ⊕ δ (δ = (dp, dω)) evaluated at δ = 0, generic over
-    /// the scalar: `f64` for values, [`D2`] for exact first and second derivatives in δ.
+    /// the scalar: `f64` for values, [`D2`] for exact first and second derivatives in δ. The
+    /// constraints go into `cons` (cleared first: Newton and the line search's trial points
+    /// reuse one buffer instead of allocating a `Vec` each), the objective is returned.
     /// Inlined where it is called (the line search's trial points: 0.3 M instructions of a
     /// 13 M paper case I once it was not).
     #[inline]
     pub(super) fn eval<T: SectionScalar>(
-        &self,
-        pose: &Pose,
-        face: u32,
-        active: &[usize],
-        squared: bool,
-    ) -> (T, Vec<T>) {
-        let mut cons = Vec::with_capacity(1 + active.len() + 2 * self.terms.len() + 1);
-        let obj = self.eval_into(pose, face, active, squared, &mut cons);
-        (obj, cons)
-    }
-
-    /// [`SectionData::eval`] writing the constraints into `cons` (cleared first) and returning
-    /// the objective: the line search's trial points reuse one buffer instead of allocating
-    /// a `Vec` per trial (same values, bit for bit).
-    #[inline]
-    pub(super) fn eval_into<T: SectionScalar>(
         &self,
         pose: &Pose,
         face: u32,
@@ -367,14 +353,17 @@ impl SectionData {
     }
 
     pub(super) fn term_angles(&self, pose: &Pose) -> Vec<f64> {
-        self.terms
-            .iter()
-            .map(|t| {
-                let v = if t.tangent { pose.p } else { pose.q * t.dir };
-                let c = t.dir.cross(&v).norm();
-                c.atan2(t.dir.dot(&v))
-            })
+        (0..self.terms.len())
+            .map(|t| self.term_angle(pose, t))
             .collect()
+    }
+
+    /// Term `t`'s angle at this pose \[rad\] (one entry of [`SectionData::term_angles`]).
+    pub(super) fn term_angle(&self, pose: &Pose, t: usize) -> f64 {
+        let t = &self.terms[t];
+        let v = if t.tangent { pose.p } else { pose.q * t.dir };
+        let c = t.dir.cross(&v).norm();
+        c.atan2(t.dir.dot(&v))
     }
 
     pub(super) fn chord(&self, pose: &Pose, j: usize) -> f64 {
