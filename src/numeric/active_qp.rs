@@ -51,7 +51,7 @@ pub fn qp6_active_set(
         return Qp6::Undecided;
     }
     let mut active: Vec<usize> = vec![];
-    let Some((mut x, y0)) = kkt_solve(p, g, eq_rows, eq_rhs, in_rows, in_rhs, &active) else {
+    let Some((mut x, y0)) = kkt_solve(p, g, (eq_rows, eq_rhs), (in_rows, in_rhs), &active) else {
         return Qp6::Undecided;
     };
     // Whether `x` is still the solve on the current active set (nothing added yet).
@@ -79,7 +79,7 @@ pub fn qp6_active_set(
             if fresh {
                 return finish(x, &y0, ne, in_rows.len(), &active);
             }
-            return match kkt_solve(p, g, eq_rows, eq_rhs, in_rows, in_rhs, &active) {
+            return match kkt_solve(p, g, (eq_rows, eq_rhs), (in_rows, in_rhs), &active) {
                 Some((x, y)) => finish(x, &y, ne, in_rows.len(), &active),
                 None => Qp6::Undecided,
             };
@@ -169,10 +169,8 @@ fn finish(x: Vector6<f64>, y: &[f64], ne: usize, ni: usize, active: &[usize]) ->
 fn kkt_solve(
     p: &Matrix6<f64>,
     g: &Vector6<f64>,
-    eq_rows: &[Vector6<f64>],
-    eq_rhs: &[f64],
-    in_rows: &[Vector6<f64>],
-    in_rhs: &[f64],
+    (eq_rows, eq_rhs): (&[Vector6<f64>], &[f64]),
+    (in_rows, in_rhs): (&[Vector6<f64>], &[f64]),
     active: &[usize],
 ) -> Option<(Vector6<f64>, Vec<f64>)> {
     // More than 6 rows: `kkt_dir` declines them (None).

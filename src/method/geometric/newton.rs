@@ -76,8 +76,6 @@ impl Geometric {
     ) -> Result<(Candidate, usize), Rejected> {
         let mut pose = *start;
         let world = data.world.as_ref();
-        // The line search's trials reuse these buffers (constraints, pairs).
-        let (mut trial_cons, mut trial_pairs) = (Vec::new(), Vec::new());
         let mut lambda: Option<Vec<f64>> = None;
         let mut last_res = f64::INFINITY;
         let mut short_steps = 0;
@@ -87,8 +85,9 @@ impl Geometric {
             MAX_SHORT_STEPS
         };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
-        // Per-iteration buffers, reused: constraints, their values, the pairs.
+        // Buffers reused by every iteration and line-search trial (constraints, pairs).
         let (mut c, mut cv, mut pairs) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut trial_cons, mut trial_pairs) = (Vec::new(), Vec::new());
         let mut pressed = Pressed::default();
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
@@ -108,10 +107,7 @@ impl Geometric {
                 return reject(last_res);
             }
             let g = Vector6::from_row_slice(&f.g);
-            rows.clear();
-            rows.extend(c.iter().map(|cj| Vector6::from_row_slice(&cj.g)));
-            cv.clear();
-            cv.extend(c.iter().map(|cj| cj.v));
+            rows_and_values(&c, &mut rows, &mut cv);
             let (mut h, lam) = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref());
             if h.iter().any(|x| !x.is_finite()) {
                 return reject(last_res);
@@ -120,11 +116,9 @@ impl Geometric {
                 // This candidate belongs to a face where that term is zero.
                 return reject(cv.iter().fold(0.0f64, |m, x| m.max(x.abs())));
             }
-            match world {
-                Some(w) => w.pairs_into(&pose, &mut pairs),
-                None => pairs.clear(),
-            }
+            pairs.clear();
             if let Some(w) = world {
+                w.pairs_into(&pose, &mut pairs);
                 w.add_pressed_curvature(&pose, &pairs, &pressed, &mut h);
             }
             let clearance = world.map_or(0.0, |w| w.clearance);
@@ -338,6 +332,14 @@ impl Geometric {
             min_reduced_eigenvalue: s.min_reduced_eigenvalue,
         }
     }
+}
+
+/// The constraints' gradient rows and values, into the run's buffers.
+fn rows_and_values(c: &[D2<6>], rows: &mut Vec<Vector6<f64>>, cv: &mut Vec<f64>) {
+    rows.clear();
+    rows.extend(c.iter().map(|cj| Vector6::from_row_slice(&cj.g)));
+    cv.clear();
+    cv.extend(c.iter().map(|cj| cj.v));
 }
 
 /// Hessian of the Lagrangian `∇²F + Σ λ_j ∇²c_j` with the previous step's multipliers, or, on
