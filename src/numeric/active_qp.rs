@@ -51,7 +51,7 @@ pub fn qp6_active_set(
         return Qp6::Undecided;
     }
     let mut active: Vec<usize> = vec![];
-    let Some((mut x, y0)) = kkt_solve(p, g, eq_rows, eq_rhs, in_rows, in_rhs, &active) else {
+    let Some((mut x, y0)) = kkt_solve(p, g, (eq_rows, eq_rhs), (in_rows, in_rhs), &active) else {
         return Qp6::Undecided;
     };
     // Whether `x` is still the solve on the current active set (nothing added yet).
@@ -79,7 +79,7 @@ pub fn qp6_active_set(
             if fresh {
                 return finish(x, &y0, ne, in_rows.len(), &active);
             }
-            return match kkt_solve(p, g, eq_rows, eq_rhs, in_rows, in_rhs, &active) {
+            return match kkt_solve(p, g, (eq_rows, eq_rhs), (in_rows, in_rhs), &active) {
                 Some((x, y)) => finish(x, &y, ne, in_rows.len(), &active),
                 None => Qp6::Undecided,
             };
@@ -89,14 +89,13 @@ pub fn qp6_active_set(
         fresh = false;
         // Pursue `p` until it is met (added) or proved unreachable.
         loop {
-            let rows: Vec<Vector6<f64>> = eq_rows
-                .iter()
-                .copied()
-                .chain(active.iter().map(|&i| in_rows[i]))
-                .collect();
-            let dependent = !independent_of(&rows, &a_p);
-            let zero_rhs = vec![0.0; rows.len()];
-            let Some((z, r)) = kkt_dir(p, &a_p, &rows, &zero_rhs) else {
+            // More than 6 rows: `kkt_dir` declines them (Undecided, as before this check).
+            let Some((rows, nr)) = stacked(eq_rows, active.iter().map(|&i| in_rows[i])) else {
+                return Qp6::Undecided;
+            };
+            let rows = &rows[..nr];
+            let dependent = !independent_of(rows, &a_p);
+            let Some((z, r)) = kkt_dir(p, &a_p, rows, &[0.0; 6][..nr]) else {
                 return Qp6::Undecided;
             };
             let viol = a_p.dot(&x) - in_rhs[ip];
@@ -170,23 +169,29 @@ fn finish(x: Vector6<f64>, y: &[f64], ne: usize, ni: usize, active: &[usize]) ->
 fn kkt_solve(
     p: &Matrix6<f64>,
     g: &Vector6<f64>,
-    eq_rows: &[Vector6<f64>],
-    eq_rhs: &[f64],
-    in_rows: &[Vector6<f64>],
-    in_rhs: &[f64],
+    (eq_rows, eq_rhs): (&[Vector6<f64>], &[f64]),
+    (in_rows, in_rhs): (&[Vector6<f64>], &[f64]),
     active: &[usize],
 ) -> Option<(Vector6<f64>, Vec<f64>)> {
-    let rows: Vec<Vector6<f64>> = eq_rows
-        .iter()
-        .copied()
-        .chain(active.iter().map(|&i| in_rows[i]))
-        .collect();
-    let rhs: Vec<f64> = eq_rhs
-        .iter()
-        .copied()
-        .chain(active.iter().map(|&i| in_rhs[i]))
-        .collect();
-    kkt_dir(p, g, &rows, &rhs)
+    // More than 6 rows: `kkt_dir` declines them (None).
+    let (rows, nr) = stacked(eq_rows, active.iter().map(|&i| in_rows[i]))?;
+    let (rhs, _) = stacked(eq_rhs, active.iter().map(|&i| in_rhs[i]))?;
+    kkt_dir(p, g, &rows[..nr], &rhs[..nr])
+}
+
+/// `first` followed by `rest` in a stack array, with their count; `None` beyond 6 (the most
+/// rows [`kkt_dir`] takes: [`KKT_MAX`] − 6).
+fn stacked<T: Copy + Default>(
+    first: &[T],
+    rest: impl Iterator<Item = T>,
+) -> Option<([T; 6], usize)> {
+    let mut out = [T::default(); 6];
+    let mut n = 0;
+    for v in first.iter().copied().chain(rest) {
+        *out.get_mut(n)? = v;
+        n += 1;
+    }
+    Some((out, n))
 }
 
 /// Solve `[P Nᵀ; N 0] [x; y] = [−a; b]` (rows of `N`: `rows`) by LU with full pivoting
@@ -204,9 +209,10 @@ fn kkt_dir(
     if n > KKT_MAX {
         return None;
     }
+    // By columns (`kkt[j][i]` is entry (i, j)), as `full_piv_solve` takes it.
     let mut kkt = [[0.0; KKT_MAX]; KKT_MAX];
-    for (i, row) in kkt.iter_mut().enumerate().take(n) {
-        for (j, v) in row.iter_mut().enumerate().take(n) {
+    for (j, col) in kkt.iter_mut().enumerate().take(n) {
+        for (i, v) in col.iter_mut().enumerate().take(n) {
             *v = match (i < 6, j < 6) {
                 (true, true) => p[(i, j)],
                 (true, false) => rows[j - 6][i],
@@ -235,7 +241,7 @@ fn kkt_dir(
 /// 7 % more instructions on the wall in its zero fill.)
 const KKT_MAX: usize = 12;
 
-/// Solve `A x = b` for the leading `n × n` block of `a` (row-major) in place (`b` becomes
+/// Solve `A x = b` for the leading `n × n` block of `a` (stored by columns) in place (`b` becomes
 /// `x`) by Gaussian elimination with full pivoting, `None` when `A` is singular (a zero
 /// pivot). The same operations in the same order as nalgebra's `FullPivLU::new(..).solve(..)`
 /// (pivot: the first entry of largest magnitude, columns scanned in order; the multipliers
@@ -248,6 +254,10 @@ fn full_piv_solve(
     b: &mut [f64; KKT_MAX],
     n: usize,
 ) -> Option<()> {
+    // `a` is stored by columns, `a[c][r]` being entry (r, c): the pivot search (columns in
+    // order, rows within each) and the elimination's inner loops (down a column) then run over
+    // contiguous memory. Each entry sees the same operations in the same order as with rows
+    // stored by rows, so the bits are the same.
     // Indices below `n ≤ KKT_MAX`: the bounds checks fold away.
     let n = n.min(KKT_MAX);
     if n == 0 {
@@ -258,7 +268,7 @@ fn full_piv_solve(
         let (mut best, mut r, mut c) = (a[i][i].abs(), i, i);
         for cc in i..n {
             for rr in i..n {
-                let v = a[rr][cc].abs();
+                let v = a[cc][rr].abs();
                 if v > best {
                     best = v;
                     r = rr;
@@ -268,7 +278,7 @@ fn full_piv_solve(
         }
         row_swap[i] = r;
         col_swap[i] = c;
-        let diag = a[r][c];
+        let diag = a[c][r];
         if diag == 0.0 {
             // The rest is zero: singular (nalgebra stops here too).
             for k in i + 1..n {
@@ -278,21 +288,23 @@ fn full_piv_solve(
             break;
         }
         if c != i {
-            for rr in 0..n {
-                a[rr].swap(i, c);
-            }
+            a.swap(i, c);
         }
         if r != i {
-            a.swap(i, r);
+            for col in a.iter_mut().take(n) {
+                col.swap(i, r);
+            }
         }
         let inv = 1.0 / diag;
         for rr in i + 1..n {
-            a[rr][i] *= inv;
+            a[i][rr] *= inv;
         }
-        for k in i + 1..n {
-            let pk = -a[i][k];
+        let (left, right) = a.split_at_mut(i + 1);
+        let pivot_col = &left[i];
+        for col in right.iter_mut().take(n - i - 1) {
+            let pk = -col[i];
             for rr in i + 1..n {
-                a[rr][k] += pk * a[rr][i];
+                col[rr] += pk * pivot_col[rr];
             }
         }
     }
@@ -305,14 +317,14 @@ fn full_piv_solve(
     for i in 0..n - 1 {
         let coeff = -b[i];
         for r in i + 1..n {
-            b[r] += coeff * a[r][i];
+            b[r] += coeff * a[i][r];
         }
     }
     for i in (0..n).rev() {
         let coeff = b[i] / a[i][i];
         b[i] = coeff;
         for r in 0..i {
-            b[r] += -coeff * a[r][i];
+            b[r] += -coeff * a[i][r];
         }
     }
     for i in (0..n).rev() {
@@ -328,16 +340,19 @@ fn independent(rows: &[Vector6<f64>]) -> bool {
 
 /// Whether `a` is independent of `rows` (which must be independent): its normalized
 /// Gram–Schmidt remainder against them has `ρ² > DEPENDENT`.
+/// At most 6 rows (both callers check; more cannot be independent in 6 unknowns).
 fn independent_of(rows: &[Vector6<f64>], a: &Vector6<f64>) -> bool {
-    let mut basis: Vec<Vector6<f64>> = Vec::with_capacity(rows.len());
-    for r in rows {
+    debug_assert!(rows.len() <= 6);
+    let (mut basis, mut nb) = ([Vector6::zeros(); 6], 0);
+    for r in rows.iter().take(6) {
         let mut v = *r / r.norm();
-        for q in &basis {
+        for q in &basis[..nb] {
             v -= q * q.dot(&v);
         }
         let n = v.norm();
         if n > 0.0 {
-            basis.push(v / n);
+            basis[nb] = v / n;
+            nb += 1;
         }
     }
     let s = a.norm();
@@ -345,7 +360,7 @@ fn independent_of(rows: &[Vector6<f64>], a: &Vector6<f64>) -> bool {
         return false;
     }
     let mut v = *a / s;
-    for q in &basis {
+    for q in &basis[..nb] {
         v -= q * q.dot(&v);
     }
     v.norm_squared() > DEPENDENT
@@ -372,6 +387,10 @@ mod tests {
             if trial % 11 == 0 {
                 p[(1, 1)] = p[(0, 0)];
             }
+            if trial % 5 == 0 {
+                // Not symmetric: the stack LU must read its columns as columns.
+                p[(0, 1)] += 0.3 * scale;
+            }
             let mut rows: Vec<Vector6<f64>> = (0..m)
                 .map(|_| Vector6::from_fn(|_, _| rng.range(-1.0, 1.0).round() * 0.5))
                 .collect();
@@ -393,7 +412,7 @@ mod tests {
             for i in 0..n {
                 sol[i] = rhs[i];
                 for j in 0..n {
-                    st[i][j] = kkt[(i, j)];
+                    st[j][i] = kkt[(i, j)];
                 }
             }
             match (reference, full_piv_solve(&mut st, &mut sol, n)) {

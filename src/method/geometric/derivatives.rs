@@ -147,14 +147,16 @@ fn axial(q: &Matrix3<f64>) -> [D2<6>; 3] {
 }
 
 impl SectionData {
-    /// [`SectionData::eval`] in [`D2`], from the closed forms above.
+    /// [`SectionData::eval`] in [`D2`], from the closed forms above: the constraints go into
+    /// `cons` (cleared first; Newton reuses one buffer), the objective is returned.
     pub(super) fn eval_d2(
         &self,
         pose: &Pose,
         face: u32,
         active: &[usize],
         squared_obj: bool,
-    ) -> (D2<6>, Vec<D2<6>>) {
+        cons: &mut Vec<D2<6>>,
+    ) -> D2<6> {
         let q = &pose.q;
         let fixed_rotation = self.rotation_fixed(face);
         let small_squared = squared_obj
@@ -164,10 +166,10 @@ impl SectionData {
                 face & (1 << t) == 0 && squared_angle(&u, &v) < 1e-12
             });
         if self.gauge.is_some() || small_squared {
-            return self.eval::<D2<6>>(pose, face, active, squared_obj);
+            return self.eval::<D2<6>>(pose, face, active, squared_obj, cons);
         }
         let mut obj = D2::<6>::cst(0.0);
-        let mut cons = Vec::with_capacity(1 + active.len() + 2 * self.terms.len());
+        cons.clear();
         cons.push(lift(q, true, None, &norm(&pose.p)) + (-self.l0));
         for &j in active {
             let k = &self.cons[j];
@@ -195,7 +197,7 @@ impl SectionData {
                 obj = obj + lift(q, term.tangent, h, &a) * term.weight;
             }
         }
-        (obj, cons)
+        obj
     }
 }
 
@@ -227,9 +229,11 @@ mod tests {
         let active = [0usize, 2];
         for squared in [false, true] {
             for face in 0..(1u32 << data.terms.len()) {
-                let (fa, ca) = data.eval_d2(&pose, face, &active, squared);
-                let (fg, cg) =
-                    data.eval::<crate::numeric::ad::D2<6>>(&pose, face, &active, squared);
+                let mut ca = vec![];
+                let fa = data.eval_d2(&pose, face, &active, squared, &mut ca);
+                let mut cg = vec![];
+                let fg =
+                    data.eval::<crate::numeric::ad::D2<6>>(&pose, face, &active, squared, &mut cg);
                 assert_eq!(ca.len(), cg.len());
                 for (a, g) in std::iter::once((&fa, &fg)).chain(ca.iter().zip(&cg)) {
                     let scale = 1.0 + g.v.abs();

@@ -76,8 +76,6 @@ impl Geometric {
     ) -> Result<(Candidate, usize), Rejected> {
         let mut pose = *start;
         let world = data.world.as_ref();
-        let penetration = |pose: &Pose| world.map_or(0.0, |w| w.penetration(pose));
-        let eval_f64 = |pose: &Pose| data.eval::<f64>(pose, face, active, squared);
         let mut lambda: Option<Vec<f64>> = None;
         let mut last_res = f64::INFINITY;
         let mut short_steps = 0;
@@ -87,6 +85,9 @@ impl Geometric {
             MAX_SHORT_STEPS
         };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
+        // Buffers reused by every iteration and line-search trial (constraints, pairs).
+        let (mut c, mut cv, mut pairs) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut trial_cons, mut trial_pairs) = (Vec::new(), Vec::new());
         let mut pressed = Pressed::default();
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
@@ -97,18 +98,16 @@ impl Geometric {
                 })
             };
             // Closed-form derivatives, or the dual numbers where `gram_schmidt` is off (its doc).
-            let (f, c) = if data.world.is_some() && !data.gram_schmidt {
-                data.eval::<D2<6>>(&pose, face, active, squared)
+            let f = if data.world.is_some() && !data.gram_schmidt {
+                data.eval::<D2<6>>(&pose, face, active, squared, &mut c)
             } else {
-                data.eval_d2(&pose, face, active, squared)
+                data.eval_d2(&pose, face, active, squared, &mut c)
             };
             if !f.v.is_finite() || c.iter().any(|x| !x.v.is_finite()) {
                 return reject(last_res);
             }
             let g = Vector6::from_row_slice(&f.g);
-            rows.clear();
-            rows.extend(c.iter().map(|cj| Vector6::from_row_slice(&cj.g)));
-            let cv: Vec<f64> = c.iter().map(|cj| cj.v).collect();
+            rows_and_values(&c, &mut rows, &mut cv);
             let (mut h, lam) = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref());
             if h.iter().any(|x| !x.is_finite()) {
                 return reject(last_res);
@@ -117,8 +116,9 @@ impl Geometric {
                 // This candidate belongs to a face where that term is zero.
                 return reject(cv.iter().fold(0.0f64, |m, x| m.max(x.abs())));
             }
-            let pairs = world.map(|w| w.pairs(&pose)).unwrap_or_default();
+            pairs.clear();
             if let Some(w) = world {
+                w.pairs_into(&pose, &mut pairs);
                 w.add_pressed_curvature(&pose, &pairs, &pressed, &mut h);
             }
             let clearance = world.map_or(0.0, |w| w.clearance);
@@ -194,8 +194,9 @@ impl Geometric {
                 0.0
             };
             let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial| {
-                let (ft, ct) = eval_f64(trial);
-                merit(ft, &ct, penetration(trial))
+                let ft = data.eval::<f64>(trial, face, active, squared, &mut trial_cons);
+                let pen = world.map_or(0.0, |w| w.penetration(trial, &mut trial_pairs));
+                merit(ft, &trial_cons, pen)
             });
             if alpha < SHORT_STEP {
                 short_steps += 1;
@@ -231,11 +232,8 @@ impl Geometric {
 
     /// Whether Newton ran a term that this face keeps non-zero into its kink.
     fn runs_into_kink(&self, data: &SectionData, pose: &Pose, face: u32) -> bool {
-        let angles = data.term_angles(pose);
-        data.terms
-            .iter()
-            .enumerate()
-            .any(|(t, _)| face & (1 << t) == 0 && angles[t] < 10.0 * self.zero_angle)
+        (0..data.terms.len())
+            .any(|t| face & (1 << t) == 0 && data.term_angle(pose, t) < 10.0 * self.zero_angle)
     }
 
     /// One step with obstacle pairs near: a convex QP with the pairs as linearized
@@ -336,6 +334,14 @@ impl Geometric {
     }
 }
 
+/// The constraints' gradient rows and values, into the run's buffers.
+fn rows_and_values(c: &[D2<6>], rows: &mut Vec<Vector6<f64>>, cv: &mut Vec<f64>) {
+    rows.clear();
+    rows.extend(c.iter().map(|cj| Vector6::from_row_slice(&cj.g)));
+    cv.clear();
+    cv.extend(c.iter().map(|cj| cj.v));
+}
+
 /// Hessian of the Lagrangian `∇²F + Σ λ_j ∇²c_j` with the previous step's multipliers, or, on
 /// the first iteration, the least-squares multipliers of `∇F + Aᵀλ = 0`; returns both.
 fn lagrangian_hessian(
@@ -369,7 +375,7 @@ fn line_search(
     dx: &Vector6<f64>,
     m0: f64,
     floor: f64,
-    merit_at: impl Fn(&Pose) -> f64,
+    mut merit_at: impl FnMut(&Pose) -> f64,
 ) -> (Option<Pose>, f64) {
     let mut alpha = 1.0;
     for _ in 0..20 {

@@ -173,13 +173,20 @@ impl SectionWorld {
     /// closer than the clearance add to it, so pairs proved farther than the clearance by
     /// [`PRUNE_SLACK`] are not queried ([`SectionWorld::pairs_within`]); the sum is the one
     /// over every pair within the margin.
-    pub(super) fn penetration(&self, pose: &Pose) -> f64 {
-        penetration_of(&self.pairs_within(pose, self.clearance), self.clearance)
+    /// `scratch` holds the pairs between calls (the line search's trials reuse it).
+    pub(super) fn penetration(&self, pose: &Pose, scratch: &mut Vec<Pair>) -> f64 {
+        self.pairs_within_into(pose, self.clearance, scratch);
+        penetration_of(scratch, self.clearance)
     }
 
     /// Every feature–obstacle pair within the margin at this pose, linearized.
     pub(super) fn pairs(&self, pose: &Pose) -> Vec<Pair> {
         self.pairs_within(pose, self.margin)
+    }
+
+    /// [`SectionWorld::pairs`] into `out` (cleared first; Newton reuses one buffer).
+    pub(super) fn pairs_into(&self, pose: &Pose, out: &mut Vec<Pair>) {
+        self.pairs_within_into(pose, self.margin, out)
     }
 
     /// A lower bound on the distance between obstacle `k` and a feature (0 or less when they
@@ -228,28 +235,31 @@ impl SectionWorld {
     /// `δa = R δp − R Q [ℓ]× δω` (ℓ: the point in the disk frame), points on a segment from a
     /// fixed end to a moving end by the fraction `t` of that.
     fn pairs_within(&self, pose: &Pose, limit: f64) -> Vec<Pair> {
+        let mut out = vec![];
+        self.pairs_within_into(pose, limit, &mut out);
+        out
+    }
+
+    /// [`SectionWorld::pairs_within`] into `out` (cleared first), so that callers that query
+    /// often reuse one buffer.
+    fn pairs_within_into(&self, pose: &Pose, limit: f64, out: &mut Vec<Pair>) {
         let r = &self.r_prev;
         let x0 = self.x_prev + r * pose.p;
         let ri = r * pose.q;
         let identity = PPose::IDENTITY;
-        let mut out = vec![];
+        out.clear();
         let backbone = features::backbone(&self.x_prev, &x0, self.backbone_radius);
         let disk = Cylinder::new(self.half_thickness, self.disk_radius);
         let disk_pose = features::disk_pose(&ri, &x0);
-        // (cable, hole at disk i−1, hole at disk i, that hole in disk i's frame)
-        type Chord = (usize, Vector3<f64>, Vector3<f64>, Vector3<f64>);
-        let chords: Vec<Chord> = self
-            .holes
-            .iter()
-            .map(|(c, hp, h)| (*c, *hp, x0 + ri * h, *h))
-            .collect();
+        // Cable j's hole at disk i (the chord from its hole at disk i−1, `self.holes[j].1`).
+        let hole = |j: usize| x0 + ri * self.holes[j].2;
         let far = limit + PRUNE_SLACK;
         for (k, (shape, opose)) in self.shapes.iter().enumerate() {
             let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
                 let hull = match feature {
                     Feature::Backbone => Convex::Segment(self.x_prev, x0, self.backbone_radius),
                     Feature::Disk => Convex::Disk(ri, x0, self.disk_radius, self.half_thickness),
-                    Feature::Cable(j) => Convex::Segment(chords[j].1, chords[j].2, 0.0),
+                    Feature::Cable(j) => Convex::Segment(self.holes[j].1, hole(j), 0.0),
                 };
                 if self.distance_bound(k, &hull) > far {
                     return;
@@ -283,7 +293,8 @@ impl SectionWorld {
                         (-rn, qrn.cross(&l))
                     }
                     Feature::Cable(j) => {
-                        let (_, hp, hc, h) = chords[j];
+                        let (_, hp, h) = self.holes[j];
+                        let hc = hole(j);
                         let t = features::segment_fraction(&a, &hp, &hc);
                         (-t * rn, t * qrn.cross(&h))
                     }
@@ -300,19 +311,19 @@ impl SectionWorld {
             };
             push(Feature::Backbone, &backbone, &identity);
             push(Feature::Disk, &disk, &disk_pose);
-            for (j, (_, hp, hc, _)) in chords.iter().enumerate() {
+            for (j, (_, hp, _)) in self.holes.iter().enumerate() {
+                let hc = hole(j);
                 if (hc - hp).norm() > 0.0 {
-                    push(Feature::Cable(j), &features::chord(hp, hc), &identity);
+                    push(Feature::Cable(j), &features::chord(hp, &hc), &identity);
                 }
             }
         }
-        // Feature::Cable holds the index into `chords`; report the cable's own index.
-        for p in &mut out {
+        // Feature::Cable holds the index into `holes`; report the cable's own index.
+        for p in out.iter_mut() {
             if let Feature::Cable(j) = p.feature {
-                p.feature = Feature::Cable(chords[j].0);
+                p.feature = Feature::Cable(self.holes[j].0);
             }
         }
-        out
     }
 }
 
@@ -376,7 +387,7 @@ mod tests {
                 let pen = penetration_of(&all, w.clearance);
                 // Equal values; a sum with no term is −0.0 where the unpruned one adds +0.0
                 // terms (the merit adds it to Σ|c|, so the merit is the same to the bit).
-                assert_eq!(pen, w.penetration(&pose));
+                assert_eq!(pen, w.penetration(&pose, &mut vec![]));
                 kept += all.len();
                 touching += all.iter().filter(|p| p.dist < 1e-3).count();
                 // Pruned from the penetration: pairs beyond the clearance.

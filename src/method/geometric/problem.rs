@@ -293,7 +293,9 @@ impl SectionData {
     }
 
     /// Objective and constraints at pose ⊕ δ (δ = (dp, dω)) evaluated at δ = 0, generic over
-    /// the scalar: `f64` for values, [`D2`] for exact first and second derivatives in δ.
+    /// the scalar: `f64` for values, [`D2`] for exact first and second derivatives in δ. The
+    /// constraints go into `cons` (cleared first: Newton and the line search's trial points
+    /// reuse one buffer instead of allocating a `Vec` each), the objective is returned.
     /// Inlined where it is called (the line search's trial points: 0.3 M instructions of a
     /// 13 M paper case I once it was not).
     #[inline]
@@ -303,12 +305,13 @@ impl SectionData {
         face: u32,
         active: &[usize],
         squared: bool,
-    ) -> (T, Vec<T>) {
+        cons: &mut Vec<T>,
+    ) -> T {
         let p = T::position(&pose.p);
         let q = &pose.q;
         let rot = |h: &Vector3<f64>| -> V3<T> { T::rotated(q, h) };
         let mut obj = T::cst(0.0);
-        let mut cons = Vec::with_capacity(1 + active.len() + 2 * self.terms.len() + 1);
+        cons.clear();
         cons.push(p.norm() + (-self.l0));
         for &j in active {
             let k = &self.cons[j];
@@ -346,18 +349,21 @@ impl SectionData {
             let n = rot(&Vector3::z());
             cons.push(n.dot(&rot(u).cross(&p)) * T::cst(1.0 / (self.l0 * u.norm())));
         }
-        (obj, cons)
+        obj
     }
 
     pub(super) fn term_angles(&self, pose: &Pose) -> Vec<f64> {
-        self.terms
-            .iter()
-            .map(|t| {
-                let v = if t.tangent { pose.p } else { pose.q * t.dir };
-                let c = t.dir.cross(&v).norm();
-                c.atan2(t.dir.dot(&v))
-            })
+        (0..self.terms.len())
+            .map(|t| self.term_angle(pose, t))
             .collect()
+    }
+
+    /// Term `t`'s angle at this pose \[rad\] (one entry of [`SectionData::term_angles`]).
+    pub(super) fn term_angle(&self, pose: &Pose, t: usize) -> f64 {
+        let t = &self.terms[t];
+        let v = if t.tangent { pose.p } else { pose.q * t.dir };
+        let c = t.dir.cross(&v).norm();
+        c.atan2(t.dir.dot(&v))
     }
 
     pub(super) fn chord(&self, pose: &Pose, j: usize) -> f64 {
