@@ -62,17 +62,25 @@ fn mutants(text: &str) -> Vec<String> {
             out.push(format!("{}{}{}", &text[..a], v, &text[b..]));
         }
     }
+    out.extend(line_mutants(text, |l| {
+        !(l.trim().is_empty() || l.trim_start().starts_with('#'))
+    }));
+    out
+}
+
+/// Each line of `text` that `keep` selects deleted, then duplicated (one mutant each).
+fn line_mutants(text: &str, keep: impl Fn(&str) -> bool) -> Vec<String> {
     let lines: Vec<&str> = text.lines().collect();
+    let mut out = vec![];
     for (k, l) in lines.iter().enumerate() {
-        if l.trim().is_empty() || l.trim_start().starts_with('#') {
-            continue;
+        if keep(l) {
+            let mut del = lines.clone();
+            del.remove(k);
+            out.push(del.join("\n"));
+            let mut dup = lines.clone();
+            dup.insert(k, l);
+            out.push(dup.join("\n"));
         }
-        let mut del = lines.clone();
-        del.remove(k);
-        out.push(del.join("\n"));
-        let mut dup = lines.clone();
-        dup.insert(k, l);
-        out.push(dup.join("\n"));
     }
     out
 }
@@ -410,17 +418,9 @@ fn hardware_models_end_named_and_bounded() {
             }
         }
     }
-    let lines: Vec<&str> = text.lines().collect();
-    for (k, l) in lines.iter().enumerate() {
-        if fields.iter().any(|f| l.starts_with(f)) {
-            let mut del = lines.clone();
-            del.remove(k);
-            files.push(del.join("\n"));
-            let mut dup = lines.clone();
-            dup.insert(k, l);
-            files.push(dup.join("\n"));
-        }
-    }
+    files.extend(line_mutants(&text, |l| {
+        fields.iter().any(|f| l.starts_with(f))
+    }));
     assert!(files.len() > 150, "{} mutants", files.len());
     let predict = |file: &Path, method: &str, k: usize| {
         let out = dir.join(format!("out{k}.csv")).display().to_string();

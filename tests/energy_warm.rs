@@ -8,7 +8,7 @@
 mod common;
 use ccrkit::method::energy::Energy;
 use ccrkit::method::WarmState;
-use ccrkit::{Method, Scene};
+use ccrkit::{Method, Scene, Shape};
 use common::paper;
 
 #[test]
@@ -83,6 +83,20 @@ fn prepared_solves_equal_one_off_solves() {
     }
 }
 
+/// `shape` with its energy warm state's Hessian blocks dropped (a warm start from it rebuilds
+/// them); panics if `shape` kept none (`what` names it).
+fn without_hessian(shape: &Shape, what: &str) -> Shape {
+    let mut stripped = shape.clone();
+    match &mut stripped.report.warm {
+        Some(WarmState::Energy(e)) => {
+            assert!(e.hessian.is_some(), "{what}: no Hessian kept");
+            e.hessian = None;
+        }
+        other => panic!("{what}: warm state {other:?}"),
+    }
+    stripped
+}
+
 /// A warm start takes its first Hessian from the blocks its shape carries (the last ones of
 /// that solve) instead of rebuilding them: the same numbers, so the warm solve equals, to the
 /// bit, the one from the same shape without them (paper cases, from 2 % less shortening).
@@ -95,14 +109,7 @@ fn carried_hessian_is_the_rebuilt_one() {
         let before = method
             .solve(&model.robot, &model.actuation.scaled(0.98), &scene, None)
             .expect("previous solve");
-        let mut stripped = before.clone();
-        match &mut stripped.report.warm {
-            Some(WarmState::Energy(e)) => {
-                assert!(e.hessian.is_some(), "case {case}: no Hessian kept");
-                e.hessian = None;
-            }
-            other => panic!("case {case}: warm state {other:?}"),
-        }
+        let stripped = without_hessian(&before, &format!("case {case}"));
         let with = method
             .solve(&model.robot, &model.actuation, &scene, Some(&before))
             .expect("warm solve");
@@ -132,14 +139,7 @@ fn warm_hessian_of_another_routing_is_rebuilt() {
     let from_a = method
         .solve(&a.robot, &a.actuation, &scene, None)
         .expect("robot A");
-    let mut stripped = from_a.clone();
-    match &mut stripped.report.warm {
-        Some(WarmState::Energy(e)) => {
-            assert!(e.hessian.is_some(), "no Hessian kept");
-            e.hessian = None;
-        }
-        other => panic!("warm state {other:?}"),
-    }
+    let stripped = without_hessian(&from_a, "robot A");
     let with = method
         .solve(&b.robot, &b.actuation, &scene, Some(&from_a))
         .expect("B warm from A");
