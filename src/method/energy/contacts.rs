@@ -400,7 +400,7 @@ struct Collect<'w, 'a> {
     /// Lower bound on the distance between the robot and the obstacles so far \[m\].
     clear: f64,
     out: Vec<Pair>,
-    /// The stop rule, with the running violation.
+    /// The stop rule, asked after each pair closer than its clearance is found.
     stop: Option<Stop<'w>>,
     /// The stop rule fired: the call returns nothing.
     stopped: bool,
@@ -451,17 +451,15 @@ impl Collect<'_, '_> {
                 .find(|h| h.key() == (k, feat) && h.dist < SEPARATION_SHIFT);
             let found = match (closed, near) {
                 (Some(decided), _) => decided.map(|w| (w, w.dist)),
-                (None, near) => match near {
-                    Some(h) => features::witness_near(
-                        g,
-                        gpose,
-                        &*o.shape,
-                        &o.parry_pose,
-                        margin,
-                        (&h.normal, h.dist),
-                    ),
-                    None => features::witness(g, gpose, &*o.shape, &o.parry_pose, margin),
-                },
+                (None, Some(h)) => features::witness_near(
+                    g,
+                    gpose,
+                    &*o.shape,
+                    &o.parry_pose,
+                    margin,
+                    (&h.normal, h.dist),
+                ),
+                (None, None) => features::witness(g, gpose, &*o.shape, &o.parry_pose, margin),
             };
             let Some((mut w, raw)) = found else {
                 self.clear = self.clear.min(margin);
