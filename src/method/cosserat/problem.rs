@@ -276,7 +276,7 @@ impl Cosserat {
         }
         if self.steps_per_section == 0 && self.adaptive.is_none() {
             return Err(SolveError::InvalidInput {
-                field: "steps_per_section".into(),
+                field: "rk4-steps".into(),
                 reason: "must be ≥ 1".into(),
             });
         }

@@ -267,7 +267,13 @@ impl Energy {
             }
             if resid <= FRICTION_TOLERANCE {
                 if self.sensitivity {
-                    sol.sensitivity.jacobian = prob.friction_jacobian(base, a, &w, &xi, &lam);
+                    sol.sensitivity.jacobian = prob.friction_jacobian(&FrictionPoint {
+                        base,
+                        a,
+                        w: &w,
+                        xi: &xi,
+                        lam: &lam,
+                    });
                 }
                 let sol = Solution {
                     iterations,
@@ -337,6 +343,17 @@ impl Energy {
     }
 }
 
+/// A point of the friction equilibrium: the unscaled samples `base`, the capstan exponents
+/// `a` (`μ s` per cable, module docs), the weights `w` at `xi`, the strains `xi` and the multipliers `lam`.
+#[derive(Clone, Copy)]
+struct FrictionPoint<'b> {
+    base: &'b [NodeRow],
+    a: &'b [f64],
+    w: &'b [Vec<f64>],
+    xi: &'b [f64],
+    lam: &'b [f64],
+}
+
 impl<'a> Problem<'a> {
     /// Full Newton steps on the friction equilibrium (module docs, "Newton polish") from `xi`,
     /// `lam` with the taut set fixed; `Some((ξ, λ, residual, steps))` once the residual is
@@ -364,7 +381,14 @@ impl<'a> Problem<'a> {
                 return None;
             }
             prev = resid;
-            let (m, taut) = self.friction_kkt(base, a, &w, &xi, &lam);
+            let at = FrictionPoint {
+                base,
+                a,
+                w: &w,
+                xi: &xi,
+                lam: &lam,
+            };
+            let (m, taut) = self.friction_kkt(&at);
             let d = m.lu().solve(&(-r))?;
             let nv = self.nvar();
             for i in 0..nv {
@@ -430,14 +454,14 @@ impl<'a> Problem<'a> {
 
     /// The non-symmetric KKT matrix of [`Problem::friction_jacobian`] at `xi`, `lam` (weights
     /// `w` at `xi`), with the taut cables (`λ > 0`) as rows.
-    fn friction_kkt(
-        &mut self,
-        base: &[NodeRow],
-        a: &[f64],
-        w: &[Vec<f64>],
-        xi: &[f64],
-        lam: &[f64],
-    ) -> (DMatrix<f64>, Vec<usize>) {
+    fn friction_kkt(&mut self, at: &FrictionPoint) -> (DMatrix<f64>, Vec<usize>) {
+        let FrictionPoint {
+            base,
+            a,
+            w,
+            xi,
+            lam,
+        } = *at;
         let (nv, nc) = (self.nvar(), self.robot.cables.len());
         let wgt: Vec<f64> = (0..nc)
             .map(|c| self.cable_weight(c, lam[c].max(0.0)))
@@ -517,19 +541,12 @@ impl<'a> Problem<'a> {
     /// with `∂w_cj/∂θ_i = −a w_cj` (`i < j`), `a e^{−aΘ_j} φ'(aθ_j)` (`i = j`), and `∂θ_i/∂κ =
     /// ℓ_i κ/|κ|` (0 on a straight sub-arc). Dense LU (the system is not symmetric). `None` with
     /// dead loads or obstacles (their curvature is not added here), or when singular.
-    pub(super) fn friction_jacobian(
-        &mut self,
-        base: &[NodeRow],
-        a: &[f64],
-        w: &[Vec<f64>],
-        xi: &[f64],
-        lam: &[f64],
-    ) -> Option<TipJacobian> {
+    fn friction_jacobian(&mut self, at: &FrictionPoint) -> Option<TipJacobian> {
         if !self.frame_forces.is_empty() || self.world.is_some() {
             return None;
         }
         let (nv, nc) = (self.nvar(), self.robot.cables.len());
-        let (m, taut) = self.friction_kkt(base, a, w, xi, lam);
+        let (m, taut) = self.friction_kkt(at);
         let k = taut.len();
         let lu = m.lu();
         let mut which = vec![];
@@ -546,7 +563,7 @@ impl<'a> Problem<'a> {
             which.push((c, Input::Shortening));
             dxis.push(x.rows(0, nv).iter().copied().collect());
         }
-        self.tip_columns(xi, &which, &dxis)
+        self.tip_columns(at.xi, &which, &dxis)
     }
 }
 

@@ -299,13 +299,13 @@ impl Energy {
     fn ready<'a>(&'a self, robot: &'a Robot) -> Result<ReadyEnergy<'a>, SolveError> {
         if self.sub_arcs == 0 {
             return Err(SolveError::InvalidInput {
-                field: "sub_arcs".into(),
+                field: "sub-arcs".into(),
                 reason: "must be ≥ 1".into(),
             });
         }
         if self.cable_length == LengthMeasure::Chord && self.sub_arcs > 4 {
             return Err(SolveError::InvalidInput {
-                field: "sub_arcs".into(),
+                field: "sub-arcs".into(),
                 reason: "the chord measure supports at most 4 sub-arcs per section".into(),
             });
         }
@@ -317,7 +317,7 @@ impl Energy {
         }
         if !(self.min_stretch.is_finite() && self.min_stretch > 0.0 && self.min_stretch <= 1.0) {
             return Err(SolveError::InvalidInput {
-                field: "min_stretch".into(),
+                field: "min-stretch".into(),
                 reason: format!("must be in (0, 1], got {}", self.min_stretch),
             });
         }
