@@ -12,7 +12,7 @@
 //! The two candidates with capstan friction (`fitted+friction`, `friction+stiffening`) are
 //! fitted only with `--friction`: every friction row costs a non-symmetric Newton polish, and
 //! their fits took 4–13 min of the 28 min the whole run took before (v6 `friction+stiffening`).
-//! Without them the run chooses among the other seven on the same hold-out; with them the
+//! Without them the run chooses among the other nine on the same hold-out; with them the
 //! protocol is the same, only the candidate list is longer (neither won the hold-out when run:
 //! README, "Real robots").
 //!
