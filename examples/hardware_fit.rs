@@ -12,7 +12,7 @@
 //! The two candidates with capstan friction (`fitted+friction`, `friction+stiffening`) are
 //! fitted only with `--friction`: every friction row costs a non-symmetric Newton polish, and
 //! their fits took 4–13 min of the 28 min the whole run took before (v6 `friction+stiffening`).
-//! Without them the run chooses among the other seven on the same hold-out; with them the
+//! Without them the run chooses among the other nine on the same hold-out; with them the
 //! protocol is the same, only the candidate list is longer (neither won the hold-out when run:
 //! README, "Real robots").
 //!
@@ -224,9 +224,29 @@ fn main() -> Result<()> {
 /// compliance (`k = EA/ℓ`: longer cables softer) in place of the uniform one, plus the
 /// backbone's curvature stiffening `β` (bending energy `½ EI κ² (1 + β κ²)`), and `β` with the
 /// backlash, the base rotation or the friction in place of the marker (kept at the nominal 8 mm).
-/// The two with friction only when `friction` (`--friction`; module docs).
+/// Two with `β` that spend scalars elsewhere than per segment (marker fixed, no backlash):
+/// the base tilted against the measurement frame's z axis (`base.rx`, `base.ry`) in place of
+/// the proximal offset, and an offset per tendon of the distal segment in place of its
+/// segment's (the proximal offset at its nominal 0). The two with friction only when
+/// `friction` (`--friction`; module docs).
 fn candidates(nominal: &Model, friction: bool) -> Vec<Candidate> {
     let default = ccrkit::calibrate::params::default_names(&nominal.robot);
+    let segs = ccrkit::calibrate::params::segments(&nominal.robot);
+    let last = segs.len().saturating_sub(1);
+    let names = |f: &dyn Fn(usize) -> String| (0..segs.len()).map(f).collect::<Vec<_>>();
+    let stiff = ["compliance".to_string(), "stiffening".to_string()];
+    let mut tilt = names(&|k| format!("gain.seg{k}"));
+    tilt.extend((1..segs.len()).map(|k| format!("offset.seg{k}")));
+    tilt.extend(stiff.clone());
+    tilt.extend(["base.rx".to_string(), "base.ry".to_string()]);
+    let mut per_tendon = names(&|k| format!("gain.seg{k}"));
+    per_tendon.extend((1..last).map(|k| format!("offset.seg{k}")));
+    per_tendon.extend(
+        segs[last]
+            .iter()
+            .map(|&c| format!("offset.{}", nominal.robot.cables[c].name)),
+    );
+    per_tendon.extend(stiff);
     let with = |extra: &str| {
         let mut v = default.clone();
         v.push(extra.into());
@@ -268,6 +288,8 @@ fn candidates(nominal: &Model, friction: bool) -> Vec<Candidate> {
             "friction+stiffening",
             no_marker(&["friction", "stiffening"]),
         ),
+        ("tilt+stiffening", tilt),
+        ("offset.tendon+stiffening", per_tendon),
     ]
     .into_iter()
     .filter(|(label, _)| friction || !label.contains("friction"))

@@ -8,7 +8,7 @@
 //! | `backlash`, `backlash.segK`, `backlash.CABLE` | [`Hardware::backlash`] of the same groups | m |
 //! | `compliance`, `compliance.segK`, `compliance.CABLE` | `1/k` of the cables' [`Cable::stiffness`] (0: inextensible) | m/N |
 //! | `axial-compliance`, `axial-compliance.segK`, `axial-compliance.CABLE` | `1/EA` of the cables: each gets `k = EA/ℓ` (below) | 1/N |
-//! | `base.rz` | rotation of the base about the measurement frame's z axis ([`Hardware::base_rotation`] z) | rad |
+//! | `base.rx`, `base.ry`, `base.rz` | component x, y, z of the base's rotation vector in the measurement frame ([`Hardware::base_rotation`]); with the other two 0, the rotation about that axis | rad |
 //! | `friction`, `friction.segK`, `friction.CABLE` | capstan coefficient `μ` ([`Hardware::friction`], sequences only) | – |
 //! | `stiffening` | the backbone's curvature stiffening `β` ([`Backbone::stiffening`]: bending energy `½ EI κ² (1 + β κ²)`; energy model only) | m² |
 //!
@@ -28,7 +28,10 @@
 //!
 //! **Base rotation about z.** The measurement frame's azimuth is tied to the tendon angles
 //! (identified from the tendon pulls in the data's frame); `base.rz` turns the whole robot
-//! about the measurement z axis, a common offset of every tendon angle.
+//! about the measurement z axis, a common offset of every tendon angle. `base.rx` and
+//! `base.ry` tilt the robot's axis against the measurement frame's z axis (a robot mounted
+//! askew to the motion-capture frame): the error they take up is the tilt's `ω × s`, linear in
+//! the tip's lateral motion.
 //!
 //! Segment K is the K-th group of cables tied at the same disk, in order of that disk from the
 //! base (the FTDCR models: seg0 = the three cables tied at the end of the proximal segment).
@@ -75,7 +78,7 @@ pub enum Target {
     /// `1/EA` of the cables \[1/N\]: stiffness `EA/ℓ` (module docs).
     AxialCompliance(Group),
     /// Base rotation about the measurement z axis \[rad\] (the z of the rotation vector).
-    BaseRotationZ,
+    BaseRotation(usize),
     /// Capstan friction coefficient `μ` \[-\].
     Friction(Group),
     /// The backbone's curvature stiffening `β` \[m²\].
@@ -163,8 +166,10 @@ impl Param {
                 Some(_) => return Err(bad("`stiffening` is one value of the backbone".into())),
             },
             "base" => match tail {
-                Some("rz") => Target::BaseRotationZ,
-                _ => return Err(bad("give base.rz".into())),
+                Some("rx") => Target::BaseRotation(0),
+                Some("ry") => Target::BaseRotation(1),
+                Some("rz") => Target::BaseRotation(2),
+                _ => return Err(bad("give base.rx, base.ry or base.rz".into())),
             },
             "marker" => match tail {
                 Some("x") => Target::Marker(0),
@@ -176,7 +181,7 @@ impl Param {
                 return Err(bad(
                     "unknown parameter: gain[.segK|.CABLE], offset[.segK|.CABLE], \
                      compliance[.segK|.CABLE], axial-compliance[.segK|.CABLE], \
-                     backlash[.segK|.CABLE], friction[.segK|.CABLE], marker.x|y|z, base.rz, \
+                     backlash[.segK|.CABLE], friction[.segK|.CABLE], marker.x|y|z, base.rx|ry|rz, \
                      stiffening"
                         .into(),
                 ))
@@ -195,7 +200,7 @@ impl Param {
             Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => 1e-3,
             Target::Compliance(_) => 1e-4,
             Target::AxialCompliance(_) | Target::Stiffening => 1e-3,
-            Target::BaseRotationZ => 1e-2,
+            Target::BaseRotation(_) => 1e-2,
         }
     }
 
@@ -206,7 +211,7 @@ impl Param {
             Target::Compliance(_) | Target::Backlash(_) | Target::AxialCompliance(_) => v >= 0.0,
             Target::Friction(_) => (0.0..=MAX_FRICTION).contains(&v),
             Target::Stiffening => (0.0..=MAX_STIFFENING).contains(&v),
-            Target::Offset(_) | Target::Marker(_) | Target::BaseRotationZ => true,
+            Target::Offset(_) | Target::Marker(_) | Target::BaseRotation(_) => true,
         }
     }
 
@@ -219,7 +224,7 @@ impl Param {
             Target::Compliance(_) | Target::Backlash(_) | Target::AxialCompliance(_) => v.max(0.0),
             Target::Friction(_) => v.clamp(0.0, MAX_FRICTION),
             Target::Stiffening => v.clamp(0.0, MAX_STIFFENING),
-            Target::Offset(_) | Target::Marker(_) | Target::BaseRotationZ => v,
+            Target::Offset(_) | Target::Marker(_) | Target::BaseRotation(_) => v,
         }
     }
 
@@ -230,7 +235,7 @@ impl Param {
             Target::Offset(_) | Target::Marker(_) | Target::Backlash(_) => "m",
             Target::Compliance(_) => "m/N",
             Target::AxialCompliance(_) => "1/N",
-            Target::BaseRotationZ => "rad",
+            Target::BaseRotation(_) => "rad",
             Target::Stiffening => "m²",
         }
     }
@@ -268,7 +273,7 @@ impl Param {
                     .collect();
                 mean(&c, g)
             }
-            Target::BaseRotationZ => hw.base_rotation.z,
+            Target::BaseRotation(k) => hw.base_rotation[*k],
             Target::Stiffening => model.robot.backbone.stiffening,
         }
     }
@@ -303,7 +308,7 @@ impl Param {
             Target::Backlash(g) => Self::cables(g, n)
                 .into_iter()
                 .for_each(|c| hw.backlash[c] = v),
-            Target::BaseRotationZ => hw.base_rotation.z = v,
+            Target::BaseRotation(k) => hw.base_rotation[*k] = v,
             Target::Friction(g) => Self::cables(g, n)
                 .into_iter()
                 .for_each(|c| hw.friction[c] = v),
@@ -334,8 +339,8 @@ pub fn parse_all(names: &[String], robot: &Robot) -> Result<Vec<Param>, SolveErr
                     cx.iter().any(|c| cy.contains(c))
                 }
                 (Target::Marker(x), Target::Marker(y)) => x == y,
-                (Target::BaseRotationZ, Target::BaseRotationZ)
-                | (Target::Stiffening, Target::Stiffening) => true,
+                (Target::BaseRotation(x), Target::BaseRotation(y)) => x == y,
+                (Target::Stiffening, Target::Stiffening) => true,
                 _ => false,
             };
             if overlap {
@@ -369,7 +374,7 @@ mod tests {
 
     /// `axial-compliance.seg2 = 1/EA` gives each distal cable `k = EA/ℓ` with ℓ its length from
     /// the base to disk 30 (186.5 mm of straight tendon), leaves the other cables alone, and
-    /// reads back as 1/EA; `base.rz` is the z of the base rotation vector.
+    /// reads back as 1/EA; `base.rz` (`rx`, `ry`) is the z (x, y) of the base rotation vector.
     #[test]
     fn axial_compliance_is_ea_over_length_and_base_rz_turns_the_base() {
         let mut m = v4();
@@ -402,8 +407,19 @@ mod tests {
         )
         .expect_err("overlap");
         assert!(e.to_string().contains("axial-compliance.seg1"), "{e}");
-        let e = parse_all(&["base.rx".into()], &m.robot).expect_err("only rz");
-        assert!(e.to_string().contains("base.rz"), "{e}");
+        // base.rx / base.ry are the rotation vector's other components; each once.
+        let tilt = parse_all(&["base.rx".into(), "base.ry".into()], &m.robot).expect("tilt");
+        tilt[0].set(&mut m, -0.04);
+        tilt[1].set(&mut m, 0.01);
+        assert_eq!(
+            m.hardware.base_rotation,
+            nalgebra::Vector3::new(-0.04, 0.01, 0.05)
+        );
+        assert_eq!((tilt[0].get(&m), tilt[1].get(&m)), (-0.04, 0.01));
+        let e = parse_all(&["base.ry".into(), "base.ry".into()], &m.robot).expect_err("twice");
+        assert!(e.to_string().contains("base.ry"), "{e}");
+        let e = parse_all(&["base.rw".into()], &m.robot).expect_err("no such axis");
+        assert!(e.to_string().contains("base.rx, base.ry or base.rz"), "{e}");
         // A projected step stays in the model.
         assert_eq!(ps[0].project(-1e-3), 0.0);
         assert_eq!(ps[1].project(-0.3), -0.3);

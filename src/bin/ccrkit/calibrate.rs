@@ -14,7 +14,7 @@ pub struct CalibrateArgs {
     /// Model file (TOML) to start from.
     pub file: PathBuf,
     /// Parameters to fit (default: gain.segK and offset.segK per segment, compliance, marker.z;
-    /// also backlash[.segK], axial-compliance[.segK] (1/EA: k = EA/length), base.rz, marker.x/y; see `ccrkit::calibrate::params`).
+    /// also backlash[.segK], axial-compliance[.segK] (1/EA: k = EA/length), base.rx/ry/rz, marker.x/y; see `ccrkit::calibrate::params`).
     #[arg(long, value_delimiter = ',', num_args = 1..)]
     pub fit: Vec<String>,
     /// Write the fitted model here (a file `ccrkit predict` takes).
