@@ -2,6 +2,7 @@
 //! (sets of angle terms that vanish) on each taut set, and the certificate a candidate must
 //! carry to be accepted.
 
+use super::bound::LENGTH_SLACK;
 use super::problem::{Pose, SectionData};
 use super::starts::nudge;
 use super::{Geometric, Objective};
@@ -331,6 +332,20 @@ impl Geometric {
             .iter()
             .flat_map(|&face| starts.iter().map(move |s| (face, *s)))
             .collect();
+        // Faces the one-constraint-at-a-time bound proves infeasible (`bound.rs`): no run on
+        // them can converge, so none yields a candidate or an escape; skipping them leaves the
+        // answer unchanged. (A finite bound above the best candidate does not let a face be
+        // skipped: its runs' escapes reach the face without zeros, which no bound prices.)
+        let slack = LENGTH_SLACK.max(1e3 * self.tolerance);
+        let infeasible: Vec<u32> = if squared {
+            vec![]
+        } else {
+            faces
+                .iter()
+                .copied()
+                .filter(|&f| data.face_lower_bound(f, taut, slack).is_infinite())
+                .collect()
+        };
         let mut best: Option<Candidate> = None;
         let mut escapes = 0;
         let mut k = 0;
@@ -343,6 +358,9 @@ impl Geometric {
         while k < runs.len() && !tally.exhausted() {
             let (face, start) = runs[k];
             k += 1;
+            if infeasible.contains(&face) {
+                continue;
+            }
             // A run from the start of an earlier run on the same face repeats it (typically
             // escapes from one stationary pose reached from several starts): its candidate
             // could not replace the earlier one (`best` moves only 1e-12 lower), so only its

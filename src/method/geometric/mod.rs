@@ -68,9 +68,10 @@
 //! # Files
 //!
 //! `mod.rs` the settings and the section loop (base to tip) · `problem.rs` the eq. 1–2 section
-//! problem and its derivatives · `derivatives.rs` their closed forms · `faces.rs` the taut-set and face search and the certificate ·
+//! problem and its derivatives · `derivatives.rs` their closed forms · `faces.rs` the taut-set and face search and the certificate · `bound.rs` a lower bound on a face's objective (faces it proves infeasible are skipped) ·
 //! `degenerate.rs` faces where an unshortened cable's row is redundant · `feasibility.rs` proofs that no pose exists · `newton.rs` Newton–KKT on one face · `contact_curvature.rs` the second derivative of a contact distance · `starts.rs` the starting poses · `obstacles.rs` the obstacles one section sees.
 
+mod bound;
 mod contact_curvature;
 mod degenerate;
 mod derivatives;
