@@ -18,8 +18,8 @@
 //! step would need `λ' = λ + ρ c`, negative once `λ < ρ |c|`; the dual holds it at 0 and the
 //! step closes only `λ / ρ` of the gap (random dense scene 5 of `tests/dense_scenes.rs`
 //! with the step guard's exact distances: a disk 0.44 mm short of a sphere closed by 16 µm
-//! per iteration, 40 iterations instead of 12). Only where no `ρ` makes the Hessian positive definite is
-//! the energy's `K` added (a damped step, as for the blocks).
+//! per iteration, 40 iterations instead of 12). Only where no `ρ` makes the Hessian
+//! positive definite is the energy's `K` added (a damped step, as for the blocks).
 
 use super::{dot, Sqp};
 use crate::method::energy::curvature::LowRank;
