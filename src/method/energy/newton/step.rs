@@ -84,7 +84,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
     }
 
     /// The QP of this step in its dual: rows a_r, values c_r ≤ 0 ([`Sqp::row`]). With
-    /// z = H⁻¹ ∇f and y_r = H⁻¹ a_r (a_r with the row's sign) the step is −z − Σ λ_r y_r (into `dxi`), where λ ≥ 0
+    /// z = H⁻¹ ∇f (∇f with the penalty's gradient, `newton/curved.rs`) and y_r = H⁻¹ a_r (a_r with the row's sign) the step is −z − Σ λ_r y_r (into `dxi`), where λ ≥ 0
     /// minimizes ½ λᵀ (S + C) λ − qᵀ λ, S = [a_rᵀ y_s], q_r = c_r − a_rᵀ z, C the diagonal of
     /// the cables' compliances `1/k` (a compliant row `a·d + c − λ/k ≤ 0` is the primal QP
     /// with a stretch `s` costing `½ k s²`; eliminating `s = λ/k` puts `1/k` on the dual's
@@ -92,7 +92,11 @@ impl<'p, 'a> Sqp<'p, 'a> {
     pub(super) fn dual_step(&mut self) -> Option<Vec<f64>> {
         let prob = self.prob;
         let nrow = self.cable_rows.len() + self.pairs.len();
-        self.w.z.copy_from_slice(&self.w.gobj);
+        // The objective's gradient, with the penalty's where contact rows are penalized.
+        let mut z = std::mem::take(&mut self.w.z);
+        z.copy_from_slice(&self.w.gobj);
+        self.add_penalty_gradient(&mut z);
+        self.w.z = z;
         let mut ys = std::mem::take(&mut self.w.y);
         ys.resize_with(nrow, Vec::new);
         for (r, y) in ys.iter_mut().enumerate() {
