@@ -193,10 +193,18 @@ impl Geometric {
             } else {
                 0.0
             };
-            let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial| {
+            // A trial that only a tiny step would accept stops querying the pairs once the
+            // merit with those found so far is not below `m0` (`penetration`'s rule; the
+            // merit is monotone in the penetration: `+ Σ|c|`, `· ρ > 0`, `+ F` round
+            // monotonically): the full merit is not below it either, or not a number.
+            let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial, tiny| {
                 let ft = data.eval::<f64>(trial, face, active, squared, &mut trial_cons);
-                let pen = world.map_or(0.0, |w| w.penetration(trial, &mut trial_pairs));
-                merit(ft, &trial_cons, pen)
+                let Some(w) = world else {
+                    return merit(ft, &trial_cons, 0.0);
+                };
+                let rejects = |pen: f64| !tiny && !(merit(ft, &trial_cons, pen) < m0);
+                w.penetration(trial, &mut trial_pairs, &rejects)
+                    .map_or(f64::NAN, |pen| merit(ft, &trial_cons, pen))
             });
             if alpha < SHORT_STEP {
                 short_steps += 1;
@@ -369,13 +377,15 @@ fn lagrangian_hessian(
 
 /// Backtracking from the full step: the first of 20 halvings whose merit is finite and below
 /// `m0` (or whose step is below 1e-8); returns it (None if none) and the last step length.
-/// Step lengths below `floor` are not tried (None, with that length).
+/// Step lengths below `floor` are not tried (None, with that length). `merit_at` is told
+/// whether the step is below 1e-8 (any finite merit accepts it); otherwise it may answer NaN
+/// for a trial whose merit it has proved not below `m0` (rejected the same).
 fn line_search(
     pose: &Pose,
     dx: &Vector6<f64>,
     m0: f64,
     floor: f64,
-    mut merit_at: impl FnMut(&Pose) -> f64,
+    mut merit_at: impl FnMut(&Pose, bool) -> f64,
 ) -> (Option<Pose>, f64) {
     let mut alpha = 1.0;
     for _ in 0..20 {
@@ -383,8 +393,9 @@ fn line_search(
             return (None, alpha);
         }
         let trial = pose.retract(dx, alpha);
-        let mt = merit_at(&trial);
-        if mt.is_finite() && (mt < m0 || dx.amax() * alpha < 1e-8) {
+        let tiny = dx.amax() * alpha < 1e-8;
+        let mt = merit_at(&trial, tiny);
+        if mt.is_finite() && (mt < m0 || tiny) {
             return (Some(trial), alpha);
         }
         alpha *= 0.5;
