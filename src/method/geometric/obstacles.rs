@@ -422,6 +422,17 @@ mod tests {
                 // Equal values; a sum with no term is −0.0 where the unpruned one adds +0.0
                 // terms (the merit adds it to Σ|c|, so the merit is the same to the bit).
                 assert_eq!(Some(pen), w.penetration(&pose, &mut vec![], &|_| false));
+                // A stop rule gives up exactly when the whole sum meets it, else changes nothing
+                // (to the bit: the sum without a rule).
+                let full = w.penetration(&pose, &mut vec![], &|_| false);
+                for t in [0.0, 0.5 * pen, pen, 2.0 * pen + 1e-9] {
+                    let stopped = w.penetration(&pose, &mut vec![], &|p| p >= t);
+                    if pen >= t {
+                        assert_eq!(stopped, None, "{pen} {t}");
+                    } else {
+                        assert_eq!(stopped.map(f64::to_bits), full.map(f64::to_bits), "{t}");
+                    }
+                }
                 kept += all.len();
                 touching += all.iter().filter(|p| p.dist < 1e-3).count();
                 // Pruned from the penetration: pairs beyond the clearance.
