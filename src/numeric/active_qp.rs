@@ -165,14 +165,15 @@ fn finish(x: Vector6<f64>, y: &[f64], ne: usize, ni: usize, active: &[usize]) ->
 
 /// The minimizer of `½ xᵀ P x + gᵀ x` with the equalities and the active inequalities held
 /// with equality, and their multipliers (`P x + g + Nᵀ y = 0`): the KKT system by LU with full
-/// pivoting. `None` when singular or not finite.
+/// pivoting. `None` when singular or not finite. The multipliers are the first
+/// `eq_rows.len() + active.len()` entries of `y` ([`kkt_dir`]).
 fn kkt_solve(
     p: &Matrix6<f64>,
     g: &Vector6<f64>,
     (eq_rows, eq_rhs): (&[Vector6<f64>], &[f64]),
     (in_rows, in_rhs): (&[Vector6<f64>], &[f64]),
     active: &[usize],
-) -> Option<(Vector6<f64>, Vec<f64>)> {
+) -> Option<(Vector6<f64>, [f64; 6])> {
     // More than 6 rows: `kkt_dir` declines them (None).
     let (rows, nr) = stacked(eq_rows, active.iter().map(|&i| in_rows[i]))?;
     let (rhs, _) = stacked(eq_rhs, active.iter().map(|&i| in_rhs[i]))?;
@@ -197,13 +198,13 @@ fn stacked<T: Copy + Default>(
 /// Solve `[P Nᵀ; N 0] [x; y] = [−a; b]` (rows of `N`: `rows`) by LU with full pivoting
 /// ([`full_piv_solve`], on the stack: nalgebra's heap `DMatrix` LU was 13 % of a literal
 /// solve next to the wall, issue 16). `None` when singular, not finite, or larger than
-/// [`KKT_MAX`].
+/// [`KKT_MAX`]. `y` is returned on the stack, its first `rows.len()` entries (the rest 0).
 fn kkt_dir(
     p: &Matrix6<f64>,
     a: &Vector6<f64>,
     rows: &[Vector6<f64>],
     b: &[f64],
-) -> Option<(Vector6<f64>, Vec<f64>)> {
+) -> Option<(Vector6<f64>, [f64; 6])> {
     let m = rows.len();
     let n = 6 + m;
     if n > KKT_MAX {
@@ -229,10 +230,9 @@ fn kkt_dir(
     if sol[..n].iter().any(|v| !v.is_finite()) {
         return None;
     }
-    Some((
-        Vector6::from_iterator(sol.iter().take(6).copied()),
-        sol[6..n].to_vec(),
-    ))
+    let mut y = [0.0; 6];
+    y[..m].copy_from_slice(&sol[6..n]);
+    Some((Vector6::from_iterator(sol.iter().take(6).copied()), y))
 }
 
 /// The full-pivot search of [`full_piv_solve`]: nalgebra's scan `if |v| > best { take v }`

@@ -86,9 +86,13 @@ impl Geometric {
         };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
         // Buffers reused by every iteration and line-search trial (constraints, pairs).
-        let (mut c, mut cv, mut pairs) = (Vec::new(), Vec::new(), Vec::new());
-        let (mut trial_cons, mut trial_pairs) = (Vec::new(), Vec::new());
+        // (Room for the most constraints a face has, 7 at a degenerate vertex.)
+        let (mut c, mut cv, mut pairs) = (Vec::with_capacity(8), Vec::with_capacity(8), Vec::new());
+        let (mut trial_cons, mut trial_pairs) = (Vec::with_capacity(8), Vec::new());
+        let mut lam = Vec::with_capacity(8);
         let mut pressed = Pressed::default();
+        // `trial_pairs` hold the pairs within the margin at `pose`: the accepted trial's.
+        let mut pairs_at_hand = false;
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
                 Err(Rejected {
@@ -108,7 +112,7 @@ impl Geometric {
             }
             let g = Vector6::from_row_slice(&f.g);
             rows_and_values(&c, &mut rows, &mut cv);
-            let (mut h, lam) = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref());
+            let mut h = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref(), &mut lam);
             if h.iter().any(|x| !x.is_finite()) {
                 return reject(last_res);
             }
@@ -118,7 +122,12 @@ impl Geometric {
             }
             pairs.clear();
             if let Some(w) = world {
-                w.pairs_into(&pose, &mut pairs);
+                if pairs_at_hand {
+                    // What `pairs_into` answers here, to the bit (`penetration`'s doc).
+                    std::mem::swap(&mut pairs, &mut trial_pairs);
+                } else {
+                    w.pairs_into(&pose, &mut pairs);
+                }
                 w.add_pressed_curvature(&pose, &pairs, &pressed, &mut h);
             }
             let clearance = world.map_or(0.0, |w| w.clearance);
@@ -212,7 +221,11 @@ impl Geometric {
                 short_steps = 0;
             }
             match next {
-                Some(p) if short_steps < max_short => pose = p,
+                Some(p) if short_steps < max_short => {
+                    // The accepted trial was queried last, and in full (its merit is finite).
+                    pose = p;
+                    pairs_at_hand = true;
+                }
                 _ => return reject(last_res),
             }
             lambda = Some(step.lambda);
@@ -351,28 +364,31 @@ fn rows_and_values(c: &[D2<6>], rows: &mut Vec<Vector6<f64>>, cv: &mut Vec<f64>)
 }
 
 /// Hessian of the Lagrangian `∇²F + Σ λ_j ∇²c_j` with the previous step's multipliers, or, on
-/// the first iteration, the least-squares multipliers of `∇F + Aᵀλ = 0`; returns both.
+/// the first iteration, the least-squares multipliers of `∇F + Aᵀλ = 0`; returns the Hessian,
+/// the multipliers into `lam` (the run's buffer).
 fn lagrangian_hessian(
     f: &D2<6>,
     c: &[D2<6>],
     g: &Vector6<f64>,
     rows: &[Vector6<f64>],
     lambda: Option<&[f64]>,
-) -> (Matrix6<f64>, Vec<f64>) {
-    let lam = match lambda {
-        Some(l) => l.to_vec(),
+    lam: &mut Vec<f64>,
+) -> Matrix6<f64> {
+    lam.clear();
+    match lambda {
+        Some(l) => lam.extend_from_slice(l),
         None => {
             let a = DMatrix::from_fn(c.len(), 6, |r, col| rows[r][col]);
-            multipliers(&DVector::from_row_slice(g.as_slice()), &a)
-                .as_slice()
-                .to_vec()
+            lam.extend_from_slice(
+                multipliers(&DVector::from_row_slice(g.as_slice()), &a).as_slice(),
+            );
         }
-    };
+    }
     let mut h = Matrix6::from_fn(|r, col| f.h[r][col]);
     for (j, cj) in c.iter().enumerate() {
         h += Matrix6::from_fn(|r, col| cj.h[r][col]) * lam[j];
     }
-    (h, lam)
+    h
 }
 
 /// Backtracking from the full step: the first of 20 halvings whose merit is finite and below

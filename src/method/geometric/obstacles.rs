@@ -169,20 +169,20 @@ impl SectionWorld {
         self.names[k].clone()
     }
 
-    /// Total penetration below the clearance over the pairs at this pose \[m\]. Only pairs
-    /// closer than the clearance add to it, so pairs proved farther than the clearance by
-    /// [`PRUNE_SLACK`] are not queried ([`SectionWorld::pairs_within`]); the sum is the one
-    /// over every pair within the margin.
-    /// `scratch` holds the pairs between calls (the line search's trials reuse it).
+    /// Total penetration below the clearance over the pairs at this pose \[m\]: the sum over
+    /// every pair within the margin of `max(0, clearance − d)`. `scratch` holds the pairs
+    /// between calls (the line search's trials reuse it); a call that does not give up leaves
+    /// in it the pairs within the margin, [`SectionWorld::pairs_into`]'s at this pose to the bit
+    /// (Newton takes them for its next iterate when the trial is accepted).
     ///
     /// `rejects` may end the queries early (`None`): it is asked of the penetration of the
-    /// pairs found so far — before the first query, then each time a pair inside the
-    /// clearance is found — and must be monotone in it (true of a value ⇒ true of every larger
-    /// one). The penetration is a rounded sum of the non-negative terms `max(0, clearance − d)`
-    /// in the order of the pairs, and rounded addition is monotone, so the sum over a prefix
-    /// of the pairs is at most the sum over all of them: a rule true of a prefix is true of
-    /// the whole. A call that does not give up returns the sum over every pair, to the bit
-    /// (the same queries in the same order).
+    /// pairs found so far — before the first query, then after each pair found — and must be
+    /// monotone in it (true of a value ⇒ true of every larger one). The penetration is a
+    /// rounded sum of the non-negative terms `max(0, clearance − d)` in the order of the
+    /// pairs, and rounded addition is monotone, so the sum over a prefix of the pairs is at
+    /// most the sum over all of them: a rule true of a prefix is true of the whole. A call
+    /// that does not give up returns the sum over every pair, to the bit (the same queries in
+    /// the same order).
     pub(super) fn penetration(
         &self,
         pose: &Pose,
@@ -191,7 +191,7 @@ impl SectionWorld {
     ) -> Option<f64> {
         let clearance = self.clearance;
         let stop = |found: &[Pair]| rejects(penetration_of(found, clearance));
-        self.pairs_within_into(pose, clearance, scratch, Some(&stop))
+        self.pairs_within_into(pose, self.margin, scratch, Some(&stop))
             .then(|| penetration_of(scratch, clearance))
     }
 
