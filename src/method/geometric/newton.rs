@@ -66,6 +66,28 @@ impl Geometric {
     /// the contact curvature `−μ ∇²d` of every pair that pressed at the last step
     /// (`contact_curvature.rs`), so the contact steps converge quadratically. The line search uses the ℓ1
     /// merit `F + ρ (Σ|c| + Σ max(0, clearance − d_j))`.
+    ///
+    /// In the body:
+    /// - one buffer each for the constraints, their rows and values, the multipliers, the pairs
+    ///   and a trial's constraints and pairs serves every iteration and trial (room for the
+    ///   most constraints a face has, 7 at a degenerate vertex);
+    /// - the derivatives are closed-form, or dual numbers where `gram_schmidt` is off (its doc);
+    /// - a run whose kept-non-zero term reaches its kink belongs to a face where it is zero;
+    /// - at a converged point the active contacts join the equalities for the second-order
+    ///   check; at a vertex whose rows are dependent (an unshortened taut cable on its
+    ///   degenerate face, `degenerate.rs`), the multipliers that certify it, if any;
+    /// - the merit at the iterate takes the penetration of the pairs at hand (was queried
+    ///   again);
+    /// - a short step that would end the run ends it whatever the merit below it does: near
+    ///   obstacles (where each trial queries the contacts) the search stops at the first short
+    ///   step (same outcome, same iterations; the free path is left as it was);
+    /// - a trial that only a tiny step would accept stops querying the pairs once the merit
+    ///   with those found so far is not below `m0` (`SectionWorld::penetration`'s rule: the
+    ///   merit is monotone in the penetration, as `+ Σ|c|`, `· ρ > 0` and `+ F` round
+    ///   monotonically), for the full merit is not below it either, or not a number;
+    /// - an accepted trial was queried last and in full (its merit is finite), to the margin:
+    ///   its pairs are the next iterate's, what `pairs_into` answers there to the bit
+    ///   (`SectionWorld::penetration`'s doc), and are not queried again.
     pub(super) fn newton(
         &self,
         data: &SectionData,
@@ -85,13 +107,10 @@ impl Geometric {
             MAX_SHORT_STEPS
         };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
-        // Buffers reused by every iteration and line-search trial (constraints, pairs).
-        // (Room for the most constraints a face has, 7 at a degenerate vertex.)
         let (mut c, mut cv, mut pairs) = (Vec::with_capacity(8), Vec::with_capacity(8), Vec::new());
         let (mut trial_cons, mut trial_pairs) = (Vec::with_capacity(8), Vec::new());
         let mut lam = Vec::with_capacity(8);
         let mut pressed = Pressed::default();
-        // `trial_pairs` hold the pairs within the margin at `pose`: the accepted trial's.
         let mut pairs_at_hand = false;
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
@@ -101,7 +120,6 @@ impl Geometric {
                     escape: None,
                 })
             };
-            // Closed-form derivatives, or the dual numbers where `gram_schmidt` is off (its doc).
             let f = if data.world.is_some() && !data.gram_schmidt {
                 data.eval::<D2<6>>(&pose, face, active, squared, &mut c)
             } else {
@@ -117,13 +135,11 @@ impl Geometric {
                 return reject(last_res);
             }
             if !squared && it > 1 && self.runs_into_kink(data, &pose, face) {
-                // This candidate belongs to a face where that term is zero.
                 return reject(cv.iter().fold(0.0f64, |m, x| m.max(x.abs())));
             }
             pairs.clear();
             if let Some(w) = world {
                 if pairs_at_hand {
-                    // What `pairs_into` answers here, to the bit (`penetration`'s doc).
                     std::mem::swap(&mut pairs, &mut trial_pairs);
                 } else {
                     w.pairs_into(&pose, &mut pairs);
@@ -146,7 +162,6 @@ impl Geometric {
             let in_contact = mu_max > 1e-10;
             let step_tol = self.step_tolerance(data, in_contact);
             if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= step_tol {
-                // Active contacts join the equalities for the second-order check.
                 let contacts: Vec<Contact> = (0..pairs.len())
                     .filter(|&j| mu.get(j).copied().unwrap_or(0.0) > 1e-10)
                     .map(|j| pairs[j].to_contact(world, data.section, mu[j]))
@@ -154,8 +169,6 @@ impl Geometric {
                 if mu.iter().any(|m| *m < -1e-9) {
                     return reject(last_res);
                 }
-                // A vertex whose rows are dependent (an unshortened taut cable on its
-                // degenerate face, `degenerate.rs`): the multipliers that certify it, if any.
                 let lambda = if rows.len() == 7 && pairs.is_empty() {
                     data.vertex_multipliers(face, active, &g, &rows)
                         .unwrap_or(step.lambda)
@@ -182,30 +195,18 @@ impl Geometric {
                     contacts,
                 );
             }
-            // Line search on the ℓ1 merit F + ρ (Σ|c| + Σ penetration).
             let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let rho = 2.0 * amax(&step.lambda).max(amax(&lam)).max(amax(&mu)) + 1.0;
             let merit = |f: f64, c: &[f64], pen: f64| {
                 f + rho * (c.iter().map(|x| x.abs()).sum::<f64>() + pen)
             };
-            // The pairs at this pose are at hand: the penetration from them (was queried again).
-            let m0 = merit(
-                f.v,
-                &cv,
-                world.map_or(0.0, |w| penetration_of(&pairs, w.clearance)),
-            );
-            // A short step now ends the run whatever the merit below it does: near obstacles
-            // (where each trial queries the contacts) the search stops at the first step that
-            // is short (same outcome, same iterations; the free path is left as it was).
+            let pen0 = world.map_or(0.0, |w| penetration_of(&pairs, w.clearance));
+            let m0 = merit(f.v, &cv, pen0);
             let floor = if world.is_some() && short_steps + 1 >= max_short {
                 SHORT_STEP
             } else {
                 0.0
             };
-            // A trial that only a tiny step would accept stops querying the pairs once the
-            // merit with those found so far is not below `m0` (`penetration`'s rule; the
-            // merit is monotone in the penetration: `+ Σ|c|`, `· ρ > 0`, `+ F` round
-            // monotonically): the full merit is not below it either, or not a number.
             let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial, tiny| {
                 let ft = data.eval::<f64>(trial, face, active, squared, &mut trial_cons);
                 let Some(w) = world else {
@@ -222,7 +223,6 @@ impl Geometric {
             }
             match next {
                 Some(p) if short_steps < max_short => {
-                    // The accepted trial was queried last, and in full (its merit is finite).
                     pose = p;
                     pairs_at_hand = true;
                 }
