@@ -425,6 +425,7 @@ mod tests {
     /// (6 unknowns, 0 to 6 rows), including repeated entries (pivot ties), a singular system
     /// (a repeated row, both `None`) and badly scaled ones.
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn pivot_scan_by_columns_equals_the_entry_scan() {
         // Few magnitudes (ties everywhere), signed zeros and NaNs, blocks of every size.
         let values = [0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.0, f64::NAN];

@@ -12,6 +12,7 @@ use crate::numeric::kkt::{kkt_step, kkt_step6, kkt_step6_gs, multipliers};
 use crate::numeric::qp::qp_step6;
 use crate::shape::Contact;
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+use std::cmp::Ordering::Less;
 
 /// Newton step size at which a candidate with active contacts has converged [m or rad]. Was
 /// 1e-7 (clarabel's interior-point steps and parry's unpolished GJK noise): candidates stopped
@@ -212,7 +213,8 @@ impl Geometric {
                 let Some(w) = world else {
                     return merit(ft, &trial_cons, 0.0);
                 };
-                let rejects = |pen: f64| !tiny && !(merit(ft, &trial_cons, pen) < m0);
+                let rejects =
+                    |pen: f64| !tiny && merit(ft, &trial_cons, pen).partial_cmp(&m0) != Some(Less);
                 w.penetration(trial, &mut trial_pairs, &rejects)
                     .map_or(f64::NAN, |pen| merit(ft, &trial_cons, pen))
             });

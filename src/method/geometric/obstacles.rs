@@ -33,6 +33,10 @@ pub(super) fn worst_gap(pairs: &[Pair], clearance: f64) -> f64 {
         .fold(0.0f64, f64::max)
 }
 
+/// When [`SectionWorld::pairs_within_into`] may stop querying: a rule on the pairs found so
+/// far, monotone in them (true of some ⇒ true of more).
+type StopRule<'r> = &'r dyn Fn(&[Pair]) -> bool;
+
 /// A robot feature of one section.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Feature {
@@ -266,7 +270,7 @@ impl SectionWorld {
         pose: &Pose,
         limit: f64,
         out: &mut Vec<Pair>,
-        stop: Option<&dyn Fn(&[Pair]) -> bool>,
+        stop: Option<StopRule<'_>>,
     ) -> bool {
         let r = &self.r_prev;
         let x0 = self.x_prev + r * pose.p;
