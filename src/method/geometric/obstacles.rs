@@ -180,13 +180,13 @@ impl SectionWorld {
     /// (Newton takes them for its next iterate when the trial is accepted).
     ///
     /// `rejects` may end the queries early (`None`): it is asked of the penetration of the
-    /// pairs found so far — before the first query, then after each pair found — and must be
-    /// monotone in it (true of a value ⇒ true of every larger one). The penetration is a
-    /// rounded sum of the non-negative terms `max(0, clearance − d)` in the order of the
-    /// pairs, and rounded addition is monotone, so the sum over a prefix of the pairs is at
-    /// most the sum over all of them: a rule true of a prefix is true of the whole. A call
-    /// that does not give up returns the sum over every pair, to the bit (the same queries in
-    /// the same order).
+    /// pairs found so far — before the first query, then after each pair found closer than the
+    /// margin — and must be monotone in it (true of a value ⇒ true of every larger one). The
+    /// penetration is a rounded sum of the non-negative terms `max(0, clearance − d)` in the
+    /// order of the pairs, and rounded addition is monotone, so the sum over a prefix of the
+    /// pairs is at most the sum over all of them: a rule true of a prefix is true of the
+    /// whole. A call that does not give up returns the sum over every pair, to the bit (the
+    /// same queries in the same order).
     pub(super) fn penetration(
         &self,
         pose: &Pose,
