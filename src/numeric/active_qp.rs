@@ -165,14 +165,15 @@ fn finish(x: Vector6<f64>, y: &[f64], ne: usize, ni: usize, active: &[usize]) ->
 
 /// The minimizer of `½ xᵀ P x + gᵀ x` with the equalities and the active inequalities held
 /// with equality, and their multipliers (`P x + g + Nᵀ y = 0`): the KKT system by LU with full
-/// pivoting. `None` when singular or not finite.
+/// pivoting. `None` when singular or not finite. The multipliers are the first
+/// `eq_rows.len() + active.len()` entries of `y` ([`kkt_dir`]).
 fn kkt_solve(
     p: &Matrix6<f64>,
     g: &Vector6<f64>,
     (eq_rows, eq_rhs): (&[Vector6<f64>], &[f64]),
     (in_rows, in_rhs): (&[Vector6<f64>], &[f64]),
     active: &[usize],
-) -> Option<(Vector6<f64>, Vec<f64>)> {
+) -> Option<(Vector6<f64>, [f64; 6])> {
     // More than 6 rows: `kkt_dir` declines them (None).
     let (rows, nr) = stacked(eq_rows, active.iter().map(|&i| in_rows[i]))?;
     let (rhs, _) = stacked(eq_rhs, active.iter().map(|&i| in_rhs[i]))?;
@@ -197,13 +198,13 @@ fn stacked<T: Copy + Default>(
 /// Solve `[P Nᵀ; N 0] [x; y] = [−a; b]` (rows of `N`: `rows`) by LU with full pivoting
 /// ([`full_piv_solve`], on the stack: nalgebra's heap `DMatrix` LU was 13 % of a literal
 /// solve next to the wall, issue 16). `None` when singular, not finite, or larger than
-/// [`KKT_MAX`].
+/// [`KKT_MAX`]. `y` is returned on the stack, its first `rows.len()` entries (the rest 0).
 fn kkt_dir(
     p: &Matrix6<f64>,
     a: &Vector6<f64>,
     rows: &[Vector6<f64>],
     b: &[f64],
-) -> Option<(Vector6<f64>, Vec<f64>)> {
+) -> Option<(Vector6<f64>, [f64; 6])> {
     let m = rows.len();
     let n = 6 + m;
     if n > KKT_MAX {
@@ -229,10 +230,59 @@ fn kkt_dir(
     if sol[..n].iter().any(|v| !v.is_finite()) {
         return None;
     }
-    Some((
-        Vector6::from_iterator(sol.iter().take(6).copied()),
-        sol[6..n].to_vec(),
-    ))
+    let mut y = [0.0; 6];
+    y[..m].copy_from_slice(&sol[6..n]);
+    Some((Vector6::from_iterator(sol.iter().take(6).copied()), y))
+}
+
+/// The full-pivot search of [`full_piv_solve`]: nalgebra's scan `if |v| > best { take v }`
+/// from the leading entry of the remaining block over its columns in order, rows within
+/// each (the first entry of largest magnitude; a NaN is never taken).
+///
+/// It is run one column at a time: the column's part of the scan leaves `best` at the same
+/// recurrence's value `m` (the fold in [`Pivot::scan`]), and if `m` is above `best` the entry
+/// the scan took last is the column's first entry of magnitude `m` (an earlier one would
+/// have been taken, and none after it exceeds `m`). So the pivot is the scan's, with the row
+/// index looked for only in the columns that raise `best`.
+struct Pivot {
+    best: f64,
+    row: usize,
+    col: usize,
+}
+
+impl Pivot {
+    /// A scan not yet started.
+    fn new() -> Pivot {
+        Pivot {
+            best: 0.0,
+            row: usize::MAX,
+            col: usize::MAX,
+        }
+    }
+
+    /// Continue the scan down `seg`, rows `row0..` of column `col` (the first call's first
+    /// entry is the block's leading one, where the scan starts).
+    fn scan(&mut self, seg: &[f64], row0: usize, col: usize) {
+        if self.row == usize::MAX {
+            let Some(first) = seg.first() else {
+                return;
+            };
+            (self.best, self.row, self.col) = (first.abs(), row0, col);
+        }
+        let m = seg.iter().fold(self.best, |m, x| {
+            let v = x.abs();
+            if v > m {
+                v
+            } else {
+                m
+            }
+        });
+        if m > self.best {
+            if let Some(k) = seg.iter().position(|x| x.abs() == m) {
+                (self.best, self.row, self.col) = (m, row0 + k, col);
+            }
+        }
+    }
 }
 
 /// The largest KKT system [`kkt_dir`] solves: 6 unknowns and 6 rows. The method never asks
@@ -264,18 +314,13 @@ fn full_piv_solve(
         return Some(());
     }
     let (mut row_swap, mut col_swap) = ([0usize; KKT_MAX], [0usize; KKT_MAX]);
+    // The first pivot: the scan over the whole matrix ([`Pivot`]).
+    let mut pivot = Pivot::new();
+    for (cc, col) in a.iter().enumerate().take(n) {
+        pivot.scan(&col[..n], 0, cc);
+    }
     for i in 0..n {
-        let (mut best, mut r, mut c) = (a[i][i].abs(), i, i);
-        for cc in i..n {
-            for rr in i..n {
-                let v = a[cc][rr].abs();
-                if v > best {
-                    best = v;
-                    r = rr;
-                    c = cc;
-                }
-            }
-        }
+        let (r, c) = (pivot.row, pivot.col);
         row_swap[i] = r;
         col_swap[i] = c;
         let diag = a[c][r];
@@ -299,13 +344,18 @@ fn full_piv_solve(
         for rr in i + 1..n {
             a[i][rr] *= inv;
         }
+        // The update leaves rows and columns i + 1.. as the next pivot's scan reads them, in
+        // its order (columns in order, rows within each): each column is scanned as soon as
+        // it is updated, and nothing changes them in between.
         let (left, right) = a.split_at_mut(i + 1);
         let pivot_col = &left[i];
-        for col in right.iter_mut().take(n - i - 1) {
+        pivot = Pivot::new();
+        for (k, col) in right.iter_mut().take(n - i - 1).enumerate() {
             let pk = -col[i];
             for rr in i + 1..n {
                 col[rr] += pk * pivot_col[rr];
             }
+            pivot.scan(&col[i + 1..n], i + 1, i + 1 + k);
         }
     }
     if a[n - 1][n - 1] == 0.0 {
@@ -374,6 +424,39 @@ mod tests {
     /// The stack LU is nalgebra's full-pivot LU to the bit on random KKT systems of every size
     /// (6 unknowns, 0 to 6 rows), including repeated entries (pivot ties), a singular system
     /// (a repeated row, both `None`) and badly scaled ones.
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn pivot_scan_by_columns_equals_the_entry_scan() {
+        // Few magnitudes (ties everywhere), signed zeros and NaNs, blocks of every size.
+        let values = [0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.0, f64::NAN];
+        let mut rng = crate::numeric::test_rng::Rng(0x5851_f42d_4c95_7f2d);
+        for trial in 0..5000 {
+            let (n, i) = (1 + trial % KKT_MAX, trial % 3);
+            let i = i.min(n - 1);
+            let mut a = [[0.0; KKT_MAX]; KKT_MAX];
+            for col in a.iter_mut().take(n) {
+                for v in col.iter_mut().take(n) {
+                    *v = values[rng.range(0.0, 7.99) as usize];
+                }
+            }
+            // nalgebra's scan, entry by entry.
+            let (mut best, mut r, mut c) = (a[i][i].abs(), i, i);
+            for cc in i..n {
+                for rr in i..n {
+                    if a[cc][rr].abs() > best {
+                        (best, r, c) = (a[cc][rr].abs(), rr, cc);
+                    }
+                }
+            }
+            let mut pivot = Pivot::new();
+            for (cc, col) in a.iter().enumerate().take(n).skip(i) {
+                pivot.scan(&col[i..n], i, cc);
+            }
+            assert_eq!((pivot.row, pivot.col), (r, c), "trial {trial}");
+            assert_eq!(pivot.best.to_bits(), best.to_bits(), "trial {trial}");
+        }
+    }
+
     #[test]
     fn stack_lu_equals_nalgebra_bit_for_bit() {
         let mut rng = crate::numeric::test_rng::Rng(0x9e37_79b9_7f4a_7c15);

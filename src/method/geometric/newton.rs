@@ -12,6 +12,7 @@ use crate::numeric::kkt::{kkt_step, kkt_step6, kkt_step6_gs, multipliers};
 use crate::numeric::qp::qp_step6;
 use crate::shape::Contact;
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+use std::cmp::Ordering::Less;
 
 /// Newton step size at which a candidate with active contacts has converged [m or rad]. Was
 /// 1e-7 (clarabel's interior-point steps and parry's unpolished GJK noise): candidates stopped
@@ -66,6 +67,28 @@ impl Geometric {
     /// the contact curvature `−μ ∇²d` of every pair that pressed at the last step
     /// (`contact_curvature.rs`), so the contact steps converge quadratically. The line search uses the ℓ1
     /// merit `F + ρ (Σ|c| + Σ max(0, clearance − d_j))`.
+    ///
+    /// In the body:
+    /// - one buffer each for the constraints, their rows and values, the multipliers, the pairs
+    ///   and a trial's constraints and pairs serves every iteration and trial (room for the
+    ///   most constraints a face has, 7 at a degenerate vertex);
+    /// - the derivatives are closed-form, or dual numbers where `gram_schmidt` is off (its doc);
+    /// - a run whose kept-non-zero term reaches its kink belongs to a face where it is zero;
+    /// - at a converged point the active contacts join the equalities for the second-order
+    ///   check; at a vertex whose rows are dependent (an unshortened taut cable on its
+    ///   degenerate face, `degenerate.rs`), the multipliers that certify it, if any;
+    /// - the merit at the iterate takes the penetration of the pairs at hand (was queried
+    ///   again);
+    /// - a short step that would end the run ends it whatever the merit below it does: near
+    ///   obstacles (where each trial queries the contacts) the search stops at the first short
+    ///   step (same outcome, same iterations; the free path is left as it was);
+    /// - a trial that only a tiny step would accept stops querying the pairs once the merit
+    ///   with those found so far is not below `m0` (`SectionWorld::penetration`'s rule: the
+    ///   merit is monotone in the penetration, as `+ Σ|c|`, `· ρ > 0` and `+ F` round
+    ///   monotonically), for the full merit is not below it either, or not a number;
+    /// - an accepted trial was queried last and in full (its merit is finite), to the margin:
+    ///   its pairs are the next iterate's, what `pairs_into` answers there to the bit
+    ///   (`SectionWorld::penetration`'s doc), and are not queried again.
     pub(super) fn newton(
         &self,
         data: &SectionData,
@@ -85,10 +108,11 @@ impl Geometric {
             MAX_SHORT_STEPS
         };
         let mut rows: Vec<Vector6<f64>> = Vec::with_capacity(6);
-        // Buffers reused by every iteration and line-search trial (constraints, pairs).
-        let (mut c, mut cv, mut pairs) = (Vec::new(), Vec::new(), Vec::new());
-        let (mut trial_cons, mut trial_pairs) = (Vec::new(), Vec::new());
+        let (mut c, mut cv, mut pairs) = (Vec::with_capacity(8), Vec::with_capacity(8), Vec::new());
+        let (mut trial_cons, mut trial_pairs) = (Vec::with_capacity(8), Vec::new());
+        let mut lam = Vec::with_capacity(8);
         let mut pressed = Pressed::default();
+        let mut pairs_at_hand = false;
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
                 Err(Rejected {
@@ -97,7 +121,6 @@ impl Geometric {
                     escape: None,
                 })
             };
-            // Closed-form derivatives, or the dual numbers where `gram_schmidt` is off (its doc).
             let f = if data.world.is_some() && !data.gram_schmidt {
                 data.eval::<D2<6>>(&pose, face, active, squared, &mut c)
             } else {
@@ -108,17 +131,20 @@ impl Geometric {
             }
             let g = Vector6::from_row_slice(&f.g);
             rows_and_values(&c, &mut rows, &mut cv);
-            let (mut h, lam) = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref());
+            let mut h = lagrangian_hessian(&f, &c, &g, &rows, lambda.as_deref(), &mut lam);
             if h.iter().any(|x| !x.is_finite()) {
                 return reject(last_res);
             }
             if !squared && it > 1 && self.runs_into_kink(data, &pose, face) {
-                // This candidate belongs to a face where that term is zero.
                 return reject(cv.iter().fold(0.0f64, |m, x| m.max(x.abs())));
             }
             pairs.clear();
             if let Some(w) = world {
-                w.pairs_into(&pose, &mut pairs);
+                if pairs_at_hand {
+                    std::mem::swap(&mut pairs, &mut trial_pairs);
+                } else {
+                    w.pairs_into(&pose, &mut pairs);
+                }
                 w.add_pressed_curvature(&pose, &pairs, &pressed, &mut h);
             }
             let clearance = world.map_or(0.0, |w| w.clearance);
@@ -137,7 +163,6 @@ impl Geometric {
             let in_contact = mu_max > 1e-10;
             let step_tol = self.step_tolerance(data, in_contact);
             if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= step_tol {
-                // Active contacts join the equalities for the second-order check.
                 let contacts: Vec<Contact> = (0..pairs.len())
                     .filter(|&j| mu.get(j).copied().unwrap_or(0.0) > 1e-10)
                     .map(|j| pairs[j].to_contact(world, data.section, mu[j]))
@@ -145,8 +170,6 @@ impl Geometric {
                 if mu.iter().any(|m| *m < -1e-9) {
                     return reject(last_res);
                 }
-                // A vertex whose rows are dependent (an unshortened taut cable on its
-                // degenerate face, `degenerate.rs`): the multipliers that certify it, if any.
                 let lambda = if rows.len() == 7 && pairs.is_empty() {
                     data.vertex_multipliers(face, active, &g, &rows)
                         .unwrap_or(step.lambda)
@@ -173,30 +196,27 @@ impl Geometric {
                     contacts,
                 );
             }
-            // Line search on the ℓ1 merit F + ρ (Σ|c| + Σ penetration).
             let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let rho = 2.0 * amax(&step.lambda).max(amax(&lam)).max(amax(&mu)) + 1.0;
             let merit = |f: f64, c: &[f64], pen: f64| {
                 f + rho * (c.iter().map(|x| x.abs()).sum::<f64>() + pen)
             };
-            // The pairs at this pose are at hand: the penetration from them (was queried again).
-            let m0 = merit(
-                f.v,
-                &cv,
-                world.map_or(0.0, |w| penetration_of(&pairs, w.clearance)),
-            );
-            // A short step now ends the run whatever the merit below it does: near obstacles
-            // (where each trial queries the contacts) the search stops at the first step that
-            // is short (same outcome, same iterations; the free path is left as it was).
+            let pen0 = world.map_or(0.0, |w| penetration_of(&pairs, w.clearance));
+            let m0 = merit(f.v, &cv, pen0);
             let floor = if world.is_some() && short_steps + 1 >= max_short {
                 SHORT_STEP
             } else {
                 0.0
             };
-            let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial| {
+            let (next, alpha) = line_search(&pose, &step.dx, m0, floor, |trial, tiny| {
                 let ft = data.eval::<f64>(trial, face, active, squared, &mut trial_cons);
-                let pen = world.map_or(0.0, |w| w.penetration(trial, &mut trial_pairs));
-                merit(ft, &trial_cons, pen)
+                let Some(w) = world else {
+                    return merit(ft, &trial_cons, 0.0);
+                };
+                let rejects =
+                    |pen: f64| !tiny && merit(ft, &trial_cons, pen).partial_cmp(&m0) != Some(Less);
+                w.penetration(trial, &mut trial_pairs, &rejects)
+                    .map_or(f64::NAN, |pen| merit(ft, &trial_cons, pen))
             });
             if alpha < SHORT_STEP {
                 short_steps += 1;
@@ -204,7 +224,10 @@ impl Geometric {
                 short_steps = 0;
             }
             match next {
-                Some(p) if short_steps < max_short => pose = p,
+                Some(p) if short_steps < max_short => {
+                    pose = p;
+                    pairs_at_hand = true;
+                }
                 _ => return reject(last_res),
             }
             lambda = Some(step.lambda);
@@ -343,39 +366,44 @@ fn rows_and_values(c: &[D2<6>], rows: &mut Vec<Vector6<f64>>, cv: &mut Vec<f64>)
 }
 
 /// Hessian of the Lagrangian `∇²F + Σ λ_j ∇²c_j` with the previous step's multipliers, or, on
-/// the first iteration, the least-squares multipliers of `∇F + Aᵀλ = 0`; returns both.
+/// the first iteration, the least-squares multipliers of `∇F + Aᵀλ = 0`; returns the Hessian,
+/// the multipliers into `lam` (the run's buffer).
 fn lagrangian_hessian(
     f: &D2<6>,
     c: &[D2<6>],
     g: &Vector6<f64>,
     rows: &[Vector6<f64>],
     lambda: Option<&[f64]>,
-) -> (Matrix6<f64>, Vec<f64>) {
-    let lam = match lambda {
-        Some(l) => l.to_vec(),
+    lam: &mut Vec<f64>,
+) -> Matrix6<f64> {
+    lam.clear();
+    match lambda {
+        Some(l) => lam.extend_from_slice(l),
         None => {
             let a = DMatrix::from_fn(c.len(), 6, |r, col| rows[r][col]);
-            multipliers(&DVector::from_row_slice(g.as_slice()), &a)
-                .as_slice()
-                .to_vec()
+            lam.extend_from_slice(
+                multipliers(&DVector::from_row_slice(g.as_slice()), &a).as_slice(),
+            );
         }
-    };
+    }
     let mut h = Matrix6::from_fn(|r, col| f.h[r][col]);
     for (j, cj) in c.iter().enumerate() {
         h += Matrix6::from_fn(|r, col| cj.h[r][col]) * lam[j];
     }
-    (h, lam)
+    h
 }
 
 /// Backtracking from the full step: the first of 20 halvings whose merit is finite and below
 /// `m0` (or whose step is below 1e-8); returns it (None if none) and the last step length.
-/// Step lengths below `floor` are not tried (None, with that length).
+/// Step lengths below `floor` are not tried (None, with that length). `merit_at` is told
+/// whether the step is below 1e-8 (any finite merit accepts it); otherwise it may answer NaN
+/// for a trial whose merit it has proved not below `m0` (rejected the same).
 fn line_search(
     pose: &Pose,
     dx: &Vector6<f64>,
     m0: f64,
     floor: f64,
-    mut merit_at: impl FnMut(&Pose) -> f64,
+    mut merit_at: impl FnMut(&Pose, bool) -> f64,
 ) -> (Option<Pose>, f64) {
     let mut alpha = 1.0;
     for _ in 0..20 {
@@ -383,8 +411,9 @@ fn line_search(
             return (None, alpha);
         }
         let trial = pose.retract(dx, alpha);
-        let mt = merit_at(&trial);
-        if mt.is_finite() && (mt < m0 || dx.amax() * alpha < 1e-8) {
+        let tiny = dx.amax() * alpha < 1e-8;
+        let mt = merit_at(&trial, tiny);
+        if mt.is_finite() && (mt < m0 || tiny) {
             return (Some(trial), alpha);
         }
         alpha *= 0.5;

@@ -33,6 +33,10 @@ pub(super) fn worst_gap(pairs: &[Pair], clearance: f64) -> f64 {
         .fold(0.0f64, f64::max)
 }
 
+/// When [`SectionWorld::pairs_within_into`] may stop querying: a rule on the pairs found so
+/// far, monotone in them (true of some ⇒ true of more).
+type StopRule<'r> = &'r dyn Fn(&[Pair]) -> bool;
+
 /// A robot feature of one section.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Feature {
@@ -169,14 +173,30 @@ impl SectionWorld {
         self.names[k].clone()
     }
 
-    /// Total penetration below the clearance over the pairs at this pose \[m\]. Only pairs
-    /// closer than the clearance add to it, so pairs proved farther than the clearance by
-    /// [`PRUNE_SLACK`] are not queried ([`SectionWorld::pairs_within`]); the sum is the one
-    /// over every pair within the margin.
-    /// `scratch` holds the pairs between calls (the line search's trials reuse it).
-    pub(super) fn penetration(&self, pose: &Pose, scratch: &mut Vec<Pair>) -> f64 {
-        self.pairs_within_into(pose, self.clearance, scratch);
-        penetration_of(scratch, self.clearance)
+    /// Total penetration below the clearance over the pairs at this pose \[m\]: the sum over
+    /// every pair within the margin of `max(0, clearance − d)`. `scratch` holds the pairs
+    /// between calls (the line search's trials reuse it); a call that does not give up leaves
+    /// in it the pairs within the margin, [`SectionWorld::pairs_into`]'s at this pose to the bit
+    /// (Newton takes them for its next iterate when the trial is accepted).
+    ///
+    /// `rejects` may end the queries early (`None`): it is asked of the penetration of the
+    /// pairs found so far — before the first query, then after each pair found closer than the
+    /// margin — and must be monotone in it (true of a value ⇒ true of every larger one). The
+    /// penetration is a rounded sum of the non-negative terms `max(0, clearance − d)` in the
+    /// order of the pairs, and rounded addition is monotone, so the sum over a prefix of the
+    /// pairs is at most the sum over all of them: a rule true of a prefix is true of the
+    /// whole. A call that does not give up returns the sum over every pair, to the bit (the
+    /// same queries in the same order).
+    pub(super) fn penetration(
+        &self,
+        pose: &Pose,
+        scratch: &mut Vec<Pair>,
+        rejects: &dyn Fn(f64) -> bool,
+    ) -> Option<f64> {
+        let clearance = self.clearance;
+        let stop = |found: &[Pair]| rejects(penetration_of(found, clearance));
+        self.pairs_within_into(pose, self.margin, scratch, Some(&stop))
+            .then(|| penetration_of(scratch, clearance))
     }
 
     /// Every feature–obstacle pair within the margin at this pose, linearized.
@@ -186,7 +206,7 @@ impl SectionWorld {
 
     /// [`SectionWorld::pairs`] into `out` (cleared first; Newton reuses one buffer).
     pub(super) fn pairs_into(&self, pose: &Pose, out: &mut Vec<Pair>) {
-        self.pairs_within_into(pose, self.margin, out)
+        self.pairs_within_into(pose, self.margin, out, None);
     }
 
     /// A lower bound on the distance between obstacle `k` and a feature (0 or less when they
@@ -236,13 +256,22 @@ impl SectionWorld {
     /// fixed end to a moving end by the fraction `t` of that.
     fn pairs_within(&self, pose: &Pose, limit: f64) -> Vec<Pair> {
         let mut out = vec![];
-        self.pairs_within_into(pose, limit, &mut out);
+        self.pairs_within_into(pose, limit, &mut out, None);
         out
     }
 
     /// [`SectionWorld::pairs_within`] into `out` (cleared first), so that callers that query
-    /// often reuse one buffer.
-    fn pairs_within_into(&self, pose: &Pose, limit: f64, out: &mut Vec<Pair>) {
+    /// often reuse one buffer. With a `stop` rule, the queries end (false; `out` then holds
+    /// part of the pairs) as soon as it is true of the pairs found so far: it is asked before
+    /// the first query and after each pair closer than `limit` is found. Without one, or if it
+    /// never fires (true), `out` is what `pairs_within` gives.
+    fn pairs_within_into(
+        &self,
+        pose: &Pose,
+        limit: f64,
+        out: &mut Vec<Pair>,
+        stop: Option<StopRule<'_>>,
+    ) -> bool {
         let r = &self.r_prev;
         let x0 = self.x_prev + r * pose.p;
         let ri = r * pose.q;
@@ -254,8 +283,12 @@ impl SectionWorld {
         // Cable j's hole at disk i (the chord from its hole at disk i−1, `self.holes[j].1`).
         let hole = |j: usize| x0 + ri * self.holes[j].2;
         let far = limit + PRUNE_SLACK;
+        let mut stopped = stop.is_some_and(|rule| rule(out));
         for (k, (shape, opose)) in self.shapes.iter().enumerate() {
             let mut push = |feature: Feature, g: &dyn PShape, gpose: &PPose| {
+                if stopped {
+                    return;
+                }
                 let hull = match feature {
                     Feature::Backbone => Convex::Segment(self.x_prev, x0, self.backbone_radius),
                     Feature::Disk => Convex::Disk(ri, x0, self.disk_radius, self.half_thickness),
@@ -308,6 +341,7 @@ impl SectionWorld {
                     point_obstacle: po,
                     normal: -n,
                 });
+                stopped = dist < limit && stop.is_some_and(|rule| rule(out));
             };
             push(Feature::Backbone, &backbone, &identity);
             push(Feature::Disk, &disk, &disk_pose);
@@ -318,12 +352,16 @@ impl SectionWorld {
                 }
             }
         }
+        if stopped {
+            return false;
+        }
         // Feature::Cable holds the index into `holes`; report the cable's own index.
         for p in out.iter_mut() {
             if let Feature::Cable(j) = p.feature {
                 p.feature = Feature::Cable(self.holes[j].0);
             }
         }
+        true
     }
 }
 
@@ -387,7 +425,18 @@ mod tests {
                 let pen = penetration_of(&all, w.clearance);
                 // Equal values; a sum with no term is −0.0 where the unpruned one adds +0.0
                 // terms (the merit adds it to Σ|c|, so the merit is the same to the bit).
-                assert_eq!(pen, w.penetration(&pose, &mut vec![]));
+                assert_eq!(Some(pen), w.penetration(&pose, &mut vec![], &|_| false));
+                // A stop rule gives up exactly when the whole sum meets it, else changes nothing
+                // (to the bit: the sum without a rule).
+                let full = w.penetration(&pose, &mut vec![], &|_| false);
+                for t in [0.0, 0.5 * pen, pen, 2.0 * pen + 1e-9] {
+                    let stopped = w.penetration(&pose, &mut vec![], &|p| p >= t);
+                    if pen >= t {
+                        assert_eq!(stopped, None, "{pen} {t}");
+                    } else {
+                        assert_eq!(stopped.map(f64::to_bits), full.map(f64::to_bits), "{t}");
+                    }
+                }
                 kept += all.len();
                 touching += all.iter().filter(|p| p.dist < 1e-3).count();
                 // Pruned from the penetration: pairs beyond the clearance.
