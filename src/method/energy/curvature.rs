@@ -380,8 +380,89 @@ fn sub_arc_load_block(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::method::energy::contacts::kinematics;
     use crate::method::energy::kinematics::exp_act;
+    use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
+    use crate::method::energy::Energy;
+    use crate::model::actuation::LengthMeasure;
     use crate::numeric::ad::Real;
+
+    /// The parts built once plus a penalty term added later are the whole build with that
+    /// term last, to the bit (`newton/curved.rs` relies on it so that its stiffening tries
+    /// change no answer), for one-sub-arc blocks and for blocks of three sub-arcs (where the
+    /// within-block sums continue), with no penalty, one and two penalty terms.
+    #[test]
+    fn parts_plus_penalty_are_the_whole_build() {
+        let model = case2_beside(Third::Cylinder);
+        for length in [LengthMeasure::Path, LengthMeasure::Chord] {
+            let set = Energy::default().with_sub_arcs(3).with_cable_length(length);
+            let prob = set
+                .setup(&model.robot, &model.actuation, &model.scene)
+                .expect("problem");
+            let world = world(&model, 3);
+            let xi = bent_state(prob.nvar());
+            let kin = kinematics(&xi, &prob.ell, true);
+            let (pairs, _) = world.pairs(&kin);
+            assert!(pairs.len() >= 3, "{} pairs", pairs.len());
+            let mut loads = FrameLoads::new(prob.nsub + 1);
+            let mut low = vec![];
+            for (k, p) in pairs.iter().enumerate() {
+                world.pair_curvature(&kin, p, 0.3 + 0.1 * k as f64, &mut loads, &mut low);
+            }
+            assert!(!low.is_empty());
+            let base: Vec<f64> = (0..prob.nblocks * prob.nb * prob.nb)
+                .map(|i| 1.0 + (i % 7) as f64 * 0.37)
+                .collect();
+            let unit = |p: &crate::method::energy::contacts::Pair| {
+                let n = p.grad.iter().map(|g| g * g).sum::<f64>().sqrt();
+                p.grad.iter().map(|g| g / n).collect::<Vec<f64>>()
+            };
+            let pen = |rows: &[usize], rho: f64| LowRank {
+                w: rows.iter().map(|&k| unit(&pairs[k])).collect(),
+                m: DMatrix::identity(rows.len(), rows.len()) * rho,
+            };
+            let parts = prob.curvature_parts(&xi, &kin, &loads, &low);
+            for extra in [
+                vec![],
+                vec![pen(&[0, 2], 3.7e-2)],
+                vec![pen(&[1], 5.0), pen(&[0, 1, 2], 1e-3)],
+            ] {
+                let mut all: Vec<LowRank> = low
+                    .iter()
+                    .chain(&extra)
+                    .map(|l| LowRank {
+                        w: l.w.clone(),
+                        m: l.m.clone(),
+                    })
+                    .collect();
+                let whole = prob.curvature(&xi, &kin, &loads, &all, &base);
+                let split = parts.semisep(&extra, &base);
+                assert_eq!((split.n, split.b, split.r), (whole.n, whole.b, whole.r));
+                // The first entry whose bits differ, if any.
+                let first =
+                    |a: &[f64], b: &[f64]| (0..a.len()).find(|&i| a[i].to_bits() != b[i].to_bits());
+                for (name, a, b) in [
+                    ("diag", &split.diag, &whole.diag),
+                    ("v", &split.v, &whole.v),
+                    ("u", &split.u, &whole.u),
+                ] {
+                    assert_eq!(a.len(), b.len());
+                    if let Some(i) = first(a, b) {
+                        panic!("{length:?} {name}[{i}]: {:e} vs {:e}", a[i], b[i]);
+                    }
+                }
+                // The penalty is in the matrix: without it the diagonal differs.
+                if !extra.is_empty() {
+                    all.truncate(low.len());
+                    let bare = prob.curvature(&xi, &kin, &loads, &all, &base);
+                    assert!(first(&bare.diag, &whole.diag).is_some());
+                }
+            }
+            if length == LengthMeasure::Chord {
+                assert!(prob.nb > 4, "blocks of several sub-arcs");
+            }
+        }
+    }
 
     /// The closed-form block equals the one built from four actions of the exponential
     /// (`R_l e_b = exp_act(e_b) − exp_act(0)`, `p_l = exp_act(0)`), bent and straight.
