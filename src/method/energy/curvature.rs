@@ -127,6 +127,18 @@ impl Problem<'_> {
         low: &[LowRank],
         base: &[f64],
     ) -> SemiSep {
+        self.curvature_parts(xi, kin, loads, low).semisep(&[], base)
+    }
+
+    /// The parts of [`Problem::curvature`] that do not depend on its base or on low-rank
+    /// terms added later ([`CurvatureParts::semisep`]).
+    pub(super) fn curvature_parts(
+        &self,
+        xi: &[f64],
+        kin: &Kin,
+        loads: &FrameLoads,
+        low: &[LowRank],
+    ) -> CurvatureParts {
         let nsub = self.nsub;
         let r = 6 + low.iter().map(|l| l.w.len()).sum::<usize>();
         // Per sub-arc: generators (r × 4, row-major) and the diagonal 4×4 block.
@@ -163,43 +175,89 @@ impl Problem<'_> {
         }
         let mut row = 6;
         for l in low {
-            let k = l.w.len();
-            for j in 0..nsub {
-                let (v, u) = (&mut vs[j * r * 4..], &mut us[j * r * 4..]);
-                for p in 0..k {
+            add_low_rank(l, row, r, &mut vs, &mut us, &mut dsub);
+            row += l.w.len();
+        }
+        // Within a block, the pairs of sub-arcs `k < j`: `Σ_p V_jp U_kp` (the generators'
+        // product, entry by entry; rows added later continue these sums).
+        let (nb, nbl) = (self.nb, self.nblocks);
+        let spb = nb / 4;
+        let mut off = Vec::with_capacity(nbl * spb * spb.saturating_sub(1) * 8);
+        for bl in 0..nbl {
+            for lj in 0..spb {
+                let j = bl * spb + lj;
+                for lk in 0..lj {
+                    let k = bl * spb + lk;
                     for a in 0..4 {
-                        u[(row + p) * 4 + a] = l.w[p][4 * j + a];
-                        v[(row + p) * 4 + a] =
-                            (0..k).map(|q| l.m[(p, q)] * l.w[q][4 * j + a]).sum();
-                    }
-                }
-                for a in 0..4 {
-                    for b in 0..4 {
-                        dsub[j][a][b] += (0..k)
-                            .map(|p| l.w[p][4 * j + a] * v[(row + p) * 4 + b])
-                            .sum::<f64>();
+                        for b in 0..4 {
+                            off.push(
+                                (0..r)
+                                    .map(|p| vs[j * r * 4 + p * 4 + a] * us[k * r * 4 + p * 4 + b])
+                                    .sum::<f64>(),
+                            );
+                        }
                     }
                 }
             }
-            row += k;
         }
-        self.assemble_blocks(&vs, &us, &dsub, base, r)
+        CurvatureParts {
+            nb,
+            nblocks: nbl,
+            r,
+            vs,
+            us,
+            dsub,
+            off,
+        }
     }
+}
 
-    /// Gather sub-arc generators into this problem's blocks of `nb = 4 · spb` variables: the
-    /// pairs of sub-arcs inside one block go to its diagonal block.
-    fn assemble_blocks(
-        &self,
-        vs: &[f64],
-        us: &[f64],
-        dsub: &[[[f64; 4]; 4]],
-        base: &[f64],
-        r: usize,
-    ) -> SemiSep {
-        let (nb, nbl) = (self.nb, self.nblocks);
+/// [`Problem::curvature`] built up to its base ([`Problem::curvature_parts`]): generators of
+/// rank `r` and the diagonal 4×4 block per sub-arc, and, within each block, the sums
+/// `Σ_p V_jp U_kp` for the pairs of sub-arcs `k < j`. A Newton iteration that retries its
+/// factor with a growing contact penalty (`newton/curved.rs`) builds these once and only the
+/// penalty's term per try ([`CurvatureParts::semisep`]), in the order a whole build would
+/// add it, so the matrix is the same to the last bit.
+pub(super) struct CurvatureParts {
+    nb: usize,
+    nblocks: usize,
+    r: usize,
+    vs: Vec<f64>,
+    us: Vec<f64>,
+    dsub: Vec<[[f64; 4]; 4]>,
+    off: Vec<f64>,
+}
+
+impl CurvatureParts {
+    /// `base` + these parts + the low-rank terms `extra`, as [`Problem::curvature`] with
+    /// `extra` after its own low-rank terms: the extra rows' products continue each sum where
+    /// the parts left it.
+    pub(super) fn semisep(&self, extra: &[LowRank], base: &[f64]) -> SemiSep {
+        let (nb, nbl, r0) = (self.nb, self.nblocks, self.r);
+        let nsub = self.dsub.len();
         let spb = nb / 4;
-        let mut out = SemiSep::zeros(nbl, nb, r);
-        out.diag.copy_from_slice(base);
+        let k = extra.iter().map(|l| l.w.len()).sum::<usize>();
+        let r = r0 + k;
+        let (mut ev, mut eu) = (vec![0.0; nsub * k * 4], vec![0.0; nsub * k * 4]);
+        let mut extra_dsub = vec![];
+        if k > 0 {
+            extra_dsub = self.dsub.clone();
+            let mut row = 0;
+            for l in extra {
+                add_low_rank(l, row, k, &mut ev, &mut eu, &mut extra_dsub);
+                row += l.w.len();
+            }
+        }
+        let dsub = if k > 0 { &extra_dsub } else { &self.dsub };
+        let mut out = SemiSep {
+            n: nbl,
+            b: nb,
+            r,
+            diag: base.to_vec(),
+            v: vec![0.0; nbl * r * nb],
+            u: vec![0.0; nbl * r * nb],
+        };
+        let mut off = self.off.iter();
         for bl in 0..nbl {
             let dg = &mut out.diag[bl * nb * nb..(bl + 1) * nb * nb];
             for lj in 0..spb {
@@ -208,18 +266,27 @@ impl Problem<'_> {
                     for b in 0..4 {
                         dg[(4 * lj + a) * nb + 4 * lj + b] += dsub[j][a][b];
                     }
-                    for p in 0..r {
-                        out.v[bl * r * nb + p * nb + 4 * lj + a] = vs[j * r * 4 + p * 4 + a];
-                        out.u[bl * r * nb + p * nb + 4 * lj + a] = us[j * r * 4 + p * 4 + a];
-                    }
+                }
+                for p in 0..r {
+                    let o = bl * r * nb + p * nb + 4 * lj;
+                    let (v, u) = if p < r0 {
+                        let i = j * r0 * 4 + p * 4;
+                        (&self.vs[i..i + 4], &self.us[i..i + 4])
+                    } else {
+                        let i = j * k * 4 + (p - r0) * 4;
+                        (&ev[i..i + 4], &eu[i..i + 4])
+                    };
+                    out.v[o..o + 4].copy_from_slice(v);
+                    out.u[o..o + 4].copy_from_slice(u);
                 }
                 for lk in 0..lj {
-                    let k = bl * spb + lk;
+                    let kk = bl * spb + lk;
                     for a in 0..4 {
                         for b in 0..4 {
-                            let e: f64 = (0..r)
-                                .map(|p| vs[j * r * 4 + p * 4 + a] * us[k * r * 4 + p * 4 + b])
-                                .sum();
+                            let mut e = *off.next().expect("one sum per entry");
+                            for p in 0..k {
+                                e += ev[j * k * 4 + p * 4 + a] * eu[kk * k * 4 + p * 4 + b];
+                            }
                             dg[(4 * lj + a) * nb + 4 * lk + b] += e;
                             dg[(4 * lk + b) * nb + 4 * lj + a] += e;
                         }
@@ -228,6 +295,35 @@ impl Problem<'_> {
             }
         }
         out
+    }
+}
+
+/// Write the term `l` into the generators `vs`, `us` (rank `r`, rows from `row`) of each
+/// sub-arc, `V = M W`, `U = W`, and add its part of the sub-arc's own block to `dsub`.
+fn add_low_rank(
+    l: &LowRank,
+    row: usize,
+    r: usize,
+    vs: &mut [f64],
+    us: &mut [f64],
+    dsub: &mut [[[f64; 4]; 4]],
+) {
+    let k = l.w.len();
+    for (j, dj) in dsub.iter_mut().enumerate() {
+        let (v, u) = (&mut vs[j * r * 4..], &mut us[j * r * 4..]);
+        for p in 0..k {
+            for a in 0..4 {
+                u[(row + p) * 4 + a] = l.w[p][4 * j + a];
+                v[(row + p) * 4 + a] = (0..k).map(|q| l.m[(p, q)] * l.w[q][4 * j + a]).sum();
+            }
+        }
+        for a in 0..4 {
+            for b in 0..4 {
+                dj[a][b] += (0..k)
+                    .map(|p| l.w[p][4 * j + a] * v[(row + p) * 4 + b])
+                    .sum::<f64>();
+            }
+        }
     }
 }
 
@@ -284,8 +380,89 @@ fn sub_arc_load_block(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::method::energy::contacts::kinematics;
     use crate::method::energy::kinematics::exp_act;
+    use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
+    use crate::method::energy::Energy;
+    use crate::model::actuation::LengthMeasure;
     use crate::numeric::ad::Real;
+
+    /// The parts built once plus a penalty term added later are the whole build with that
+    /// term last, to the bit (`newton/curved.rs` relies on it so that its stiffening tries
+    /// change no answer), for one-sub-arc blocks and for blocks of three sub-arcs (where the
+    /// within-block sums continue), with no penalty, one and two penalty terms.
+    #[test]
+    fn parts_plus_penalty_are_the_whole_build() {
+        let model = case2_beside(Third::Cylinder);
+        for length in [LengthMeasure::Path, LengthMeasure::Chord] {
+            let set = Energy::default().with_sub_arcs(3).with_cable_length(length);
+            let prob = set
+                .setup(&model.robot, &model.actuation, &model.scene)
+                .expect("problem");
+            let world = world(&model, 3);
+            let xi = bent_state(prob.nvar());
+            let kin = kinematics(&xi, &prob.ell, true);
+            let (pairs, _) = world.pairs(&kin);
+            assert!(pairs.len() >= 3, "{} pairs", pairs.len());
+            let mut loads = FrameLoads::new(prob.nsub + 1);
+            let mut low = vec![];
+            for (k, p) in pairs.iter().enumerate() {
+                world.pair_curvature(&kin, p, 0.3 + 0.1 * k as f64, &mut loads, &mut low);
+            }
+            assert!(!low.is_empty());
+            let base: Vec<f64> = (0..prob.nblocks * prob.nb * prob.nb)
+                .map(|i| 1.0 + (i % 7) as f64 * 0.37)
+                .collect();
+            let unit = |p: &crate::method::energy::contacts::Pair| {
+                let n = p.grad.iter().map(|g| g * g).sum::<f64>().sqrt();
+                p.grad.iter().map(|g| g / n).collect::<Vec<f64>>()
+            };
+            let pen = |rows: &[usize], rho: f64| LowRank {
+                w: rows.iter().map(|&k| unit(&pairs[k])).collect(),
+                m: DMatrix::identity(rows.len(), rows.len()) * rho,
+            };
+            let parts = prob.curvature_parts(&xi, &kin, &loads, &low);
+            for extra in [
+                vec![],
+                vec![pen(&[0, 2], 3.7e-2)],
+                vec![pen(&[1], 5.0), pen(&[0, 1, 2], 1e-3)],
+            ] {
+                let mut all: Vec<LowRank> = low
+                    .iter()
+                    .chain(&extra)
+                    .map(|l| LowRank {
+                        w: l.w.clone(),
+                        m: l.m.clone(),
+                    })
+                    .collect();
+                let whole = prob.curvature(&xi, &kin, &loads, &all, &base);
+                let split = parts.semisep(&extra, &base);
+                assert_eq!((split.n, split.b, split.r), (whole.n, whole.b, whole.r));
+                // The first entry whose bits differ, if any.
+                let first =
+                    |a: &[f64], b: &[f64]| (0..a.len()).find(|&i| a[i].to_bits() != b[i].to_bits());
+                for (name, a, b) in [
+                    ("diag", &split.diag, &whole.diag),
+                    ("v", &split.v, &whole.v),
+                    ("u", &split.u, &whole.u),
+                ] {
+                    assert_eq!(a.len(), b.len());
+                    if let Some(i) = first(a, b) {
+                        panic!("{length:?} {name}[{i}]: {:e} vs {:e}", a[i], b[i]);
+                    }
+                }
+                // The penalty is in the matrix: without it the diagonal differs.
+                if !extra.is_empty() {
+                    all.truncate(low.len());
+                    let bare = prob.curvature(&xi, &kin, &loads, &all, &base);
+                    assert!(first(&bare.diag, &whole.diag).is_some());
+                }
+            }
+            if length == LengthMeasure::Chord {
+                assert!(prob.nb > 4, "blocks of several sub-arcs");
+            }
+        }
+    }
 
     /// The closed-form block equals the one built from four actions of the exponential
     /// (`R_l e_b = exp_act(e_b) − exp_act(0)`, `p_l = exp_act(0)`), bent and straight.

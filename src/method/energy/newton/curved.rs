@@ -35,7 +35,10 @@ impl Sqp<'_, '_> {
         self.penalty.clear();
         let kin = self.kin.as_ref().filter(|k| k.m_int.len() == prob.nsub)?;
         let pressing = super::iterate::pressing(&self.pairs, &self.mu);
-        let (loads, mut low) = prob.curvature_terms(kin, &pressing)?;
+        let (loads, low) = prob.curvature_terms(kin, &pressing)?;
+        // Built once: each try below adds only its penalty term (the same matrix as a whole
+        // build with that term last, `CurvatureParts`).
+        let parts = prob.curvature_parts(&self.xi, kin, &loads, &low);
         let kmax = prob.k.iter().cloned().fold(0.0, f64::max);
         // Rows of the pressing contacts in the step's QP, unit gradients.
         let rows: Vec<(usize, Vec<f64>)> = (0..self.pairs.len())
@@ -46,10 +49,10 @@ impl Sqp<'_, '_> {
                 (self.cable_rows.len() + k, g.iter().map(|v| v / n).collect())
             })
             .collect();
-        let base = low.len();
         let mut rho = 0.0;
+        let mut pen: Option<LowRank> = None;
         loop {
-            let ss = prob.curvature(&self.xi, kin, &loads, &low, &self.w.raw);
+            let ss = parts.semisep(pen.as_slice(), &self.w.raw);
             if let Some(f) = ss.factor() {
                 self.curved = Some(f);
                 // ρ_r for the raw gradient: ρ â âᵀ = (ρ / |∇d|²) ∇d ∇dᵀ.
@@ -68,16 +71,14 @@ impl Sqp<'_, '_> {
                 break;
             }
             rho = if rho == 0.0 { 1e-4 * kmax } else { 10.0 * rho };
-            low.truncate(base);
-            low.push(LowRank {
+            pen = Some(LowRank {
                 w: rows.iter().map(|(_, a)| a.clone()).collect(),
                 m: DMatrix::identity(rows.len(), rows.len()) * rho,
             });
         }
         // Damped: the energy's K added.
         self.penalty.clear();
-        low.truncate(base);
-        let mut ss = prob.curvature(&self.xi, kin, &loads, &low, &self.w.raw);
+        let mut ss = parts.semisep(&[], &self.w.raw);
         let nb = prob.nb;
         let mut shift = 0.0;
         loop {
