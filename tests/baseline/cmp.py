@@ -27,11 +27,21 @@ def walk(x, y, path, diffs):
             diffs.append((path, f"{x} vs {y}", d))
     elif x != y:
         diffs.append((path, f"{str(x)[:60]} vs {str(y)[:60]}", None))
+for d in (a, b):
+    if not os.path.isdir(d):
+        sys.exit(f"cmp.py: {d} is not a folder (a record.sh OUTDIR)")
+RECORD = (".rc", ".json", ".csv")
+fa = {f for f in os.listdir(a) if f.endswith(RECORD)}
+fb = {f for f in os.listdir(b) if f.endswith(RECORD)}
+if not fa or not fb:
+    sys.exit(f"cmp.py: {a if not fa else b} holds no record.sh output (.rc/.json/.csv): nothing to compare")
 total = 0
-for f in sorted(os.listdir(a)):
+for f in sorted(fb - fa):
+    print("only in", b + ":", f); total += 1
+for f in sorted(fa):
     pa, pb = os.path.join(a, f), os.path.join(b, f)
     if not os.path.exists(pb):
-        print("missing", f); total += 1; continue
+        print("only in", a + ":", f); total += 1; continue
     if f.endswith(".rc"):
         if open(pa).read() != open(pb).read():
             print(f, "exit", open(pa).read().strip(), "->", open(pb).read().strip()); total += 1

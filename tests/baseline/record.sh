@@ -6,9 +6,11 @@
 # (timings ignored). This is how the README's "record/cmp: 0 differences" claims are made.
 set -u
 [ $# -ge 1 ] || { echo "usage: $0 OUTDIR [BIN (default target/release/ccrkit)]" >&2; exit 2; }
-out=$(realpath -m "$1"); bin=$(realpath -m "${2:-target/release/ccrkit}")
+root=$(realpath "$(dirname "$0")/../..")
+# OUTDIR and BIN relative to where the script is run; the default binary is the repository's.
+out=$(realpath -m "$1"); bin=$(realpath -m "${2:-$root/target/release/ccrkit}")
 [ -x "$bin" ] || { echo "$0: no binary at $bin (cargo build --release)" >&2; exit 2; }
-cd "$(dirname "$0")/../.."
+cd "$root"
 mkdir -p "$out"
 for m in geometric geometric-squared energy cosserat kirchhoff constant-curvature; do
   for c in case1 case2 case3; do

@@ -312,4 +312,131 @@ mod tests {
         assert!(c1 < 0.0);
         assert!(wd.step_is_clear((&k0, &p0, c0), (&into, &p1, c1)));
     }
+
+    /// A scene of case 1 and one simple obstacle of kind `k % 8`: a ball, a box, a capsule, a
+    /// cylinder of ordinary sizes, then degenerate ones — a capsule of zero length (a ball), a
+    /// cylinder of radius 1e-9 m (a segment), a 1e-9 m thin plate, a slab 2 km wide — at a
+    /// random pose near the robot (the slab and plate upright, beside it).
+    fn odd_obstacle(k: usize, u: &mut impl FnMut() -> f64) -> Model {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/models/paper/case1.toml"
+        ))
+        .expect("case 1");
+        let yaw = std::f64::consts::TAU * u();
+        let (c, s) = (yaw.cos(), yaw.sin());
+        let (rpy, pos, shape) = match k % 8 {
+            6 | 7 => {
+                let half = if k % 8 == 6 { 1e-9 } else { 0.002 };
+                let wide = if k % 8 == 6 { 0.05 } else { 1e3 };
+                let off = 0.02 + 0.03 * u() + half;
+                (
+                    [0.0, 0.0, yaw],
+                    [off * c, off * s, 0.1],
+                    format!("shape = \"box\"\nhalf_extents = [{half}, {wide}, {wide}]"),
+                )
+            }
+            kind => {
+                let r = [0.01, 0.008, 0.004, 0.003, 0.006, 1e-9][kind];
+                let shape = match kind {
+                    0 => format!("shape = \"sphere\"\nradius = {r}"),
+                    1 => "shape = \"box\"\nhalf_extents = [0.004, 0.02, 0.01]".to_string(),
+                    2 | 4 => format!(
+                        "shape = \"capsule\"\nradius = {r}\nhalf_height = {}",
+                        if kind == 4 { 1e-9 } else { 0.02 }
+                    ),
+                    _ => format!("shape = \"cylinder\"\nradius = {r}\nhalf_height = 0.03"),
+                };
+                let off = 0.02 + 0.04 * u();
+                (
+                    [u() * 6.0, u() * 6.0, u() * 6.0],
+                    [off * c, off * s, 0.2 * u()],
+                    shape,
+                )
+            }
+        };
+        Model::from_toml_str(&format!(
+            "{text}\n[[obstacles]]\nname = \"odd\"\n{shape}\nposition = {pos:?}\n\
+             rotation = {{ rpy = {rpy:?} }}\n"
+        ))
+        .expect("model")
+    }
+
+    /// Rule 1's exact distances next to degenerate and touching obstacles ([`odd_obstacle`]):
+    /// the straight robot moved against the obstacle until its closest pair is 0, 1e-12, 1e-9
+    /// or 1e-6 m away, then 30 seeded rigid steps of up to 5 cm; every step the guard takes
+    /// keeps every pair's distance ≥ −2e-6 m (the query's accuracy) at 400 points along the way (spacing ≤ 0.125 mm:
+    /// a crossing shows wherever the backbone (3 mm) or a disk (2 mm thick) crosses; a cable
+    /// chord crossing a 1e-9 m obstacle would pass unseen), and no distance is NaN.
+    #[test]
+    fn taken_steps_beside_odd_obstacles_never_cross_them() {
+        const QUERY_NOISE: f64 = 2e-6;
+        let mut seed = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut u = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut scenes, mut taken, mut refused) = (0, 0, 0);
+        for k in 0..160 {
+            let model = odd_obstacle(k, &mut u);
+            let ell = sub_arc_lengths(&model.robot, 4);
+            let Some(wd) = World::new(&model.robot, &model.scene, vec![0], 4) else {
+                continue;
+            };
+            // Towards the obstacle (level) by half the pair margin until a pair is found.
+            let mut straight = kinematics(&vec![0.0; 4 * ell.len()], &ell, false);
+            let o = model.scene.obstacles[0].parry_pose.translation;
+            let toward = Vector3::new(o.x, o.y, 0.0).normalize() * (0.5 * wd.margin());
+            let (mut p, mut c) = wd.pairs(&straight);
+            for _ in 0..40 {
+                if !p.is_empty() || c < 0.0 {
+                    break;
+                }
+                straight = shifted(&straight, toward);
+                (p, c) = wd.pairs(&straight);
+            }
+            let Some(near) = p.iter().min_by(|a, b| a.dist.total_cmp(&b.dist)) else {
+                continue;
+            };
+            if c < 0.0 {
+                continue;
+            }
+            let target = [0.0, 1e-12, 1e-9, 1e-6][k % 4];
+            let k0 = shifted(&straight, -near.normal * (near.dist - target));
+            let (p0, c0) = wd.pairs(&k0);
+            assert!(p0.iter().all(|p| !p.dist.is_nan()) && !c0.is_nan(), "{k}");
+            // The query places a rotated cylinder's or box's distance to ~1e-6 m only
+            // (`features::witness_near`), so "inside" means deeper than QUERY_NOISE.
+            assert!(
+                p0.iter().all(|p| p.dist > -QUERY_NOISE),
+                "{k}: start inside"
+            );
+            scenes += 1;
+            for _ in 0..30 {
+                let d = Vector3::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize() * 0.05 * u();
+                let k1 = shifted(&k0, d);
+                let (p1, c1) = wd.pairs(&k1);
+                assert!(p1.iter().all(|p| !p.dist.is_nan()) && !c1.is_nan(), "{k}");
+                if c1 < 0.0 {
+                    continue;
+                }
+                if !wd.step_is_clear((&k0, &p0, c0), (&k1, &p1, c1)) {
+                    refused += 1;
+                    continue;
+                }
+                taken += 1;
+                for i in 1..400 {
+                    let (ps, _) = wd.pairs(&shifted(&k0, d * (i as f64 / 400.0)));
+                    assert!(
+                        ps.iter().all(|p| p.dist > -QUERY_NOISE),
+                        "obstacle {k}: step {d:?} crosses it"
+                    );
+                }
+            }
+        }
+        assert!(
+            scenes > 100 && taken > 500 && refused > 100,
+            "{scenes} scenes, {taken} taken, {refused} refused"
+        );
+    }
 }

@@ -49,6 +49,27 @@ pub(super) const LENGTH_SLACK: f64 = 1e-9;
 /// called infeasible: `acos` of a cosine rounded by 1e-16 near ±1 errs by up to ~1.5e-8 rad.
 pub(super) const BOUND_MARGIN: f64 = 1e-6;
 
+#[cfg(test)]
+thread_local! {
+    /// Test-only: turn the infeasible-face skip off on this thread, so a test can compare the
+    /// search's answer with and without it (not a setting: the skip never changes an answer).
+    pub(super) static SKIP_OFF: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether the search may skip faces [`SectionData::face_lower_bound`] proves infeasible:
+/// always, except in tests that turn it off ([`SKIP_OFF`]) to compare answers.
+#[inline]
+pub(super) fn skip_enabled() -> bool {
+    #[cfg(test)]
+    {
+        !SKIP_OFF.with(std::cell::Cell::get)
+    }
+    #[cfg(not(test))]
+    {
+        true
+    }
+}
+
 /// Angle from unit `u` to the band `{|x| = r, |x − c| ∈ [lo, hi]}`; `None` when the band is
 /// empty.
 pub(super) fn band_angle(
@@ -137,7 +158,7 @@ impl SectionData {
 mod tests {
     use super::super::problem::SectionData;
     use super::super::Geometric;
-    use super::{band_angle, LENGTH_SLACK};
+    use super::{band_angle, LENGTH_SLACK, SKIP_OFF};
     use crate::model::Model;
     use nalgebra::Vector3;
 
@@ -276,6 +297,130 @@ mod tests {
         assert!(
             candidates > 1000 && infeasible > 100 && positive > 100,
             "{candidates} candidates, {infeasible} faces proved infeasible, {positive} positive bounds"
+        );
+    }
+
+    /// A random 2–6-section robot built to put faces at the edge of feasibility: cables with
+    /// coinciding holes (one constraint, the other always slack), holes on one line through
+    /// the centre (one coupler term), straight or barely twisted (`per_disk` 1e-10) or helical.
+    fn edge_robot(rnd: &mut impl FnMut() -> f64) -> String {
+        let mut t = format!(
+            "name = \"e\"\n[robot]\nsections = {}\nsection_length = 0.02\ndisk_radius = 0.012\ndisk_thickness = 0.002\nbackbone = {{ youngs_modulus = 1.1e9, poisson_ratio = 0.3, diameter = 0.003 }}\n",
+            2 + (rnd() * 5.0) as usize
+        );
+        let mut prev = (0.006, 0.0, 0.0);
+        for k in 0..1 + (rnd() * 4.0) as usize {
+            let kind = rnd();
+            let (radius, start, per_disk) = if k > 0 && kind < 0.25 {
+                prev // coinciding holes
+            } else if k > 0 && kind < 0.45 {
+                (prev.0, prev.1 + std::f64::consts::PI, prev.2) // collinear, opposite
+            } else {
+                let per_disk = match (rnd() * 3.0) as usize {
+                    0 => 0.0,
+                    1 => 1e-10,
+                    _ => -0.6 + 1.2 * rnd(),
+                };
+                (
+                    0.004 + 0.006 * rnd(),
+                    rnd() * std::f64::consts::TAU,
+                    per_disk,
+                )
+            };
+            prev = (radius, start, per_disk);
+            t += &format!(
+                "[[cables]]\nname = \"c{k}\"\nradius = {radius}\nangles = {{ helix = {{ start = {start}, per_disk = {per_disk} }} }}\nshorten_percent = 0\n"
+            );
+        }
+        t
+    }
+
+    /// Sets every constraint's length of `data` at or just off an edge: the undeformed chord
+    /// exactly (unshortened), the chord ± 10^U(−12, −6) m, the shortest chord any pose allows
+    /// (`l0 − |h| − |h_prev|`) + 10^U(−12, −6) m, or an ordinary 0–3 % shortening.
+    fn put_on_edges(data: &mut SectionData, rnd: &mut impl FnMut() -> f64) {
+        let l0 = data.l0;
+        for k in &mut data.cons {
+            let chord0 = k.length; // built unshortened
+            let tiny = 10f64.powf(-12.0 + 6.0 * rnd());
+            k.length = match (rnd() * 5.0) as usize {
+                0 => chord0,
+                1 => chord0 + tiny,
+                2 => chord0 - tiny,
+                3 => l0 - k.h.norm() - k.h_prev.norm() + tiny,
+                _ => chord0 * (1.0 - 0.03 * rnd()),
+            };
+            k.unshortened = (k.length - chord0).abs() <= super::super::problem::UNSHORTENED_TOL;
+        }
+    }
+
+    /// The skip of faces proved infeasible never changes a section's answer: 400 robots whose
+    /// constraints sit at or within 1e-12..1e-6 m of an edge (see [`put_on_edges`]), every
+    /// section solved with the skip and without it: the same pose, objective, slack set and
+    /// zero terms to the bit, or the same kind of error.
+    #[test]
+    fn skip_never_changes_the_answer() {
+        let geo = Geometric::literal();
+        let mut rnd = stream(16);
+        let (mut sections, mut solved, mut skipped) = (0, 0, 0);
+        for _ in 0..400 {
+            let m = Model::from_toml_str(&edge_robot(&mut rnd)).expect("robot");
+            let frac: Vec<Option<f64>> = vec![Some(0.0); m.robot.cables.len()];
+            for i in 1..=m.robot.sections() {
+                let Ok(mut data) = SectionData::new(&m.robot, &frac, i) else {
+                    continue;
+                };
+                put_on_edges(&mut data, &mut rnd);
+                let all: Vec<usize> = (0..data.cons.len()).collect();
+                let fixed = 1 + all.len() + usize::from(data.gauge.is_some());
+                skipped += data
+                    .faces(fixed, &all)
+                    .iter()
+                    .filter(|&&f| data.face_lower_bound(f, &all, LENGTH_SLACK).is_infinite())
+                    .count();
+                let with = geo.solve_section(&data, i, None, None);
+                SKIP_OFF.with(|s| s.set(true));
+                let without = geo.solve_section(&data, i, None, None);
+                SKIP_OFF.with(|s| s.set(false));
+                sections += 1;
+                match (&with, &without) {
+                    (Ok(a), Ok(b)) => {
+                        solved += 1;
+                        let same = a.pose.p == b.pose.p
+                            && a.pose.q == b.pose.q
+                            && a.report.objective.to_bits() == b.report.objective.to_bits()
+                            && a.slack == b.slack
+                            && a.report.zero_terms == b.report.zero_terms;
+                        assert!(
+                            same,
+                            "section {i}: with the skip {:?} {} {:?}, without {:?} {} {:?}\n{:?}",
+                            a.pose.p,
+                            a.report.objective,
+                            a.slack,
+                            b.pose.p,
+                            b.report.objective,
+                            b.slack,
+                            data.cons.iter().map(|k| k.length).collect::<Vec<_>>()
+                        );
+                    }
+                    (Err(a), Err(b)) => assert_eq!(
+                        std::mem::discriminant(a),
+                        std::mem::discriminant(b),
+                        "section {i}: {a} against {b}"
+                    ),
+                    _ => panic!(
+                        "section {i}: with the skip {:?}, without {:?}\n{:?}",
+                        with.as_ref().map(|s| s.pose.p).err(),
+                        without.as_ref().map(|s| s.pose.p).err(),
+                        data.cons.iter().map(|k| k.length).collect::<Vec<_>>()
+                    ),
+                }
+            }
+        }
+        eprintln!("{sections} sections, {solved} solved, {skipped} faces skipped");
+        assert!(
+            sections > 1000 && solved > 500 && skipped > 500,
+            "{sections} sections, {solved} solved, {skipped} faces skipped"
         );
     }
 }

@@ -2,7 +2,7 @@
 //! (sets of angle terms that vanish) on each taut set, and the certificate a candidate must
 //! carry to be accepted.
 
-use super::bound::LENGTH_SLACK;
+use super::bound::{skip_enabled, LENGTH_SLACK};
 use super::problem::{Pose, SectionData};
 use super::starts::nudge;
 use super::{Geometric, Objective};
@@ -13,6 +13,7 @@ use crate::numeric::qp::disc_sum_scale;
 use crate::numeric::so3::exp_so3;
 use crate::shape::{Contact, SectionReport};
 use nalgebra::{Vector3, Vector6};
+use std::f64::consts::FRAC_PI_2;
 
 /// The accepted solution of one section.
 #[derive(Clone)]
@@ -337,7 +338,7 @@ impl Geometric {
         // answer unchanged. (A finite bound above the best candidate does not let a face be
         // skipped: its runs' escapes reach the face without zeros, which no bound prices.)
         let slack = LENGTH_SLACK.max(1e3 * self.tolerance);
-        let infeasible: Vec<u32> = if squared {
+        let infeasible: Vec<u32> = if squared || !skip_enabled() {
             vec![]
         } else {
             faces
@@ -478,6 +479,15 @@ impl Geometric {
         let mut row = 1 + active.len();
         let mut objective = 0.0;
         let fixed_rotation = data.rotation_fixed(face);
+        // The face's equations also hold where its terms are π (at −dir; Q's axial part at any
+        // rotation by π), and Newton converges there (a straight cable at its shortest reach:
+        // Q ĥ = −ĥ on "coupler zero", its π left out; found by `bound.rs`'s skip test).
+        let off_face = (0..data.terms.len())
+            .any(|t| face & (1 << t) != 0 && !(fixed_rotation && t > 0) && angles[t] > FRAC_PI_2)
+            || (fixed_rotation && pose.q.trace() < 1.0);
+        if off_face {
+            return reject;
+        }
         for (t, term) in data.terms.iter().enumerate() {
             if fixed_rotation && !term.tangent {
                 if t == 1 {
