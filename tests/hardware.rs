@@ -354,6 +354,44 @@ mod batch {
         assert!(rep.history.windows(2).all(|w| w[1].rmse <= w[0].rmse));
     }
 
+    /// A base tilt given as a rotation vector longer than π (valid: the same rotation as its
+    /// wrapped form) is fitted from its wrapped form: the fitted angle is within [−π, π] with a
+    /// finite standard error, and the fit equals, to the bit, the one started from the wrapped
+    /// vector (adversarial pass: from 1e4 rad the fit ended at −1367 ± 2e4 rad).
+    #[test]
+    fn a_tilt_beyond_pi_is_fitted_from_the_same_rotation_wrapped() {
+        let d = Dataset::from_file(
+            root("models/hardware/data/v6/tdcrv6_sysid_20260406-181730_train.csv"),
+            &DataOptions::default(),
+        )
+        .expect("data");
+        let idx: Vec<usize> = (0..d.len()).step_by(16).collect();
+        let d = d.select(&idx);
+        let mut o = FitOptions::new(opts(64));
+        o.params = vec!["base.ry".into()];
+        let mut far = model("v6");
+        far.hardware.base_rotation = Vector3::new(0.0, 1e4, 0.0);
+        let mut near = far.clone();
+        near.hardware.base_rotation = ccrkit::numeric::so3::log_so3(
+            &ccrkit::numeric::so3::exp_so3(&Vector3::new(0.0, 1e4, 0.0)),
+        );
+        assert!(near.hardware.base_rotation.norm() <= std::f64::consts::PI);
+        let (a, b) = (
+            calibrate(&far, &d, &o).expect("fit from 1e4 rad"),
+            calibrate(&near, &d, &o).expect("fit from the wrapped tilt"),
+        );
+        let (pa, pb) = (&a.params[0], &b.params[0]);
+        println!(
+            "from 1e4 rad: {} ± {:?} rad; wrapped: {} ± {:?} rad",
+            pa.value, pa.sigma, pb.value, pb.sigma
+        );
+        assert!(pa.value.abs() <= std::f64::consts::PI + 0.1, "{}", pa.value);
+        let sigma = pa.sigma.expect("a standard error");
+        assert!(sigma < 0.1, "{sigma}");
+        assert_eq!(pa.value, pb.value);
+        assert_eq!(a.after.rmse, b.after.rmse);
+    }
+
     /// Calibration recovers known parameters: tips made by the model with chosen gains,
     /// offsets, cable compliance and marker (plus a frame shift the metric removes) are fitted back from the
     /// nominal model to 1e-5 relative, RMSE to ~0, and the written model reproduces them.
