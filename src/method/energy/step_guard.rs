@@ -250,29 +250,53 @@ mod tests {
         for _ in 0..400 {
             let d = Vector3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5);
             let d = d.normalize() * 0.1 * uniform();
-            let k1 = shifted(&k0, d);
-            let (p1, c1) = wd.pairs(&k1);
-            if c1 < 0.0 {
-                continue;
-            }
-            if !wd.step_is_clear((&k0, &p0, c0), (&k1, &p1, c1)) {
-                refused += 1;
-                continue;
-            }
-            taken += 1;
-            far += usize::from(wd.max_move(&k0, &k1) > c0 + c1);
-            for i in 1..200 {
-                let (ps, _) = wd.pairs(&shifted(&k0, d * (i as f64 / 200.0)));
-                assert!(
-                    ps.iter().all(|p| p.dist > -1e-9),
-                    "step {d:?} crosses the rod"
-                );
+            match checked_step(&wd, (&k0, &p0, c0), d, 200, 1e-9) {
+                None => {}
+                Some(None) => refused += 1,
+                Some(Some(c1)) => {
+                    taken += 1;
+                    far += usize::from(wd.max_move(&k0, &shifted(&k0, d)) > c0 + c1);
+                }
             }
         }
         assert!(
             taken > 0 && refused > 0 && far > 0,
             "{taken} {refused} {far}"
         );
+    }
+
+    /// The guard's verdict on the rigid step `d` from `k0` (pairs `p0`, clearance `c0`): `None`
+    /// when the step ends inside an obstacle (not a trial the solver makes), `Some(None)` when
+    /// the guard refuses it, `Some(Some(c1))` (the end's clearance) when it takes it — after
+    /// checking that every pair keeps a distance above `−tol` at `samples` points along the
+    /// step. No distance is NaN at the end.
+    fn checked_step(
+        wd: &World,
+        (k0, p0, c0): (&Kin, &[Pair], f64),
+        d: Vector3<f64>,
+        samples: usize,
+        tol: f64,
+    ) -> Option<Option<f64>> {
+        let k1 = shifted(k0, d);
+        let (p1, c1) = wd.pairs(&k1);
+        assert!(
+            p1.iter().all(|p| !p.dist.is_nan()) && !c1.is_nan(),
+            "NaN after {d:?}"
+        );
+        if c1 < 0.0 {
+            return None;
+        }
+        if !wd.step_is_clear((k0, p0, c0), (&k1, &p1, c1)) {
+            return Some(None);
+        }
+        for i in 1..samples {
+            let (ps, _) = wd.pairs(&shifted(k0, d * (i as f64 / samples as f64)));
+            assert!(
+                ps.iter().all(|p| p.dist > -tol),
+                "step {d:?} crosses an obstacle"
+            );
+        }
+        Some(Some(c1))
     }
 
     /// The same frames moved rigidly by `d`.
@@ -414,23 +438,10 @@ mod tests {
             scenes += 1;
             for _ in 0..30 {
                 let d = Vector3::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize() * 0.05 * u();
-                let k1 = shifted(&k0, d);
-                let (p1, c1) = wd.pairs(&k1);
-                assert!(p1.iter().all(|p| !p.dist.is_nan()) && !c1.is_nan(), "{k}");
-                if c1 < 0.0 {
-                    continue;
-                }
-                if !wd.step_is_clear((&k0, &p0, c0), (&k1, &p1, c1)) {
-                    refused += 1;
-                    continue;
-                }
-                taken += 1;
-                for i in 1..400 {
-                    let (ps, _) = wd.pairs(&shifted(&k0, d * (i as f64 / 400.0)));
-                    assert!(
-                        ps.iter().all(|p| p.dist > -QUERY_NOISE),
-                        "obstacle {k}: step {d:?} crosses it"
-                    );
+                match checked_step(&wd, (&k0, &p0, c0), d, 400, QUERY_NOISE) {
+                    None => {}
+                    Some(None) => refused += 1,
+                    Some(Some(_)) => taken += 1,
                 }
             }
         }
