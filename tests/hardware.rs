@@ -233,10 +233,17 @@ mod batch {
         }
     }
 
-    fn v4_rows(step: usize) -> Dataset {
-        let d = Dataset::from_file(root(V4_TRAIN), &DataOptions::default()).expect("data");
+    const V6_TRAIN: &str = "models/hardware/data/v6/tdcrv6_sysid_20260406-181730_train.csv";
+
+    /// Every `step`-th row of the train file `file`.
+    fn train_rows(file: &str, step: usize) -> Dataset {
+        let d = Dataset::from_file(root(file), &DataOptions::default()).expect("data");
         let idx: Vec<usize> = (0..d.len()).step_by(step).collect();
         d.select(&idx)
+    }
+
+    fn v4_rows(step: usize) -> Dataset {
+        train_rows(V4_TRAIN, step)
     }
 
     /// The metric: invariant to a common shift of the prediction, and equal to the plain RMSE of
@@ -325,13 +332,7 @@ mod batch {
     #[test]
     fn a_parameter_held_at_its_bound_does_not_stall_the_fit() {
         let nominal = model("v6");
-        let d = Dataset::from_file(
-            root("models/hardware/data/v6/tdcrv6_sysid_20260406-181730_train.csv"),
-            &DataOptions::default(),
-        )
-        .expect("data");
-        let idx: Vec<usize> = (0..d.len()).step_by(4).collect();
-        let d = d.select(&idx);
+        let d = train_rows(V6_TRAIN, 4);
         let mut o = FitOptions::new(opts(64));
         o.params = vec!["gain".into(), "backlash".into()];
         let rep = calibrate(&nominal, &d, &o).expect("fit");
@@ -360,13 +361,7 @@ mod batch {
     /// vector (adversarial pass: from 1e4 rad the fit ended at −1367 ± 2e4 rad).
     #[test]
     fn a_tilt_beyond_pi_is_fitted_from_the_same_rotation_wrapped() {
-        let d = Dataset::from_file(
-            root("models/hardware/data/v6/tdcrv6_sysid_20260406-181730_train.csv"),
-            &DataOptions::default(),
-        )
-        .expect("data");
-        let idx: Vec<usize> = (0..d.len()).step_by(16).collect();
-        let d = d.select(&idx);
+        let d = train_rows(V6_TRAIN, 16);
         let mut o = FitOptions::new(opts(64));
         o.params = vec!["base.ry".into()];
         let mut far = model("v6");

@@ -192,20 +192,23 @@ mod tests {
 
     /// Case 1 (straight) beside a thin wall (2 mm thick box) whose face is at `x = face`.
     fn straight_beside_wall(face: f64) -> (Model, Vec<f64>) {
+        let model = case1_with(&format!(
+            "name = \"sheet\"\nshape = \"box\"\n\
+             position = [{}, 0.0, 0.1]\nhalf_extents = [0.001, 0.3, 0.3]\n",
+            face + 0.001
+        ));
+        let ell = sub_arc_lengths(&model.robot, 4);
+        (model, ell)
+    }
+
+    /// Paper case 1 with one obstacle (`obstacle`: the body of its `[[obstacles]]` table).
+    fn case1_with(obstacle: &str) -> Model {
         let text = std::fs::read_to_string(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/models/paper/case1.toml"
         ))
         .expect("case 1");
-        let model = Model::from_toml_str(&format!(
-            "{text}\n[[obstacles]]\nname = \"sheet\"\nshape = \"box\"\n\
-             position = [{}, 0.0, 0.1]\nhalf_extents = [0.001, 0.3, 0.3]\n",
-            face + 0.001
-        ))
-        .expect("model");
-        let m = 4;
-        let ell = sub_arc_lengths(&model.robot, m);
-        (model, ell)
+        Model::from_toml_str(&format!("{text}\n[[obstacles]]\n{obstacle}")).expect("model")
     }
 
     /// Case 1 (straight) beside a thin rod (cylinder, radius 3 mm) lying across the robot's
@@ -213,18 +216,12 @@ mod tests {
     /// axis-aligned bounds reach to within 3 mm of the robot's axis, the rod itself to 17 mm
     /// of the robot.
     fn straight_beside_rod() -> (Model, Vec<f64>) {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/models/paper/case1.toml"
-        ))
-        .expect("case 1");
-        let model = Model::from_toml_str(&format!(
-            "{text}\n[[obstacles]]\nname = \"rod\"\nshape = \"cylinder\"\n\
+        let model = case1_with(&format!(
+            "name = \"rod\"\nshape = \"cylinder\"\n\
              position = [0.03, 0.03, 0.09]\nrotation = {{ rpy = [0.0, 0.0, {}] }}\n\
              radius = 0.003\nhalf_height = 0.04\n",
             std::f64::consts::FRAC_PI_4
-        ))
-        .expect("model");
+        ));
         let ell = sub_arc_lengths(&model.robot, 4);
         (model, ell)
     }
@@ -342,11 +339,6 @@ mod tests {
     /// cylinder of radius 1e-9 m (a segment), a 1e-9 m thin plate, a slab 2 km wide — at a
     /// random pose near the robot (the slab and plate upright, beside it).
     fn odd_obstacle(k: usize, u: &mut impl FnMut() -> f64) -> Model {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/models/paper/case1.toml"
-        ))
-        .expect("case 1");
         let yaw = std::f64::consts::TAU * u();
         let (c, s) = (yaw.cos(), yaw.sin());
         let (rpy, pos, shape) = match k % 8 {
@@ -379,11 +371,9 @@ mod tests {
                 )
             }
         };
-        Model::from_toml_str(&format!(
-            "{text}\n[[obstacles]]\nname = \"odd\"\n{shape}\nposition = {pos:?}\n\
-             rotation = {{ rpy = {rpy:?} }}\n"
+        case1_with(&format!(
+            "name = \"odd\"\n{shape}\nposition = {pos:?}\nrotation = {{ rpy = {rpy:?} }}\n"
         ))
-        .expect("model")
     }
 
     /// Rule 1's exact distances next to degenerate and touching obstacles ([`odd_obstacle`]):
