@@ -41,6 +41,7 @@ use super::params::{Param, Target};
 use crate::error::SolveError;
 use crate::model::actuation::Input;
 use crate::model::Model;
+use crate::numeric::so3::abc;
 use crate::shape::Shape;
 use nalgebra::{DMatrix, DVector, Vector3};
 
@@ -208,19 +209,13 @@ fn tip_derivatives(
         .collect()
 }
 
-/// Column `k` of the left Jacobian of SO(3) at the rotation vector `w` (module docs; the
-/// series `½ − θ²/24`, `1/6 − θ²/120` below θ = 10⁻⁴, where the closed forms lose digits).
+/// Column `k` of the left Jacobian of SO(3) at the rotation vector `w` (module docs), with the
+/// coefficients of [`abc`] (series near θ = 0, where the closed forms lose digits).
 fn left_jacobian_column(w: &Vector3<f64>, k: usize) -> Vector3<f64> {
     let e = Vector3::ith(k, 1.0);
-    let t2 = w.norm_squared();
-    let (a, b) = if t2 < 1e-8 {
-        (0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0)
-    } else {
-        let t = t2.sqrt();
-        ((1.0 - t.cos()) / t2, (t - t.sin()) / (t2 * t))
-    };
+    let (_, b, c) = abc(w.norm_squared());
     let we = w.cross(&e);
-    e + a * we + b * w.cross(&we)
+    e + b * we + c * w.cross(&we)
 }
 
 #[cfg(test)]

@@ -5,7 +5,8 @@
 //! the docs of [`super`]).
 
 use crate::numeric::ad::{Real, D1, D2};
-use crate::numeric::so3::hat;
+pub(super) use crate::numeric::so3::abc_series;
+use crate::numeric::so3::{abc, hat};
 use nalgebra::{Matrix3, Vector3};
 
 /// Gauss–Legendre points per sub-arc for path lengths.
@@ -24,68 +25,6 @@ pub(super) const GL_W: [f64; GL_NODES] = [
     0.478_628_670_499_366_47,
     0.236_926_885_056_189_08,
 ];
-
-/// Inverse factorials 1/k!, k = 0..=84.
-const INV_FACT: [f64; 85] = {
-    let mut t = [1.0; 85];
-    let mut k = 1;
-    while k < 85 {
-        t[k] = t[k - 1] / k as f64;
-        k += 1;
-    }
-    t
-};
-
-#[inline]
-fn inv_fact(k: usize) -> f64 {
-    INV_FACT[k]
-}
-
-/// `A, B, C` of the SE(3) exponential as power series in `x = θ²` (any [`Real`]):
-/// `A = Σ (−x)ᵏ/(2k+1)!`, `B = Σ (−x)ᵏ/(2k+2)!`, `C = Σ (−x)ᵏ/(2k+3)!`, truncated when the
-/// next term is below 1e-18 (valid for any θ; used where derivatives are needed).
-pub(super) fn abc_series<T: Real>(x: T) -> (T, T, T) {
-    let x0 = x.val();
-    let xv = x0.abs();
-    let mut n = 4;
-    let mut xn = xv.powi(4);
-    while n < 40 && xn * inv_fact(2 * n + 1) > 1e-18 {
-        n += 1;
-        xn *= xv;
-    }
-    // f, f′, f″ at x0 by Horner in f64 (coefficient of xᵏ: (−1)ᵏ/(2k+o)!), then the
-    // second-order expansion in dx = x − x0 (zero in value), which carries exact first and
-    // second derivatives for AD types: one AD product instead of 3n.
-    let series = |o: usize| -> (f64, f64, f64) {
-        let coef = |k: usize| if k.is_multiple_of(2) { 1.0 } else { -1.0 } * inv_fact(2 * k + o);
-        let (mut f, mut d1, mut d2) = (0.0, 0.0, 0.0);
-        for k in (0..=n).rev() {
-            f = f * x0 + coef(k);
-            if k >= 1 {
-                d1 = d1 * x0 + k as f64 * coef(k);
-            }
-            if k >= 2 {
-                d2 = d2 * x0 + (k * (k - 1)) as f64 * coef(k);
-            }
-        }
-        (f, d1, d2)
-    };
-    let dx = x + (-x0);
-    let dx2 = dx * dx;
-    let mk = |(f, d1, d2): (f64, f64, f64)| T::cst(f) + dx * d1 + dx2 * (0.5 * d2);
-    (mk(series(1)), mk(series(2)), mk(series(3)))
-}
-
-/// `A, B, C` in f64: closed form, series near θ = 0.
-fn abc(theta2: f64) -> (f64, f64, f64) {
-    if theta2 < 1e-4 {
-        abc_series(theta2)
-    } else {
-        let th = theta2.sqrt();
-        let (s, c) = th.sin_cos();
-        (s / th, (1.0 - c) / theta2, (th - s) / (theta2 * th))
-    }
-}
 
 /// The sub-arc transform `exp(ℓ ξ̂)` in f64: rotation and translation.
 pub(super) fn sub_arc_exp(xi: &[f64], ell: f64) -> (Matrix3<f64>, Vector3<f64>) {
