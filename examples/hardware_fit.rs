@@ -46,7 +46,11 @@ fn options() -> PredictOptions {
     PredictOptions {
         request: SolveRequest::new(MethodKind::Energy).with_settings(s),
         chunk: DEFAULT_CHUNK,
-        progress: true,
+        progress: ccrkit::progress::ProgressHandle::new(|e: ccrkit::progress::Event<'_>| {
+            if let ccrkit::progress::Event::Start { task, total } = e {
+                eprintln!("{task}: {} steps", total.unwrap_or(0));
+            }
+        }),
     }
 }
 

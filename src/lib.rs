@@ -20,6 +20,7 @@ pub use model::{actuation, mesh, robot, routing, scene};
 pub mod numeric;
 pub mod plan;
 pub mod plot;
+pub mod progress;
 pub mod reach;
 pub mod shape;
 pub mod study;
