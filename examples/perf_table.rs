@@ -35,7 +35,7 @@ const BENCHES: &[(&str, &str)] = &[
     ),
     (
         "obstacles",
-        "paper case I in a scene: broad phase alone, `geometric` and `energy` solves",
+        "paper case I in a scene: a `geometric` solve (no prefix), an `energy` solve (`energy_`), the broad phase alone (`broad_phase_`)",
     ),
     (
         "scene",
