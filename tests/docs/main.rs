@@ -347,19 +347,14 @@ fn every_subcommand_named_exists() {
                 let Some(inner) = nested.get(sub).filter(|n| !n.is_empty()) else {
                     continue;
                 };
-                match words.next() {
-                    Some(w)
-                        if w.chars().all(|c| c.is_ascii_lowercase() || c == '-')
-                            && !w.is_empty() =>
-                    {
-                        if !inner.contains(w) {
-                            bad.push(format!(
-                                "{}:{n}: `ccrkit {sub} {w}`: no such subcommand",
-                                rel(&file)
-                            ));
-                        }
-                    }
-                    _ => {}
+                let next = words.next().unwrap_or("");
+                let a_word =
+                    !next.is_empty() && next.chars().all(|c| c.is_ascii_lowercase() || c == '-');
+                if a_word && !inner.contains(next) {
+                    bad.push(format!(
+                        "{}:{n}: `ccrkit {sub} {next}`: no such subcommand",
+                        rel(&file)
+                    ));
                 }
             }
         }
