@@ -14,7 +14,7 @@
 //! their fits took 4–13 min of the 28 min the whole run took before (v6 `friction+stiffening`).
 //! Without them the run chooses among the other nine on the same hold-out; with them the
 //! protocol is the same, only the candidate list is longer (neither won the hold-out when run:
-//! README, "Real robots").
+//! user's guide, hardware).
 //!
 //! Writes `OUT_DIR/hardware_fit/{v4,v6}_{family}.svg` and the fitted models
 //! `OUT_DIR/hardware_fit/ftdcr_{v4,v6}_{candidate}.toml` (default OUT_DIR `target`). Val is never

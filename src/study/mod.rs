@@ -20,7 +20,8 @@
 //! positions in m, times in s.
 //!
 //!
-//! Measured numbers live in `README.md` (with the commands that regenerate them), not here.
+//! Measured numbers live in the user's guide (`docs/guide/`, with the commands that regenerate
+//! them), not here.
 
 pub mod compare;
 pub mod figures;

@@ -109,7 +109,7 @@ pub(super) fn max_input(
     }
 }
 
-/// The sweep's ranges, checked before any solve (issue 11: `--max-percent nan` printed `NaN`,
+/// The sweep's ranges, checked before any solve (before this, `--max-percent nan` printed `NaN`,
 /// `1e308` and `--tension-factor inf` ran without end): the largest shortening a fraction in
 /// (0, 1), the tension factor in (0, 1000].
 pub(super) fn check_ranges(max_fraction: f64, factor: f64) -> Result<(), StudyError> {
