@@ -44,7 +44,7 @@ fn batch(c: &mut Criterion) {
     let rows = SIDE * SIDE;
     let inputs = BatchInputs::new(rows, 2, Some(grid(&model)), None).expect("inputs");
     let request = SolveRequest::new(MethodKind::Energy);
-    let method = request.prepare().expect("energy");
+    let method = request.solver().expect("energy");
     let scene = Scene::empty();
     let mut g = c.benchmark_group("batch-case1-energy-10000");
     g.sample_size(10);

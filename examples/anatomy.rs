@@ -19,8 +19,7 @@ mod common;
 
 use anyhow::{bail, Result};
 use ccrkit::plot::plot_scene;
-use ccrkit::shape::Shape;
-use ccrkit::{method_by_name, Model, Scene};
+use ccrkit::prelude::*;
 use nalgebra::{Point3, Vector3};
 use std::path::PathBuf;
 
@@ -35,7 +34,7 @@ fn main() -> Result<()> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let model = Model::from_file(root.join("models/paper/case1.toml"))?;
     let scene = Scene::from_file(root.join("models/scenes/vessel.toml"))?;
-    let method = method_by_name("geometric")?;
+    let method = SolveRequest::new(MethodKind::Geometric).solver()?;
     // The solves below take tens of seconds: say which one runs.
     eprintln!("geometric solve in the vessel …");
     // One solve first; if it fails, raise the actuation in continuation steps (each
@@ -95,7 +94,7 @@ fn main() -> Result<()> {
     }
     // The energy model cannot start from the straight robot here (it crosses the tube's wall:
     // a named `Obstructed` error); started from the section solver's shape it stays inside.
-    let energy = method_by_name("energy")?;
+    let energy = SolveRequest::new(MethodKind::Energy).solver()?;
     eprintln!("energy from the straight robot …");
     let cold = energy.solve(&model.robot, &model.actuation, &scene, None);
     if let Err(e) = cold {

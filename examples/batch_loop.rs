@@ -34,7 +34,7 @@ fn main() -> Result<()> {
     let mut iterations = 0;
     match mode {
         "loop" => {
-            let method = request.prepare()?;
+            let method = request.solver()?;
             let scene = Scene::empty();
             for start in (0..rows).step_by(CHUNK) {
                 let mut last: Option<Shape> = None;

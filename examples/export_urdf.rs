@@ -1,7 +1,9 @@
-//! Solve the paper's case 1 with the geometric method and export it as URDF.
+//! Solve the paper's case 1 (or another model file, with its obstacles) with the geometric
+//! method and export it as URDF.
 //!
 //! ```text
-//! cargo run --release --example export_urdf [OUT_DIR]     # default: target/urdf
+//! cargo run --release --example export_urdf [OUT_DIR] [MODEL]
+//! # defaults: target/urdf, models/paper/case1.toml
 //! ```
 //!
 //! Writes `paper-case-1.urdf` (articulated chain), `.srdf` (group `backbone` and the solved
@@ -10,7 +12,7 @@
 
 use anyhow::{Context, Result};
 use ccrkit::export::{export_urdf, UrdfMode, UrdfOptions};
-use ccrkit::{method_by_name, Model, Scene};
+use ccrkit::prelude::*;
 use std::path::{Path, PathBuf};
 
 fn main() -> Result<()> {
@@ -18,14 +20,13 @@ fn main() -> Result<()> {
         .nth(1)
         .map(PathBuf::from)
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/urdf"));
-    let model_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/paper/case1.toml");
+    let model_path = std::env::args()
+        .nth(2)
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("models/paper/case1.toml"));
     let model = Model::from_file(&model_path)?;
-    let shape = method_by_name("geometric")?.solve(
-        &model.robot,
-        &model.actuation,
-        &Scene::empty(),
-        None,
-    )?;
+    // The one solve path: the model's own obstacles included, the shape checked.
+    let shape = SolveRequest::new(MethodKind::Geometric).run(&model)?.shape;
     let tip = shape.tip() * 1000.0;
     println!(
         "{}: solved with {}, tip [{:.3}, {:.3}, {:.3}] mm",

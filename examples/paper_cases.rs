@@ -13,10 +13,8 @@
 //! `cargo run --release --example paper_cases [OUT_DIR]`
 
 use anyhow::Result;
-use ccrkit::actuation::Input;
-use ccrkit::method::cosserat::Cosserat;
 use ccrkit::plot::{plot_rows, Row};
-use ccrkit::{method_by_name, Method, Model, Scene, Shape};
+use ccrkit::prelude::*;
 use std::path::PathBuf;
 
 /// RMS between the paper's two models, its section 3 (mm).
@@ -37,10 +35,14 @@ fn main() -> Result<()> {
     std::fs::create_dir_all(&out)?;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let scene = Scene::empty();
-    let literal = method_by_name("geometric")?;
-    let energy = method_by_name("energy")?;
-    let rod_force = Cosserat::full().with_control(Input::Tension);
-    let rod_disp = Cosserat::full().with_control(Input::Shortening);
+    let literal = SolveRequest::new(MethodKind::Geometric).solver()?;
+    let energy = SolveRequest::new(MethodKind::Energy).solver()?;
+    let rod = |control: &str| {
+        SolveRequest::new(MethodKind::Cosserat)
+            .with_settings(Settings::new().with("control", control))
+            .solver()
+    };
+    let (rod_force, rod_disp) = (rod("force")?, rod("displacement")?);
     let mut cases = vec![];
     for case in 1..=3 {
         let model = Model::from_file(root.join(format!("models/paper/case{case}.toml")))?;

@@ -16,7 +16,7 @@
 //! `batch/blocks.rs` (the block loop every batch runs on, shared with hardware `predict` and
 //! the calibration).
 
-use crate::error::SolveError;
+use crate::error::{SolveError, Status};
 use crate::method::run::SolveRequest;
 use crate::method::MethodKind;
 use crate::model::actuation::{Actuation, CableDrive, Shortening};
@@ -159,72 +159,11 @@ impl BatchOptions {
     }
 }
 
-/// Outcome of one row: solved, or the kind of [`SolveError`] that stopped it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum RowStatus {
-    /// Solved.
-    Ok,
-    /// [`SolveError::InvalidInput`] (e.g. a negative tension in this row).
-    InvalidInput,
-    /// [`SolveError::Infeasible`].
-    Infeasible,
-    /// [`SolveError::NotConverged`].
-    NotConverged,
-    /// [`SolveError::Obstructed`].
-    Obstructed,
-    /// [`SolveError::Unsupported`].
-    Unsupported,
-    /// The method panicked (a bug in ccrkit; the message is in [`BatchRow::error`]).
-    Panicked,
-}
-
-impl RowStatus {
-    /// Every status, in the order of [`RowStatus::name`]'s documentation.
-    pub const ALL: [RowStatus; 7] = [
-        RowStatus::Ok,
-        RowStatus::InvalidInput,
-        RowStatus::Infeasible,
-        RowStatus::NotConverged,
-        RowStatus::Obstructed,
-        RowStatus::Unsupported,
-        RowStatus::Panicked,
-    ];
-
-    /// `ok`, the error's [`SolveError::kind`] (`invalid_input`, `infeasible`,
-    /// `not_converged`, `obstructed`, `unsupported`), or `panicked`.
-    pub fn name(self) -> &'static str {
-        match self {
-            RowStatus::Ok => "ok",
-            RowStatus::InvalidInput => "invalid_input",
-            RowStatus::Infeasible => "infeasible",
-            RowStatus::NotConverged => "not_converged",
-            RowStatus::Obstructed => "obstructed",
-            RowStatus::Unsupported => "unsupported",
-            RowStatus::Panicked => "panicked",
-        }
-    }
-
-    fn of(e: &SolveError) -> RowStatus {
-        match e {
-            SolveError::InvalidInput { .. } => RowStatus::InvalidInput,
-            SolveError::Infeasible { .. } => RowStatus::Infeasible,
-            SolveError::NotConverged { .. } => RowStatus::NotConverged,
-            SolveError::Obstructed { .. } => RowStatus::Obstructed,
-            // A scene beyond the contact budget is one the methods do not take.
-            SolveError::Unsupported { .. } | SolveError::ContactBudget { .. } => {
-                RowStatus::Unsupported
-            }
-            // Inverse problems' outcomes (reach, plan); a forward solve never returns them.
-            SolveError::Unreachable { .. } | SolveError::NoPath { .. } => RowStatus::Infeasible,
-        }
-    }
-}
-
 /// One solved (or failed) row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BatchRow {
     /// Outcome.
-    pub status: RowStatus,
+    pub status: Status,
     /// The error's message when the row failed.
     pub error: Option<String>,
     /// Tip position \[m\] (NaN when the row failed).
@@ -244,7 +183,7 @@ pub struct BatchRow {
 impl BatchRow {
     fn solved(s: &Shape, keep_disks: bool) -> Self {
         BatchRow {
-            status: RowStatus::Ok,
+            status: Status::Ok,
             error: None,
             tip: s.tip().into(),
             iterations: s.report.iterations,
@@ -259,15 +198,8 @@ impl BatchRow {
         }
     }
 
-    fn failed(status: RowStatus, error: String, cables: usize, e: Option<&SolveError>) -> Self {
-        let (iterations, residual) = match e {
-            Some(SolveError::NotConverged {
-                iterations,
-                residual,
-                ..
-            }) => (*iterations, *residual),
-            _ => (0, f64::NAN),
-        };
+    fn failed(status: Status, error: String, cables: usize, e: Option<&SolveError>) -> Self {
+        let (iterations, residual) = e.map_or((0, f64::NAN), SolveError::iterations_residual);
         BatchRow {
             status,
             error: Some(error),
@@ -292,7 +224,7 @@ pub struct Batch {
 
 impl Batch {
     /// How many rows have each status.
-    pub fn count(&self, status: RowStatus) -> usize {
+    pub fn count(&self, status: Status) -> usize {
         self.rows.iter().filter(|r| r.status == status).count()
     }
 }
@@ -300,7 +232,7 @@ impl Batch {
 /// Solve every row of `inputs` on `model` (its robot and scene; its actuation is replaced by
 /// each row's) with the request's method, settings, extra obstacles and continuation steps
 /// (`steps` applies to the rows that start cold). Errors only for a request or options that
-/// cannot run at all; a row that fails is recorded with its [`RowStatus`].
+/// cannot run at all; a row that fails is recorded with its [`Status`].
 pub fn solve_batch(
     model: &Model,
     request: &SolveRequest,
@@ -325,14 +257,13 @@ pub fn solve_batch(
             ),
         });
     }
-    let method = request.prepare()?;
+    let solver = request.solver()?;
     let scene = request.scene_for(model);
     let blocks = Blocks {
-        method: &*method,
+        solver: &solver,
         scene: &scene,
         chunk: opts.chunk,
         warm_start: opts.warm_start,
-        steps: request.steps,
         retry_cold: false,
     };
     let cables = inputs.cables;
@@ -345,10 +276,10 @@ pub fn solve_batch(
             &|_, out: &Solved| match &out.result {
                 Ok(s) => BatchRow::solved(s, opts.keep_disks),
                 Err(RowFailure::Error(e)) => {
-                    BatchRow::failed(RowStatus::of(e), e.to_string(), cables, Some(e))
+                    BatchRow::failed(e.status(), e.to_string(), cables, Some(e))
                 }
                 Err(RowFailure::Panic(msg)) => {
-                    BatchRow::failed(RowStatus::Panicked, format!("panic: {msg}"), cables, None)
+                    BatchRow::failed(Status::Panicked, format!("panic: {msg}"), cables, None)
                 }
             },
         )
@@ -450,7 +381,7 @@ mod tests {
         };
         let c = solve_batch(&model, &req, &inputs, &cold).expect("cold");
         for (w, c) in one.rows.iter().zip(&c.rows) {
-            assert_eq!(w.status, RowStatus::Ok);
+            assert_eq!(w.status, Status::Ok);
             let d = (0..3)
                 .map(|i| (w.tip[i] - c.tip[i]).abs())
                 .fold(0.0, f64::max);

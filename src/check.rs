@@ -1,10 +1,11 @@
 //! Checks on a solved shape at the output boundary, independent of the method that made it:
 //! every number finite, and the robot not passing through itself.
 //!
-//! [`crate::method::run::SolveRequest::run`] applies [`output`] to every shape it returns, so no
-//! command can exit 0 with a non-finite number or with a backbone or disks that interpenetrate
-//! (before this check, 99.99 % shortening under `energy` curled the robot through itself with no
-//! word).
+//! The one solve path ([`crate::method::Solver`], behind [`crate::method::run::SolveRequest`])
+//! applies [`output`] to every shape it hands out — single solves, batch rows, study points,
+//! reach and plan, hardware predictions, calibration passes — so no caller gets a non-finite
+//! number or a backbone or disks that interpenetrate (99.99 % shortening under `energy` once
+//! curled the robot through itself with no word).
 //!
 //! **Self-contact** is tested with parry3d on the shape's own geometry, not on any method's
 //! internal state:
@@ -66,8 +67,8 @@ pub fn output(robot: &Robot, shape: &Shape) -> Result<(), SolveError> {
     Ok(())
 }
 
-/// A method's result passed through [`output`]: what studies use, so a sweep counts a shape
-/// through itself or a non-finite one as the failure it is.
+/// A method's result passed through [`output`], so a shape through itself or a non-finite
+/// one counts as the failure it is.
 pub fn checked(robot: &Robot, result: Result<Shape, SolveError>) -> Result<Shape, SolveError> {
     let shape = result?;
     output(robot, &shape)?;

@@ -8,6 +8,7 @@ use thiserror::Error;
 
 /// A robot, actuation or scene description that cannot be used.
 #[derive(Debug, Clone, Error, PartialEq)]
+#[non_exhaustive]
 pub enum ModelError {
     /// The file could not be read.
     #[error("cannot read `{path}`: {reason}")]
@@ -55,6 +56,7 @@ impl ModelError {
 
 /// Why a method could not produce a shape.
 #[derive(Debug, Clone, Error, PartialEq)]
+#[non_exhaustive]
 pub enum SolveError {
     /// The input is not valid for this method (field and reason).
     #[error("invalid input `{field}`: {reason}")]
@@ -160,17 +162,139 @@ pub enum SolveError {
 }
 
 impl SolveError {
-    /// A short machine-readable kind, used in study CSVs.
-    pub fn kind(&self) -> &'static str {
+    /// The outcome this error is ([`Status`]).
+    pub fn status(&self) -> Status {
         match self {
-            SolveError::InvalidInput { .. } => "invalid_input",
-            SolveError::Infeasible { .. } => "infeasible",
-            SolveError::NotConverged { .. } => "not_converged",
-            SolveError::Obstructed { .. } => "obstructed",
-            SolveError::Unsupported { .. } => "unsupported",
-            SolveError::Unreachable { .. } => "unreachable",
-            SolveError::NoPath { .. } => "no_path",
-            SolveError::ContactBudget { .. } => "contact_budget",
+            SolveError::InvalidInput { .. } => Status::InvalidInput,
+            SolveError::Infeasible { .. } => Status::Infeasible,
+            SolveError::NotConverged { .. } => Status::NotConverged,
+            SolveError::Obstructed { .. } => Status::Obstructed,
+            SolveError::Unsupported { .. } => Status::Unsupported,
+            SolveError::Unreachable { .. } => Status::Unreachable,
+            SolveError::NoPath { .. } => Status::NoPath,
+            SolveError::ContactBudget { .. } => Status::ContactBudget,
         }
+    }
+
+    /// A short machine-readable kind: the name of its [`Status`] (`not_converged`, ...), as
+    /// written in CSV files.
+    pub fn kind(&self) -> &'static str {
+        self.status().name()
+    }
+
+    /// Iterations and final residual the error reports (a solver that stopped short says;
+    /// otherwise 0 and NaN).
+    pub fn iterations_residual(&self) -> (usize, f64) {
+        match self {
+            SolveError::NotConverged {
+                iterations,
+                residual,
+                ..
+            } => (*iterations, *residual),
+            _ => (0, f64::NAN),
+        }
+    }
+}
+
+/// How one solve ended: the one outcome vocabulary of ccrkit. Batch rows, study points and
+/// samples, hardware predictions, CSV files and Python's `STATUSES` all use these names.
+///
+/// ```
+/// use ccrkit::error::{SolveError, Status};
+///
+/// let e = SolveError::Infeasible {
+///     cable: "c1".into(),
+///     section: 2,
+///     reason: "longer than the cable".into(),
+/// };
+/// assert_eq!(e.status(), Status::Infeasible);
+/// assert_eq!(Status::of(&Err::<(), _>(e)).name(), "infeasible");
+/// assert_eq!(Status::from_name("ok"), Some(Status::Ok));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Status {
+    /// Solved: a shape that passed the output check.
+    Ok,
+    /// [`SolveError::InvalidInput`].
+    InvalidInput,
+    /// [`SolveError::Infeasible`].
+    Infeasible,
+    /// [`SolveError::NotConverged`] (also a shape with a non-finite number, refused at the
+    /// output check).
+    NotConverged,
+    /// [`SolveError::Obstructed`] (also a shape through itself, refused at the output check).
+    Obstructed,
+    /// [`SolveError::Unsupported`].
+    Unsupported,
+    /// [`SolveError::ContactBudget`].
+    ContactBudget,
+    /// [`SolveError::Unreachable`].
+    Unreachable,
+    /// [`SolveError::NoPath`].
+    NoPath,
+    /// The method panicked: a bug in ccrkit, caught by a batch so that the other rows go on.
+    Panicked,
+}
+
+impl Status {
+    /// Every status, in a fixed order (Python's `STATUSES`).
+    pub const ALL: [Status; 10] = [
+        Status::Ok,
+        Status::InvalidInput,
+        Status::Infeasible,
+        Status::NotConverged,
+        Status::Obstructed,
+        Status::Unsupported,
+        Status::ContactBudget,
+        Status::Unreachable,
+        Status::NoPath,
+        Status::Panicked,
+    ];
+
+    /// The status of a result: [`Status::Ok`] or its error's.
+    pub fn of<T>(result: &Result<T, SolveError>) -> Status {
+        match result {
+            Ok(_) => Status::Ok,
+            Err(e) => e.status(),
+        }
+    }
+
+    /// Its name, as written in CSV files and shown in Python (`ok`, `not_converged`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::InvalidInput => "invalid_input",
+            Status::Infeasible => "infeasible",
+            Status::NotConverged => "not_converged",
+            Status::Obstructed => "obstructed",
+            Status::Unsupported => "unsupported",
+            Status::ContactBudget => "contact_budget",
+            Status::Unreachable => "unreachable",
+            Status::NoPath => "no_path",
+            Status::Panicked => "panicked",
+        }
+    }
+
+    /// The status of a name ([`Status::name`]'s inverse).
+    pub fn from_name(name: &str) -> Option<Status> {
+        Status::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// True for [`Status::Ok`].
+    pub fn is_ok(self) -> bool {
+        self == Status::Ok
+    }
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl PartialEq<&str> for Status {
+    fn eq(&self, other: &&str) -> bool {
+        self.name() == *other
     }
 }

@@ -33,3 +33,35 @@ pub use model::Model;
 pub use robot::{Backbone, Cable, Robot};
 pub use scene::Scene;
 pub use shape::Shape;
+
+/// What most programs need, in one import: a model, the one way to solve it
+/// ([`SolveRequest`](crate::method::run::SolveRequest) → [`Solver`](crate::method::Solver)),
+/// the method registry and settings, and the errors.
+///
+/// ```
+/// use ccrkit::prelude::*;
+///
+/// let model = Model::from_file("models/paper/case1.toml")?;
+/// // The default method (energy), the model's own actuation and obstacles; the shape checked.
+/// let solved = SolveRequest::new(MethodKind::DEFAULT).run(&model)?;
+/// let tip = solved.shape.tip();
+/// assert!(tip.z > 0.0 && solved.shape.report.converged);
+///
+/// // The paper's literal section solver, by name, with a setting.
+/// let literal = SolveRequest::new("geometric".parse()?)
+///     .with_settings(Settings::new().with("zero-angle", "1e-9"))
+///     .run(&model)?;
+/// assert!((literal.shape.tip() - tip).norm() < 0.01);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub mod prelude {
+    pub use crate::error::{ModelError, SolveError};
+    pub use crate::method::run::{SolveRequest, Solved};
+    pub use crate::method::{MethodKind, PreparedSolver, Settings, Solver};
+    pub use crate::model::actuation::{Actuation, CableDrive, Shortening};
+    pub use crate::model::robot::Robot;
+    pub use crate::model::scene::Scene;
+    pub use crate::model::Model;
+    pub use crate::progress::{Event, ProgressHandle};
+    pub use crate::shape::Shape;
+}

@@ -298,7 +298,7 @@ shorten_percent = 1.0
         detail: String::new(),
     };
     let o = study::outcome(Err(e));
-    assert_eq!((o.status.as_str(), o.iterations), ("not_converged", 7));
+    assert_eq!((o.status.name(), o.iterations), ("not_converged", 7));
 }
 
 fn small_workspace(shard: Option<Shard>) -> String {

@@ -7,9 +7,8 @@
 #![allow(dead_code)]
 
 use anyhow::Result;
-use ccrkit::method::solve_stepped;
 use ccrkit::plot::plot_scene;
-use ccrkit::{method_by_name, Model, Scene};
+use ccrkit::prelude::*;
 use std::path::PathBuf;
 
 /// Solve case 1 next to `models/scenes/{scene}.toml` in `steps` warm-started steps and write
@@ -20,9 +19,15 @@ pub fn run(scene: &str, name: &str, what: &str, steps: usize) -> Result<()> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let model = Model::from_file(root.join("models/paper/case1.toml"))?;
     let scene = Scene::from_file(root.join(format!("models/scenes/{scene}.toml")))?;
-    let method = method_by_name("geometric")?;
-    let free = method.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
-    let shape = solve_stepped(&*method, &model.robot, &model.actuation, &scene, steps)?;
+    let geometric = SolveRequest::new(MethodKind::Geometric);
+    let free = geometric
+        .solver()?
+        .solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
+    let mut stepped = geometric.clone();
+    stepped.steps = steps;
+    let shape = stepped
+        .solver()?
+        .solve(&model.robot, &model.actuation, &scene, None)?;
     let (f, t) = (free.tip() * 1e3, shape.tip() * 1e3);
     println!("geometric (the paper's section solver; multipliers in rad/m)");
     println!("free tip         [{:.3}, {:.3}, {:.3}] mm", f.x, f.y, f.z);
@@ -34,7 +39,7 @@ pub fn run(scene: &str, name: &str, what: &str, steps: usize) -> Result<()> {
         println!("wrote {}", p.display());
     }
     // The whole-robot energy model: one solve, contact multipliers are reactions in newtons.
-    let energy = method_by_name("energy")?;
+    let energy = SolveRequest::new(MethodKind::Energy).solver()?;
     let free = energy.solve(&model.robot, &model.actuation, &Scene::empty(), None)?;
     let shape = energy.solve(&model.robot, &model.actuation, &scene, None)?;
     let (f, t) = (free.tip() * 1e3, shape.tip() * 1e3);

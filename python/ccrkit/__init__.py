@@ -17,6 +17,8 @@ numpy is imported only when an array is made, so ``import ccrkit`` stays fast.
 from __future__ import annotations
 
 from ._native import (
+    DEFAULT_METHOD,
+    STATUSES,
     ContactBudget,
     ExportError,
     Infeasible,
@@ -35,9 +37,10 @@ from ._native import (
     methods,
 )
 from ._native import _solve_batch
-from .batch import STATUSES, Batch
+from .batch import Batch
 
 __all__ = [
+    "DEFAULT_METHOD",
     "Batch",
     "ContactBudget",
     "ExportError",
@@ -66,7 +69,7 @@ def solve_batch(
     model,
     shorten=None,
     tension=None,
-    method="energy",
+    method=None,
     threads=None,
     warm_start=True,
     *,
@@ -88,8 +91,9 @@ def solve_batch(
     same rows as one call. A row that fails is recorded in ``status`` (never raised); only a
     call that cannot run at all (unknown method or setting, wrong array shape) raises.
 
-    ``full=True`` also keeps every row's disk frames. Other keywords are the method's
-    settings by name, as in ``Model.solve``.
+    ``method=None`` is ``DEFAULT_METHOD`` (the core's default, ``energy``). ``full=True``
+    also keeps every row's disk frames. Other keywords are the method's settings by name, as
+    in ``Model.solve``.
     """
     raw = _solve_batch(
         model,

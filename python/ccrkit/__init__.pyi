@@ -19,8 +19,10 @@ from ._native import (
     Unreachable as Unreachable,
     Unsupported as Unsupported,
     methods as methods,
+    DEFAULT_METHOD as DEFAULT_METHOD,
+    STATUSES as STATUSES,
 )
-from .batch import STATUSES as STATUSES, Batch as Batch
+from .batch import Batch as Batch
 
 __version__: str
 
@@ -28,7 +30,7 @@ def solve_batch(
     model: Model,
     shorten: Optional[npt.ArrayLike] = None,
     tension: Optional[npt.ArrayLike] = None,
-    method: str = "energy",
+    method: Optional[str] = None,
     threads: Optional[int] = None,
     warm_start: bool = True,
     *,

@@ -139,7 +139,7 @@ class Model:
     def source(self) -> Optional[str]: ...
     def solve(
         self,
-        method: str = "energy",
+        method: Optional[str] = None,
         shorten: Optional[_Vec] = None,
         tension: Optional[_Vec] = None,
         *,
@@ -161,7 +161,7 @@ class Model:
         tip: _Vec,
         tangent: Optional[_Vec] = None,
         *,
-        method: str = "energy",
+        method: Optional[str] = None,
         margin: Optional[float] = None,
         allow_contact: bool = False,
         tolerance: float = 1e-7,
@@ -180,7 +180,7 @@ class Model:
         to_actuation: Optional[_Vec] = None,
         from_actuation: Optional[_Vec] = None,
         *,
-        method: str = "energy",
+        method: Optional[str] = None,
         seed: int = 1,
         margin: Optional[float] = None,
         max_samples: int = 5000,
@@ -264,11 +264,16 @@ class Plan:
         """The command line's ``ccrkit plan --trajectory`` text."""
 
 def methods() -> List[Dict[str, Any]]: ...
+
+#: The method used when none is named (the core's default).
+DEFAULT_METHOD: str
+#: Every outcome of a solve, as batch rows and studies name it (the core's ``Status``).
+STATUSES: Tuple[str, ...]
 def _solve_batch(
     model: Model,
     shorten: Optional[npt.ArrayLike] = None,
     tension: Optional[npt.ArrayLike] = None,
-    method: str = "energy",
+    method: Optional[str] = None,
     threads: Optional[int] = None,
     warm_start: bool = True,
     chunk: int = 64,

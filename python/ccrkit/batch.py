@@ -2,16 +2,7 @@
 
 from __future__ import annotations
 
-#: Every row status: solved, the kind of the error that stopped the row, or a caught panic.
-STATUSES = (
-    "ok",
-    "invalid_input",
-    "infeasible",
-    "not_converged",
-    "obstructed",
-    "unsupported",
-    "panicked",
-)
+from ._native import STATUSES  # noqa: F401  (the core's outcome vocabulary)
 
 
 class Batch:

@@ -182,7 +182,7 @@ pub fn reach(
     };
     let r = py
         .detach(|| {
-            request.prepare()?;
+            request.solver()?;
             ccrkit::reach::reach(model, &request, &Target { tip, tangent }, &opts)
         })
         .map_err(|e| solve_error(py, &e))?;
@@ -345,7 +345,7 @@ pub fn plan(
     let opts = a.opts;
     let p = py
         .detach(|| {
-            request.prepare()?;
+            request.solver()?;
             ccrkit::plan::plan(model, &request, start, &goal, &opts, roadmap.as_ref())
         })
         .map_err(|e| solve_error(py, &e))?;

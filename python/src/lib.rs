@@ -78,14 +78,14 @@ fn rows_of(
 /// The native batch: rows solved by `ccrkit::batch::solve_batch` with the GIL released.
 /// Returns a dict of arrays; `ccrkit.solve_batch` wraps it in a `Batch`.
 #[pyfunction]
-#[pyo3(signature = (model, shorten=None, tension=None, method="energy", threads=None, warm_start=true, chunk=64, full=false, steps=1, **settings))]
+#[pyo3(signature = (model, shorten=None, tension=None, method=None, threads=None, warm_start=true, chunk=64, full=false, steps=1, **settings))]
 #[allow(clippy::too_many_arguments)]
 fn _solve_batch<'py>(
     py: Python<'py>,
     model: &Model,
     shorten: Option<PyArrayLike2<'_, f64, AllowTypeChange>>,
     tension: Option<PyArrayLike2<'_, f64, AllowTypeChange>>,
-    method: &str,
+    method: Option<&str>,
     threads: Option<usize>,
     warm_start: bool,
     chunk: usize,
@@ -191,6 +191,14 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<inverse::Plan>()?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(_solve_batch, m)?)?;
+    // The method used when none is named (the core's `MethodKind::DEFAULT`).
+    m.add("DEFAULT_METHOD", ccrkit::method::MethodKind::DEFAULT.name())?;
+    // Every outcome of a solve (the core's `Status`): what a batch row's `status` holds.
+    let statuses: Vec<&str> = ccrkit::error::Status::ALL
+        .iter()
+        .map(|s| s.name())
+        .collect();
+    m.add("STATUSES", pyo3::types::PyTuple::new(m.py(), statuses)?)?;
     errors::register(m)?;
     Ok(())
 }

@@ -98,8 +98,12 @@ pub fn settings_from(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Settings> {
 }
 
 /// The method named `name`, or `InvalidInput` naming the known ones.
-pub fn method_kind(py: Python<'_>, name: &str) -> PyResult<MethodKind> {
-    name.parse::<MethodKind>().map_err(|e| solve_error(py, &e))
+/// The method named (`None`: the library's default, `MethodKind::DEFAULT`).
+pub fn method_kind(py: Python<'_>, name: Option<&str>) -> PyResult<MethodKind> {
+    match name {
+        None => Ok(MethodKind::DEFAULT),
+        Some(name) => name.parse::<MethodKind>().map_err(|e| solve_error(py, &e)),
+    }
 }
 
 #[pymethods]
@@ -234,12 +238,12 @@ impl Model {
     /// `steps` reaches the actuation in that many warm-started steps; `warm_from` starts from
     /// another method's shape. Every other keyword is a setting of the method by name
     /// (`sub_arcs=8`, `length="chord"`); a setting the method does not take is refused.
-    #[pyo3(signature = (method="energy", shorten=None, tension=None, *, steps=1, warm_from=None, **settings))]
+    #[pyo3(signature = (method=None, shorten=None, tension=None, *, steps=1, warm_from=None, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
         py: Python<'_>,
-        method: &str,
+        method: Option<&str>,
         shorten: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
         tension: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
         steps: usize,
@@ -250,7 +254,7 @@ impl Model {
             method: method_kind(py, method)?,
             settings: settings_from(settings)?,
             extra_scene: None,
-            warm_from: warm_from.map(|w| method_kind(py, w)).transpose()?,
+            warm_from: warm_from.map(|w| method_kind(py, Some(w))).transpose()?,
             steps,
             repeat: 1,
         };
@@ -295,14 +299,14 @@ impl Model {
     /// model's obstacles, or touching them with `allow_contact`; `ccrkit reach`. Raises
     /// `Unreachable` (closest tip, distance, and the closest answer as `result`) when not
     /// reached, unless `require=False`. Other keywords are the method's settings.
-    #[pyo3(signature = (tip, tangent=None, *, method="energy", margin=None, allow_contact=false, tolerance=1e-7, starts=8, max_iterations=60, require=true, **settings))]
+    #[pyo3(signature = (tip, tangent=None, *, method=None, margin=None, allow_contact=false, tolerance=1e-7, starts=8, max_iterations=60, require=true, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn reach(
         &self,
         py: Python<'_>,
         tip: PyArrayLike1<'_, f64, AllowTypeChange>,
         tangent: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
-        method: &str,
+        method: Option<&str>,
         margin: Option<f64>,
         allow_contact: bool,
         tolerance: f64,
@@ -328,7 +332,7 @@ impl Model {
     /// `clearance`) from the model's obstacles; `ccrkit plan`. RRT-Connect with `seed`, or a
     /// query of the roadmap file `roadmap` (`ccrkit roadmap build`). Raises `NoPath` when
     /// none is found. Other keywords are the method's settings.
-    #[pyo3(signature = (to_tip=None, to_actuation=None, from_actuation=None, *, method="energy", seed=1, margin=None, max_samples=5000, roadmap=None, **settings))]
+    #[pyo3(signature = (to_tip=None, to_actuation=None, from_actuation=None, *, method=None, seed=1, margin=None, max_samples=5000, roadmap=None, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn plan(
         &self,
@@ -336,7 +340,7 @@ impl Model {
         to_tip: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
         to_actuation: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
         from_actuation: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
-        method: &str,
+        method: Option<&str>,
         seed: u64,
         margin: Option<f64>,
         max_samples: usize,

@@ -3,7 +3,7 @@
 //! inputs, options, row records and [`super::solve_batch`] live in `batch.rs`.
 
 use crate::error::SolveError;
-use crate::method::{solve_stepped_prepared, Method, Prepared};
+use crate::method::{PreparedSolver, Solver};
 use crate::model::actuation::Actuation;
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
@@ -33,16 +33,15 @@ pub(crate) struct Solved {
 /// and the calibration's passes): rows cut into blocks of `chunk`, blocks in parallel
 /// (rayon), rows of a block in order, each started from the last solved row of its block.
 pub(crate) struct Blocks<'a> {
-    /// The prepared method.
-    pub(crate) method: &'a dyn Method,
+    /// The request's solver (its continuation steps start a cold row; every shape passes the
+    /// output check).
+    pub(crate) solver: &'a Solver,
     /// The scene every row is solved in.
     pub(crate) scene: &'a Scene,
     /// Rows per block (≥ 1).
     pub(crate) chunk: usize,
     /// Start a row from the last solved row of its block.
     pub(crate) warm_start: bool,
-    /// Continuation steps of a row that starts cold.
-    pub(crate) steps: usize,
     /// Retry a row whose warm-started solve failed once more, cold.
     pub(crate) retry_cold: bool,
 }
@@ -62,7 +61,7 @@ impl Blocks<'_> {
         // What depends on the robot alone (the energy model's routing samples and undeformed
         // cable lengths) is computed once for every row and shared by the threads, not once
         // per row. A robot the method cannot be readied for fails every row with that error.
-        let prepared = catch_unwind(AssertUnwindSafe(|| self.method.prepare(robot)));
+        let prepared = catch_unwind(AssertUnwindSafe(|| self.solver.prepare(robot)));
         let prepared = match prepared {
             Ok(Ok(p)) => Ok(p),
             Ok(Err(e)) => Err(RowFailure::Error(e)),
@@ -80,7 +79,7 @@ impl Blocks<'_> {
                         .and_then(|w| w.get(r).and_then(Option::as_ref))
                         .or(last.as_ref().filter(|_| self.warm_start));
                     let solved = match &prepared {
-                        Ok(p) => self.row(&**p, &act(r), from),
+                        Ok(p) => self.row(p, &act(r), from),
                         Err(e) => Solved {
                             result: Err(e.clone()),
                             iterations: 0,
@@ -98,10 +97,9 @@ impl Blocks<'_> {
 
     /// One row from `warm` (cold with continuation steps when `None`), retried cold once when
     /// asked; a panic of the method is caught and reported.
-    fn row(&self, method: &dyn Prepared, act: &Actuation, warm: Option<&Shape>) -> Solved {
-        let attempt = |w: Option<&Shape>| match catch_unwind(AssertUnwindSafe(|| match w {
-            Some(w) => method.solve(act, self.scene, Some(w)),
-            None => solve_stepped_prepared(method, act, self.scene, self.steps),
+    fn row(&self, solver: &PreparedSolver<'_>, act: &Actuation, warm: Option<&Shape>) -> Solved {
+        let attempt = |w: Option<&Shape>| match catch_unwind(AssertUnwindSafe(|| {
+            solver.solve(act, self.scene, w)
         })) {
             Ok(Ok(s)) => (s.report.iterations, Ok(s)),
             Ok(Err(e)) => (failed_iterations(&e), Err(RowFailure::Error(e))),

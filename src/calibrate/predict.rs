@@ -13,9 +13,9 @@
 
 use super::data::Dataset;
 use crate::batch::{Blocks, RowFailure, Solved};
-use crate::error::SolveError;
+use crate::error::{SolveError, Status};
 use crate::method::run::SolveRequest;
-use crate::method::{Method, MethodKind};
+use crate::method::{MethodKind, Solver};
 use crate::model::hardware::directions;
 use crate::model::scene::Scene;
 use crate::model::Model;
@@ -49,12 +49,9 @@ pub struct RowPrediction {
 }
 
 impl RowPrediction {
-    /// `ok`, or the error's kind (`not_converged`, `infeasible`, ...).
-    pub fn status(&self) -> &'static str {
-        match &self.tip {
-            Ok(_) => "ok",
-            Err(e) => e.kind(),
-        }
+    /// How the row ended (`ok`, `not_converged`, `infeasible`, ...).
+    pub fn status(&self) -> Status {
+        Status::of(&self.tip)
     }
 }
 
@@ -63,7 +60,7 @@ pub(crate) type RowMap<'a, T> = dyn Fn(usize, Result<&Shape, &SolveError>, usize
 
 /// A method ready to solve rows of one model.
 pub(crate) struct Rows {
-    pub(crate) method: Box<dyn Method>,
+    pub(crate) solver: Solver,
     pub(crate) scene: Scene,
     pub(crate) chunk: usize,
 }
@@ -106,7 +103,7 @@ impl Rows {
             });
         }
         Ok(Rows {
-            method: r.prepare()?,
+            solver: r.solver()?,
             scene: r.scene_for(model),
             chunk: opts.chunk,
         })
@@ -128,11 +125,10 @@ impl Rows {
         out: &RowMap<'_, T>,
     ) -> Vec<T> {
         let blocks = Blocks {
-            method: &*self.method,
+            solver: &self.solver,
             scene: &self.scene,
             chunk: self.chunk,
             warm_start: true,
-            steps: 1,
             retry_cold: true,
         };
         blocks.run(

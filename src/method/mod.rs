@@ -23,6 +23,7 @@ pub mod output;
 mod registry;
 pub mod run;
 pub mod settings;
+pub mod solver;
 pub mod warm;
 
 use crate::error::SolveError;
@@ -34,12 +35,17 @@ use std::time::Instant;
 
 pub use registry::{LoadSupport, MethodInfo, MethodKind};
 pub use settings::{Configure, SettingInfo, Settings};
+pub use solver::{PreparedSolver, Solver};
 pub use warm::WarmState;
 
-/// A way to compute a robot's shape.
+/// A way to compute a robot's shape: the trait a **method implementor** writes
+/// (`CONTRIBUTING.md`, "Adding a method").
 ///
-/// Callers call [`Method::solve`]; a method implements [`Method::solve_supported`], its own
-/// work, and inherits the contract every solve keeps ([`checked_and_timed`]).
+/// Users do not call it: they solve through [`SolveRequest`](run::SolveRequest) and its
+/// [`Solver`], which build the method from the registry, validate every setting and pass
+/// every shape through the output check ([`crate::check::output`]). A method implements
+/// [`Method::solve_supported`], its own work, and inherits the contract every solve keeps
+/// (the registry's support check and the timing, in [`Method::solve`]).
 pub trait Method: Send + Sync {
     /// Which registered method this is.
     fn kind(&self) -> MethodKind;
@@ -49,8 +55,9 @@ pub trait Method: Send + Sync {
     }
     /// Solve for the shape. `warm` is a previous shape of the same robot to start from (any
     /// method's: its disk frames; the same method's also carries [`WarmState`]). What the
-    /// method does not model is refused by name before any work, and `report.solve_time_s`
-    /// is the time of this call ([`checked_and_timed`]).
+    /// method does not model is refused by name before any work
+    /// ([`MethodKind::check_support`]), and `report.solve_time_s` is the time of this call.
+    /// No output check: that is the [`Solver`]'s.
     fn solve(
         &self,
         robot: &Robot,
@@ -98,8 +105,8 @@ pub struct SolveInput<'a> {
 }
 
 /// A method readied for one robot ([`Method::prepare`]): solves that robot for any
-/// actuation and scene, as [`Method::solve`] does and under the same contract
-/// ([`checked_and_timed`]).
+/// actuation and scene, as [`Method::solve`] does and under the same contract (for method
+/// implementors; users hold a [`PreparedSolver`]).
 pub trait Prepared: Send + Sync {
     /// Which registered method this is.
     fn kind(&self) -> MethodKind;
@@ -160,7 +167,8 @@ impl<M: Method + ?Sized> Prepared for Unprepared<'_, M> {
     }
 }
 
-/// Solve along a path of actuations: every displacement and tension scaled by `k/steps` for
+/// For method implementors and their tests (users set [`SolveRequest::steps`](run::SolveRequest::steps)):
+/// solve along a path of actuations, every displacement and tension scaled by `k/steps` for
 /// `k = 1..=steps`, each solve warm-started from the previous shape (the 2-D obstacle work of
 /// Ashwin et al. 2021 steps the cable displacement ~1 mm at a time). `steps = 1` is one solve.
 /// The report of the returned shape sums the iterations of every step.
@@ -201,7 +209,8 @@ pub fn solve_stepped_prepared(
 /// Names of every registered method, in registry order.
 pub const METHOD_NAMES: &[&str] = &registry::NAMES;
 
-/// Build a method with default settings from its command-line name.
+/// Build a method with default settings from its command-line name: the implementor-level
+/// [`Method`], without the output check (users: `SolveRequest::new(name.parse()?)`).
 pub fn method_by_name(name: &str) -> Result<Box<dyn Method>, SolveError> {
     name.parse::<MethodKind>()?.build(&Settings::new())
 }

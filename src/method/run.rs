@@ -1,8 +1,29 @@
-//! The one solve path: every command that solves a model (`solve`, `compare`, `export`,
-//! `view`, studies, and what is built on them) goes through [`SolveRequest::run`], so a scene,
-//! a setting, a warm start or a step count means the same thing everywhere.
+//! The one way in: robot + actuation + scene + method + settings → shape. Every front end —
+//! the command line, Python, batches, studies, reach and plan, hardware predictions and the
+//! calibration, the examples — states what to solve as a [`SolveRequest`] and solves it
+//! either whole ([`SolveRequest::run`] on a [`Model`]: its robot, actuation and obstacles) or
+//! through the request's [`Solver`] ([`SolveRequest::solver`]: any robot, actuation and
+//! scene, many times). Either way a scene, a setting, a warm start or a step count means the
+//! same thing everywhere, and every shape handed out has passed the output check
+//! ([`crate::check::output`]: finite, not through itself).
+//!
+//! ```
+//! use ccrkit::prelude::*;
+//!
+//! let model = Model::from_file("models/paper/case1.toml")?;
+//! let request = SolveRequest::new(MethodKind::DEFAULT)
+//!     .with_settings(Settings::new().with("sub-arcs", 6));
+//! let solved = request.run(&model)?;
+//! println!("tip {:?} m in {:.1} ms", solved.shape.tip(), solved.median_time_s * 1e3);
+//!
+//! // The same request on other actuations of the robot: one solver, warm starts.
+//! let solver = request.solver()?;
+//! let half = solver.solve(&model.robot, &model.actuation.scaled(0.5), &model.scene, None)?;
+//! assert!(half.report.converged);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
-use super::{solve_stepped_prepared, Method, MethodKind, Settings};
+use super::{Method, MethodKind, Settings, Solver};
 use crate::error::SolveError;
 use crate::model::actuation::Drive;
 use crate::model::scene::Scene;
@@ -81,10 +102,10 @@ impl SolveRequest {
         sc
     }
 
-    /// Check everything that can be checked before solving: bounds of `steps` and `repeat`,
-    /// the combination of options, and the settings (each taken by the method, or refused).
-    /// Returns the configured method.
-    pub fn prepare(&self) -> Result<Box<dyn Method>, SolveError> {
+    /// Check everything that can be checked before solving — bounds of `steps` and `repeat`,
+    /// the combination of options, and the settings (each taken by the method, or refused) —
+    /// and build the method: the [`Solver`] every solve of this request goes through.
+    pub fn solver(&self) -> Result<Solver, SolveError> {
         if !(1..=MAX_STEPS).contains(&self.steps) {
             return Err(SolveError::InvalidInput {
                 field: "steps".into(),
@@ -106,7 +127,7 @@ impl SolveRequest {
                 ),
             });
         }
-        self.method.build(&self.settings)
+        Ok(Solver::new(self.method.build(&self.settings)?, self.steps))
     }
 
     /// The warm-start method: `warm_from` with those of the request's settings it takes.
@@ -161,9 +182,10 @@ impl SolveRequest {
         j
     }
 
-    /// Solve `model`.
+    /// Solve `model` (its robot, actuation and obstacles, and the request's obstacles): the
+    /// shape (checked at the output boundary), the scene it was solved in, the median time.
     pub fn run(&self, model: &Model) -> Result<Solved, SolveError> {
-        let method = self.prepare()?;
+        let solver = self.solver()?;
         let scene = self.scene_for(model);
         let warm = match self.warm_from {
             Some(kind) => {
@@ -178,14 +200,12 @@ impl SolveRequest {
         let mut shape = None;
         // Readied for the robot once; every repeat pays its share of that time.
         let t = Instant::now();
-        let prepared = method.prepare(&model.robot)?;
+        let prepared = solver.prepare(&model.robot)?;
         let setup = t.elapsed().as_secs_f64() / self.repeat as f64;
         for _ in 0..self.repeat {
             let t = Instant::now();
-            let s = match &warm {
-                Some(w) => prepared.solve(&model.actuation, &scene, Some(w))?,
-                None => solve_stepped_prepared(&*prepared, &model.actuation, &scene, self.steps)?,
-            };
+            // Checked once below, outside the timed repeats.
+            let s = prepared.solve_unchecked(&model.actuation, &scene, warm.as_ref())?;
             times.push(t.elapsed().as_secs_f64() + setup);
             shape = Some(s);
         }

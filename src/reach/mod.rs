@@ -35,7 +35,7 @@ pub use solve::{reach, reach_in, ReachOptions, Target};
 
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;
-use crate::method::{Method, MethodKind};
+use crate::method::{MethodKind, Solver};
 use crate::model::actuation::{Actuation, CableDrive, Input, Shortening};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
@@ -50,7 +50,7 @@ pub struct Space {
     pub robot: Robot,
     /// The method (and settings) every point is solved with.
     pub request: SolveRequest,
-    method: Box<dyn Method>,
+    solver: Solver,
     /// The obstacles: the model's and the request's.
     pub scene: Scene,
     /// Scene handed to each solve: empty when keeping clear, the obstacles when contact is
@@ -90,7 +90,7 @@ impl Space {
                 ),
             });
         }
-        let method = request.prepare()?;
+        let solver = request.solver()?;
         let scene = request.scene_for(model);
         let solve_scene = if allow_contact {
             scene.clone()
@@ -111,7 +111,7 @@ impl Space {
         Ok(Space {
             robot: model.robot.clone(),
             request: request.clone(),
-            method,
+            solver,
             margin: scene.clearance,
             scene,
             solve_scene,
@@ -162,9 +162,10 @@ impl Space {
                 .all(|(c, x)| x.is_finite() && *x >= self.lo[c] && *x <= self.hi[c])
     }
 
-    /// Solve the shape at `u` (warm-started from `warm`, a shape of this space).
+    /// Solve the shape at `u` (warm-started from `warm`, a shape of this space), through the
+    /// request's [`Solver`] (so through the output check).
     pub fn solve(&self, u: &[f64], warm: Option<&Shape>) -> Result<Shape, SolveError> {
-        self.method
+        self.solver
             .solve(&self.robot, &self.actuation(u), &self.solve_scene, warm)
     }
 

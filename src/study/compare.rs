@@ -103,7 +103,7 @@ pub fn compare(
     }
     let mut rows = Vec::with_capacity(requests.len());
     for r in requests {
-        r.prepare()?;
+        r.solver()?;
         let res = r.run(model);
         let time_s = res.as_ref().map(|s| s.median_time_s).unwrap_or(f64::NAN);
         let error = res.as_ref().err().map(|e| e.to_string());
@@ -169,7 +169,7 @@ impl std::fmt::Display for Comparison {
                 k + 1,
                 r.label,
                 r.input.name(),
-                r.status.as_str(),
+                r.status.name(),
                 tip,
                 r.time_s * 1e6
             )?;

@@ -195,7 +195,7 @@ pub fn status_color(status: &str) -> RGBColor {
         "ok" => RGBColor(120, 200, 120),
         "not_converged" => RGBColor(214, 39, 40),
         "infeasible" => RGBColor(255, 160, 60),
-        "nan" => RGBColor(0, 0, 0),
+        "obstructed" => RGBColor(0, 0, 0),
         "unsupported" => RGBColor(170, 170, 170),
         "invalid_input" => RGBColor(148, 103, 189),
         _ => RGBColor(100, 100, 100),
@@ -268,13 +268,13 @@ where
             let (x, y) = (p.a * scale, p.b * scale);
             Rectangle::new(
                 [(x - da / 2.0, y - db / 2.0), (x + da / 2.0, y + db / 2.0)],
-                status_color(p.status.as_str()).filled(),
+                status_color(p.status.name()).filled(),
             )
         }))?;
         let mut kinds: Vec<&str> = vec![];
         for p in &pts {
-            if !kinds.contains(&p.status.as_str()) {
-                kinds.push(p.status.as_str());
+            if !kinds.contains(&p.status.name()) {
+                kinds.push(p.status.name());
             }
         }
         for kind in kinds {

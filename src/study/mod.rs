@@ -10,8 +10,8 @@
 //!   and they do not describe the same shape, so each model is judged on its own input.
 //! * [`stability`]: a grid over the inputs of two cables, each method solved cold and with
 //!   continuation along the rows (warm start from the previous grid point of the row);
-//!   every point is `ok` or a named failure ([`crate::SolveError::kind`], or `nan` when a
-//!   method returned a shape with a non-finite coordinate — a bug to report).
+//!   every point is `ok` or a named failure ([`Status`]; a shape with a non-finite number or
+//!   through itself is refused at the output check, as everywhere).
 //! * [`workspace`]: low-discrepancy (Halton) samples of the cables' inputs, solved in parallel
 //!   in fixed chunks (warm-started from the nearest solved sample of the chunk), shardable with
 //!   [`Shard`]; [`merge_csv`] joins shards into the CSV of the unsharded run, byte for byte.
@@ -29,6 +29,7 @@ mod speed_accuracy;
 mod stability;
 mod workspace;
 
+pub use crate::error::Status;
 pub use crate::model::actuation::Input;
 pub use compare::{compare, Comparison, ComparisonRow};
 pub use speed_accuracy::*;
@@ -37,9 +38,9 @@ pub use workspace::*;
 
 use crate::error::SolveError;
 use crate::method::cosserat::Cosserat;
-use crate::method::{Method, MethodKind, Settings};
+use crate::method::run::SolveRequest;
+use crate::method::{MethodKind, Settings, Solver};
 use crate::shape::Shape;
-use std::fmt;
 
 /// A study failure (a solve that the study cannot do without, a file, a figure).
 #[derive(Debug, thiserror::Error)]
@@ -93,9 +94,12 @@ pub fn natural_input(method: MethodKind) -> Input {
     method.info().default_input
 }
 
-/// A method in its default settings, driven by `input` where it accepts both inputs.
-pub fn study_method(method: MethodKind, input: Input) -> Result<Box<dyn Method>, SolveError> {
-    method.driven_by(input)
+/// A method in its default settings, driven by `input` where it accepts both inputs: the
+/// [`Solver`] of that request, so every study solve passes the output check.
+pub fn study_method(method: MethodKind, input: Input) -> Result<Solver, SolveError> {
+    SolveRequest::new(method)
+        .with_settings(method.driven_by(input))
+        .solver()
 }
 
 /// The converged reference of the speed–accuracy study: full Cosserat rod, 80 RK4 steps per
@@ -118,51 +122,6 @@ pub fn reference_displacement() -> Cosserat {
     }
 }
 
-/// True when every coordinate of a shape is finite.
-pub fn shape_is_finite(s: &Shape) -> bool {
-    s.disks.iter().all(|d| {
-        d.position.iter().all(|x| x.is_finite()) && d.rotation.iter().all(|x| x.is_finite())
-    }) && s.backbone.iter().all(|p| p.iter().all(|x| x.is_finite()))
-}
-
-/// How one solve of a study ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Status {
-    /// A finite shape.
-    Ok,
-    /// A shape with a non-finite coordinate (a bug to report).
-    NonFinite,
-    /// A named failure ([`SolveError::kind`]).
-    Failed(&'static str),
-}
-
-impl Status {
-    /// `ok`, `nan` or the failure kind, as written to CSV files.
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            Status::Ok => "ok",
-            Status::NonFinite => "nan",
-            Status::Failed(k) => k,
-        }
-    }
-    /// True for [`Status::Ok`].
-    pub fn is_ok(&self) -> bool {
-        *self == Status::Ok
-    }
-}
-
-impl fmt::Display for Status {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-impl PartialEq<&str> for Status {
-    fn eq(&self, other: &&str) -> bool {
-        self.as_str() == *other
-    }
-}
-
 /// Outcome of one solve in a study.
 #[derive(Debug, Clone)]
 pub struct Outcome {
@@ -176,32 +135,21 @@ pub struct Outcome {
     pub shape: Option<Shape>,
 }
 
-/// Classify a solve result.
+/// Classify a solve result (a study's solves go through a [`Solver`], so a shape here has
+/// passed the output check).
 pub fn outcome(r: Result<Shape, SolveError>) -> Outcome {
+    let status = Status::of(&r);
     match r {
-        Ok(s) if !shape_is_finite(&s) => Outcome {
-            status: Status::NonFinite,
-            iterations: s.report.iterations,
-            residual: s.report.residual,
-            shape: None,
-        },
         Ok(s) => Outcome {
-            status: Status::Ok,
+            status,
             iterations: s.report.iterations,
             residual: s.report.residual,
             shape: Some(s),
         },
         Err(e) => {
-            let (iterations, residual) = match &e {
-                SolveError::NotConverged {
-                    iterations,
-                    residual,
-                    ..
-                } => (*iterations, *residual),
-                _ => (0, f64::NAN),
-            };
+            let (iterations, residual) = e.iterations_residual();
             Outcome {
-                status: Status::Failed(e.kind()),
+                status,
                 iterations,
                 residual,
                 shape: None,

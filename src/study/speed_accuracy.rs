@@ -6,7 +6,8 @@ use super::{
     resolution_settings, Input, Status, StudyError,
 };
 use crate::error::SolveError;
-use crate::method::{Method, MethodKind};
+use crate::method::run::SolveRequest;
+use crate::method::{MethodKind, Solver};
 use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::progress::ProgressHandle;
@@ -21,7 +22,7 @@ pub struct Variant {
     /// The input that drives it.
     pub input: Input,
     /// The configured solver.
-    pub solver: Box<dyn Method>,
+    pub solver: Solver,
 }
 
 /// The resolution settings of a method for [`speed_accuracy`], from the registry.
@@ -35,7 +36,7 @@ pub fn variants(kind: MethodKind) -> Result<Vec<Variant>, SolveError> {
                 method: kind.name().to_string(),
                 setting: label.to_string(),
                 input: kind.input_with(&s),
-                solver: kind.build(&s)?,
+                solver: SolveRequest::new(kind).with_settings(s).solver()?,
             })
         })
         .collect()
@@ -92,9 +93,10 @@ pub fn speed_accuracy(
     opts: &SpeedAccuracyOptions,
 ) -> Result<Vec<SpeedAccuracyRow>, StudyError> {
     let scene = Scene::empty();
-    let reference = reference().solve(&model.robot, &model.actuation, &scene, None)?;
+    let checked = |rod: crate::method::cosserat::Cosserat| Solver::new(Box::new(rod), 1);
+    let reference = checked(reference()).solve(&model.robot, &model.actuation, &scene, None)?;
     // Without displacement inputs the displacement-driven methods fail anyway.
-    let reference_disp = reference_displacement()
+    let reference_disp = checked(reference_displacement())
         .solve(&model.robot, &model.actuation, &scene, None)
         .ok();
     let mut rows = vec![];
@@ -115,7 +117,10 @@ pub fn speed_accuracy(
             let mut last = None;
             for _ in 0..opts.repeats.max(1) {
                 let t = Instant::now();
-                let r = v.solver.solve(&model.robot, &model.actuation, &scene, None);
+                // Timed alone; the shape kept is checked below.
+                let r = v
+                    .solver
+                    .solve_unchecked(&model.robot, &model.actuation, &scene, None);
                 times.push(t.elapsed().as_secs_f64());
                 let failed = r.is_err();
                 last = Some(r);
@@ -124,12 +129,13 @@ pub fn speed_accuracy(
                 }
             }
             times.sort_by(f64::total_cmp);
-            let o = outcome(last.unwrap_or_else(|| {
+            let last = last.unwrap_or_else(|| {
                 Err(SolveError::InvalidInput {
                     field: "repeats".into(),
                     reason: "no solve ran".into(),
                 })
-            }));
+            });
+            let o = outcome(crate::check::checked(&model.robot, last));
             let by_disp = v.input == Input::Shortening;
             let refer = if by_disp {
                 reference_disp.as_ref()

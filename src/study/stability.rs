@@ -171,10 +171,7 @@ pub fn stability(model: &Model, opts: &StabilityOptions) -> Result<Stability, St
                             let a = value(ia, amax);
                             let act = actuation_for(model, input, &[(ca, a), (cb, b)]);
                             let w = if continuation { warm.as_ref() } else { None };
-                            let o = outcome(crate::check::checked(
-                                &model.robot,
-                                solver.solve(&model.robot, &act, &scene, w),
-                            ));
+                            let o = outcome(solver.solve(&model.robot, &act, &scene, w));
                             bar.advance(1);
                             let tip = o.shape.as_ref().map(|s| s.tip());
                             if let Some(s) = o.shape {
@@ -331,9 +328,9 @@ pub fn stability_summary(st: &Stability) -> Vec<StabilitySummary> {
             s.ok += 1;
             continue;
         }
-        match s.failures.iter_mut().find(|(k, _)| *k == p.status.as_str()) {
+        match s.failures.iter_mut().find(|(k, _)| *k == p.status.name()) {
             Some(f) => f.1 += 1,
-            None => s.failures.push((p.status.as_str().to_string(), 1)),
+            None => s.failures.push((p.status.name().to_string(), 1)),
         }
         let key = |(a, b): (usize, usize)| (a.max(b), a + b);
         if first[idx].is_none_or(|f| key((p.ia, p.ib)) < key(f)) {

@@ -63,7 +63,7 @@ impl Default for WorkspaceOptions {
     fn default() -> Self {
         WorkspaceOptions {
             samples: 1000,
-            method: "geometric".into(),
+            method: MethodKind::DEFAULT.name().into(),
             input: None,
             max_fraction: 0.10,
             tension_factor: 3.0,
@@ -184,10 +184,7 @@ pub fn workspace(model: &Model, opts: &WorkspaceOptions) -> Result<Workspace, St
                         d(x).total_cmp(&d(y))
                     })
                     .map(|(_, s)| s);
-                let o = outcome(crate::check::checked(
-                    &model.robot,
-                    solver.solve(&model.robot, &act, &scene, warm),
-                ));
+                let o = outcome(solver.solve(&model.robot, &act, &scene, warm));
                 bar.advance(1);
                 let tip = o.shape.as_ref().map(|s| s.tip());
                 if let Some(s) = o.shape {

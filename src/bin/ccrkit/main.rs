@@ -114,8 +114,8 @@ enum ExportCommand {
 /// same for every subcommand that solves, through the library's one solve path.
 #[derive(clap::Args, Clone)]
 struct SolveArgs {
-    /// Method: see `ccrkit methods`.
-    #[arg(long, default_value = "geometric", value_parser = parse_method)]
+    /// Method: see `ccrkit methods` (`geometric` is the paper's literal section solver).
+    #[arg(long, default_value_t = MethodKind::DEFAULT, value_parser = parse_method)]
     method: MethodKind,
     /// A scene file with obstacles (added to the model file's own).
     #[arg(long)]
@@ -184,7 +184,7 @@ impl SolveArgs {
             steps: self.steps,
             repeat,
         };
-        r.prepare()?;
+        r.solver()?;
         Ok(r)
     }
 }

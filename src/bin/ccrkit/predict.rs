@@ -11,12 +11,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 /// What `predict` and `calibrate` share: the data, its columns and unit, the chunking and the
-/// solve options. The method defaults to `energy` here (the geometric method is slow on the
-/// many-disk hardware robots).
+/// solve options (the method defaults to `MethodKind::DEFAULT`, as everywhere).
 #[derive(Args)]
-#[command(mut_arg("method", |a| a
-    .default_value("energy")
-    .help("Method: see `ccrkit methods` (default energy here: geometric is slow on these robots)")))]
 pub struct DataArgs {
     /// Data CSV: one row per sample, cable displacements (and `tip_x,tip_y,tip_z` to compare
     /// or fit to).

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[derive(clap::Args, Clone)]
 pub(crate) struct InverseArgs {
     /// Method driven by shortenings (see `ccrkit methods`).
-    #[arg(long, default_value = "energy", value_parser = super::parse_method)]
+    #[arg(long, default_value_t = MethodKind::DEFAULT, value_parser = super::parse_method)]
     pub method: MethodKind,
     /// A scene file with obstacles (added to the model file's own).
     #[arg(long)]
@@ -39,7 +39,7 @@ impl InverseArgs {
         let r = SolveRequest::new(self.method)
             .with_settings(s)
             .with_scene(scene);
-        r.prepare()?;
+        r.solver()?;
         Ok(r)
     }
 }

@@ -2,6 +2,7 @@
 
 use super::create_dir;
 use anyhow::{Context, Result};
+use ccrkit::method::MethodKind;
 use ccrkit::study::{self, figures};
 use ccrkit::Model;
 use clap::{Args, Subcommand};
@@ -73,7 +74,7 @@ pub(crate) struct WorkspaceArgs {
     #[arg(long, default_value_t = 1000)]
     samples: usize,
     /// Method: see `ccrkit methods`.
-    #[arg(long, default_value = "geometric")]
+    #[arg(long, default_value_t = MethodKind::DEFAULT.name().to_string())]
     method: String,
     /// Solve only this share, `k/N` (blocks of --chunk samples, block j to shard j % N).
     #[arg(long)]

@@ -41,7 +41,7 @@ pub struct ViewArgs {
 pub fn run(a: ViewArgs) -> Result<()> {
     let extra = a.scene.as_ref().map(Scene::from_file).transpose()?;
     let entries: Vec<String> = if a.method.is_empty() && a.plan.is_none() && a.sweep.is_none() {
-        vec!["geometric".into()]
+        vec![ccrkit::method::MethodKind::DEFAULT.name().into()]
     } else {
         a.method.clone()
     };
@@ -58,7 +58,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
                 .with_settings(settings)
                 .with_scene(extra.clone());
             r.warm_from = warm_from;
-            r.prepare()?;
+            r.solver()?;
             Ok((e.clone(), r))
         })
         .collect::<Result<Vec<_>>>()?;

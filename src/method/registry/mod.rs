@@ -34,6 +34,21 @@ pub enum MethodKind {
     ConstantCurvature,
 }
 
+impl MethodKind {
+    /// The method every front end uses when none is named (`ccrkit solve`, `view`, `study
+    /// workspace`, `reach`, `plan`, `predict`, `calibrate`, Python): the whole-robot energy
+    /// model, accurate against the Cosserat rod and fast. The paper's literal section solver
+    /// stays available by name ([`MethodKind::Geometric`], `--method geometric`).
+    pub const DEFAULT: MethodKind = MethodKind::Energy;
+}
+
+impl Default for MethodKind {
+    /// [`MethodKind::DEFAULT`].
+    fn default() -> Self {
+        MethodKind::DEFAULT
+    }
+}
+
 /// Which external loads a method models (a load it does not model is refused, not ignored).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LoadSupport {
@@ -128,15 +143,14 @@ impl MethodKind {
         }
     }
 
-    /// The method driven by `input` where a cable gives both (its `control`), when it accepts
-    /// both; otherwise its defaults.
-    pub fn driven_by(self, input: Input) -> Result<Box<dyn Method>, SolveError> {
-        let s = if self.accepts(Input::Shortening) && self.accepts(Input::Tension) {
+    /// The settings that drive this method by `input` where a cable gives both (its
+    /// `control`), when it accepts both; otherwise none (its defaults).
+    pub fn driven_by(self, input: Input) -> Settings {
+        if self.accepts(Input::Shortening) && self.accepts(Input::Tension) {
             Settings::new().with("control", super::settings::control_name(input))
         } else {
             Settings::new()
-        };
-        self.build(&s)
+        }
     }
 
     /// Refuse a setting this method does not take, naming the methods that take it.
