@@ -75,7 +75,7 @@
 //! the taut set is the solution's: with it fixed the complementarity becomes equations, as an
 //! SQP method's once its active set is identified (Nocedal & Wright, *Numerical Optimization*,
 //! 2nd ed., §18.1). So the polish is tried after pass 0 and again whenever the taut set is the
-//! one of the previous pass (settled) and the residual has fallen below [`POLISH_RETRY`] times
+//! one of the previous pass (settled) and the residual has fallen below `POLISH_RETRY` (0.1) times
 //! the one a failed polish started from (at most one try per tenfold gain, a few per row). A
 //! step that does not halve the residual, makes a tension negative or stretches a slack cable
 //! hands back to the lagged passes, which bring the iterate closer. A row the passes end at
