@@ -234,6 +234,11 @@ impl Cosserat {
                         vec![]
                     },
                     tension: Some(tau[c]),
+                    // The displacement under which this shape is the answer: the path change
+                    // plus the stretch `τ/k − T₀/k` of a compliant cable.
+                    shortening: trace.len.get(c).map(|l| {
+                        prob.len0[c] - l + tau[c] * prob.compliance[c] - prob.pre_stretch[c]
+                    }),
                 }
             })
             .collect();
@@ -243,6 +248,7 @@ impl Cosserat {
             backbone: trace.backbone,
             cables,
             contacts: vec![],
+            port: None,
             report: SolveReport {
                 converged: true,
                 iterations,
