@@ -33,8 +33,8 @@ fn paper_cases(c: &mut Criterion) {
                         .expect("solve")
                 })
             });
-            // Warm from the solution of a 10 % and a 2 % smaller actuation (issue 16: a warm
-            // start is never slower than the cold one).
+            // Warm from the solution of a 10 % and a 2 % smaller actuation (a warm start
+            // should never be slower than the cold one).
             for (name, frac) in [("warm", 0.9), ("warm-2pct", 0.98)] {
                 let mut before = model.actuation.clone();
                 for (ci, d) in before.cables.iter_mut().enumerate() {

@@ -28,7 +28,7 @@ fn ftdcr(c: &mut Criterion) {
         let opts = PredictOptions {
             request: SolveRequest::new(MethodKind::Energy).with_settings(s),
             chunk: DEFAULT_CHUNK,
-            progress: false,
+            progress: ccrkit::progress::ProgressHandle::none(),
         };
         g.bench_function(format!("energy-sub-arcs-{sub_arcs}"), |b| {
             b.iter(|| predict(black_box(&model), black_box(&data), &opts).expect("predict"))

@@ -1,4 +1,4 @@
-//! Inverse problems (issue 13 measures): reach on the paper robot (energy) without obstacles
+//! Inverse problems: reach on the paper robot (energy) without obstacles
 //! and next to the wall; a cold RRT-Connect plan and a roadmap query around a ball blocking
 //! the straight path (case 1), and a cold plan and roadmap queries inside the vessel
 //! (two-segment robot), one of whose straight actuation path leaves the tube.

@@ -1,4 +1,4 @@
-//! Reading a scene of 1000 obstacles (issue 16 #5): the parse, every obstacle validated, its
+//! Reading a scene of 1000 obstacles: the parse, every obstacle validated, its
 //! parry shape and bounds built — all `Scene::from_file` does before a method sees it — for
 //! the same scene as TOML and as JSON, beside an empty scene file. The scenes are written by
 //! the generator the tests use.

@@ -27,7 +27,7 @@ fn paper_cases(c: &mut Criterion) {
     }
 }
 
-/// The literal method next to an obstacle (issue 16 #6): case I in the wall scene.
+/// The literal method next to an obstacle: case I in the wall scene.
 fn wall_scene(c: &mut Criterion) {
     let m = method_by_name("geometric").expect("method");
     let model = Model::from_file("models/paper/case1.toml").expect("model");

@@ -36,8 +36,8 @@ fn main() -> Result<()> {
     let model = Model::from_file(root.join("models/paper/case1.toml"))?;
     let scene = Scene::from_file(root.join("models/scenes/vessel.toml"))?;
     let method = method_by_name("geometric")?;
-    // The solves below take tens of seconds: say which one runs (on a terminal only).
-    let bar = ccrkit::study::spinner("geometric solve in the vessel");
+    // The solves below take tens of seconds: say which one runs.
+    eprintln!("geometric solve in the vessel …");
     // One solve first; if it fails, raise the actuation in continuation steps (each
     // warm-started from the last) and keep the furthest shape that was solved.
     let (f, shape) = match method.solve(&model.robot, &model.actuation, &scene, None) {
@@ -53,7 +53,7 @@ fn main() -> Result<()> {
             for k in 1..=STEPS {
                 let f = k as f64 / STEPS as f64;
                 let act = model.actuation.scaled(f);
-                bar.set_message(format!("continuation step {k}/{STEPS}"));
+                eprintln!("continuation step {k}/{STEPS}");
                 let warm = last.as_ref().map(|(_, s)| s);
                 match method.solve(&model.robot, &act, &scene, warm) {
                     Ok(s) => {
@@ -73,14 +73,12 @@ fn main() -> Result<()> {
                 // Known limitation (reported, not hidden): contacts with a triangle mesh are
                 // one parry contact per feature and obstacle, whose closest triangle switches
                 // as the disk slides. No shape is drawn rather than a wrong one.
-                bar.finish_and_clear();
                 println!("no continuation step could be solved inside the tube: no figure written");
                 return Ok(());
             };
             found
         }
     };
-    bar.finish_and_clear();
     let t = shape.tip() * 1e3;
     println!(
         "solved up to {:.0} % of the actuation; tip [{:.3}, {:.3}, {:.3}] mm; every disk centre inside the tube",
@@ -98,16 +96,14 @@ fn main() -> Result<()> {
     // The energy model cannot start from the straight robot here (it crosses the tube's wall:
     // a named `Obstructed` error); started from the section solver's shape it stays inside.
     let energy = method_by_name("energy")?;
-    let bar = ccrkit::study::spinner("energy from the straight robot");
+    eprintln!("energy from the straight robot …");
     let cold = energy.solve(&model.robot, &model.actuation, &scene, None);
-    bar.finish_and_clear();
     if let Err(e) = cold {
         println!("\nenergy from the straight robot: {e}");
     }
     if f == 1.0 {
-        let bar = ccrkit::study::spinner("energy from the geometric shape");
+        eprintln!("energy from the geometric shape …");
         let s = energy.solve(&model.robot, &model.actuation, &scene, Some(&shape));
-        bar.finish_and_clear();
         let s = s?;
         inside_tube(&scene, &s)?;
         let t = s.tip() * 1e3;

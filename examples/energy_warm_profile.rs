@@ -1,4 +1,4 @@
-//! Profiling aid for warm starts of the energy model (issue 16): solve a paper case `repeat`
+//! Profiling aid for warm starts of the energy model: solve a paper case `repeat`
 //! times cold, or warm from the solution of a smaller actuation (the fraction FRAC of it, default
 //! 0.98: 2 % smaller), for callgrind:
 //! `valgrind --tool=callgrind target/release/examples/energy_warm_profile CASE [cold|warm] [REPEAT] [FRAC]`,

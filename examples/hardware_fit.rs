@@ -14,7 +14,7 @@
 //! their fits took 4–13 min of the 28 min the whole run took before (v6 `friction+stiffening`).
 //! Without them the run chooses among the other nine on the same hold-out; with them the
 //! protocol is the same, only the candidate list is longer (neither won the hold-out when run:
-//! README, "Real robots").
+//! user's guide, hardware).
 //!
 //! Writes `OUT_DIR/hardware_fit/{v4,v6}_{family}.svg` and the fitted models
 //! `OUT_DIR/hardware_fit/ftdcr_{v4,v6}_{candidate}.toml` (default OUT_DIR `target`). Val is never
@@ -46,7 +46,11 @@ fn options() -> PredictOptions {
     PredictOptions {
         request: SolveRequest::new(MethodKind::Energy).with_settings(s),
         chunk: DEFAULT_CHUNK,
-        progress: true,
+        progress: ccrkit::progress::ProgressHandle::new(|e: ccrkit::progress::Event<'_>| {
+            if let ccrkit::progress::Event::Start { task, total } = e {
+                eprintln!("{task}: {} steps", total.unwrap_or(0));
+            }
+        }),
     }
 }
 

@@ -31,7 +31,11 @@ fn main() -> Result<()> {
         &model,
         &study::SpeedAccuracyOptions {
             repeats,
-            progress: true,
+            progress: ccrkit::progress::ProgressHandle::new(|e: ccrkit::progress::Event<'_>| {
+                if let ccrkit::progress::Event::Start { task, total } = e {
+                    eprintln!("{task}: {} steps", total.unwrap_or(0));
+                }
+            }),
             ..Default::default()
         },
     )?;

@@ -23,7 +23,11 @@ fn main() -> Result<()> {
     let model = Model::from_file(root.join("models/paper/case1.toml"))?;
     let opts = study::StabilityOptions {
         grid,
-        progress: true,
+        progress: ccrkit::progress::ProgressHandle::new(|e: ccrkit::progress::Event<'_>| {
+            if let ccrkit::progress::Event::Start { task, total } = e {
+                eprintln!("{task}: {} steps", total.unwrap_or(0));
+            }
+        }),
         ..Default::default()
     };
     let st = study::stability(&model, &opts)?;

@@ -1,10 +1,10 @@
 //! Checks on a solved shape at the output boundary, independent of the method that made it:
 //! every number finite, and the robot not passing through itself.
 //!
-//! [`crate::method::run::SolveRequest::run`] applies [`output`] to every shape it returns, so
-//! no command can exit 0 with a non-finite number (issue 11, item 6) or with a backbone or disks
-//! that interpenetrate (item 8: 99.99 % shortening under `energy` curled the robot through
-//! itself with no word).
+//! [`crate::method::run::SolveRequest::run`] applies [`output`] to every shape it returns, so no
+//! command can exit 0 with a non-finite number or with a backbone or disks that interpenetrate
+//! (before this check, 99.99 % shortening under `energy` curled the robot through itself with no
+//! word).
 //!
 //! **Self-contact** is tested with parry3d on the shape's own geometry, not on any method's
 //! internal state:

@@ -130,7 +130,7 @@ pub enum SolveError {
     },
     /// The scene asks for more contact work than one solve may spend: its distinct obstacles
     /// within reach of the robot times the robot's features (disks, backbone sections, cable
-    /// chords) exceed the limit (README, "When ccrkit says no"). Exact duplicates are merged
+    /// chords) exceed the limit (user's guide, errors). Exact duplicates are merged
     /// before counting. Raised before any solving.
     #[error(
         "contact budget exceeded: {obstacles} distinct obstacles within reach of the robot × \

@@ -4,7 +4,8 @@
 //!
 //! The flow: a model file ([`model::Model`]) gives a [`robot::Robot`] and an
 //! [`actuation::Actuation`]; a [`method::Method`] turns them into a [`shape::Shape`], which is
-//! written as JSON or drawn ([`plot`]). See `README.md` for the methods and their accuracy.
+//! written as JSON or drawn ([`plot`]). The user's guide (`docs/guide/`) describes the methods and
+//! their accuracy.
 
 #![warn(missing_docs)]
 
@@ -20,6 +21,7 @@ pub use model::{actuation, mesh, robot, routing, scene};
 pub mod numeric;
 pub mod plan;
 pub mod plot;
+pub mod progress;
 pub mod reach;
 pub mod shape;
 pub mod study;

@@ -290,7 +290,7 @@ fn assert_agrees(name: &str, m: &Model) {
     }
     // The chord measure, reported only: the rod's "chord" mode loads the rod along the routed
     // path and measures chords, while the energy model's chord cable runs straight between the
-    // holes and loads only the disks, so tensions differ by construction (see ENERGY_NOTES.md).
+    // holes and loads only the disks, so tensions differ by construction (user's guide, methods).
     let (rms, errs) = agreement(m, LengthMeasure::Chord);
     eprintln!(
         "{name} (chord): RMS {:.4} mm, tension errors {:?}",

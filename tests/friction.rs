@@ -118,7 +118,7 @@ fn energy_opts(extra: &[(&str, &str)]) -> PredictOptions {
     PredictOptions {
         request: SolveRequest::new(MethodKind::Energy).with_settings(s),
         chunk: 16,
-        progress: false,
+        progress: ccrkit::progress::ProgressHandle::none(),
     }
 }
 

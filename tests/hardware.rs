@@ -229,7 +229,7 @@ mod batch {
         PredictOptions {
             request: SolveRequest::new(MethodKind::Energy).with_settings(s),
             chunk,
-            progress: false,
+            progress: ccrkit::progress::ProgressHandle::none(),
         }
     }
 

@@ -24,7 +24,7 @@ fn options() -> SelectOptions {
     let mut fit = FitOptions::new(PredictOptions {
         request: SolveRequest::new(MethodKind::Energy).with_settings(s),
         chunk: DEFAULT_CHUNK,
-        progress: false,
+        progress: ccrkit::progress::ProgressHandle::none(),
     });
     fit.max_iterations = 4;
     SelectOptions::new(fit)

@@ -182,7 +182,7 @@ fn calibration_recovers_a_known_stiffening() {
     let popts = PredictOptions {
         request: SolveRequest::new(MethodKind::Energy).with_settings(s),
         chunk: DEFAULT_CHUNK,
-        progress: false,
+        progress: ccrkit::progress::ProgressHandle::none(),
     };
     let tips: Vec<Vector3<f64>> = predict(&truth, &data, &popts)
         .expect("predict")

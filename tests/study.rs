@@ -94,7 +94,7 @@ fn pareto_front_is_non_dominated() {
 fn speed_accuracy_csv_has_columns_and_finite_values() {
     let model = paper(1);
     let opts = study::SpeedAccuracyOptions {
-        progress: false,
+        progress: ccrkit::progress::ProgressHandle::none(),
         repeats: 1,
         methods: vec![
             "geometric-squared".into(),
@@ -145,7 +145,7 @@ fn speed_accuracy_csv_has_columns_and_finite_values() {
 #[test]
 fn adaptive_rows_follow_their_tolerance() {
     let opts = study::SpeedAccuracyOptions {
-        progress: false,
+        progress: ccrkit::progress::ProgressHandle::none(),
         repeats: 1,
         methods: vec!["cosserat".into()],
     };
@@ -178,7 +178,7 @@ fn unsupported_methods_carry_their_kind() {
     // Case II has a helical cable: the constant-curvature closed form cannot represent it.
     let model = paper(2);
     let opts = study::SpeedAccuracyOptions {
-        progress: false,
+        progress: ccrkit::progress::ProgressHandle::none(),
         repeats: 1,
         methods: vec!["constant-curvature".into()],
     };

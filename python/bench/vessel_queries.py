@@ -1,4 +1,4 @@
-"""Success and time of cold plans in the vessel (issue 13: success on >= 95 % of seeded random
+"""Success and time of cold plans in the vessel (targets: success on >= 95 % of seeded random
 feasible queries in the example scenes; cold plan <= 1 s).
 
 Feasible queries: seeded uniform samples of the two-segment robot's limits box

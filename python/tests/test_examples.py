@@ -1,4 +1,4 @@
-"""The Python paper comparison runs, draws, and says what the README says: the energy model
+"""The Python paper comparison runs, draws, and says what the user's guide says: the energy model
 lands much closer to the rod than the literal method (the rod as the independent reference)."""
 
 import importlib.util
@@ -18,6 +18,6 @@ def test_paper_comparison(tmp_path, capsys):
     assert (tmp_path / "paper_comparison.png").stat().st_size > 10_000
     assert [r[0] for r in rows] == [1, 2, 3]
     for _, literal, paper, energy in rows:
-        # The literal reading is mm away from the rod (README: 2.9-4.8 mm), energy sub-mm.
+        # The literal reading is mm away from the rod (user's guide, methods: 2.9-4.8 mm), energy sub-mm.
         assert 1.0 < literal < 10.0 and energy < 0.5 < literal
     assert "| 1 |" in capsys.readouterr().out

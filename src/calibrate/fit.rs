@@ -41,8 +41,8 @@ use crate::error::SolveError;
 use crate::model::hardware::directions;
 use crate::model::Model;
 use crate::numeric::so3::{exp_so3, log_so3};
+use crate::progress::ProgressHandle;
 use crate::shape::Shape;
-use indicatif::ProgressBar;
 use nalgebra::{DVector, Vector3};
 
 /// How to fit.
@@ -138,7 +138,7 @@ pub(super) struct Fitter<'a> {
     /// Each used row's direction of motion per cable (from the whole file, in order).
     pub(super) dirs: Vec<Vec<f64>>,
     pub(super) tips: Vec<Vector3<f64>>,
-    pub(super) bar: ProgressBar,
+    pub(super) bar: ProgressHandle,
     pub(super) passes: usize,
 }
 
@@ -180,7 +180,7 @@ impl Fitter<'_> {
             &self.commands,
             &self.dirs,
             warm,
-            &ProgressBar::hidden(),
+            &ProgressHandle::none(),
             &|_, r, _| r.ok().cloned(),
         );
         let mut shapes = Vec::with_capacity(out.len());
@@ -246,7 +246,7 @@ pub fn calibrate(
         max: 0.0,
     });
     let (x, cur, history, stop) = f.levenberg_marquardt(x0.clone(), start, opts)?;
-    f.bar.finish_and_clear();
+    f.bar.finish();
     let params = f.uncertainties(&x0, &x, &cur)?;
     let mut fitted_model = f.model_at(&x);
     fitted_model.hardware.base_position -= cur.mean_offset;
@@ -295,7 +295,7 @@ impl<'a> Fitter<'a> {
             &data.commands,
             &dirs,
             None,
-            &ProgressBar::hidden(),
+            &ProgressHandle::none(),
             &|_, r, _| r.is_ok(),
         );
         let used: Vec<usize> = (0..first.len()).filter(|&i| first[i]).collect();
@@ -312,11 +312,8 @@ impl<'a> Fitter<'a> {
                 ),
             });
         }
-        let bar = crate::study::progress_bar(
-            opts.max_iterations as u64,
-            opts.predict.progress,
-            "calibrate",
-        );
+        let bar = opts.predict.progress.clone();
+        bar.start("calibrate", Some(opts.max_iterations as u64));
         let f = Fitter {
             rows,
             base: model,
@@ -383,9 +380,9 @@ impl<'a> Fitter<'a> {
                 lambda,
                 passes: self.passes,
             });
-            self.bar.set_position(it as u64);
+            self.bar.advance(1);
             self.bar
-                .set_message(format!("calibrate rmse {:.3} mm", 1e3 * rmse(&cur.r)));
+                .note(|| format!("calibrate rmse {:.3} mm", 1e3 * rmse(&cur.r)));
             lambda = (lambda / 3.0).max(1e-9);
             if rel < opts.tolerance {
                 stop = format!("cost fell by {rel:.1e} < {:.0e}", opts.tolerance);

@@ -255,7 +255,7 @@ mod tests {
         let opts = FitOptions::new(PredictOptions {
             request: SolveRequest::new(MethodKind::Energy).with_settings(s),
             chunk: 8,
-            progress: false,
+            progress: crate::progress::ProgressHandle::none(),
         });
         model.hardware.base_rotation.z = 0.1;
         let default = crate::calibrate::params::default_names(&model.robot);

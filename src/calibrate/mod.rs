@@ -3,10 +3,10 @@
 //! sets on training data only ([`select`]), with the metric of the OpenCR FTDCR
 //! benchmark ([`aligned_errors`]).
 //!
-//! The metric (data README §5, the repository's): the predicted tips are shifted by the mean
-//! offset `mean(sim − real)` over the rows compared, then the Euclidean error per row is taken;
-//! the RMSE of these is the "mean-offset-aligned tip RMSE". The alignment absorbs three degrees
-//! of freedom (the unknown frame origin).
+//! The metric (`models/hardware/data/README.md` §5, the data's own): the predicted tips are shifted
+//! by the mean offset `mean(sim − real)` over the rows compared, then the Euclidean error per row
+//! is taken; the RMSE of these is the "mean-offset-aligned tip RMSE". The alignment absorbs three
+//! degrees of freedom (the unknown frame origin).
 
 pub mod data;
 pub mod fit;

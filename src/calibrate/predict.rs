@@ -19,8 +19,8 @@ use crate::method::{Method, MethodKind};
 use crate::model::hardware::directions;
 use crate::model::scene::Scene;
 use crate::model::Model;
+use crate::progress::ProgressHandle;
 use crate::shape::Shape;
-use indicatif::ProgressBar;
 use nalgebra::Vector3;
 
 /// Default rows per chunk.
@@ -34,8 +34,8 @@ pub struct PredictOptions {
     pub request: SolveRequest,
     /// Rows per chunk solved in sequence (≥ 1).
     pub chunk: usize,
-    /// Show a progress bar on a terminal.
-    pub progress: bool,
+    /// Where progress goes (one step per row predicted).
+    pub progress: ProgressHandle,
 }
 
 /// One predicted row.
@@ -124,7 +124,7 @@ impl Rows {
         commands: &[Vec<f64>],
         dirs: &[Vec<f64>],
         warm: Option<&[Option<Shape>]>,
-        bar: &ProgressBar,
+        bar: &ProgressHandle,
         out: &RowMap<'_, T>,
     ) -> Vec<T> {
         let blocks = Blocks {
@@ -144,7 +144,7 @@ impl Rows {
             },
             warm,
             &|i, row: &Solved| {
-                bar.inc(1);
+                bar.advance(1);
                 match &row.result {
                     Ok(s) => out(i, Ok(s), row.iterations),
                     Err(RowFailure::Error(e)) => out(i, Err(e), row.iterations),
@@ -171,14 +171,15 @@ pub fn predict(
     }
     let opts = &opts;
     let rows = Rows::new(model, data, opts)?;
-    let bar = crate::study::progress_bar(data.len() as u64, opts.progress, "predict");
+    let bar = &opts.progress;
+    bar.start("predict", Some(data.len() as u64));
     let dirs = directions(&data.commands);
     let out = rows.solve_all(
         model,
         &data.commands,
         &dirs,
         None,
-        &bar,
+        bar,
         &|_, r, iterations| RowPrediction {
             tip: r
                 .map(|s| model.hardware.measured_tip(s))
@@ -186,7 +187,7 @@ pub fn predict(
             iterations,
         },
     );
-    bar.finish_and_clear();
+    bar.finish();
     Ok(out)
 }
 

@@ -1,5 +1,5 @@
-//! Model selection on training data only (the data README's §8 protocol: "never use val for
-//! fitting or for model selection").
+//! Model selection on training data only (the protocol of `models/hardware/data/README.md` §8:
+//! "never use val for fitting or for model selection").
 //!
 //! [`select`] takes a model, **one** dataset (train) and candidate parameter sets, and by its
 //! signature can see nothing else: no file, no path, no validation rows. Every candidate is

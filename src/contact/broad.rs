@@ -13,7 +13,7 @@ use nalgebra::Vector3;
 /// evaluation of the methods queries at most these pairs, and their iterations are bounded,
 /// so the limit bounds a solve's contact work by a count, not a clock.
 ///
-/// Chosen from measurements (README, "When ccrkit says no"): the worst scene per pair is one
+/// Chosen from measurements (user's guide, obstacles): the worst scene per pair is one
 /// of nearly coincident boxes (distinct by 1e-9 m) across the robot, where every pair is near
 /// every evaluation; paper case I (36 features) with the literal method spends ~6 ms per pair
 /// there (64 boxes, 2304 pairs: 13 s on a loaded 2-core machine), the energy model ~0.2 ms.

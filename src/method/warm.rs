@@ -43,7 +43,7 @@ pub struct EnergyWarm {
 /// diagonal blocks) at a solution, with the cable weights `w_c` (multipliers of the
 /// length-driven cables, input tensions) and the stiffness diagonal `K` they were built with.
 /// A warm start from that solution whose first Hessian has the same strains, weights and `K`
-/// uses these blocks instead of rebuilding them (issue 16: a warm solve then costs no more
+/// uses these blocks instead of rebuilding them (so a warm solve then costs no more
 /// than a cold one, whose first Hessian has no cable curvature).
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnergyHessian {

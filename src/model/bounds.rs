@@ -4,7 +4,7 @@
 //! The ranges are deliberately wide (from micro-robots to metre-scale manipulators, from
 //! silicone to diamond) and exist so that no input can push a solver into overflow: with
 //! `section_length = 1e308` the literal method used to exit 0 with `null` coordinates
-//! (issue 11, item 6). A range is a promise that every product ccrkit forms (EI = E·π d⁴/64,
+//! before these bounds. A range is a promise that every product ccrkit forms (EI = E·π d⁴/64,
 //! tension × radius, lengths summed over [`super::MAX_SECTIONS`] sections) stays far from the
 //! limits of `f64`.
 

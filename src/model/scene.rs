@@ -15,8 +15,8 @@
 //!
 //! The same scene as JSON, in a file named `*.json`: the same fields, defaults and checks,
 //! read straight into the same typed form (a scene exported by another program, or one of
-//! thousands of obstacles, where JSON parses in half the instructions of TOML; README,
-//! "Large scenes"). A JSON parse error is prefixed with the path of the field
+//! thousands of obstacles, where JSON parses in half the instructions of TOML; user's
+//! guide, obstacles). A JSON parse error is prefixed with the path of the field
 //! (`obstacles[3].radius: invalid type: string "a", expected f64 at line 9 column 20`).
 //!
 //! ```json

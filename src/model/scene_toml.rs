@@ -1,4 +1,4 @@
-//! The plain shape of a TOML scene file read in one pass (issue 16 #5), without the document
+//! The plain shape of a TOML scene file read in one pass, without the document
 //! tree the `toml` crate builds before serde reads it.
 //!
 //! The plain shape is what scene files hold: an optional `clearance = number` at the top, then

@@ -197,7 +197,7 @@ fn stacked<T: Copy + Default>(
 
 /// Solve `[P Nᵀ; N 0] [x; y] = [−a; b]` (rows of `N`: `rows`) by LU with full pivoting
 /// ([`full_piv_solve`], on the stack: nalgebra's heap `DMatrix` LU was 13 % of a literal
-/// solve next to the wall, issue 16). `None` when singular, not finite, or larger than
+/// solve next to the wall). `None` when singular, not finite, or larger than
 /// [`KKT_MAX`]. `y` is returned on the stack, its first `rows.len()` entries (the rest 0).
 fn kkt_dir(
     p: &Matrix6<f64>,

@@ -1,10 +1,10 @@
-//! The split of a vector into two disc subgradients in closed form (issue 16), for
+//! The split of a vector into two disc subgradients in closed form, for
 //! [`disc_sum_scale`](super::qp::disc_sum_scale).
 
 use nalgebra::Vector3;
 
-/// [`disc_sum_scale`](super::qp::disc_sum_scale) of two discs in closed form (issue 16: the cone program cost ~0.5 M
-/// instructions a call). Each disc lies in its plane `P_k` (unit normal `d_k = e1_k × e2_k`);
+/// [`disc_sum_scale`](super::qp::disc_sum_scale) of two discs in closed form (the cone program cost
+/// ~0.5 M instructions a call). Each disc lies in its plane `P_k` (unit normal `d_k = e1_k × e2_k`);
 /// when the planes are not parallel, `n = d1 × d2 / |d1 × d2|` lies in both and
 /// `u_k = d_k × n` completes `P_k`'s basis, so a split is `v_k = α_k u_k + β_k n`. The `α_k`
 /// are fixed by the part of `target` orthogonal to `n` (a 2 × 2 system with determinant

@@ -187,7 +187,7 @@ type M6 = nalgebra::Matrix6<f64>;
 pub enum RowSplit6 {
     /// The eigenvectors of the row-normalized `AᵀA` (the split of [`kkt_step`]).
     Eigen,
-    /// Modified Gram–Schmidt on the rows (issue 16: that eigendecomposition was ~14 % of a
+    /// Modified Gram–Schmidt on the rows (that eigendecomposition was ~14 % of a
     /// literal solve). `[Y Z]` is then another orthonormal basis of the same row space and
     /// null space, so the step, the multipliers and the reduced Hessian's eigenvalues are the
     /// same in exact arithmetic (the null-space method does not depend on the basis chosen).

@@ -29,7 +29,7 @@ pub struct QpStep {
 }
 
 /// Solve the QP; `None` when it is infeasible or clarabel reports anything but (almost)
-/// solved. Exact to rounding by the dual active set of [`qp6_active_set`] (issue 16: the
+/// solved. Exact to rounding by the dual active set of [`qp6_active_set`] (the
 /// interior point cost half of a contact solve and left its steps accurate to ~1e-7 only);
 /// clarabel ([`qp_step6_clarabel`]) where that method makes no claim (dependent equality
 /// rows, a failed KKT solve).

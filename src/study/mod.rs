@@ -20,7 +20,8 @@
 //! positions in m, times in s.
 //!
 //!
-//! Measured numbers live in `README.md` (with the commands that regenerate them), not here.
+//! Measured numbers live in the user's guide (`docs/guide/`, with the commands that regenerate
+//! them), not here.
 
 pub mod compare;
 pub mod figures;
@@ -38,9 +39,7 @@ use crate::error::SolveError;
 use crate::method::cosserat::Cosserat;
 use crate::method::{Method, MethodKind, Settings};
 use crate::shape::Shape;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::fmt;
-use std::io::IsTerminal;
 
 /// A study failure (a solve that the study cannot do without, a file, a figure).
 #[derive(Debug, thiserror::Error)]
@@ -218,41 +217,6 @@ fn num(x: f64) -> String {
     } else {
         String::new()
     }
-}
-
-/// A progress bar on standard error, hidden when `show` is false or stderr is not a terminal.
-pub fn progress_bar(len: u64, show: bool, msg: &str) -> ProgressBar {
-    let bar = if show && std::io::stderr().is_terminal() {
-        ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr())
-    } else {
-        ProgressBar::hidden()
-    };
-    if let Ok(style) =
-        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({per_sec}, eta {eta})")
-    {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar.set_message(msg.to_string());
-    bar
-}
-
-/// A spinner with the elapsed time on standard error for one long step whose progress cannot
-/// be counted (a single solve), ticking on its own thread; hidden when stderr is not a
-/// terminal. `finish_and_clear` it when the step ends.
-pub fn spinner(msg: &str) -> ProgressBar {
-    let bar = if std::io::stderr().is_terminal() {
-        ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr())
-    } else {
-        ProgressBar::hidden()
-    };
-    if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} ({elapsed})") {
-        bar.set_style(style);
-    }
-    bar.set_message(msg.to_string());
-    if !bar.is_hidden() {
-        bar.enable_steady_tick(std::time::Duration::from_millis(120));
-    }
-    bar
 }
 
 /// Settings of a registered method's resolution entry.

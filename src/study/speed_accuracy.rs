@@ -2,13 +2,14 @@
 //! measured against a converged rod driven by the same kind of input.
 
 use super::{
-    all_method_names, method_kinds, num, outcome, progress_bar, reference, reference_displacement,
+    all_method_names, method_kinds, num, outcome, reference, reference_displacement,
     resolution_settings, Input, Status, StudyError,
 };
 use crate::error::SolveError;
 use crate::method::{Method, MethodKind};
 use crate::model::scene::Scene;
 use crate::model::Model;
+use crate::progress::ProgressHandle;
 use std::time::Instant;
 
 /// One method at one resolution setting.
@@ -69,8 +70,8 @@ pub struct SpeedAccuracyOptions {
     pub repeats: usize,
     /// Methods to study (default: every registered method).
     pub methods: Vec<String>,
-    /// Progress bar on a terminal (one step per method variant).
-    pub progress: bool,
+    /// Where progress goes (one step per method variant; the note names the variant).
+    pub progress: ProgressHandle,
 }
 
 impl Default for SpeedAccuracyOptions {
@@ -78,7 +79,7 @@ impl Default for SpeedAccuracyOptions {
         SpeedAccuracyOptions {
             repeats: 5,
             methods: all_method_names(),
-            progress: false,
+            progress: ProgressHandle::none(),
         }
     }
 }
@@ -101,15 +102,15 @@ pub fn speed_accuracy(
         .into_iter()
         .map(variants)
         .collect::<Result<Vec<_>, _>>()?;
-    let bar = progress_bar(
-        all.iter().map(Vec::len).sum::<usize>() as u64,
-        opts.progress,
+    let bar = &opts.progress;
+    bar.start(
         "speed-accuracy",
+        Some(all.iter().map(Vec::len).sum::<usize>() as u64),
     );
     for vs in all {
         for v in vs {
-            bar.set_message(format!("{} {}", v.method, v.setting));
-            bar.inc(1);
+            bar.note(|| format!("{} {}", v.method, v.setting));
+            bar.advance(1);
             let mut times = vec![];
             let mut last = None;
             for _ in 0..opts.repeats.max(1) {
@@ -155,7 +156,7 @@ pub fn speed_accuracy(
             });
         }
     }
-    bar.finish_and_clear();
+    bar.finish();
     Ok(rows)
 }
 

@@ -2,12 +2,13 @@
 //! with continuation along the rows.
 
 use super::{
-    all_method_names, method_kinds, natural_input, num, outcome, progress_bar, study_method, Input,
-    Status, StudyError,
+    all_method_names, method_kinds, natural_input, num, outcome, study_method, Input, Status,
+    StudyError,
 };
 use crate::model::actuation::{Actuation, Shortening};
 use crate::model::scene::Scene;
 use crate::model::Model;
+use crate::progress::ProgressHandle;
 use crate::shape::Shape;
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -25,8 +26,8 @@ pub struct StabilityOptions {
     pub input: Option<Input>,
     /// Methods (default: every registered method).
     pub methods: Vec<String>,
-    /// Show a progress bar on a terminal.
-    pub progress: bool,
+    /// Where progress goes (one step per grid point solved).
+    pub progress: ProgressHandle,
 }
 
 impl Default for StabilityOptions {
@@ -37,7 +38,7 @@ impl Default for StabilityOptions {
             tension_factor: 10.0,
             input: None,
             methods: all_method_names(),
-            progress: false,
+            progress: ProgressHandle::none(),
         }
     }
 }
@@ -108,7 +109,7 @@ pub(super) fn max_input(
     }
 }
 
-/// The sweep's ranges, checked before any solve (issue 11: `--max-percent nan` printed `NaN`,
+/// The sweep's ranges, checked before any solve (before this, `--max-percent nan` printed `NaN`,
 /// `1e308` and `--tension-factor inf` ran without end): the largest shortening a fraction in
 /// (0, 1), the tension factor in (0, 1000].
 pub(super) fn check_ranges(max_fraction: f64, factor: f64) -> Result<(), StudyError> {
@@ -148,7 +149,8 @@ pub fn stability(model: &Model, opts: &StabilityOptions) -> Result<Stability, St
     let n = opts.grid.max(2);
     let kinds = method_kinds(&opts.methods)?;
     let total = (kinds.len() * 2 * n * n) as u64;
-    let bar = progress_bar(total, opts.progress, "stability");
+    let bar = &opts.progress;
+    bar.start("stability", Some(total));
     let scene = Scene::empty();
     let mut points = vec![];
     for kind in kinds {
@@ -173,7 +175,7 @@ pub fn stability(model: &Model, opts: &StabilityOptions) -> Result<Stability, St
                                 &model.robot,
                                 solver.solve(&model.robot, &act, &scene, w),
                             ));
-                            bar.inc(1);
+                            bar.advance(1);
                             let tip = o.shape.as_ref().map(|s| s.tip());
                             if let Some(s) = o.shape {
                                 warm = Some(s);
@@ -198,7 +200,7 @@ pub fn stability(model: &Model, opts: &StabilityOptions) -> Result<Stability, St
             points.extend(rows.into_iter().flatten());
         }
     }
-    bar.finish_and_clear();
+    bar.finish();
     Ok(Stability {
         cables: [
             model.robot.cables[ca].name.clone(),

@@ -2,10 +2,11 @@
 //! shardable and mergeable.
 
 use super::stability::{actuation_for, max_input};
-use super::{natural_input, num, outcome, progress_bar, study_method, Input, Status, StudyError};
+use super::{natural_input, num, outcome, study_method, Input, Status, StudyError};
 use crate::method::MethodKind;
 use crate::model::scene::Scene;
 use crate::model::Model;
+use crate::progress::ProgressHandle;
 use crate::shape::Shape;
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -54,8 +55,8 @@ pub struct WorkspaceOptions {
     pub shard: Option<Shard>,
     /// Samples per block (warm starts stay inside a block).
     pub chunk: usize,
-    /// Progress bar on a terminal.
-    pub progress: bool,
+    /// Where progress goes (one step per sample solved).
+    pub progress: ProgressHandle,
 }
 
 impl Default for WorkspaceOptions {
@@ -68,7 +69,7 @@ impl Default for WorkspaceOptions {
             tension_factor: 3.0,
             shard: None,
             chunk: 32,
-            progress: false,
+            progress: ProgressHandle::none(),
         }
     }
 }
@@ -153,7 +154,8 @@ pub fn workspace(model: &Model, opts: &WorkspaceOptions) -> Result<Workspace, St
         .iter()
         .map(|j| chunk.min(opts.samples - j * chunk))
         .sum();
-    let bar = progress_bar(count as u64, opts.progress, &opts.method);
+    let bar = &opts.progress;
+    bar.start(&opts.method, Some(count as u64));
     let scene = Scene::empty();
     let start = Instant::now();
     let solved: Vec<Vec<WorkspaceSample>> = blocks
@@ -186,7 +188,7 @@ pub fn workspace(model: &Model, opts: &WorkspaceOptions) -> Result<Workspace, St
                     &model.robot,
                     solver.solve(&model.robot, &act, &scene, warm),
                 ));
-                bar.inc(1);
+                bar.advance(1);
                 let tip = o.shape.as_ref().map(|s| s.tip());
                 if let Some(s) = o.shape {
                     done.push((inputs.clone(), s));
@@ -202,7 +204,7 @@ pub fn workspace(model: &Model, opts: &WorkspaceOptions) -> Result<Workspace, St
             out
         })
         .collect();
-    bar.finish_and_clear();
+    bar.finish();
     Ok(Workspace {
         method: solver.name().to_string(),
         input,

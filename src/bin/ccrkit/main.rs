@@ -10,6 +10,7 @@ use std::path::PathBuf;
 mod calibrate;
 mod plan;
 mod predict;
+mod progress;
 mod reach;
 mod roadmap;
 mod study_cmd;
@@ -272,7 +273,7 @@ fn run() -> Result<()> {
             }
             let request = solve.request(repeat)?;
             let model = Model::from_file(&file)?;
-            let bar = study::spinner(&format!("solving with {}", request.method));
+            let bar = progress::spinner(&format!("solving with {}", request.method));
             let solved = request.run(&model);
             bar.finish_and_clear();
             let solved = solved?;

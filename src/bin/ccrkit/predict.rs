@@ -51,7 +51,7 @@ impl DataArgs {
         Ok(PredictOptions {
             request: self.solve.request(1)?,
             chunk: self.chunk,
-            progress: true,
+            progress: crate::progress::handle(),
         })
     }
 }

@@ -141,7 +141,7 @@ fn speed_accuracy(a: SpeedAccuracyArgs) -> Result<()> {
     let opts = study::SpeedAccuracyOptions {
         repeats,
         methods: methods_or_all(methods),
-        progress: true,
+        progress: crate::progress::handle(),
     };
     let rows = study::speed_accuracy(&model, &opts)?;
     let front = study::speed_accuracy_front(&rows);
@@ -194,7 +194,7 @@ fn stability(a: StabilityArgs) -> Result<()> {
         tension_factor,
         input: parse_input(&input)?,
         methods: methods_or_all(methods),
-        progress: true,
+        progress: crate::progress::handle(),
     };
     let t = Instant::now();
     let st = study::stability(&model, &opts)?;
@@ -238,7 +238,7 @@ fn workspace(a: WorkspaceArgs) -> Result<()> {
         tension_factor,
         shard,
         chunk,
-        progress: true,
+        progress: crate::progress::handle(),
     };
     let ws = study::workspace(&model, &opts)?;
     let stem = match shard {

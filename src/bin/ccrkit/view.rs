@@ -84,7 +84,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
         &model.robot,
         &scene,
     );
-    let bar = study::progress_bar(requests.len() as u64, true, "solving");
+    let bar = crate::progress::bar(requests.len() as u64, "solving");
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     for (label, r) in &requests {
         bar.set_message(format!("solving {label}"));

@@ -1,5 +1,5 @@
 //! Mass and inertia of every URDF link, so that simulators (MuJoCo refuses moving bodies
-//! without mass: issue 11, item 14) see the robot's real mass distribution.
+//! without mass) see the robot's real mass distribution.
 //!
 //! - **Disk** `k`: a solid cylinder of the disk radius r and thickness h (holes ignored), of
 //!   mass `loads.disk_mass` when the model gives one, else [`DEFAULT_DISK_DENSITY`]·π r² h;

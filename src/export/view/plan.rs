@@ -1,4 +1,4 @@
-//! Plans for the view: the JSON `ccrkit plan` writes (issue 13): an object whose `waypoints`
+//! Plans for the view: the JSON `ccrkit plan` writes: an object whose `waypoints`
 //! each carry a `shape` in the format of [`Shape::to_json`](crate::shape::Shape::to_json);
 //! other fields (actuation, statistics, clearance) are not needed to draw and are skipped.
 

@@ -7,7 +7,7 @@
 //! Why stretches: with every disk a step boundary, one step per section is the least the
 //! integrator can take, and on the paper cases one DP45 step per section is already more
 //! accurate than any tolerance above ~1e-7, so `TOL` from 1e-2 to 1e-7 gave the same answer
-//! (issue 11 #7). Over stretches the steps follow the tolerance: the error (scaled max-norm
+//! before. Over stretches the steps follow the tolerance: the error (scaled max-norm
 //! of the local error estimate: positions / L, R, strains, curvatures · L) is kept below
 //! `TOL` per step, and the tip error falls with it (test
 //! `adaptive_tolerance_controls_the_tip_error`).

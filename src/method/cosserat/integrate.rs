@@ -258,7 +258,7 @@ impl Problem<'_> {
     /// Newton on `z − g(z) = 0` with the exact `∂g/∂z` ([`Self::kink_map`]). A plain fixed
     /// point `z ← g(z)` contracts only by about `Σ τ r² / EI` (the cables' kink moment per unit
     /// bending strain) and diverges once the passing cables pull harder than that: the FTDCR
-    /// v4 rod with 20–40 N balanced tendon pulls (issue 11 #13) reached it, its passes failed
+    /// v4 rod with 20–40 N balanced tendon pulls reached it, its passes failed
     /// and Newton's line searches with them. `(n_base, m_base)`: the wrench after the other
     /// point loads; `None` if Newton does not settle.
     fn kink_forces(

@@ -316,7 +316,7 @@ mod tests {
         total
     }
 
-    /// Quadrature error allowed on a strongly bent and twisted state \[m\] (issue 4 asks for
+    /// Quadrature error allowed on a strongly bent and twisted state \[m\] (the target is
     /// ≤ 1e-9 m; measured 5e-12 m worst, on case III's jumping cable B).
     const QUAD_TOL: f64 = 1e-10;
 

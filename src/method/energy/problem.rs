@@ -134,7 +134,7 @@ impl Problem<'_> {
     /// energy) the second Newton step of an FTDCR row predicts ~1e-15 J while `pen × δL` is
     /// ~1e-14 J, so `φ(x + d) − φ(x)` is round-off of either sign and Armijo's test rejected the
     /// unit step at random; the backtracked step then took the step's multipliers with a tiny
-    /// `α`, and stationarity stalled at 1e-8–1e-6 (issue 15; `tests/hardware_roundoff.rs`).
+    /// `α`, and stationarity stalled at 1e-8–1e-6 (`tests/hardware_roundoff.rs`).
     /// A merit that cannot resolve the decrease cannot judge the step, so it is taken when both
     /// the predicted decrease and the actual change lie below the bound: the unit Newton step is
     /// what converges locally (Nocedal & Wright, *Numerical Optimization*, 2nd ed., §18.7; the

@@ -1,5 +1,5 @@
 //! A rigorous lower bound on the section objective over one face's whole feasible set, from
-//! the constraints one at a time (issue 16 item 1: skip faces that cannot beat the best
+//! the constraints one at a time (to skip faces that cannot beat the best
 //! certified candidate).
 //!
 //! # Derivation
@@ -32,7 +32,7 @@
 //!
 //! Only the infinite value: a face proved infeasible is skipped (`faces.rs`), which cannot
 //! change the answer since no run on it converges, so none yields a candidate or an escape.
-//! A finite bound above the best candidate so far would prune more (measured, issue 16: 14 %
+//! A finite bound above the best candidate so far would prune more (measured: 14 %
 //! of case III's iterations), but a skipped face's runs would also skip their escapes, which
 //! land on the face with no term at zero — its bound is 0, it contains every pose — so that
 //! skip could lose a candidate and is not made.

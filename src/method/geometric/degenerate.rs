@@ -1,5 +1,4 @@
-//! Degenerate faces: an unshortened cable that is both at its length and free of tension
-//! (issue 11 #3).
+//! Degenerate faces: an unshortened cable that is both at its length and free of tension.
 //!
 //! # Why the rows become dependent
 //!

@@ -1,5 +1,5 @@
-//! Closed-form first and second derivatives of the section problem (issue 16 #1: analytic
-//! derivatives instead of dual numbers).
+//! Closed-form first and second derivatives of the section problem (analytic
+//! derivatives in place of dual numbers, for speed).
 //!
 //! Every function of the section problem is a function `φ(v)` of one 3-vector `v(δ)` of the
 //! perturbation `δ = (δp, δω)` (pose `p + δp`, `Q exp([δω]×)`):

@@ -3,9 +3,10 @@
 //! # The literal method (`geometric`)
 //!
 //! The robot is solved one section at a time, base to tip (paper §2, steps 1–4, read as in
-//! `paper/INTERPRETATION.md`). Section `i` lies between disks `i−1` and `i`. Everything is
-//! written in the frame of the **solved** disk `i−1` (origin at its backbone point, z along its
-//! normal, x at hole angle 0). In that frame the unknown is the rigid pose of disk `i`:
+//! the user's guide, `docs/guide/paper.md`). Section `i` lies between disks `i−1` and `i`.
+//! Everything is written in the frame of the **solved** disk `i−1` (origin at its backbone
+//! point, z along its normal, x at hole angle 0). In that frame the unknown is the rigid pose
+//! of disk `i`:
 //! backbone point `p` and rotation `Q`, so hole `c` of disk `i` sits at `p + Q h_c(i)` with
 //! `h_c(k) = r_c(k) (cos φ_c(k), sin φ_c(k), 0)`. A rigid disk keeps `|x_c − x_0| = r` and the
 //! angle θ between holes (the last three constraints of eq. 2) by construction, and the paper's
@@ -22,7 +23,7 @@
 //!
 //! subject to (eq. 2) `|p| = l0` and, for each cable, `|p + Q h_c(i) − h_c(i−1)| ≤ l_c^i` where
 //! `l_c^i = (1 − Δ_c) |H_c(i) − H_c(i−1)|` is a uniform fraction of the cable's **undeformed
-//! straight chord** between its two holes (INTERPRETATION item 1). The paper writes the cable
+//! straight chord** between its two holes (reading 1 of the guide). The paper writes the cable
 //! constraint as an equality; cables pull but cannot push, so ccrkit treats it as `≤`: a cable
 //! whose chord comes out shorter than its length is reported slack.
 //!
@@ -43,8 +44,8 @@
 //!
 //! When all driven holes of a disk are collinear with its centre (one cable, two cables with
 //! coinciding holes as in case III at disks 7–9, or two opposite holes), the rotation of the disk
-//! about that line changes neither the objective nor a constraint. It is fixed as INTERPRETATION
-//! item 7 says: the disk normal is the incoming backbone chord made orthogonal to the hole
+//! about that line changes neither the objective nor a constraint. It is fixed as reading 7 of the
+//! guide says: the disk normal is the incoming backbone chord made orthogonal to the hole
 //! direction. Cables sharing a hole on both disks of a section share one segment constraint with
 //! the tighter length; the other is slack there. Sections past every driven cable's end carry no
 //! load and continue straight.

@@ -19,18 +19,18 @@ use std::cmp::Ordering::Less;
 /// with steps of up to 1e-7 and stationarity up to 8e-6 (wall, pillar), ~1e-9 m from the
 /// minimum. With the exact QP step ([`crate::numeric::active_qp`]) and polished witnesses the
 /// polish converges on to the free tolerance: on the wall and the pillar every certified
-/// contact candidate ends with a step ≤ 1e-11 and stationarity ≤ 7e-10 (issue 16). Since the
+/// contact candidate ends with a step ≤ 1e-11 and stationarity ≤ 7e-10. Since the
 /// step carries the contact curvature (`contact_curvature.rs`) the last steps converge
 /// quadratically (wall, disk 8: 1.7e-5 → 2.0e-10 → 1.3e-15, was 1.2e-5 → 1.1e-7 → 9.6e-10 →
 /// 8.5e-12).
 pub(super) const CONTACT_STEP_TOL: f64 = 1e-11;
 
-/// [`CONTACT_STEP_TOL`] before issue 16, kept by `geometric-squared`: with 1e-11 its pillar
+/// [`CONTACT_STEP_TOL`] before that exact step, kept by `geometric-squared`: with 1e-11 its pillar
 /// solve found no certified candidate in section 5 (not measured further; the squared
 /// objective is not the paper's method).
 /// The literal method falls back to it in a section near obstacles where no candidate
 /// converged at 1e-11 ([`SectionData::loose_contacts`]): found by `tests/adversarial_files.rs`
-/// (the pillar turned by 1e5 rad solved before issue 16's tightening and not after). The
+/// (the pillar turned by 1e5 rad solved before the tightening and not after). The
 /// contact curvature did not make it unneeded: on the 40 turned pillars of
 /// `tests/geometric_contact.rs` the failing candidates chatter with steps of 1e-8–1e-6 at a
 /// residual of 1e-13 — the noise of parry's distance and normal for the disk against the
@@ -44,7 +44,7 @@ pub(super) const CONTACT_STAT_TOL: f64 = 1e-6;
 
 /// Consecutive line searches cut below 1e-3 of the step after which a run is given up as
 /// stalled (it is a kink of a term this face keeps non-zero, or no minimum on this face). Was
-/// 3; issue 16 measured 2: the same certified answers on every case of
+/// 3; 2 measured: the same certified answers on every case of
 /// `tests/geometric_tips.rs` (and the same `NotConverged` count in `geometric_random.rs`) with
 /// 12–14 % fewer Newton iterations on the paper cases; 1 loses a random robot. The former
 /// search ([`SectionData::former_search`]) keeps [`FORMER_MAX_SHORT_STEPS`].
@@ -53,7 +53,7 @@ const MAX_SHORT_STEPS: usize = 2;
 /// A line search that ends below this step length is short (see [`MAX_SHORT_STEPS`]).
 const SHORT_STEP: f64 = 1e-3;
 
-/// The stall count before issue 16.
+/// The stall count of the former search.
 const FORMER_MAX_SHORT_STEPS: usize = 3;
 
 impl Geometric {

@@ -1,6 +1,6 @@
-//! The section problem (paper eq. 1–2, `INTERPRETATION.md` items 1–7) in the frame of the solved
-//! disk i−1: the relative pose, the objective terms, the cable constraints, and their values and
-//! exact derivatives.
+//! The section problem (paper eq. 1–2, readings 1–7 of `docs/guide/paper.md`) in the frame of the
+//! solved disk i−1: the relative pose, the objective terms, the cable constraints, and their values
+//! and exact derivatives.
 
 use super::obstacles::SectionWorld;
 use crate::error::SolveError;
@@ -115,14 +115,14 @@ pub(super) struct SectionData {
     /// the robot, whose contact candidates stop at a 1e-7 step, so that a rounding-level change
     /// upstream moves its recorded tips (by 1.2e-8 m on the pillar, measured 2026-11-27). The
     /// literal method takes both next to obstacles too since its contact candidates converge
-    /// to 1e-11 (issue 16: wall tips moved 2e-15 m, pillar 1e-11 m, the parry noise there).
+    /// to 1e-11 (wall tips moved 2e-15 m, pillar 1e-11 m, the parry noise there).
     pub(super) gram_schmidt: bool,
-    /// Search with the start nudges and stall count from before issue 16 (the quick search's
+    /// Search with the start nudges and stall count of the former search (the quick search's
     /// are smaller, see `faces::nudge` and `newton::MAX_SHORT_STEPS`): a retry where the quick
     /// search found no certified pose. (Sections near obstacles took it always while their
     /// contact candidates converged only to 1e-7; see `Geometric::solve_section`.)
     pub(super) former_search: Cell<bool>,
-    /// Contact candidates converge at the step tolerance from before issue 16
+    /// Contact candidates converge at the step tolerance of the former search
     /// (`newton::FORMER_CONTACT_STEP_TOL`, 1e-7) instead of 1e-11: the last retry of a section
     /// near obstacles where neither search certified a pose at 1e-11 (see
     /// `Geometric::solve_section`).

@@ -82,5 +82,5 @@ pub(super) fn nudge(p: &Pose, data: &SectionData) -> Pose {
 /// The nudge: position (× section length) and rotation vector \[rad\].
 const NUDGE: ([f64; 3], [f64; 3]) = ([1.3e-4, -0.7e-4, 0.0], [0.9e-4, 1.1e-4, -0.8e-4]);
 
-/// The nudge of the former search (the size before issue 16, see [`nudge`]).
+/// The nudge of the former search (10× the current size, see [`nudge`]).
 const FORMER_NUDGE: ([f64; 3], [f64; 3]) = ([1.3e-3, -0.7e-3, 0.0], [0.9e-3, 1.1e-3, -0.8e-3]);

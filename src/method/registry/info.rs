@@ -56,7 +56,7 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
         values: common::SWITCH,
         default: "off",
         help: "stable and jacobian also with pressing contacts (adds the contact curvature, \
-               dear near obstacles: cost measured in the README)",
+               dear near obstacles: cost in the user's guide, performance)",
     },
     SettingInfo {
         name: "sensitivity",

@@ -45,7 +45,7 @@ fn wall_converges_superlinearly() {
 }
 
 /// The pillar: two disk rims against a cylinder; superlinear down to round-off, and to
-/// ~1e-12 (issue 16) since a pair near touching is queried from its old normal (no EPA
+/// ~1e-12 since a pair near touching is queried from its old normal (no EPA
 /// answer, whose normal was off by ~1e-5 rad: the old floor of a few 1e-10). Five iterations
 /// since the step guard knows the exact distance to the cylinder (`energy/step_guard.rs`).
 #[test]
