@@ -113,6 +113,8 @@ impl BatchInputs {
                     capstan: 0.0,
                 })
                 .collect(),
+            insertion: None,
+            rotation: None,
         }
     }
 }

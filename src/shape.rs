@@ -32,6 +32,12 @@ pub struct CablePath {
     pub slack_sections: Vec<usize>,
     /// Tension \[N\], where the method computes one.
     pub tension: Option<f64>,
+    /// Shortening \[m\]: the change of the cable's path length (undeformed minus solved, in
+    /// the method's length measure) plus, for a compliant cable, its stretch `T/k − T₀/k` —
+    /// the displacement under which the same method, displacement-driven, returns this shape.
+    /// Every method reports it for every cable, whatever drove it (`None` only in a shape read
+    /// from a file that lacks it).
+    pub shortening: Option<f64>,
 }
 
 /// A contact between the robot and an obstacle (filled by obstacle-aware methods).
@@ -143,6 +149,102 @@ pub struct Shape {
     pub contacts: Vec<Contact>,
     /// Solver report.
     pub report: SolveReport,
+    /// Where the robot stood in its port (`None` for a robot without a port). With a port
+    /// every position of the shape is in the scene frame, disks behind the port included.
+    pub port: Option<PortState>,
+}
+
+/// A robot's place in its port at one solve ([`crate::model::port`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PortState {
+    /// The port frame in the scene frame (origin at the port, +z out of it).
+    pub pose: nalgebra::Isometry3<f64>,
+    /// Insertion `d` \[m\]: the robot's length out of the port.
+    pub insertion: f64,
+    /// Rotation `ψ` \[rad\] about the port axis.
+    pub rotation: f64,
+    /// The first disk beyond the port (`disks.len()` when every disk is at or behind it);
+    /// the disks before it lie straight along the port axis, behind the port.
+    pub first_disk: usize,
+}
+
+impl PortState {
+    /// JSON form.
+    pub fn to_json(&self) -> PortJson {
+        let r = self.pose.rotation.to_rotation_matrix().into_inner();
+        let t = self.pose.translation.vector;
+        PortJson {
+            position: [t.x, t.y, t.z],
+            orientation: rows(&r),
+            insertion: self.insertion,
+            rotation: self.rotation,
+            first_disk: self.first_disk,
+        }
+    }
+}
+
+/// JSON form of a [`PortState`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PortJson {
+    /// Port origin, scene frame \[m\].
+    pub position: [f64; 3],
+    /// Port frame's rotation in the scene frame, row-major (its third column is the axis).
+    pub orientation: [[f64; 3]; 3],
+    /// Insertion `d` \[m\].
+    pub insertion: f64,
+    /// Rotation `ψ` \[rad\].
+    pub rotation: f64,
+    /// First disk beyond the port.
+    pub first_disk: usize,
+}
+
+impl PortJson {
+    /// The port state this JSON describes; `field` prefixes the field names in errors.
+    pub fn into_state(self, field: &str) -> Result<PortState, ModelError> {
+        let o = &self.orientation;
+        let nums = [
+            self.position[0],
+            self.position[1],
+            self.position[2],
+            self.insertion,
+            self.rotation,
+        ];
+        if nums
+            .iter()
+            .chain(o.iter().flatten())
+            .any(|x| !x.is_finite())
+        {
+            return Err(ModelError::invalid(
+                format!("{field}.port"),
+                "numbers must be finite",
+            ));
+        }
+        let m = Matrix3::new(
+            o[0][0], o[0][1], o[0][2], o[1][0], o[1][1], o[1][2], o[2][0], o[2][1], o[2][2],
+        );
+        if (m.transpose() * m - Matrix3::identity()).norm() > 1e-6 || m.determinant() <= 0.0 {
+            return Err(ModelError::invalid(
+                format!("{field}.port.orientation"),
+                "must be a rotation matrix (orthonormal, determinant +1)",
+            ));
+        }
+        let q = nalgebra::UnitQuaternion::from_matrix(&m);
+        let t = nalgebra::Translation3::from(Vector3::from(self.position));
+        Ok(PortState {
+            pose: nalgebra::Isometry3::from_parts(t, q),
+            insertion: self.insertion,
+            rotation: self.rotation,
+            first_disk: self.first_disk,
+        })
+    }
+}
+
+fn rows(r: &Matrix3<f64>) -> [[f64; 3]; 3] {
+    [
+        [r[(0, 0)], r[(0, 1)], r[(0, 2)]],
+        [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
+        [r[(2, 0)], r[(2, 1)], r[(2, 2)]],
+    ]
 }
 
 impl Shape {
@@ -183,11 +285,7 @@ impl Shape {
                 .map(|d| DiskJson {
                     s: d.s,
                     position: arr(&d.position),
-                    rotation: [
-                        [d.rotation[(0, 0)], d.rotation[(0, 1)], d.rotation[(0, 2)]],
-                        [d.rotation[(1, 0)], d.rotation[(1, 1)], d.rotation[(1, 2)]],
-                        [d.rotation[(2, 0)], d.rotation[(2, 1)], d.rotation[(2, 2)]],
-                    ],
+                    rotation: rows(&d.rotation),
                 })
                 .collect(),
             backbone: self.backbone.iter().map(arr).collect(),
@@ -200,10 +298,12 @@ impl Shape {
                     slack: c.slack,
                     slack_sections: c.slack_sections.clone(),
                     tension: c.tension,
+                    shortening: c.shortening,
                 })
                 .collect(),
             contacts: self.contacts.clone(),
             report: self.report.clone(),
+            port: self.port.as_ref().map(PortState::to_json),
         }
     }
 
@@ -276,8 +376,10 @@ impl ShapeJson {
                 slack: cj.slack,
                 slack_sections: cj.slack_sections,
                 tension: cj.tension,
+                shortening: cj.shortening,
             });
         }
+        let port = self.port.map(|p| p.into_state(field)).transpose()?;
         Ok(Shape {
             method: self.method,
             disks,
@@ -285,6 +387,7 @@ impl ShapeJson {
             cables,
             contacts: self.contacts,
             report: self.report,
+            port,
         })
     }
 }
@@ -329,6 +432,9 @@ pub struct CableJson {
     /// Tension \[N\] where computed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tension: Option<f64>,
+    /// Shortening \[m\] (see [`CablePath::shortening`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shortening: Option<f64>,
 }
 
 /// JSON form of a [`Shape`].
@@ -352,6 +458,9 @@ pub struct ShapeJson {
     pub contacts: Vec<Contact>,
     /// Solver report.
     pub report: SolveReport,
+    /// The robot's place in its port (absent without a port).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub port: Option<PortJson>,
 }
 
 /// What drove a solve: the method's input where a cable gives both, and each cable's drive.
@@ -364,6 +473,12 @@ pub struct DrivenBy {
     pub settings: Vec<(String, String)>,
     /// Per cable, in robot order.
     pub cables: Vec<CableDriveJson>,
+    /// Insertion `d` through the port \[m\] (absent without a port).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub insertion: Option<f64>,
+    /// Rotation `ψ` about the port axis \[rad\] (absent without a port).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<f64>,
 }
 
 /// One cable's drive in a solve.
@@ -411,8 +526,10 @@ mod tests {
                 slack: false,
                 slack_sections: vec![],
                 tension: Some(1.5),
+                shortening: Some(0.001),
             }],
             contacts: vec![],
+            port: None,
             report: SolveReport {
                 converged: true,
                 iterations: 7,

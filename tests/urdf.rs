@@ -85,6 +85,7 @@ fn synthetic() -> (Robot, Shape) {
         disks,
         cables: vec![],
         contacts: vec![],
+        port: None,
         report: SolveReport::default(),
     };
     (robot, shape)
@@ -102,7 +103,27 @@ fn all_shapes() -> Vec<(String, Robot, Shape)> {
     v.push(("synthetic".into(), r, s));
     let (r, s) = next_to_wall();
     v.push(("case 1 against a wall".into(), r, s));
+    let (r, s) = through_port();
+    v.push(("case 2 through a port".into(), r, s));
     v
+}
+
+/// Case 2 deployed through a turned port, 0.113 m of its 0.18 m out and turned by 2.1 rad:
+/// the articulated export starts with the port's prismatic and revolute joints.
+fn through_port() -> (Robot, Shape) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("models/paper/case2.toml")).expect("case 2");
+    let text = format!(
+        "{text}\n[port]\nposition = [0.02, -0.01, 0.05]\norientation = {{ rpy = [0.4, -0.3, 1.2] }}\n\
+         insertion = 0.113\nrotation = 2.1\n"
+    );
+    let model = Model::from_toml_str(&text).expect("case 2 with a port");
+    let method = method_by_name("geometric").expect("geometric method");
+    let shape = method
+        .solve(&model.robot, &model.actuation, &Scene::empty(), None)
+        .expect("case 2 through a port");
+    assert!(shape.port.is_some());
+    (model.robot, shape)
 }
 
 /// Case 1 solved next to `models/scenes/wall.toml`: disks 8 and 9 rest on the wall.

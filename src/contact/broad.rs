@@ -37,7 +37,9 @@ pub(crate) fn robot_obstacles(robot: &Robot, scene: &Scene) -> Result<Vec<usize>
 /// how many exact duplicates among those within reach were merged.
 pub(crate) fn within_reach(robot: &Robot, scene: &Scene) -> (Vec<usize>, usize) {
     let reach = robot.length() + robot.disk_radius + scene.clearance + robot.disk_thickness;
-    let all = scene.near(&Vector3::zeros(), reach);
+    // Through a port, nothing comes out farther than the robot's length from the port.
+    let from = robot.port.as_ref().map_or(Vector3::zeros(), |p| p.origin());
+    let all = scene.near(&from, reach);
     let n = all.len();
     let near = scene.distinct(all);
     let merged = n - near.len();

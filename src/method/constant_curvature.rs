@@ -53,6 +53,7 @@ use crate::method::settings::{common, Configure};
 use crate::method::{Method, MethodKind, SolveInput};
 use crate::model::actuation::{Drive, Input};
 use crate::model::robot::Robot;
+use crate::model::routing::{Route, RoutingFit};
 use crate::numeric::so3::exp_so3;
 use crate::shape::{DiskFrame, Shape, SolveReport};
 use nalgebra::{Matrix2, Vector2, Vector3};
@@ -182,8 +183,9 @@ impl Method for ConstantCurvature {
         }
         let (disks, backbone) = arc_shape(robot, &u);
         let mut cables = cable_paths(robot, &disks, &slack_sections);
-        for (path, t) in cables.iter_mut().zip(&tensions) {
+        for (c, (path, t)) in cables.iter_mut().zip(&tensions).enumerate() {
             path.tension = *t;
+            path.shortening = Some(arc_shortening(robot, c, &u)?);
         }
         notes.push(format!(
             "curvature {:.6} 1/m, bending plane {:.6} rad",
@@ -196,6 +198,7 @@ impl Method for ConstantCurvature {
             backbone,
             cables,
             contacts: vec![],
+            port: None,
             report: SolveReport {
                 converged: true,
                 iterations: 1,
@@ -210,6 +213,36 @@ impl Method for ConstantCurvature {
             },
         })
     }
+}
+
+/// Gauss–Legendre nodes on [0, 1] and weights, 5 points (exact to degree 9).
+const GAUSS5: [(f64, f64); 5] = [
+    (0.046_910_077_030_668, 0.118_463_442_528_094_5),
+    (0.230_765_344_947_158_5, 0.239_314_335_249_683_2),
+    (0.5, 0.284_444_444_444_444_4),
+    (0.769_234_655_052_841_5, 0.239_314_335_249_683_2),
+    (0.953_089_922_969_332, 0.118_463_442_528_094_5),
+];
+
+/// Path shortening of cable `c` on the arc of bending `u = κ (cos φ, sin φ)`: its route `r(s)`
+/// (body frame, [`Route`]) runs at `|ẑ + ω × r + r'|` per unit arc with `ω = κ (−sin φ, cos φ,
+/// 0)`, against `|ẑ + r'|` straight. For a straight cable the rates are constant and this is
+/// exactly `a_c · u` (module docs); a free helical one is integrated by 5-point Gauss–Legendre
+/// per section (its rate is smooth inside a section).
+fn arc_shortening(robot: &Robot, c: usize, u: &Vector2<f64>) -> Result<f64, SolveError> {
+    let route = Route::new(robot, c, RoutingFit::Spline)?;
+    let omega = Vector3::new(-u.y, u.x, 0.0);
+    let mut change = 0.0;
+    for i in 1..=robot.cables[c].ends_at {
+        let (s0, l) = (robot.disk_s[i - 1], robot.section_length(i));
+        for (x, w) in GAUSS5 {
+            let p = route.eval(s0 + x * l, i - 1);
+            let straight = (Vector3::z() + p.dr).norm();
+            let bent = (Vector3::z() + omega.cross(&p.r) + p.dr).norm();
+            change += w * l * (straight - bent);
+        }
+    }
+    Ok(change)
 }
 
 /// Hole radius and angle of a driven cable that one constant-curvature section can carry:

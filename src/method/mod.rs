@@ -20,6 +20,7 @@ pub mod cosserat;
 pub mod energy;
 pub mod geometric;
 pub mod output;
+mod port;
 mod registry;
 pub mod run;
 pub mod settings;
@@ -81,8 +82,22 @@ pub trait Method: Send + Sync {
     /// This method readied for `robot`: what depends on the robot and the settings alone
     /// (e.g. the energy model's routing samples) is computed once, so repeated solves of the
     /// same robot ([`SolveRequest`](run::SolveRequest) repeats, continuation steps) skip it.
-    /// The default readies nothing.
+    /// A robot with a port is readied per solve for the robot beyond the port (which changes
+    /// with the insertion, `method/port.rs`); otherwise this is [`Method::prepare_fixed`].
+    /// Methods implement [`Method::prepare_fixed`], not this.
     fn prepare<'a>(&'a self, robot: &'a Robot) -> Result<Box<dyn Prepared + 'a>, SolveError> {
+        if robot.port.is_some() {
+            return Ok(Box::new(port::PortPrepared {
+                method: self,
+                robot,
+            }));
+        }
+        self.prepare_fixed(robot)
+    }
+
+    /// The method's own readying for a robot without a port (see [`Method::prepare`]). The
+    /// default readies nothing.
+    fn prepare_fixed<'a>(&'a self, robot: &'a Robot) -> Result<Box<dyn Prepared + 'a>, SolveError> {
         Ok(Box::new(Unprepared {
             method: self,
             robot,
@@ -135,16 +150,24 @@ pub trait Prepared: Send + Sync {
 
 /// The contract of every solve, written once for [`Method::solve`] and [`Prepared::solve`]:
 /// an obstacle, load or cable property that `kind` does not model is refused by name before
-/// any work ([`MethodKind::check_support`]: never silently left out of a shape), and the
-/// shape's `report.solve_time_s` is the wall time of the whole call, `solve` included.
-fn checked_and_timed<'a>(
+/// any work ([`MethodKind::check_support`]: never silently left out of a shape); a robot with
+/// a port is solved beyond its port and placed in the scene (`method/port.rs`), a robot
+/// without one refuses an insertion or a rotation by name; and the shape's
+/// `report.solve_time_s` is the wall time of the whole call, `solve` included.
+fn checked_and_timed(
     kind: MethodKind,
-    input: SolveInput<'a>,
-    solve: impl FnOnce(SolveInput<'a>) -> Result<Shape, SolveError>,
+    input: SolveInput<'_>,
+    solve: impl FnOnce(SolveInput<'_>) -> Result<Shape, SolveError>,
 ) -> Result<Shape, SolveError> {
     let start = Instant::now();
-    kind.check_support(input.robot, input.scene)?;
-    let mut shape = solve(input)?;
+    let mut shape = match &input.robot.port {
+        Some(p) => port::solve_through(kind, p, input, solve)?,
+        None => {
+            input.act.port_command(input.robot)?;
+            kind.check_support(input.robot, input.scene)?;
+            solve(input)?
+        }
+    };
     shape.report.solve_time_s = start.elapsed().as_secs_f64();
     Ok(shape)
 }

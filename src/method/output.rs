@@ -22,6 +22,15 @@ pub fn cable_paths(
             slack: !slack_sections[c].is_empty(),
             slack_sections: slack_sections[c].clone(),
             tension: None,
+            shortening: None,
         })
         .collect()
+}
+
+/// The change of a cable's length between holes `points` (one per disk it passes, in order)
+/// against its undeformed straight chords: undeformed minus solved \[m\] (the geometric
+/// methods' measure, [`crate::model::actuation::LengthMeasure::Chord`]).
+pub fn chord_shortening(robot: &Robot, c: usize, points: &[nalgebra::Vector3<f64>]) -> f64 {
+    let solved: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    robot.undeformed_chord_length(c) - solved
 }

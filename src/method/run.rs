@@ -178,6 +178,8 @@ impl SolveRequest {
                 .map(|(k, v)| (k.to_string(), v.to_string()))
                 .collect(),
             cables,
+            insertion: shape.port.as_ref().map(|p| p.insertion),
+            rotation: shape.port.as_ref().map(|p| p.rotation),
         });
         j
     }

@@ -116,19 +116,79 @@ impl CableDrive {
     }
 }
 
-/// Inputs for every cable of a robot, index-aligned with [`Robot::cables`].
+/// Inputs for every cable of a robot, index-aligned with [`Robot::cables`], and the two base
+/// degrees of freedom of a robot deployed through a port ([`crate::model::port`]).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Actuation {
     /// One drive per cable.
     pub cables: Vec<CableDrive>,
+    /// Insertion `d` \[m\]: the robot's length out of its port, in `[0, L]` (`None`: all of it,
+    /// `d = L`). Only for a robot with a port; refused by name otherwise.
+    pub insertion: Option<f64>,
+    /// Rotation `ψ` \[rad\] of the robot about its port's axis (`None`: 0). Only for a robot
+    /// with a port; refused by name otherwise.
+    pub rotation: Option<f64>,
 }
 
 impl Actuation {
-    /// Every cable free.
+    /// Every cable free (and, with a port, the robot all the way out, unturned).
     pub fn free(robot: &Robot) -> Self {
         Actuation {
             cables: vec![CableDrive::default(); robot.cables.len()],
+            insertion: None,
+            rotation: None,
         }
+    }
+
+    /// The port command `(d, ψ)` this actuation gives `robot`, checked: `None` for a robot
+    /// without a port (which refuses an insertion or a rotation by name); absent values are
+    /// `d = L` and `ψ = 0`; `d` must lie in `[0, L]`, `ψ` be finite.
+    pub fn port_command(&self, robot: &Robot) -> Result<Option<(f64, f64)>, SolveError> {
+        let as_input = |e: crate::error::ModelError| match e {
+            crate::error::ModelError::Invalid { field, reason } => {
+                SolveError::InvalidInput { field, reason }
+            }
+            other => SolveError::InvalidInput {
+                field: "actuation".into(),
+                reason: other.to_string(),
+            },
+        };
+        if robot.port.is_none() {
+            let given = [("insertion", self.insertion), ("rotation", self.rotation)];
+            if let Some((field, Some(v))) = given.into_iter().find(|(_, v)| v.is_some()) {
+                return Err(SolveError::InvalidInput {
+                    field: field.into(),
+                    reason: format!(
+                        "{field} {v} is an input of a robot deployed through a port; robot `{}` \
+                         has none (give its model file a [port] table)",
+                        robot.name
+                    ),
+                });
+            }
+            return Ok(None);
+        }
+        let d = match self.insertion {
+            Some(d) => crate::model::port::check_insertion("insertion", d, robot.length())
+                .map_err(as_input)?,
+            None => robot.length(),
+        };
+        let psi = match self.rotation {
+            Some(r) => crate::model::port::check_rotation("rotation", r).map_err(as_input)?,
+            None => 0.0,
+        };
+        Ok(Some((d, psi)))
+    }
+
+    /// Set the insertion \[m\] (builder style, for sweeps).
+    pub fn with_insertion(mut self, d: f64) -> Self {
+        self.insertion = Some(d);
+        self
+    }
+
+    /// Set the rotation \[rad\] (builder style, for sweeps).
+    pub fn with_rotation(mut self, psi: f64) -> Self {
+        self.rotation = Some(psi);
+        self
     }
 
     /// Shortening of cable `c` as a fraction Δ of its undeformed chord length
@@ -180,8 +240,10 @@ impl Actuation {
         }
         let mut out = Vec::with_capacity(self.cables.len());
         for (c, d) in self.cables.iter().enumerate() {
+            // Checked in full where it drives the cable (below); a shortening the method
+            // does not use (a cable that gives both, driven by tension) must still be finite.
             let short = match d.shorten {
-                Some(_) => Some(self.checked_shortening(robot, c)?),
+                Some(_) => Some(self.finite_shortening(robot, c)?),
                 None => None,
             };
             if let Some(t) = d.tension {
@@ -208,6 +270,10 @@ impl Actuation {
                 .filter(|&i| usable(i))
                 .find_map(pick);
             let drive = match drive {
+                Some(Drive::Shorten { .. }) => {
+                    let (length, fraction) = self.checked_shortening(robot, c)?;
+                    Drive::Shorten { length, fraction }
+                }
                 Some(x) => x,
                 None if d.is_free() => Drive::Free,
                 None => {
@@ -248,18 +314,7 @@ impl Actuation {
     /// cable's undeformed straight-chord length `L` (a shortening of `L` or more is
     /// [`SolveError::Infeasible`]: no shape can reach it).
     fn checked_shortening(&self, robot: &Robot, c: usize) -> Result<(f64, f64), SolveError> {
-        let frac = self.shortening_fraction(robot, c).unwrap_or(0.0);
-        let len = self.shortening_length(robot, c).unwrap_or(0.0);
-        if !(frac.is_finite() && len.is_finite() && frac > -1.0) {
-            return Err(SolveError::InvalidInput {
-                field: format!("cables[{c}].shorten"),
-                reason: format!(
-                    "shortening {len} m ({:.4} % of the cable's undeformed length) must be \
-                     finite, and a payout smaller than the cable",
-                    100.0 * frac
-                ),
-            });
-        }
+        let (len, frac) = self.finite_shortening(robot, c)?;
         if frac >= 1.0 {
             return Err(SolveError::Infeasible {
                 cable: robot.cables[c].name.clone(),
@@ -274,8 +329,27 @@ impl Actuation {
         Ok((len, frac))
     }
 
+    /// Shortening of cable `c` as (metres, fraction), finite and a payout smaller than the
+    /// cable (fraction > −1).
+    fn finite_shortening(&self, robot: &Robot, c: usize) -> Result<(f64, f64), SolveError> {
+        let frac = self.shortening_fraction(robot, c).unwrap_or(0.0);
+        let len = self.shortening_length(robot, c).unwrap_or(0.0);
+        if !(frac.is_finite() && len.is_finite() && frac > -1.0) {
+            return Err(SolveError::InvalidInput {
+                field: format!("cables[{c}].shorten"),
+                reason: format!(
+                    "shortening {len} m ({:.4} % of the cable's undeformed length) must be \
+                     finite, and a payout smaller than the cable",
+                    100.0 * frac
+                ),
+            });
+        }
+        Ok((len, frac))
+    }
+
     /// Every displacement and tension scaled by `f` (a point on the path from no actuation to
-    /// this one, for continuation).
+    /// this one, for continuation); the insertion and rotation are kept (they move the robot,
+    /// they do not load it).
     pub fn scaled(&self, f: f64) -> Actuation {
         let mut a = self.clone();
         for d in &mut a.cables {

@@ -92,6 +92,8 @@ pub const HELIX_PER_DISK: Range = range(
     2.0 * std::f64::consts::PI,
     "rad",
 );
+/// A helix's turn per metre of arc: up to 10⁶ rad/m (a turn per 6 µm).
+pub const HELIX_PER_METRE: Range = range(-1e6, 1e6, "rad/m");
 /// Obstacle position components: within 1 km of the base.
 pub const COORDINATE: Range = range(-1e3, 1e3, "m");
 /// Obstacle sizes (radius, half extents, half height): 1 nm to 1 km.

@@ -39,6 +39,9 @@ pub(super) struct FileModel {
     /// Actuation limits per cable (`src/model/limits.rs`).
     #[serde(default)]
     limits: std::collections::BTreeMap<String, super::limits::FileLimit>,
+    /// The port the robot is deployed through (`src/model/port.rs`).
+    #[serde(default)]
+    port: Option<super::port::FilePort>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -162,6 +165,11 @@ impl FileModel {
         }
 
         let scene = self.scene(dir)?;
+        let port = self
+            .port
+            .as_ref()
+            .map(|p| p.validate(disk_s[n]))
+            .transpose()?;
         let robot = Robot {
             name: self.name,
             disk_s,
@@ -170,10 +178,21 @@ impl FileModel {
             backbone,
             cables,
             loads,
+            port: port.as_ref().map(|p| p.port.clone()),
         };
         let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
-        let limits = super::limits::validate(&self.limits, &robot)?;
-        let mut actuation = Actuation { cables: drives };
+        let mut limits = super::limits::validate(&self.limits, &robot)?;
+        let mut actuation = Actuation {
+            cables: drives,
+            insertion: None,
+            rotation: None,
+        };
+        if let Some(p) = &port {
+            limits.insertion = Some(p.insertion_limits);
+            limits.rotation = Some(p.rotation_limits);
+            actuation.insertion = Some(p.insertion);
+            actuation.rotation = Some(p.rotation);
+        }
         hardware.fold(&robot, &mut actuation)?;
         Ok(Model {
             scene,

@@ -22,7 +22,16 @@ enum FileRadius {
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 enum FileAngleRule {
     Straight(f64),
-    Helix { start: f64, per_disk: f64 },
+    Helix(FileHelix),
+}
+
+/// `helix = { start, per_disk }` or `helix = { start, per_metre }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileHelix {
+    start: f64,
+    per_disk: Option<f64>,
+    per_metre: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -116,22 +125,13 @@ impl FileCable {
                 ))
             }
         };
+        let (angle, helix) = self.angles(ci, ends_at, disk_s)?;
         let mut cable = Cable {
             name: self.name.clone(),
             ends_at,
             radius: self.radii(ci, ends_at, disk_radius, backbone)?,
-            angle: self.angles(ci, ends_at)?,
-            helix: match &self.angles {
-                FileAngles::Rule(FileAngleRule::Straight(a)) => Some(Helix {
-                    start: *a,
-                    per_disk: 0.0,
-                }),
-                FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => Some(Helix {
-                    start: *start,
-                    per_disk: *per_disk,
-                }),
-                FileAngles::PerDisk(_) => None,
-            },
+            angle,
+            helix,
             stiffness: None,
             pretension: 0.0,
         };
@@ -189,18 +189,68 @@ impl FileCable {
         Ok(radius)
     }
 
-    /// One hole angle per disk `0..=ends_at`, from a rule or a per-disk table.
-    fn angles(&self, ci: usize, ends_at: usize) -> Result<Vec<f64>, ModelError> {
+    /// One hole angle per disk `0..=ends_at`, from a rule or a per-disk table, and the rule
+    /// as a helix per metre of arc where there is one (`per_disk` on unequally spaced disks is
+    /// a table: its holes do not lie on one helix).
+    fn angles(
+        &self,
+        ci: usize,
+        ends_at: usize,
+        disk_s: &[f64],
+    ) -> Result<(Vec<f64>, Option<Helix>), ModelError> {
         let f = |name: &str| format!("cables[{ci}].{name}");
         let count = ends_at + 1;
         Ok(match &self.angles {
             FileAngles::Rule(FileAngleRule::Straight(a)) => {
-                vec![bounds::ANGLE.check(&f("angles.straight"), *a)?; count]
+                let a = bounds::ANGLE.check(&f("angles.straight"), *a)?;
+                let helix = Helix {
+                    start: a,
+                    per_metre: 0.0,
+                };
+                (vec![a; count], Some(helix))
             }
-            FileAngles::Rule(FileAngleRule::Helix { start, per_disk }) => {
-                bounds::ANGLE.check(&f("angles.helix.start"), *start)?;
-                bounds::HELIX_PER_DISK.check(&f("angles.helix.per_disk"), *per_disk)?;
-                (0..count).map(|k| start + per_disk * k as f64).collect()
+            FileAngles::Rule(FileAngleRule::Helix(h)) => {
+                let start = bounds::ANGLE.check(&f("angles.helix.start"), h.start)?;
+                match (h.per_disk, h.per_metre) {
+                    (Some(_), Some(_)) | (None, None) => {
+                        return Err(ModelError::invalid(
+                            f("angles.helix"),
+                            "give exactly one of per_disk [rad per disk] or per_metre [rad/m]",
+                        ))
+                    }
+                    (Some(pd), None) => {
+                        bounds::HELIX_PER_DISK.check(&f("angles.helix.per_disk"), pd)?;
+                        let angle: Vec<f64> = (0..count).map(|k| start + pd * k as f64).collect();
+                        let ell = disk_s[1] - disk_s[0];
+                        let equal = (1..=ends_at)
+                            .all(|k| ((disk_s[k] - disk_s[k - 1]) - ell).abs() <= 1e-12 * ell);
+                        let helix = equal.then_some(Helix {
+                            start,
+                            per_metre: pd / ell,
+                        });
+                        (angle, helix)
+                    }
+                    (None, Some(w)) => {
+                        let field = f("angles.helix.per_metre");
+                        bounds::HELIX_PER_METRE.check(&field, w)?;
+                        let end = start + w * disk_s[ends_at];
+                        bounds::ANGLE.check(&field, end).map_err(|_| {
+                            ModelError::invalid(
+                                &field,
+                                format!(
+                                    "turns the cable to {end:e} rad at its end, beyond ±{:e} rad",
+                                    bounds::ANGLE.hi
+                                ),
+                            )
+                        })?;
+                        let angle = (0..count).map(|k| start + w * disk_s[k]).collect();
+                        let helix = Helix {
+                            start,
+                            per_metre: w,
+                        };
+                        (angle, Some(helix))
+                    }
+                }
             }
             FileAngles::PerDisk(v) => {
                 if v.len() != count {
@@ -215,7 +265,7 @@ impl FileCable {
                 for (k, a) in v.iter().enumerate() {
                     bounds::ANGLE.check(&format!("cables[{ci}].angles[{k}]"), *a)?;
                 }
-                v.clone()
+                (v.clone(), None)
             }
         })
     }

@@ -338,6 +338,8 @@ impl Hardware {
                     }
                 })
                 .collect(),
+            insertion: None,
+            rotation: None,
         }
     }
 

@@ -37,11 +37,18 @@ pub struct CableLimits {
     pub tension: [f64; 2],
 }
 
-/// Limits of every cable, index-aligned with [`Robot::cables`].
+/// Limits of every cable, index-aligned with [`Robot::cables`], and of the port's insertion
+/// and rotation when the robot has a port (`[port] limits = { insertion, rotation }`,
+/// [`crate::model::port`]).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Limits {
     /// One entry per cable.
     pub cables: Vec<CableLimits>,
+    /// Insertion range `[min, max]` \[m\] within `[0, L]` (`None` without a port; default
+    /// `[0, L]`).
+    pub insertion: Option<[f64; 2]>,
+    /// Rotation range `[min, max]` \[rad\] (`None` without a port; default `[−π, π]`).
+    pub rotation: Option<[f64; 2]>,
 }
 
 impl Limits {
@@ -57,6 +64,11 @@ impl Limits {
                     tension: [0.0, f64::INFINITY],
                 })
                 .collect(),
+            insertion: robot.port.as_ref().map(|_| [0.0, robot.length()]),
+            rotation: robot
+                .port
+                .as_ref()
+                .map(|_| [-std::f64::consts::PI, std::f64::consts::PI]),
         }
     }
 }

@@ -11,7 +11,8 @@
 //! [[cables]]
 //! name = "A"
 //! radius = 0.008                # hole radius \[m\]: one number, or one per disk it passes
-//! angles = { straight = 0.0 }   # or { helix = { start, per_disk } } or [a0, ..., a_end]
+//! angles = { straight = 0.0 }   # or { helix = { start, per_metre } } [rad, rad/m]
+//!                               # or { helix = { start, per_disk } } or [a0, ..., a_end]
 //! ends_at = 9                   # disk where the cable is tied (default: last)
 //! shorten_percent = 4.0         # or shorten = 0.0072 \[m\]
 //! tension = 4.16925             # \[N\]
@@ -19,6 +20,9 @@
 //! pretension = 0.5              # optional, needs stiffness: tension at zero command, straight \[N\]
 //! [hardware]                    # optional: a real robot's gains, offsets and frames
 //! gain = 1.0                    # see [`hardware`] for every field
+//! [port]                        # optional: deployed through a port (see [`port`])
+//! position = [0.0, 0.0, 0.0]    # [m]; orientation = { rpy = [...] }
+//! insertion = 0.1               # [m] out of the port; rotation = 0.0 [rad]
 //! ```
 //!
 //! Every rule is checked with an error naming the field ([`ModelError::Invalid`]); unknown
@@ -31,6 +35,7 @@ mod file_cable;
 pub mod hardware;
 pub mod limits;
 pub mod mesh;
+pub mod port;
 pub mod read;
 pub mod robot;
 pub mod routing;

@@ -106,6 +106,21 @@ impl Cable {
         self.pretension * self.compliance()
     }
 
+    /// The rate `ω` \[rad/m\] of the declared helix (0 for a straight run) when the holes
+    /// follow it: one radius, and the angle at disk `k` equal to `angle[0] + ω (s_k − s_0)`
+    /// to 1e-12 relative (`disk_s` the disks' arc lengths). `None` for a per-disk table, or
+    /// holes changed after parsing so that they no longer follow the rule (the holes are the
+    /// truth).
+    pub fn helix_rate(&self, disk_s: &[f64]) -> Option<f64> {
+        let h = self.helix?;
+        let (a0, r0) = (self.angle[0], self.radius[0]);
+        let follows = (1..=self.ends_at).all(|k| {
+            let a = a0 + h.per_metre * (disk_s[k] - disk_s[0]);
+            self.radius[k] == r0 && (self.angle[k] - a).abs() <= 1e-12 * (1.0 + a.abs())
+        });
+        follows.then_some(h.per_metre)
+    }
+
     /// Hole position at disk `k` in that disk's own frame (z = 0).
     pub fn hole(&self, k: usize) -> Vector3<f64> {
         let (r, a) = (self.radius[k], self.angle[k]);
@@ -159,6 +174,10 @@ pub struct Robot {
     pub cables: Vec<Cable>,
     /// External loads (gravity, tip wrench) for force-based methods.
     pub loads: Loads,
+    /// The entry port the robot is deployed through (`None`: its base is fixed at the scene
+    /// origin, z along the backbone). With a port, insertion and rotation are part of the
+    /// actuation ([`crate::model::port`]).
+    pub port: Option<crate::model::port::Port>,
 }
 
 impl Robot {

@@ -22,9 +22,9 @@
 //!   term becomes a regularized least-squares fit.
 //!
 //! **Declared helices stay helices.** A cable whose file gives `angles = { helix = … }` or
-//! `{ straight = … }` (and one hole radius, on equally spaced disks) is routed by its closed
-//! form under the default fit: `r(s) = ρ (cos θ, sin θ, 0)`, `θ = θ₀ + ω s`, `ω = δ/ℓ`
-//! (`δ` the angle per disk, `ℓ` the disk spacing), `r' = ρω (−sin θ, cos θ, 0)`,
+//! `{ straight = … }` (and one hole radius) is routed by its closed
+//! form under the default fit: `r(s) = ρ (cos θ, sin θ, 0)`, `θ = θ₀ + ω s` (`ω` the file's
+//! `per_metre`, or `δ/ℓ` for an angle `δ` per disk on disks `ℓ` apart), `r' = ρω (−sin θ, cos θ, 0)`,
 //! `r'' = −ρω² (cos θ, sin θ, 0)` — the curve public Cosserat codes use (e.g. Rucker &
 //! Webster 2011's helical examples). A spline through a helix's holes misses it between disks
 //! (case II: 0.036 mm with 9 sections). Per-disk tables keep the spline; `fourier8` keeps the
@@ -61,14 +61,15 @@ pub struct RoutePoint {
     pub ddr: Vector3<f64>,
 }
 
-/// A hole pattern declared by rule in the model file: the hole of disk `k` at angle
-/// `start + per_disk · k` (a straight cable: `per_disk = 0`).
+/// A hole pattern declared by rule in the model file: the hole at arc length `s` at angle
+/// `start + per_metre · s` (a straight cable: `per_metre = 0`). A file's `per_disk` rule on
+/// equally spaced disks is the same helix with `per_metre = per_disk / ℓ`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Helix {
-    /// Angle at disk 0 \[rad\].
+    /// Angle at `s = 0` \[rad\].
     pub start: f64,
-    /// Angle added per disk \[rad\].
-    pub per_disk: f64,
+    /// Angle added per metre of arc \[rad/m\].
+    pub per_metre: f64,
 }
 
 /// Order of the Fourier fit.
@@ -153,33 +154,19 @@ fn fourier_basis(omega: f64, s: f64) -> [[f64; NCOEF]; 3] {
     b
 }
 
-/// The closed-form route of cable `c` if its file declared a helix or a straight run, its
-/// holes share one radius and its disks are equally spaced (else `None`: a per-disk table).
+/// The closed-form route of cable `c` if its file declared a helix or a straight run and its
+/// holes follow that rule ([`crate::model::robot::Cable::helix_rate`]; else `None`: a per-disk
+/// table).
 fn closed_form(robot: &Robot, c: usize) -> Option<Curve> {
     let cable = &robot.cables[c];
-    let helix = cable.helix?;
-    let rho = cable.radius[0];
-    let ell = robot.disk_s[1] - robot.disk_s[0];
-    // The holes are the truth: the rule is used only where they follow it (from the first
-    // hole's angle, so a model whose angles were turned after parsing stays consistent).
-    let a0 = cable.angle[0];
-    let uniform = (1..=cable.ends_at).all(|k| {
-        let d = robot.disk_s[k] - robot.disk_s[k - 1];
-        let a = a0 + helix.per_disk * k as f64;
-        (d - ell).abs() <= 1e-12 * ell
-            && cable.radius[k] == rho
-            && (cable.angle[k] - a).abs() <= 1e-12 * (1.0 + a.abs())
-    });
-    if !uniform || ell <= 0.0 {
-        return None;
-    }
-    Some(if helix.per_disk == 0.0 {
+    let omega = cable.helix_rate(&robot.disk_s)?;
+    Some(if omega == 0.0 {
         Curve::Straight { r: cable.hole(0) }
     } else {
         Curve::Helix {
-            rho,
-            theta0: a0 - helix.per_disk * robot.disk_s[0] / ell,
-            omega: helix.per_disk / ell,
+            rho: cable.radius[0],
+            theta0: cable.angle[0] - omega * robot.disk_s[0],
+            omega,
         }
     })
 }

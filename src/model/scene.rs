@@ -123,6 +123,16 @@ impl Scene {
         self.obstacles.is_empty()
     }
 
+    /// The same obstacles seen from another frame: every obstacle's pose premultiplied by
+    /// `iso` (`iso` maps this scene's frame into the new one). The parry shapes are shared,
+    /// not copied; each bound is the shape's own in its new pose.
+    pub fn transformed(&self, iso: &Isometry3<f64>) -> Scene {
+        Scene {
+            clearance: self.clearance,
+            obstacles: self.obstacles.iter().map(|o| o.transformed(iso)).collect(),
+        }
+    }
+
     /// Append another scene's obstacles (the larger clearance wins).
     pub fn merge(&mut self, other: Scene) {
         self.clearance = self.clearance.max(other.clearance);
@@ -367,6 +377,23 @@ impl Obstacle {
                 .chain(pose)
                 .chain(sizes.into_iter().map(f64::to_bits)),
         )
+    }
+
+    /// The obstacle posed by `iso` after its own pose (see [`Scene::transformed`]).
+    pub fn transformed(&self, iso: &Isometry3<f64>) -> Obstacle {
+        let pose = iso * self.pose;
+        let by: Pose = (*iso).into();
+        let parry_pose = by * self.parry_pose;
+        let a = self.shape.compute_aabb(&parry_pose);
+        Obstacle {
+            pose,
+            parry_pose,
+            aabb: (
+                Vector3::new(a.mins.x, a.mins.y, a.mins.z),
+                Vector3::new(a.maxs.x, a.maxs.y, a.maxs.z),
+            ),
+            ..self.clone()
+        }
     }
 
     /// Rotation of the obstacle as a matrix.

@@ -106,9 +106,11 @@ struct FileScene {
     obstacles: Vec<FileObstacle>,
 }
 
+/// A rotation as a file writes it: `{ rpy = [roll, pitch, yaw] }` or
+/// `{ quaternion = [w, x, y, z] }` (obstacles, the port).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
-enum FileRotation {
+pub(crate) enum FileRotation {
     Rpy([f64; 3]),
     Quaternion([f64; 4]),
 }
@@ -148,6 +150,33 @@ impl Field<'_> {
     fn name(&self, n: &str) -> String {
         format!("{}obstacles[{}].{n}", self.prefix, self.k)
     }
+}
+
+/// A file's rotation (roll–pitch–yaw or a quaternion, normalized); identity if none. `name`
+/// turns `rotation.rpy` / `rotation.quaternion` into the field's full name for errors.
+pub(crate) fn quaternion(
+    r: Option<&FileRotation>,
+    name: &dyn Fn(&str) -> String,
+) -> Result<UnitQuaternion<f64>, ModelError> {
+    Ok(match r {
+        None => UnitQuaternion::identity(),
+        Some(FileRotation::Rpy(r)) => {
+            if r.iter().any(|x| !x.is_finite()) {
+                return Err(ModelError::invalid(name("rotation.rpy"), "must be finite"));
+            }
+            UnitQuaternion::from_euler_angles(r[0], r[1], r[2])
+        }
+        Some(FileRotation::Quaternion(q)) => {
+            let n = (q.iter().map(|x| x * x).sum::<f64>()).sqrt();
+            if !n.is_finite() || n < 1e-9 {
+                return Err(ModelError::invalid(
+                    name("rotation.quaternion"),
+                    "must be a finite, non-zero [w, x, y, z]",
+                ));
+            }
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
+        }
+    })
 }
 
 /// A size: present and inside [`super::bounds::OBSTACLE_SIZE`].
@@ -215,28 +244,7 @@ impl FileObstacle {
 
     /// The rotation as written (roll–pitch–yaw or a quaternion, normalized); identity if none.
     fn rotation(&self, at: Field) -> Result<UnitQuaternion<f64>, ModelError> {
-        Ok(match &self.rotation {
-            None => UnitQuaternion::identity(),
-            Some(FileRotation::Rpy(r)) => {
-                if r.iter().any(|x| !x.is_finite()) {
-                    return Err(ModelError::invalid(
-                        at.name("rotation.rpy"),
-                        "must be finite",
-                    ));
-                }
-                UnitQuaternion::from_euler_angles(r[0], r[1], r[2])
-            }
-            Some(FileRotation::Quaternion(q)) => {
-                let n = (q.iter().map(|x| x * x).sum::<f64>()).sqrt();
-                if !n.is_finite() || n < 1e-9 {
-                    return Err(ModelError::invalid(
-                        at.name("rotation.quaternion"),
-                        "must be a finite, non-zero [w, x, y, z]",
-                    ));
-                }
-                UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
-            }
-        })
+        quaternion(self.rotation.as_ref(), &|n| at.name(n))
     }
 
     /// Refuses a size given that this shape does not have (it would be silently ignored).

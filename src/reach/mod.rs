@@ -143,6 +143,8 @@ impl Space {
                     capstan: 0.0,
                 })
                 .collect(),
+            insertion: None,
+            rotation: None,
         }
     }
 

@@ -402,6 +402,14 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
     println!("model   {}", model.robot.name);
     println!("method  {}", shape.method);
     println!("tip     [{:.3}, {:.3}, {:.3}] mm", tip.x, tip.y, tip.z);
+    if let Some(p) = &shape.port {
+        println!(
+            "port    insertion {:.3} mm, rotation {:.4} rad; disks from {} out of the port",
+            p.insertion * 1e3,
+            p.rotation,
+            p.first_disk
+        );
+    }
     for s in &shape.report.sections {
         println!(
             "section {:>2}: residual {:.1e} m, {:>3} iterations, zero terms [{}]{}",

@@ -4,8 +4,17 @@
 //! Units are metres and radians; every frame is the disk frame of [`DiskFrame`](crate::shape::DiskFrame) (z along the disk
 //! normal, x at hole angle 0). Links and joints:
 //!
-//! * `base_link` — the robot's base frame; `base_to_disk_0` (fixed) places `disk_0` where the
-//!   shape puts it (the identity for every current method).
+//! * `base_link` — the robot's base frame (the scene frame); `base_to_disk_0` (fixed) places
+//!   `disk_0` where the shape puts it (the identity for a robot without a port).
+//! * **a robot deployed through a port** ([`crate::model::port`]), articulated mode: two base
+//!   joints come first, so a URDF client replays insertion and rotation: `port` (fixed, the
+//!   port frame `T_port`) → `port_link` → `port_insertion` (prismatic along z, value `d` \[m\],
+//!   limits `[0, L]`) → `port_insertion_link` → `port_rotation` (revolute about z, value `ψ`,
+//!   limits `[−π, π]`, each widened to contain the value) → `port_rotation_link` →
+//!   `base_to_disk_0` (fixed, `Tz(−L)`). Disk 0 is then at `T_port · Tz(d) · Rz(ψ) · Tz(−L)
+//!   = T_port · Rz(ψ) · Tz(d − L)`, where the solve put it; the sections behind the port are
+//!   straight sections of the chain (their joint values zero but for rounding). In fixed mode
+//!   `base_to_disk_0` places disk 0 directly.
 //! * **fixed mode** ([`UrdfMode::Fixed`], a snapshot for collision checking): one link per disk,
 //!   `disk_{k-1}_to_disk_k` fixed joints whose `origin` is the solved relative transform
 //!   `T_{k-1}⁻¹ T_k`: `xyz = R_{k-1}ᵀ (p_k − p_{k−1})`, `rpy = rpy(R_{k−1}ᵀ R_k)`.
@@ -82,6 +91,12 @@ use std::str::FromStr;
 
 /// Name of the root link.
 pub const BASE_LINK: &str = "base_link";
+/// The port frame's link (a shape solved through a port, articulated mode).
+pub const PORT_LINK: &str = "port_link";
+/// The link after the insertion joint.
+pub const PORT_INSERTION_LINK: &str = "port_insertion_link";
+/// The link after the rotation joint.
+pub const PORT_ROTATION_LINK: &str = "port_rotation_link";
 /// Name of the SRDF planning group (the chain `base_link` → last disk).
 pub const GROUP_NAME: &str = "backbone";
 /// Cable chords are drawn with this fraction of the backbone diameter…
@@ -219,15 +234,20 @@ pub fn export_urdf(
     let name = opts.name.clone().unwrap_or_else(|| robot.name.clone());
     let n = robot.sections();
     let disks = &shape.disks;
-    let mut links = vec![empty_link(BASE_LINK)];
-    let mut joints = vec![fixed_joint(
-        "base_to_disk_0",
-        BASE_LINK,
-        &disk_link_name(0),
-        &disks[0].position,
-        &disks[0].rotation,
-    )];
     let articulated = opts.mode == UrdfMode::Articulated;
+    let mut links = vec![empty_link(BASE_LINK)];
+    let mut joints = vec![];
+    let mut values = Vec::new();
+    match (&shape.port, articulated) {
+        (Some(p), true) => port_joints(robot, p, &mut links, &mut joints, &mut values),
+        _ => joints.push(fixed_joint(
+            "base_to_disk_0",
+            BASE_LINK,
+            &disk_link_name(0),
+            &disks[0].position,
+            &disks[0].rotation,
+        )),
+    }
     // Share of a disk's mass on each link whose origin is its centre (see `inertia`).
     let share = |k: usize| {
         if articulated {
@@ -237,7 +257,6 @@ pub fn export_urdf(
         }
     };
     links.push(disk_link(robot, shape, 0, opts, None, share(0)));
-    let mut values = Vec::new();
     for i in 1..=n {
         match opts.mode {
             UrdfMode::Fixed => {
@@ -283,6 +302,65 @@ pub fn export_urdf(
         srdf,
         json,
     })
+}
+
+/// The port's two joints (articulated mode, a shape solved through a port): `port`
+/// (fixed, the port frame in the scene frame), `port_insertion` (prismatic along the port
+/// axis, value `d`), `port_rotation` (revolute about it, value `ψ`) and `base_to_disk_0`
+/// (fixed, `Tz(−L)`): disk 0 at `T_port · Tz(d) · Rz(ψ) · Tz(−L)`, where the shape has it.
+fn port_joints(
+    robot: &Robot,
+    p: &crate::shape::PortState,
+    links: &mut Vec<urdf_rs::Link>,
+    joints: &mut Vec<urdf_rs::Joint>,
+    values: &mut Vec<JointValue>,
+) {
+    let r = p.pose.rotation.to_rotation_matrix().into_inner();
+    joints.push(fixed_joint(
+        "port",
+        BASE_LINK,
+        PORT_LINK,
+        &p.pose.translation.vector,
+        &r,
+    ));
+    links.push(empty_link(PORT_LINK));
+    let len = robot.length();
+    let specs = [
+        JointSpec::new(
+            "insertion",
+            PORT_INSERTION_LINK,
+            urdf_rs::JointType::Prismatic,
+            [0.0, 0.0, 1.0],
+            p.insertion,
+            (0.0, len),
+        ),
+        JointSpec::new(
+            "rotation",
+            PORT_ROTATION_LINK,
+            urdf_rs::JointType::Revolute,
+            [0.0, 0.0, 1.0],
+            p.rotation,
+            (-PI, PI),
+        ),
+    ];
+    let mut parent = PORT_LINK.to_string();
+    for spec in specs {
+        let jname = format!("port_{}", spec.what);
+        joints.push(movable_joint(&spec, &jname, parent));
+        values.push(JointValue {
+            name: jname,
+            value: spec.value,
+        });
+        links.push(empty_link(spec.child));
+        parent = spec.child.to_string();
+    }
+    joints.push(fixed_joint(
+        "base_to_disk_0",
+        PORT_ROTATION_LINK,
+        &disk_link_name(0),
+        &Vector3::new(0.0, 0.0, -len),
+        &Matrix3::identity(),
+    ));
 }
 
 /// The six joints and links of articulated section `i` (bend x/y, extension, tilt x/y, twist),

@@ -79,7 +79,7 @@ pub(super) fn json_text(
         method,
         group: GROUP_NAME,
         group_state: name,
-        units: "rad for revolute joints, m for prismatic (section_*_extension)",
+        units: "rad for revolute joints, m for prismatic (section_*_extension, port_insertion)",
         joints: values,
     })
     .map_err(|e| ExportError::Urdf {

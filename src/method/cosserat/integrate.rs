@@ -193,6 +193,9 @@ impl Problem<'_> {
                     LengthMeasure::Path => path,
                     LengthMeasure::Chord => chord,
                 };
+                if let Some(t) = trace.as_deref_mut() {
+                    t.len.extend_from_slice(&len[..robot.cables.len()]);
+                }
                 return Shot { resid, len, tip: p };
             }
             k += 1;

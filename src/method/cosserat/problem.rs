@@ -32,6 +32,8 @@ pub(super) struct Shot {
 pub(super) struct Trace {
     pub(super) disks: Vec<(Vector3<f64>, Matrix3<f64>)>,
     pub(super) backbone: Vec<Vector3<f64>>,
+    /// Cable lengths in the chosen measure at the end of the pass (empty until it ends).
+    pub(super) len: Vec<f64>,
     pub(super) key: Vec<f64>,
 }
 
@@ -40,6 +42,7 @@ impl Trace {
     pub(super) fn start(&mut self, n0: &Vector3<f64>, m0: &Vector3<f64>, ld: &LoadCase) {
         self.disks.clear();
         self.backbone.clear();
+        self.len.clear();
         self.key.clear();
         self.key.extend(n0.iter().chain(m0.iter()).chain(&ld.tau));
         self.key.push(ld.lam);

@@ -5,7 +5,7 @@ use super::inextensible::{slack_start, Group};
 use super::problem::{LoadCase, Problem, Trace};
 use super::shooting::{Newton, Setup};
 use super::warm::Warm;
-use super::{Cosserat, RodModel};
+use super::{Cosserat, RodModel, MAX_CABLES};
 use crate::error::SolveError;
 use crate::method::warm::WarmState;
 use crate::method::{Method, MethodKind, SolveInput};
@@ -203,6 +203,27 @@ impl Cosserat {
             prob.shoot(&n0, &m0, &ld, Some(&mut probe), None);
             trace = probe;
         }
+        // Undeformed lengths, for the shortenings reported: computed by the solve when a
+        // cable was length-driven, else here (one unloaded pass, the same quadrature).
+        let computed =
+            (0..robot.cables.len()).any(|c| matches!(prob.modes[c], Drive::Shorten { .. }));
+        let len0 = if computed {
+            prob.len0
+        } else {
+            let zero = LoadCase {
+                tau: [0.0; MAX_CABLES],
+                lam: 0.0,
+            };
+            let mut unloaded = Trace::default();
+            prob.shoot(
+                &Vector3::zeros(),
+                &Vector3::zeros(),
+                &zero,
+                Some(&mut unloaded),
+                None,
+            )
+            .len
+        };
         let disks: Vec<DiskFrame> = trace
             .disks
             .iter()
@@ -234,6 +255,12 @@ impl Cosserat {
                         vec![]
                     },
                     tension: Some(tau[c]),
+                    // The displacement under which this shape is the answer: the path change
+                    // plus the stretch `τ/k − T₀/k` of a compliant cable.
+                    shortening: trace
+                        .len
+                        .get(c)
+                        .map(|l| len0[c] - l + tau[c] * prob.compliance[c] - prob.pre_stretch[c]),
                 }
             })
             .collect();
@@ -243,6 +270,7 @@ impl Cosserat {
             backbone: trace.backbone,
             cables,
             contacts: vec![],
+            port: None,
             report: SolveReport {
                 converged: true,
                 iterations,

@@ -80,6 +80,12 @@ impl Energy {
                 Target::Tension(t) => Some(t),
                 Target::Free => None,
             };
+            // The displacement under which this shape is the answer: the path change plus the
+            // stretch `T/k − T₀/k` of a compliant cable (a free cable: the path change).
+            let stretch = path.tension.map_or(0.0, |t| {
+                t * prob.compliance[c] - robot.cables[c].pretension_stretch()
+            });
+            path.shortening = prob.len0.get(c).map(|l0| l0 - len[c] + stretch);
         }
         let state = WarmState::Energy(EnergyWarm {
             sub_arcs: self.sub_arcs,
@@ -94,6 +100,7 @@ impl Energy {
             backbone,
             cables,
             contacts: sol.contacts,
+            port: None,
             report: SolveReport {
                 converged: true,
                 iterations: sol.iterations,

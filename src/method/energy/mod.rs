@@ -269,7 +269,7 @@ impl Method for Energy {
         self.ready(input.robot)?.solve_supported(input)
     }
 
-    fn prepare<'a>(&'a self, robot: &'a Robot) -> Result<Box<dyn Prepared + 'a>, SolveError> {
+    fn prepare_fixed<'a>(&'a self, robot: &'a Robot) -> Result<Box<dyn Prepared + 'a>, SolveError> {
         Ok(Box::new(self.ready(robot)?))
     }
 }

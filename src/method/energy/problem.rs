@@ -63,6 +63,9 @@ pub(super) struct Problem<'a> {
     pub(super) targets: Vec<Target>,
     /// Compliance `1/k` of each cable \[m/N\] (0: inextensible).
     pub(super) compliance: Vec<f64>,
+    /// Undeformed length of every cable in the chosen measure \[m\] (set by
+    /// [`Energy::setup_from`]; the straight rod's).
+    pub(super) len0: Vec<f64>,
     /// Block size (4 for paths, 4m for chords) and count.
     pub(super) nb: usize,
     pub(super) nblocks: usize,
@@ -386,6 +389,7 @@ impl Energy {
             nodes,
             targets: vec![Target::Free; robot.cables.len()],
             compliance: robot.cables.iter().map(|c| c.compliance()).collect(),
+            len0: vec![],
             nb,
             nblocks,
             stat_scale: rbar / (ei * lmin),
@@ -406,6 +410,7 @@ impl Energy {
         len0: &[f64],
     ) -> Result<Problem<'a>, SolveError> {
         let mut prob = self.bare(robot, nodes);
+        prob.len0 = len0.to_vec();
         prob.frame_forces = self.dead_loads(robot, &prob.ell)?;
         if !scene.is_empty() {
             let near = broad::robot_obstacles(robot, scene)?;

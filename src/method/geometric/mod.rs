@@ -85,7 +85,7 @@ mod starts;
 
 use crate::contact::broad;
 use crate::error::SolveError;
-use crate::method::output::cable_paths;
+use crate::method::output::{cable_paths, chord_shortening};
 use crate::method::settings::Configure;
 use crate::method::{Method, MethodKind, SolveInput};
 use crate::model::actuation::{Drive, Input};
@@ -236,7 +236,10 @@ impl Method for Geometric {
                 "sections {reused:?} pose exactly the problem of the section before them, from the same start: its certified pose is reused (0 iterations)"
             ));
         }
-        let cables = cable_paths(robot, &disks, &slack_sections);
+        let mut cables = cable_paths(robot, &disks, &slack_sections);
+        for (c, path) in cables.iter_mut().enumerate() {
+            path.shortening = Some(chord_shortening(robot, c, &path.points));
+        }
         let backbone = disks.iter().map(|d| d.position).collect();
         Ok(Shape {
             method: self.name().into(),
@@ -244,6 +247,7 @@ impl Method for Geometric {
             backbone,
             cables,
             contacts,
+            port: None,
             report: SolveReport {
                 converged: true,
                 iterations: total_it,
