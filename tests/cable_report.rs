@@ -2,6 +2,7 @@
 //! solve's reported shortenings drive the same method back to the same shape and tensions.
 
 use ccrkit::actuation::{Actuation, CableDrive, Shortening};
+use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
 use ccrkit::{Model, Scene, Shape};
 
@@ -30,7 +31,9 @@ fn solve(m: &Model, kind: MethodKind, control: &str, act: &Actuation) -> Shape {
     } else {
         Settings::new()
     };
-    kind.build(&settings)
+    SolveRequest::new(kind)
+        .with_settings(settings)
+        .solver()
         .expect("builds")
         .solve(&m.robot, act, &Scene::empty(), None)
         .unwrap_or_else(|e| panic!("{kind} {control}: {e}"))

@@ -1,5 +1,6 @@
 //! The port: insertion `d` and rotation `ψ` in the model, every method, and the shape.
 
+use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
 use ccrkit::{Model, Scene, Shape, SolveError};
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
@@ -23,7 +24,9 @@ fn model(text: &str) -> Model {
 }
 
 fn solve(m: &Model, kind: MethodKind, settings: &Settings) -> Result<Shape, SolveError> {
-    kind.build(settings)?
+    SolveRequest::new(kind)
+        .with_settings(settings.clone())
+        .solver()?
         .solve(&m.robot, &m.actuation, &m.scene, None)
 }
 
@@ -152,8 +155,8 @@ fn a_robot_without_a_port_refuses_insertion_and_rotation_by_name() {
         (m.actuation.clone().with_insertion(0.05), "insertion"),
         (m.actuation.clone().with_rotation(0.1), "rotation"),
     ] {
-        let e = MethodKind::Energy
-            .build(&Settings::new())
+        let e = SolveRequest::new(MethodKind::Energy)
+            .solver()
             .unwrap()
             .solve(&m.robot, &act, &Scene::empty(), None)
             .unwrap_err();
