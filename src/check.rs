@@ -45,15 +45,7 @@ pub const MAX_BACKBONE_SEGMENTS: usize = 100_000;
 /// Both checks; the first failure as a [`SolveError`] (`NotConverged` for a non-finite number,
 /// `Obstructed` by `self` for a self-contact).
 pub fn output(robot: &Robot, shape: &Shape) -> Result<(), SolveError> {
-    if let Some(field) = first_non_finite(shape) {
-        return Err(SolveError::NotConverged {
-            method: shape.method.clone(),
-            section: None,
-            iterations: shape.report.iterations,
-            residual: shape.report.residual,
-            detail: format!("the result holds a non-finite number at `{field}`"),
-        });
-    }
+    finite(shape)?;
     if let Some(c) = self_contact(robot, shape) {
         return Err(SolveError::Obstructed {
             obstacle: "self".into(),
@@ -65,6 +57,21 @@ pub fn output(robot: &Robot, shape: &Shape) -> Result<(), SolveError> {
         });
     }
     Ok(())
+}
+
+/// The first half of [`output`], which needs no robot: every number of `shape` finite, else
+/// `NotConverged` naming the first field that is not.
+pub fn finite(shape: &Shape) -> Result<(), SolveError> {
+    match first_non_finite(shape) {
+        None => Ok(()),
+        Some(field) => Err(SolveError::NotConverged {
+            method: shape.method.clone(),
+            section: None,
+            iterations: shape.report.iterations,
+            residual: shape.report.residual,
+            detail: format!("the result holds a non-finite number at `{field}`"),
+        }),
+    }
 }
 
 /// A method's result passed through [`output`], so a shape through itself or a non-finite

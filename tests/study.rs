@@ -278,7 +278,9 @@ shorten_percent = 1.0
             "{line}"
         );
     }
-    // The outcome of a solve that returns NaN coordinates is `nan`, not `ok`.
+    // The outcome of a solve that returns NaN coordinates is not `ok`: it is the output
+    // check's verdict on such a shape, `not_converged` (the one outcome vocabulary), with
+    // no shape kept.
     let mut s = method_by_name("constant-curvature")
         .expect("known")
         .solve(
@@ -289,7 +291,9 @@ shorten_percent = 1.0
         )
         .expect("free robot solves");
     s.disks[1].position.x = f64::NAN;
-    assert_eq!(study::outcome(Ok(s)).status, "nan");
+    let o = study::outcome(Ok(s));
+    assert_eq!(o.status, "not_converged");
+    assert!(o.shape.is_none());
     let e = SolveError::NotConverged {
         method: "x".into(),
         section: None,

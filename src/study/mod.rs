@@ -135,9 +135,11 @@ pub struct Outcome {
     pub shape: Option<Shape>,
 }
 
-/// Classify a solve result (a study's solves go through a [`Solver`], so a shape here has
-/// passed the output check).
+/// Classify a solve result. A study's solves go through a [`Solver`], so a shape here has
+/// passed the output check; a shape from anywhere else with a non-finite number is still
+/// the failure that check makes of it ([`crate::check::finite`]), never `ok`.
 pub fn outcome(r: Result<Shape, SolveError>) -> Outcome {
+    let r = r.and_then(|s| crate::check::finite(&s).map(|()| s));
     let status = Status::of(&r);
     match r {
         Ok(s) => Outcome {
