@@ -247,6 +247,17 @@ pub fn solve_error(py: Python<'_>, e: &CoreSolveError) -> PyErr {
                 ..Default::default()
             },
         ),
+        // A kind this build of the extension does not know yet (the core's errors are
+        // non-exhaustive): the base class, with the kind's name and the message.
+        _ => raise::<SolveError>(
+            py,
+            msg.clone(),
+            Attrs {
+                kind,
+                reason: msg,
+                ..Default::default()
+            },
+        ),
     }
 }
 
@@ -257,6 +268,8 @@ pub fn model_error(py: Python<'_>, e: &CoreModelError) -> PyErr {
         CoreModelError::Io { path, reason } => (None, reason, Some(path)),
         CoreModelError::Parse { path, reason } => (None, reason, Some(path)),
         CoreModelError::Invalid { field, reason } => (Some(field), reason, None),
+        // A kind this build does not know yet (non-exhaustive): the message is the reason.
+        _ => (None, msg.clone(), None),
     };
     raise::<ModelError>(
         py,

@@ -16,6 +16,8 @@ def declared():
     for node in tree.body:
         if isinstance(node, (ast.ClassDef, ast.FunctionDef)):
             top.add(node.name)
+        elif isinstance(node, ast.AnnAssign):  # module constants (`DEFAULT_METHOD: str`)
+            top.add(node.target.id)
         if isinstance(node, ast.ClassDef):
             names = set()
             for n in node.body:
