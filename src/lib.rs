@@ -18,7 +18,7 @@ pub mod export;
 pub mod method;
 pub mod model;
 pub use model::{actuation, mesh, robot, routing, scene};
-pub mod numeric;
+pub(crate) mod numeric;
 pub mod plan;
 pub mod plot;
 pub mod progress;

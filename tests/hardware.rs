@@ -367,9 +367,7 @@ mod batch {
         let mut far = model("v6");
         far.hardware.base_rotation = Vector3::new(0.0, 1e4, 0.0);
         let mut near = far.clone();
-        near.hardware.base_rotation = ccrkit::numeric::so3::log_so3(
-            &ccrkit::numeric::so3::exp_so3(&Vector3::new(0.0, 1e4, 0.0)),
-        );
+        near.hardware.base_rotation = far.hardware.canonical_base_rotation();
         assert!(near.hardware.base_rotation.norm() <= std::f64::consts::PI);
         let (a, b) = (
             calibrate(&far, &d, &o).expect("fit from 1e4 rad"),

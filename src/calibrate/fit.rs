@@ -40,7 +40,6 @@ use super::{aligned_errors, ErrorStats};
 use crate::error::SolveError;
 use crate::model::hardware::directions;
 use crate::model::Model;
-use crate::numeric::so3::{exp_so3, log_so3};
 use crate::progress::ProgressHandle;
 use crate::shape::Shape;
 use nalgebra::{DVector, Vector3};
@@ -218,12 +217,12 @@ pub fn calibrate(
     // A rotation vector is defined modulo 2π along its axis: started from |θ| > π (a tilt of
     // 1e4 rad is a valid model file) the fit wandered to meaningless values (−1367 ± 2e4 rad)
     // and near 2π its standard errors blew up (exp's Jacobian is singular there). The same
-    // rotation with |θ| ≤ π (log ∘ exp, Barfoot 2017 §7.1.3) starts the fit instead; every
-    // prediction is unchanged.
+    // rotation with |θ| ≤ π (`Hardware::canonical_base_rotation`) starts the fit instead;
+    // every prediction is unchanged.
     let canonical;
     let model = if model.hardware.base_rotation.norm() > std::f64::consts::PI {
         let mut m = model.clone();
-        m.hardware.base_rotation = log_so3(&exp_so3(&m.hardware.base_rotation));
+        m.hardware.base_rotation = m.hardware.canonical_base_rotation();
         canonical = m;
         &canonical
     } else {

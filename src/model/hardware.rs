@@ -54,7 +54,7 @@ use super::actuation::{Actuation, Shortening};
 use super::bounds;
 use super::robot::Robot;
 use crate::error::ModelError;
-use crate::numeric::so3::exp_so3;
+use crate::numeric::so3::{exp_so3, log_so3};
 use crate::shape::Shape;
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
@@ -346,6 +346,24 @@ impl Hardware {
     /// Base rotation matrix `R_b`.
     pub fn base_matrix(&self) -> Matrix3<f64> {
         exp_so3(&self.base_rotation)
+    }
+
+    /// The same base rotation as a rotation vector of angle ≤ π (log ∘ exp, Barfoot 2017
+    /// §7.1.3): a rotation vector is defined modulo 2π along its axis, and calibration starts
+    /// from this form (its fit and standard errors are meaningless from |θ| > π).
+    ///
+    /// ```
+    /// use ccrkit::model::hardware::Hardware;
+    /// use nalgebra::Vector3;
+    ///
+    /// let mut h = Hardware::identity(1);
+    /// h.base_rotation = Vector3::new(0.0, 2.0 * std::f64::consts::PI + 0.25, 0.0);
+    /// let c = h.canonical_base_rotation();
+    /// assert!((c - Vector3::new(0.0, 0.25, 0.0)).norm() < 1e-12);
+    /// assert!((h.base_matrix() - { h.base_rotation = c; h.base_matrix() }).norm() < 1e-12);
+    /// ```
+    pub fn canonical_base_rotation(&self) -> Vector3<f64> {
+        log_so3(&exp_so3(&self.base_rotation))
     }
 
     /// The marker of a solved shape in the measurement frame \[m\] (module docs).

@@ -24,8 +24,9 @@ use nalgebra::{Matrix6, Vector6};
 /// What [`qp6_active_set`] found.
 #[derive(Debug, Clone)]
 pub enum Qp6 {
-    /// The minimizer with its multipliers (and the active inequality rows).
-    Solved(QpStep, Vec<usize>),
+    /// The minimizer with its multipliers (and the active inequality rows, which the tests
+    /// check against the multipliers).
+    Solved(QpStep, #[cfg_attr(not(test), allow(dead_code))] Vec<usize>),
     /// The constraints admit no point (a Farkas certificate was met).
     Infeasible,
     /// The equality rows are dependent, a KKT solve failed, or the iteration limit was met:
@@ -512,3 +513,8 @@ mod tests {
         assert!(solved > 2500 && singular > 10, "{solved} {singular}");
     }
 }
+
+/// Seeded cross-checks against independent solvers (kept in their own file for length).
+#[cfg(test)]
+#[path = "active_qp_cross_tests.rs"]
+mod against_clarabel;

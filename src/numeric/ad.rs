@@ -272,15 +272,6 @@ impl<T: Real> V3<T> {
             a[0] * b[1] - a[1] * b[0],
         ])
     }
-    /// Cross product with a constant vector (scalar products only: cheap for [`D2`]).
-    pub fn cross_c(&self, b: &nalgebra::Vector3<f64>) -> Self {
-        let a = &self.0;
-        V3([
-            a[1] * b.z - a[2] * b.y,
-            a[2] * b.x - a[0] * b.z,
-            a[0] * b.y - a[1] * b.x,
-        ])
-    }
     /// Dot product with a constant vector.
     pub fn dot_c(&self, b: &nalgebra::Vector3<f64>) -> T {
         self.0[0] * b.x + self.0[1] * b.y + self.0[2] * b.z
@@ -292,14 +283,6 @@ impl<T: Real> V3<T> {
     /// Sum.
     pub fn add(&self, o: &Self) -> Self {
         V3([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
-    }
-    /// Difference.
-    pub fn sub(&self, o: &Self) -> Self {
-        V3([self.0[0] - o.0[0], self.0[1] - o.0[1], self.0[2] - o.0[2]])
-    }
-    /// Scaled by a scalar.
-    pub fn scale(&self, s: T) -> Self {
-        V3([self.0[0] * s, self.0[1] * s, self.0[2] * s])
     }
     /// Angle between two vectors, `atan2(|a × b|, a · b)` (well-conditioned near 0 and π,
     /// unlike `acos`).

@@ -57,7 +57,9 @@ pub struct SemiSepFactor {
 }
 
 impl SemiSep {
-    /// Zero matrix of `n` blocks of size `b` with generators of rank `r`.
+    /// Zero matrix of `n` blocks of size `b` with generators of rank `r` (the tests build
+    /// theirs from it; the energy model assembles its own).
+    #[cfg(test)]
     pub fn zeros(n: usize, b: usize, r: usize) -> Self {
         SemiSep {
             n,
@@ -178,7 +180,9 @@ impl SemiSep {
 
 impl SemiSepFactor {
     /// Solve `A x = rhs` in place (`x` holds `rhs`): [`SemiSepFactor::forward`], then
-    /// [`SemiSepFactor::backward`].
+    /// [`SemiSepFactor::backward`]. The tests' reference; the Newton step calls the two
+    /// sweeps itself.
+    #[cfg(test)]
     pub fn solve(&self, x: &mut [f64]) {
         self.forward(x);
         self.backward(x);

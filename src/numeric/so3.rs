@@ -83,11 +83,6 @@ pub fn orthonormalize(r: &Matrix3<f64>) -> Matrix3<f64> {
     Rotation3::from_matrix(r).into_inner()
 }
 
-/// Angle of the relative rotation between two rotation matrices \[rad\].
-pub fn rotation_distance(a: &Matrix3<f64>, b: &Matrix3<f64>) -> f64 {
-    log_so3(&(a.transpose() * b)).norm()
-}
-
 /// `[v]×`, the skew matrix with `[v]× x = v × x`.
 #[inline]
 pub fn hat(v: &Vector3<f64>) -> Matrix3<f64> {

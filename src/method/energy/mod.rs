@@ -67,7 +67,7 @@
 //!   4`). The constraint curvature first uses only the Gauss–Newton part `Jᵀ (I − d̂d̂ᵀ) J / |d|`
 //!   (dropping `Σ d̂ᵢ ∇²dᵢ`; linear convergence, ≈ 9 iterations on the paper's cases); if that
 //!   contracts the residual by less than 70 % per iteration after the fourth, or the line
-//!   search stalls, the exact Hessian from second-order AD ([`crate::numeric::ad::D2`],
+//!   search stalls, the exact Hessian from second-order AD (`numeric::ad::D2`,
 //!   quadratic convergence, ≈ 10× dearer per iteration) takes over. Both reach the same KKT point: the residual uses
 //!   the exact gradient.
 //!
@@ -96,7 +96,7 @@
 //! `energy/contacts.rs`) a distance inequality; the step's QP is solved in its dual: with
 //! `z = H⁻¹ ∇f` and `y_r = H⁻¹ a_r` for each constraint row `a_r`, the multipliers minimize
 //! `½ λᵀ S λ − qᵀ λ` over `λ ≥ 0` (`S = [a_rᵀ y_s]`, `q_r = c_r − a_rᵀ z`; a small dense
-//! problem, primal active set in [`crate::numeric::qp::nonneg_qp`]) and the step is
+//! problem, primal active set in `numeric::qp::nonneg_qp`) and the step is
 //! `−z − Σ λ_r y_r`. A cable whose multiplier is zero is slack; a contact whose multiplier is positive presses. Line
 //! search on the ℓ1 merit `E + Σ T L + μ Σ max(0, c_r)`, with every pair re-queried at the
 //! trial point; a step whose predicted and actual merit changes both lie below the merit's

@@ -33,7 +33,7 @@
 //! zero. A smooth NLP solver stalls there. This solver enumerates **faces**: for each set `Z`
 //! of terms that may vanish, it minimizes the other terms with the zero terms as equalities
 //! `w_t = 0` (`w_t`: the two components of the solved direction orthogonal to the undeformed one,
-//! so `|w_t| = sin ang_t`), by Newton–KKT with exact second derivatives ([`crate::numeric::ad`])
+//! so `|w_t| = sin ang_t`), by Newton–KKT with exact second derivatives (`numeric::ad`)
 //! from several starts. A candidate is **certified** when it is feasible, stationary, has a
 //! positive semi-definite reduced Hessian, every zero term's multiplier lies inside that term's
 //! subgradient ball (`|μ_t| ≤ weight_t`), every other term is non-zero, and every taut cable's

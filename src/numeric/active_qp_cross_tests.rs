@@ -4,13 +4,10 @@
 //! multiplier, a row that is a combination of others) and infeasible ones (which it must call
 //! infeasible, and clarabel must not solve).
 
-#[path = "common/rng.rs"]
-mod rng;
-
-use ccrkit::numeric::active_qp::{qp6_active_set, Qp6};
-use ccrkit::numeric::qp::{clamped_hessian, qp_step6_clarabel};
+use super::{qp6_active_set, Qp6};
+use crate::numeric::qp::{clamped_hessian, qp_step6_clarabel};
+use crate::numeric::test_rng::Rng;
 use nalgebra::{Matrix6, Vector6};
-use rng::Rng;
 
 fn vec6(rng: &mut Rng, s: f64) -> Vector6<f64> {
     Vector6::from_fn(|_, _| rng.range(-s, s))

@@ -1,14 +1,11 @@
-//! The Gram–Schmidt split of the 6×6 KKT step (`kkt_step6_gs`, issue 16) gives the same step,
+//! The Gram–Schmidt split of the 6×6 KKT step (`kkt_step6_gs`) gives the same step,
 //! multipliers and smallest reduced-Hessian eigenvalue as the eigendecomposition split
 //! (`kkt_step6`) and as the general dynamic-size `kkt_step`, on seeded random problems with
 //! 0–6 rows, indefinite Hessians included, and falls back on dependent rows.
 
-use ccrkit::numeric::kkt::{kkt_step, kkt_step6, kkt_step6_gs};
+use super::{kkt_step, kkt_step6, kkt_step6_gs};
+use crate::numeric::test_rng::Rng;
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
-
-#[path = "common/rng.rs"]
-mod rng;
-use rng::Rng;
 
 fn close(a: f64, b: f64, scale: f64) -> bool {
     (a - b).abs() <= 1e-9 * scale
