@@ -161,6 +161,20 @@ pub enum SolveError {
     },
 }
 
+/// A robot, actuation or scene refused on the solve path (e.g. a robot built in code that
+/// breaks a rule, [`crate::robot::Robot::check`]): an invalid input naming the same field.
+impl From<ModelError> for SolveError {
+    fn from(e: ModelError) -> Self {
+        match e {
+            ModelError::Invalid { field, reason } => SolveError::InvalidInput { field, reason },
+            other => SolveError::InvalidInput {
+                field: "model".into(),
+                reason: other.to_string(),
+            },
+        }
+    }
+}
+
 impl SolveError {
     /// The outcome this error is ([`Status`]).
     pub fn status(&self) -> Status {

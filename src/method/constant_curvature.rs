@@ -121,6 +121,11 @@ impl Configure for ConstantCurvature {
         }
         Ok(())
     }
+
+    /// Its one setting, `control`, is an [`Input`]: every value is valid.
+    fn check(&self) -> Result<(), SolveError> {
+        Ok(())
+    }
 }
 
 impl Method for ConstantCurvature {

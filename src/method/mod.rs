@@ -47,7 +47,7 @@ pub use warm::WarmState;
 /// every shape through the output check ([`crate::check::output`]). A method implements
 /// [`Method::solve_supported`], its own work, and inherits the contract every solve keeps
 /// (the registry's support check and the timing, in [`Method::solve`]).
-pub trait Method: Send + Sync {
+pub trait Method: Configure + Send + Sync {
     /// Which registered method this is.
     fn kind(&self) -> MethodKind;
     /// The name used on the command line and in outputs.
@@ -58,7 +58,9 @@ pub trait Method: Send + Sync {
     /// method's: its disk frames; the same method's also carries [`WarmState`]). What the
     /// method does not model is refused by name before any work
     /// ([`MethodKind::check_support`]), and `report.solve_time_s` is the time of this call.
-    /// No output check: that is the [`Solver`]'s.
+    /// The robot and the settings are checked first ([`Robot::check`],
+    /// [`Configure::check`]), however they were built. No output check: that is the
+    /// [`Solver`]'s.
     fn solve(
         &self,
         robot: &Robot,
@@ -66,6 +68,8 @@ pub trait Method: Send + Sync {
         scene: &Scene,
         warm: Option<&Shape>,
     ) -> Result<Shape, SolveError> {
+        self.check()?;
+        robot.check()?;
         let input = SolveInput {
             robot,
             act,
@@ -84,8 +88,11 @@ pub trait Method: Send + Sync {
     /// same robot ([`SolveRequest`](run::SolveRequest) repeats, continuation steps) skip it.
     /// A robot with a port is readied per solve for the robot beyond the port (which changes
     /// with the insertion, `method/port.rs`); otherwise this is [`Method::prepare_fixed`].
-    /// Methods implement [`Method::prepare_fixed`], not this.
+    /// Methods implement [`Method::prepare_fixed`], not this. The robot and the settings
+    /// are checked here, once for every solve of the prepared method (as in [`Method::solve`]).
     fn prepare<'a>(&'a self, robot: &'a Robot) -> Result<Box<dyn Prepared + 'a>, SolveError> {
+        self.check()?;
+        robot.check()?;
         if robot.port.is_some() {
             return Ok(Box::new(port::PortPrepared {
                 method: self,

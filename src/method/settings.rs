@@ -172,6 +172,45 @@ impl Range {
         }
     }
 
+    /// A whole-number setting given as a value (typed settings, [`Configure::check`]): `v`
+    /// when the range admits it, else the error `--set` would give.
+    pub fn check_count(&self, name: &str, v: usize) -> Result<usize, SolveError> {
+        match *self {
+            Range::Count { min, max, .. } if (min..=max).contains(&v) => Ok(v),
+            Range::Count { min, max, .. } => Err(invalid(
+                name,
+                format!("must be a whole number from {min} to {max}, got {v}"),
+            )),
+            _ => Err(self.misread(name, "a whole number")),
+        }
+    }
+
+    /// A number setting given as a value (`None`: off, where the range has an off word): `v`
+    /// when the range admits it, else the error `--set` would give.
+    pub fn check_number(&self, name: &str, v: Option<f64>) -> Result<Option<f64>, SolveError> {
+        match (*self, v) {
+            (Range::Number { off, .. }, None) if !off.is_empty() => Ok(None),
+            (Range::Number { lo, hi, .. }, Some(x)) if in_interval(x, lo, hi) => Ok(v),
+            (Range::Number { lo, hi, off }, _) => {
+                let got = v.map_or_else(|| "off".to_string(), |x| x.to_string());
+                let or_off = off
+                    .first()
+                    .map(|w| format!(" or `{w}`"))
+                    .unwrap_or_default();
+                Err(invalid(
+                    name,
+                    format!("must be a number in ({lo:e}, {hi:e}]{or_off}, got {got}"),
+                ))
+            }
+            _ => Err(self.misread(name, "a number")),
+        }
+    }
+
+    /// [`Range::check_number`] of a value that is never off.
+    pub fn check_real(&self, name: &str, v: f64) -> Result<f64, SolveError> {
+        self.check_number(name, Some(v)).map(|_| v)
+    }
+
     /// A setting read as another kind than the registry lists: a bug in ccrkit, reported
     /// as an error naming the setting rather than a panic.
     fn misread(&self, name: &str, kind: &str) -> SolveError {
@@ -220,10 +259,19 @@ impl fmt::Display for Range {
     }
 }
 
-/// Method settings that can be set by name.
+/// Method settings that can be set by name, and checked whatever way they were set.
 pub trait Configure {
     /// Apply one setting (its canonical name); errors name the setting and the reason.
     fn set(&mut self, name: &str, value: &str) -> Result<(), SolveError>;
+
+    /// Every setting in the range the registry gives it (the range [`Configure::set`] parses
+    /// with: [`Range::check_count`], [`Range::check_number`]) and consistent with the others
+    /// (e.g. the energy model's sub-arcs ≤ 4 with the chord length). The one check of a
+    /// method's settings: [`MethodKind::build`](super::MethodKind::build) runs it after the
+    /// named settings, and every solve runs it ([`Method::solve`](super::Method::solve),
+    /// [`Method::prepare`](super::Method::prepare)), so typed settings written in code (a
+    /// struct literal, a builder) are held to the same ranges as `--set`.
+    fn check(&self) -> Result<(), SolveError>;
 }
 
 /// The canonical name of a setting (`cable-length` and `rk4_steps` style aliases folded).
@@ -254,10 +302,15 @@ fn parse_count(name: &str, value: &str, min: usize, max: usize) -> Result<usize,
     }
 }
 
+/// `v` finite and in `(lo, hi]` (`lo` excluded, `hi` included): a number setting's range.
+fn in_interval(v: f64, lo: f64, hi: f64) -> bool {
+    v.is_finite() && v > lo && v <= hi
+}
+
 /// A finite number in `(lo, hi]` (`lo` excluded, `hi` included).
 fn parse_in(name: &str, value: &str, lo: f64, hi: f64) -> Result<f64, SolveError> {
     match value.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > lo && v <= hi => Ok(v),
+        Ok(v) if in_interval(v, lo, hi) => Ok(v),
         _ => Err(invalid(
             name,
             format!("must be a number in ({lo:e}, {hi:e}], got `{value}`"),

@@ -144,15 +144,6 @@ impl Actuation {
     /// without a port (which refuses an insertion or a rotation by name); absent values are
     /// `d = L` and `ψ = 0`; `d` must lie in `[0, L]`, `ψ` be finite.
     pub fn port_command(&self, robot: &Robot) -> Result<Option<(f64, f64)>, SolveError> {
-        let as_input = |e: crate::error::ModelError| match e {
-            crate::error::ModelError::Invalid { field, reason } => {
-                SolveError::InvalidInput { field, reason }
-            }
-            other => SolveError::InvalidInput {
-                field: "actuation".into(),
-                reason: other.to_string(),
-            },
-        };
         if robot.port.is_none() {
             let given = [("insertion", self.insertion), ("rotation", self.rotation)];
             if let Some((field, Some(v))) = given.into_iter().find(|(_, v)| v.is_some()) {
@@ -169,11 +160,13 @@ impl Actuation {
         }
         let d = match self.insertion {
             Some(d) => crate::model::port::check_insertion("insertion", d, robot.length())
-                .map_err(as_input)?,
+                .map_err(SolveError::from)?,
             None => robot.length(),
         };
         let psi = match self.rotation {
-            Some(r) => crate::model::port::check_rotation("rotation", r).map_err(as_input)?,
+            Some(r) => {
+                crate::model::port::check_rotation("rotation", r).map_err(SolveError::from)?
+            }
             None => 0.0,
         };
         Ok(Some((d, psi)))

@@ -5,7 +5,7 @@ use super::actuation::Actuation;
 use super::bounds;
 use super::file_cable::FileCable;
 use super::hardware::{FileHardware, Hardware};
-use super::robot::{Backbone, Cable, Loads, Robot, MAX_STIFFENING};
+use super::robot::{Backbone, Cable, Loads, Robot};
 use super::scene::Scene;
 use super::scene_file::FileObstacle;
 use super::{Model, MAX_SECTIONS};
@@ -100,15 +100,6 @@ pub(super) fn positive(field: &str, v: f64) -> Result<f64, ModelError> {
     }
 }
 
-fn vec3(
-    field: &str,
-    v: Option<[f64; 3]>,
-    range: bounds::Range,
-) -> Result<Vector3<f64>, ModelError> {
-    let v = range.check3(field, v.unwrap_or([0.0; 3]))?;
-    Ok(Vector3::new(v[0], v[1], v[2]))
-}
-
 impl FileModel {
     pub(super) fn validate(self, dir: &Path) -> Result<Model, ModelError> {
         if self.name.trim().is_empty() {
@@ -180,6 +171,9 @@ impl FileModel {
             loads,
             port: port.as_ref().map(|p| p.port.clone()),
         };
+        // The rules every robot keeps, however built (the file's own spellings were checked
+        // above, each naming the file's field).
+        robot.check()?;
         let hardware = Hardware::from_file(self.hardware.as_ref(), &robot)?;
         let mut limits = super::limits::validate(&self.limits, &robot)?;
         let mut actuation = Actuation {
@@ -283,56 +277,31 @@ impl FileRobot {
 }
 
 impl FileBackbone {
+    /// The backbone, checked by its own rules ([`Backbone::check`]).
     fn validate(&self, disk_radius: f64) -> Result<Backbone, ModelError> {
-        let youngs_modulus =
-            bounds::YOUNGS_MODULUS.check("robot.backbone.youngs_modulus", self.youngs_modulus)?;
-        let poisson_ratio = finite("robot.backbone.poisson_ratio", self.poisson_ratio)?;
-        if !(poisson_ratio > -1.0 && poisson_ratio <= 0.5) {
-            return Err(ModelError::invalid(
-                "robot.backbone.poisson_ratio",
-                format!("must lie in (-1, 0.5], got {poisson_ratio}"),
-            ));
-        }
-        let diameter = bounds::DIAMETER.check("robot.backbone.diameter", self.diameter)?;
-        if diameter >= 2.0 * disk_radius {
-            return Err(ModelError::invalid(
-                "robot.backbone.diameter",
-                format!("{diameter} m does not fit inside the disk (radius {disk_radius} m)"),
-            ));
-        }
-        let density = match self.density {
-            Some(d) => bounds::DENSITY.check("robot.backbone.density", d)?,
-            None => 0.0,
+        let b = Backbone {
+            youngs_modulus: self.youngs_modulus,
+            poisson_ratio: self.poisson_ratio,
+            diameter: self.diameter,
+            density: self.density.unwrap_or(0.0),
+            stiffening: self.stiffening.unwrap_or(0.0),
         };
-        let stiffening = finite("robot.backbone.stiffening", self.stiffening.unwrap_or(0.0))?;
-        if !(0.0..=MAX_STIFFENING).contains(&stiffening) {
-            return Err(ModelError::invalid(
-                "robot.backbone.stiffening",
-                format!(
-                    "must lie in [0, {MAX_STIFFENING}] m² (the β of ½ EI κ² (1 + β κ²)), got {stiffening}"
-                ),
-            ));
-        }
-        Ok(Backbone {
-            youngs_modulus,
-            poisson_ratio,
-            diameter,
-            density,
-            stiffening,
-        })
+        b.check(disk_radius)?;
+        Ok(b)
     }
 }
 
 impl FileLoads {
+    /// The loads (absent ones zero), checked by their own rules ([`Loads::check`]).
     fn validate(&self) -> Result<Loads, ModelError> {
-        Ok(Loads {
-            gravity: vec3("loads.gravity", self.gravity, bounds::GRAVITY)?,
-            disk_mass: match self.disk_mass {
-                Some(m) => bounds::DISK_MASS.check("loads.disk_mass", m)?,
-                None => 0.0,
-            },
-            tip_force: vec3("loads.tip_force", self.tip_force, bounds::TIP_FORCE)?,
-            tip_moment: vec3("loads.tip_moment", self.tip_moment, bounds::TIP_MOMENT)?,
-        })
+        let v = |x: Option<[f64; 3]>| Vector3::from(x.unwrap_or([0.0; 3]));
+        let l = Loads {
+            gravity: v(self.gravity),
+            disk_mass: self.disk_mass.unwrap_or(0.0),
+            tip_force: v(self.tip_force),
+            tip_moment: v(self.tip_moment),
+        };
+        l.check()?;
+        Ok(l)
     }
 }

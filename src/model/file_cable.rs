@@ -4,8 +4,9 @@
 
 use super::actuation::{CableDrive, Shortening};
 use super::bounds;
-use super::file::{finite, positive};
+use super::file::finite;
 use super::robot::{Backbone, Cable};
+use super::robot_check::{hole_radius, pretension};
 use super::routing::Helix;
 use crate::error::ModelError;
 use nalgebra::Vector3;
@@ -78,25 +79,8 @@ fn compliance(
         .stiffness
         .map(|k| bounds::CABLE_STIFFNESS.check(&f("stiffness"), k))
         .transpose()?;
-    let t0 = match (fc.pretension, k) {
-        (None, _) => 0.0,
-        (Some(_), None) => {
-            return Err(ModelError::invalid(
-                f("pretension"),
-                "a pretension needs the cable's `stiffness` (it is the tension of a cable tied stretched by pretension/stiffness)",
-            ))
-        }
-        (Some(t), Some(k)) => {
-            let t = bounds::TENSION.check(&f("pretension"), t)?;
-            if t / k >= len {
-                return Err(ModelError::invalid(
-                    f("pretension"),
-                    format!("stretches the cable by {:e} m, not less than its length {len:.6} m", t / k),
-                ));
-            }
-            t
-        }
-    };
+    pretension(&f("pretension"), fc.pretension, k, len)?;
+    let t0 = fc.pretension.unwrap_or(0.0);
     Ok((k, t0))
 }
 
@@ -169,22 +153,7 @@ impl FileCable {
             } else {
                 format!("cables[{ci}].radius[{k}]")
             };
-            positive(&field, *rr)?;
-            if *rr >= disk_radius {
-                return Err(ModelError::invalid(
-                    field,
-                    format!("hole radius {rr} m lies beyond the disk (radius {disk_radius} m)"),
-                ));
-            }
-            if *rr <= backbone.radius() {
-                return Err(ModelError::invalid(
-                    field,
-                    format!(
-                        "hole radius {rr} m lies inside the backbone (radius {} m)",
-                        backbone.radius()
-                    ),
-                ));
-            }
+            hole_radius(&field, *rr, disk_radius, backbone)?;
         }
         Ok(radius)
     }

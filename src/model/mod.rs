@@ -38,6 +38,7 @@ pub mod mesh;
 pub mod port;
 pub mod read;
 pub mod robot;
+mod robot_check;
 pub mod routing;
 pub mod scene;
 mod scene_file;

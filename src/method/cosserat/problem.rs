@@ -268,33 +268,14 @@ impl Problem<'_> {
 }
 
 impl Cosserat {
-    /// Settings a solve cannot run with, refused by name.
+    /// A robot this rod cannot take, refused by name (its settings were checked on the way
+    /// in: `Configure::check`, in `Method::solve` and `Method::prepare`).
     fn validate(&self, nc: usize) -> Result<(), SolveError> {
         let name = self.name().to_string();
         if nc > MAX_CABLES {
             return Err(SolveError::Unsupported {
                 method: name,
                 reason: format!("at most {MAX_CABLES} cables (got {nc})"),
-            });
-        }
-        if self.steps_per_section == 0 && self.adaptive.is_none() {
-            return Err(SolveError::InvalidInput {
-                field: "rk4-steps".into(),
-                reason: "must be ≥ 1".into(),
-            });
-        }
-        if let Some(t) = self.adaptive {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(SolveError::InvalidInput {
-                    field: "adaptive".into(),
-                    reason: format!("tolerance must be > 0, got {t}"),
-                });
-            }
-        }
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return Err(SolveError::InvalidInput {
-                field: "tolerance".into(),
-                reason: format!("must be > 0, got {}", self.tolerance),
             });
         }
         Ok(())

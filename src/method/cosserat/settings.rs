@@ -127,4 +127,16 @@ impl Configure for Cosserat {
         }
         Ok(())
     }
+
+    fn check(&self) -> Result<(), SolveError> {
+        let range = |name| self.kind().setting(name).map(|s| s.values);
+        range("rk4-steps")?.check_count("rk4-steps", self.steps_per_section)?;
+        range("adaptive")?.check_number("adaptive", self.adaptive)?;
+        // Off (no refinement) is an infinite threshold.
+        let refine = (self.bend_refine != f64::INFINITY).then_some(self.bend_refine);
+        range("bend-refine")?.check_number("bend-refine", refine)?;
+        range("max-iterations")?.check_count("max-iterations", self.max_iterations)?;
+        range("tolerance")?.check_real("tolerance", self.tolerance)?;
+        Ok(())
+    }
 }

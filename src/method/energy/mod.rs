@@ -258,6 +258,23 @@ impl Configure for Energy {
         }
         Ok(())
     }
+
+    fn check(&self) -> Result<(), SolveError> {
+        let range = |name| self.kind().setting(name).map(|s| s.values);
+        range("sub-arcs")?.check_count("sub-arcs", self.sub_arcs)?;
+        range("max-iterations")?.check_count("max-iterations", self.max_iterations)?;
+        range("tolerance")?.check_real("tolerance", self.tolerance)?;
+        range("min-stretch")?.check_real("min-stretch", self.min_stretch)?;
+        range("samples-per-sub-arc")?
+            .check_count("samples-per-sub-arc", self.samples_per_sub_arc)?;
+        if self.cable_length == LengthMeasure::Chord && self.sub_arcs > 4 {
+            return Err(SolveError::InvalidInput {
+                field: "sub-arcs".into(),
+                reason: "the chord measure supports at most 4 sub-arcs per section".into(),
+            });
+        }
+        Ok(())
+    }
 }
 
 impl Method for Energy {
@@ -297,30 +314,8 @@ impl Prepared for ReadyEnergy<'_> {
 impl Energy {
     /// Check the settings and compute what depends on the robot alone.
     fn ready<'a>(&'a self, robot: &'a Robot) -> Result<ReadyEnergy<'a>, SolveError> {
-        if self.sub_arcs == 0 {
-            return Err(SolveError::InvalidInput {
-                field: "sub-arcs".into(),
-                reason: "must be ≥ 1".into(),
-            });
-        }
-        if self.cable_length == LengthMeasure::Chord && self.sub_arcs > 4 {
-            return Err(SolveError::InvalidInput {
-                field: "sub-arcs".into(),
-                reason: "the chord measure supports at most 4 sub-arcs per section".into(),
-            });
-        }
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return Err(SolveError::InvalidInput {
-                field: "tolerance".into(),
-                reason: format!("must be > 0, got {}", self.tolerance),
-            });
-        }
-        if !(self.min_stretch.is_finite() && self.min_stretch > 0.0 && self.min_stretch <= 1.0) {
-            return Err(SolveError::InvalidInput {
-                field: "min-stretch".into(),
-                reason: format!("must be in (0, 1], got {}", self.min_stretch),
-            });
-        }
+        // The settings were checked on the way in (`Configure::check`, in `Method::solve`
+        // and `Method::prepare`).
         Ok(ReadyEnergy {
             set: self,
             robot,

@@ -149,6 +149,14 @@ impl Configure for Geometric {
         }
         Ok(())
     }
+
+    fn check(&self) -> Result<(), SolveError> {
+        let range = |name| self.kind().setting(name).map(|s| s.values);
+        range("max-iterations")?.check_count("max-iterations", self.max_iterations)?;
+        range("tolerance")?.check_real("tolerance", self.tolerance)?;
+        range("zero-angle")?.check_real("zero-angle", self.zero_angle)?;
+        Ok(())
+    }
 }
 
 impl Method for Geometric {

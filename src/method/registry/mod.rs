@@ -131,6 +131,8 @@ impl MethodKind {
             for (name, value) in settings.iter() {
                 m.set(&canonical(name), value)?;
             }
+            // Each value was in range; now the settings together (e.g. sub-arcs with length).
+            m.check()?;
             Ok(Box::new(m))
         }
         match self {

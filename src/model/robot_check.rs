@@ -1,0 +1,264 @@
+//! What makes a [`Robot`] valid, checked on the robot itself: the one check every robot passes
+//! before a method sees it, whatever way it was built — read from a model file (which checks
+//! its own spellings first, then this) or written in code (a struct literal, or a file's
+//! robot with a field changed). The solve path runs it ([`crate::method::Method::solve`] and
+//! [`crate::method::Method::prepare`], behind every [`crate::method::Solver`]), so a robot a
+//! method cannot stand behind is refused by field, never solved into a NaN or a panic.
+//!
+//! Fields are named as in a model file (`robot.disk_radius`, `robot.backbone.diameter`,
+//! `cables[1].radius[3]`, `loads.gravity[2]`, `port.position`); the ranges are
+//! [`super::bounds`]'s.
+
+use super::bounds;
+use super::robot::{Backbone, Cable, Loads, Robot, MAX_STIFFENING};
+use super::MAX_SECTIONS;
+use crate::error::ModelError;
+use nalgebra::Vector3;
+
+impl Robot {
+    /// Every rule a robot keeps (module docs): `1..=MAX_SECTIONS` sections with
+    /// `disk_s[0] = 0` and each section length in [`bounds::SECTION_LENGTH`], the whole in
+    /// [`bounds::ROBOT_LENGTH`]; disks in range and thinner than the shortest section; the
+    /// backbone ([`Backbone::check`]) inside the disks; at most [`bounds::MAX_CABLES`]
+    /// cables with distinct, non-empty names, each with a hole per disk it passes inside the
+    /// disk and outside the backbone, angles and compliance in range; loads
+    /// ([`Loads::check`]); a port placed within [`bounds::COORDINATE`].
+    ///
+    /// ```
+    /// use ccrkit::prelude::*;
+    ///
+    /// let mut robot = Model::from_file("models/paper/case1.toml")?.robot;
+    /// assert!(robot.check().is_ok());
+    /// robot.cables[0].radius[3] = 0.5; // beyond the 12 mm disk
+    /// let e = robot.check().unwrap_err();
+    /// assert_eq!(e.field(), Some("cables[0].radius[3]"));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn check(&self) -> Result<(), ModelError> {
+        let n = self.disk_s.len().saturating_sub(1);
+        if !(1..=MAX_SECTIONS).contains(&n) {
+            return Err(ModelError::invalid(
+                "robot.sections",
+                format!(
+                    "must be between 1 and {MAX_SECTIONS} (disk_s holds n + 1 arc lengths), got {n}"
+                ),
+            ));
+        }
+        if self.disk_s[0] != 0.0 {
+            return Err(ModelError::invalid(
+                "robot.disk_s[0]",
+                format!("the base disk sits at s = 0, got {}", self.disk_s[0]),
+            ));
+        }
+        let mut shortest = f64::INFINITY;
+        for i in 1..=n {
+            let l = self.disk_s[i] - self.disk_s[i - 1];
+            bounds::SECTION_LENGTH.check(&format!("robot.section_lengths[{}]", i - 1), l)?;
+            shortest = shortest.min(l);
+        }
+        bounds::ROBOT_LENGTH.check("robot.section_lengths", self.length())?;
+        bounds::DISK_RADIUS.check("robot.disk_radius", self.disk_radius)?;
+        bounds::DISK_THICKNESS.check("robot.disk_thickness", self.disk_thickness)?;
+        if self.disk_thickness >= shortest {
+            return Err(ModelError::invalid(
+                "robot.disk_thickness",
+                format!(
+                    "{} m is not smaller than the shortest section ({shortest} m)",
+                    self.disk_thickness
+                ),
+            ));
+        }
+        self.backbone.check(self.disk_radius)?;
+        self.loads.check()?;
+        if self.cables.len() > bounds::MAX_CABLES {
+            return Err(ModelError::invalid(
+                "cables",
+                format!(
+                    "at most {} cables, got {}",
+                    bounds::MAX_CABLES,
+                    self.cables.len()
+                ),
+            ));
+        }
+        for (ci, c) in self.cables.iter().enumerate() {
+            if self.cables[..ci].iter().any(|o| o.name == c.name) {
+                return Err(ModelError::invalid(
+                    format!("cables[{ci}].name"),
+                    format!("two cables are named `{}`", c.name),
+                ));
+            }
+            self.check_cable(ci)?;
+        }
+        if let Some(p) = &self.port {
+            let t = p.pose.translation.vector;
+            bounds::COORDINATE.check3("port.position", [t.x, t.y, t.z])?;
+            let q = p.pose.rotation.coords;
+            if !(q.iter().all(|x| x.is_finite()) && (q.norm() - 1.0).abs() <= 1e-9) {
+                return Err(ModelError::invalid(
+                    "port.orientation",
+                    format!("must be a rotation (a finite unit quaternion), got {q:?}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Cable `ci`'s rules (see [`Robot::check`]).
+    fn check_cable(&self, ci: usize) -> Result<(), ModelError> {
+        let c: &Cable = &self.cables[ci];
+        let f = |name: &str| format!("cables[{ci}].{name}");
+        if c.name.trim().is_empty() {
+            return Err(ModelError::invalid(f("name"), "must not be empty"));
+        }
+        let n = self.sections();
+        if !(1..=n).contains(&c.ends_at) {
+            return Err(ModelError::invalid(
+                f("ends_at"),
+                format!("must be a disk between 1 and {n}, got {}", c.ends_at),
+            ));
+        }
+        let count = c.ends_at + 1;
+        for (what, len) in [("radius", c.radius.len()), ("angles", c.angle.len())] {
+            if len != count {
+                return Err(ModelError::invalid(
+                    f(what),
+                    format!(
+                        "needs one value per disk the cable passes (0..={}: {count}), got {len}",
+                        c.ends_at
+                    ),
+                ));
+            }
+        }
+        for (k, r) in c.radius.iter().enumerate() {
+            hole_radius(
+                &f(&format!("radius[{k}]")),
+                *r,
+                self.disk_radius,
+                &self.backbone,
+            )?;
+        }
+        for (k, a) in c.angle.iter().enumerate() {
+            bounds::ANGLE.check(&f(&format!("angles[{k}]")), *a)?;
+        }
+        if let Some(h) = &c.helix {
+            bounds::ANGLE.check(&f("angles.helix.start"), h.start)?;
+            bounds::HELIX_PER_METRE.check(&f("angles.helix.per_metre"), h.per_metre)?;
+        }
+        if let Some(k) = c.stiffness {
+            bounds::CABLE_STIFFNESS.check(&f("stiffness"), k)?;
+        }
+        // A pretension of 0 is none (the struct's default).
+        pretension(
+            &f("pretension"),
+            (c.pretension != 0.0).then_some(c.pretension),
+            c.stiffness,
+            self.undeformed_chord_length(ci),
+        )
+    }
+}
+
+/// A hole radius `r` \[m\]: positive, inside the disk and outside the backbone (`field` names
+/// it in the error). The file's cables and [`Robot::check`] both ask this.
+pub(super) fn hole_radius(
+    field: &str,
+    r: f64,
+    disk_radius: f64,
+    backbone: &Backbone,
+) -> Result<f64, ModelError> {
+    super::file::positive(field, r)?;
+    if r >= disk_radius {
+        return Err(ModelError::invalid(
+            field,
+            format!("hole radius {r} m lies beyond the disk (radius {disk_radius} m)"),
+        ));
+    }
+    if r <= backbone.radius() {
+        return Err(ModelError::invalid(
+            field,
+            format!(
+                "hole radius {r} m lies inside the backbone (radius {} m)",
+                backbone.radius()
+            ),
+        ));
+    }
+    Ok(r)
+}
+
+/// A pretension `t` \[N\] (`None`: none given) of a cable of stiffness `k` and undeformed
+/// length `len`: only with a stiffness, in [`bounds::TENSION`], stretching the cable by less
+/// than its length. The file's cables and [`Robot::check`] both ask this.
+pub(super) fn pretension(
+    field: &str,
+    t: Option<f64>,
+    k: Option<f64>,
+    len: f64,
+) -> Result<(), ModelError> {
+    match (t, k) {
+        (None, _) => Ok(()),
+        (Some(_), None) => Err(ModelError::invalid(
+            field,
+            "a pretension needs the cable's `stiffness` (it is the tension of a cable tied stretched by pretension/stiffness)",
+        )),
+        (Some(t), Some(k)) => {
+            let t = bounds::TENSION.check(field, t)?;
+            if t / k >= len {
+                return Err(ModelError::invalid(
+                    field,
+                    format!(
+                        "stretches the cable by {:e} m, not less than its length {len:.6} m",
+                        t / k
+                    ),
+                ));
+            }
+            Ok(())
+        }
+    }
+}
+
+impl Backbone {
+    /// The backbone's rules (fields named `robot.backbone.*`): Young's modulus in
+    /// [`bounds::YOUNGS_MODULUS`], Poisson's ratio in (−1, 0.5], the diameter in
+    /// [`bounds::DIAMETER`] and inside disks of radius `disk_radius`, the density in
+    /// [`bounds::DENSITY`], the curvature stiffening in `[0, MAX_STIFFENING]`.
+    pub fn check(&self, disk_radius: f64) -> Result<(), ModelError> {
+        bounds::YOUNGS_MODULUS.check("robot.backbone.youngs_modulus", self.youngs_modulus)?;
+        let nu = super::file::finite("robot.backbone.poisson_ratio", self.poisson_ratio)?;
+        if !(nu > -1.0 && nu <= 0.5) {
+            return Err(ModelError::invalid(
+                "robot.backbone.poisson_ratio",
+                format!("must lie in (-1, 0.5], got {nu}"),
+            ));
+        }
+        let d = bounds::DIAMETER.check("robot.backbone.diameter", self.diameter)?;
+        if d >= 2.0 * disk_radius {
+            return Err(ModelError::invalid(
+                "robot.backbone.diameter",
+                format!("{d} m does not fit inside the disk (radius {disk_radius} m)"),
+            ));
+        }
+        bounds::DENSITY.check("robot.backbone.density", self.density)?;
+        let beta = super::file::finite("robot.backbone.stiffening", self.stiffening)?;
+        if !(0.0..=MAX_STIFFENING).contains(&beta) {
+            return Err(ModelError::invalid(
+                "robot.backbone.stiffening",
+                format!(
+                    "must lie in [0, {MAX_STIFFENING}] m² (the β of ½ EI κ² (1 + β κ²)), got {beta}"
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Loads {
+    /// The loads' rules (fields named `loads.*`): each component of gravity, the tip force and
+    /// the tip moment, and the disk mass, in their [`bounds`] ranges.
+    pub fn check(&self) -> Result<(), ModelError> {
+        let arr = |v: &Vector3<f64>| [v.x, v.y, v.z];
+        bounds::GRAVITY.check3("loads.gravity", arr(&self.gravity))?;
+        bounds::DISK_MASS.check("loads.disk_mass", self.disk_mass)?;
+        bounds::TIP_FORCE.check3("loads.tip_force", arr(&self.tip_force))?;
+        bounds::TIP_MOMENT.check3("loads.tip_moment", arr(&self.tip_moment))?;
+        Ok(())
+    }
+}
