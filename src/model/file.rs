@@ -290,8 +290,10 @@ impl FileRobot {
                 )
             })
         };
-        let disk_radius =
-            bounds::DISK_RADIUS.check("robot.disk_radius", need("robot.disk_radius", self.disk_radius)?)?;
+        let disk_radius = bounds::DISK_RADIUS.check(
+            "robot.disk_radius",
+            need("robot.disk_radius", self.disk_radius)?,
+        )?;
         let disk_thickness = bounds::DISK_THICKNESS.check(
             "robot.disk_thickness",
             need("robot.disk_thickness", self.disk_thickness)?,

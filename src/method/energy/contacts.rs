@@ -282,7 +282,11 @@ impl<'a> World<'a> {
         let disk = features::disk(robot);
         // A rod without spacer disks has stations, no disks; cables inside the rod are inside
         // its body (which meets the world for them).
-        let disks = if robot.has_disks() { robot.sections() } else { 0 };
+        let disks = if robot.has_disks() {
+            robot.sections()
+        } else {
+            0
+        };
         for k in 1..=disks {
             let f = k * m;
             q.feature(

@@ -114,7 +114,11 @@ impl World<'_> {
         let robot = self.robot;
         let nsub = robot.sections() * self.m;
         let mut out: Vec<Feat> = (1..=nsub).map(Feat::Backbone).collect();
-        let disks = if robot.has_disks() { robot.sections() } else { 0 };
+        let disks = if robot.has_disks() {
+            robot.sections()
+        } else {
+            0
+        };
         out.extend((1..=disks).map(Feat::Disk));
         let exposed = robot.body.cables_exposed();
         for (c, cable) in robot.cables.iter().enumerate().filter(|_| exposed) {
