@@ -255,3 +255,44 @@ fn pybullet_replays_waypoints_through_the_port() {
 fn mujoco_replays_waypoints_through_the_port() {
     replay("mujoco", TOL);
 }
+
+/// The masses MuJoCo needs keep the robot's: through a port the links sum to the closed form
+/// (case 2: n + 1 PLA disks and the nitinol rod; the lung rod without spacer disks: its rod,
+/// ρ·A·L, ρ = 1100 kg/m³), and every moving link has mass.
+#[test]
+fn port_links_and_rod_stations_carry_the_robots_mass() {
+    use ccrkit::export::DEFAULT_BACKBONE_DENSITY;
+    use std::f64::consts::PI;
+    for (name, model, shapes) in waypoint_shapes() {
+        let r = &model.robot;
+        let expected = if r.has_disks() {
+            let disk = 1240.0 * PI * r.disk_radius.powi(2) * r.disk_thickness;
+            (r.sections() as f64 + 1.0) * disk
+                + DEFAULT_BACKBONE_DENSITY * r.backbone.area() * r.length()
+        } else {
+            1100.0 * PI * 0.003_f64.powi(2) * 0.12
+        };
+        let ex = export(&model, &shapes[2]);
+        let total: f64 = ex.robot.links.iter().map(|l| l.inertial.mass.value).sum();
+        assert!(
+            (total - expected).abs() <= 1e-12 * expected,
+            "{name}: {total} kg vs {expected} kg"
+        );
+        let moving: Vec<&str> = ex
+            .robot
+            .joints
+            .iter()
+            .filter(|j| !matches!(j.joint_type, urdf_rs::JointType::Fixed))
+            .map(|j| j.child.link.as_str())
+            .collect();
+        for l in &ex.robot.links {
+            if moving.contains(&l.name.as_str()) {
+                assert!(
+                    l.inertial.mass.value > 0.0,
+                    "{name}: {} is massless",
+                    l.name
+                );
+            }
+        }
+    }
+}
