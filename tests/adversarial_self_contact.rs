@@ -207,13 +207,20 @@ fn the_broad_phase_answers_as_every_pair_does_on_random_shapes() {
         let model = Model::from_toml_str(&text).expect("model");
         let shape = random_shape(&model, &mut rng);
         let fast = self_contact(&model.robot, &shape);
-        assert_eq!(fast, self_contact_exhaustive(&model.robot, &shape), "case {case}");
+        assert_eq!(
+            fast,
+            self_contact_exhaustive(&model.robot, &shape),
+            "case {case}"
+        );
         match fast {
             None => clear += 1,
             Some(_) => through += 1,
         }
     }
-    assert!(clear > 50 && through > 50, "clear {clear}, through {through}");
+    assert!(
+        clear > 50 && through > 50,
+        "clear {clear}, through {through}"
+    );
 }
 
 /// A legal 60 m robot of 3000 sections curled through itself many times: the check after the
@@ -226,7 +233,10 @@ fn a_robot_of_3000_sections_coiled_through_itself_is_named_fast() {
     let t = Instant::now();
     match SolveRequest::new(MethodKind::ConstantCurvature).run(&model) {
         Err(SolveError::Obstructed { obstacle, .. }) => assert_eq!(obstacle, "self"),
-        other => panic!("expected obstructed by self, got {:?}", other.map(|s| s.shape.report)),
+        other => panic!(
+            "expected obstructed by self, got {:?}",
+            other.map(|s| s.shape.report)
+        ),
     }
     assert!(t.elapsed() < Duration::from_secs(10), "{:?}", t.elapsed());
 }

@@ -122,4 +122,3 @@ pub fn first_non_finite(shape: &Shape) -> Option<String> {
     }
     None
 }
-
