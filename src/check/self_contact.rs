@@ -67,22 +67,20 @@ fn parts(robot: &Robot, shape: &Shape, tol: f64) -> Vec<Part> {
     } else {
         1.0
     };
-    let (ht, r) = (robot.disk_thickness / 2.0, robot.disk_radius);
-    let disk = SharedShape::new(Cylinder::new(ht, r));
-    let disk_shrunk = SharedShape::new(Cylinder::new(ht - tol, r - tol));
-    let mut out: Vec<Part> = shape
-        .disks
-        .iter()
-        .enumerate()
-        .map(|(k, d)| Part {
+    let mut out: Vec<Part> = Vec::new();
+    if robot.has_disks() {
+        let (ht, r) = (robot.disk_thickness / 2.0, robot.disk_radius);
+        let disk = SharedShape::new(Cylinder::new(ht, r));
+        let disk_shrunk = SharedShape::new(Cylinder::new(ht - tol, r - tol));
+        out.extend(shape.disks.iter().enumerate().map(|(k, d)| Part {
             shape: disk.clone(),
             shrunk: disk_shrunk.clone(),
             pose: disk_pose(&d.rotation, &d.position),
             s: (d.s * scale, d.s * scale),
             section: k,
             disk: Some(k),
-        })
-        .collect();
+        }));
+    }
     if pts.len() < 2 {
         return out;
     }
@@ -109,7 +107,7 @@ fn parts(robot: &Robot, shape: &Shape, tol: f64) -> Vec<Part> {
     if idx.last() != Some(&(pts.len() - 1)) {
         idx.push(pts.len() - 1);
     }
-    let rho = robot.backbone.radius();
+    let rho = robot.body_radius();
     let mut s = 0.0;
     for w in idx.windows(2) {
         let (a, b) = (pts[w[0]], pts[w[1]]);
@@ -138,7 +136,14 @@ fn ordered_parts(robot: &Robot, shape: &Shape) -> Option<(Vec<Part>, f64)> {
     if shape.disks.len() != robot.disk_s.len() {
         return None;
     }
-    let tol = SELF_CONTACT_TOL * robot.disk_thickness.min(robot.backbone.diameter);
+    // The body's diameter (the backbone's unless the model gives a collision radius).
+    let d = 2.0 * robot.body_radius();
+    let thinnest = if robot.has_disks() {
+        robot.disk_thickness.min(d)
+    } else {
+        d
+    };
+    let tol = SELF_CONTACT_TOL * thinnest;
     let mut parts = parts(robot, shape, tol);
     // Stable: disks come first in `parts`, so they stay before segments at the same s.
     parts.sort_by(|a, b| a.s.0.total_cmp(&b.s.0));
@@ -150,7 +155,7 @@ fn overlap(robot: &Robot, pa: &Part, pb: &Part, tol: f64) -> Option<f64> {
     let gap = (pb.s.0 - pa.s.1).max(pa.s.0 - pb.s.1).max(0.0);
     let needed = match (pa.disk, pb.disk) {
         (Some(_), Some(_)) => 0.0,
-        (None, None) => std::f64::consts::PI * robot.backbone.diameter,
+        (None, None) => std::f64::consts::PI * 2.0 * robot.body_radius(),
         _ => std::f64::consts::PI * robot.disk_radius,
     };
     if gap < needed || (pa.disk.is_some() && pa.disk == pb.disk) {
