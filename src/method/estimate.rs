@@ -4,7 +4,7 @@
 //!
 //! * **Discretization** (the method against itself converged): Richardson extrapolation from
 //!   one extra solve at half the resolution (or, at the coarsest rung, twice it), with the
-//!   method's order measured, not assumed (`tests/estimate/`): `energy`'s constant-strain
+//!   method's order measured, not assumed (`tests/methods/estimate/`): `energy`'s constant-strain
 //!   sub-arcs converge at order 2 in the sub-arc length, the rods' fixed-step RK4 at order 4
 //!   in the step. With resolutions `h` and `r·h` of tips `x_h`, `x_rh`, the error of the fine
 //!   one is `|x_h − x_rh| / (r^p − 1)` and that of the coarse one `|x_h − x_rh| · r^p /
