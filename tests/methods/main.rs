@@ -24,6 +24,7 @@ mod geometric_many_cables;
 mod geometric_random;
 mod geometric_tips;
 mod port;
+mod port_sweep;
 mod registry;
 mod registry_ranges;
 mod rod_body;
