@@ -282,7 +282,9 @@ impl Ctx<'_> {
             if let Some(p) = self.eval(u.clone(), vec![false; u.len()], None, true) {
                 return Some(p);
             }
-            u = self.space.clamp(&u.iter().map(|x| 0.5 * x).collect::<Vec<_>>());
+            u = self
+                .space
+                .clamp(&u.iter().map(|x| 0.5 * x).collect::<Vec<_>>());
         }
         None
     }
@@ -362,12 +364,11 @@ impl Ctx<'_> {
             let Some(q) = trial else {
                 break;
             };
-            let moved = q
-                .u
-                .iter()
-                .zip(&p.u)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let moved =
+                q.u.iter()
+                    .zip(&p.u)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
             let tol = self.opts.tolerance * 1e-2;
             let done = moved < 1e-13 || (q.res <= tol && p.phi - q.phi < 1e-16);
             p = q;

@@ -43,11 +43,7 @@ fn tangent(shape: &Shape) -> Vector3<f64> {
 
 /// The method's own Jacobian, when it has a shortening column for every cable of `space` not
 /// released (a released cable is free: the tip does not depend on its input, a zero column).
-fn exact(
-    space: &Space,
-    shape: &Shape,
-    released: &[bool],
-) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+fn exact(space: &Space, shape: &Shape, released: &[bool]) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
     let j = shape.report.jacobian.as_ref()?;
     let k = space.dim();
     let (mut p, mut t) = (DMatrix::zeros(3, k), DMatrix::zeros(3, k));

@@ -200,7 +200,9 @@ pub fn reach_in(
     // (as `ccrkit solve` does) succeeds is the answer; a failed one is passed over.
     found.sort_by(|a, b| {
         let key = |x: &Attempt| (x.res.max(opts.tolerance * 1e-3), x.effort);
-        key(a).partial_cmp(&key(b)).unwrap_or(std::cmp::Ordering::Equal)
+        key(a)
+            .partial_cmp(&key(b))
+            .unwrap_or(std::cmp::Ordering::Equal)
     });
     let mut last = None;
     for best in found {
