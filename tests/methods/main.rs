@@ -16,6 +16,7 @@ mod cosserat_stability;
 mod energy;
 mod energy_sensitivity;
 mod energy_warm;
+mod estimate;
 mod friction;
 mod geometric;
 mod geometric_feasibility;
