@@ -113,7 +113,16 @@ pub(crate) fn check_base(
                 });
             }
         }
-        if let Some(ct) = super::query(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance) {
+        // A solid's distance signed (`contact/solid.rs`); any other shape's as parry gives it.
+        let ct = match super::solid::solid(&*o.shape) {
+            Some(_) => super::query(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance),
+            None => {
+                parry3d::query::contact(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance)
+                    .ok()
+                    .flatten()
+            }
+        };
+        if let Some(ct) = ct {
             if ct.dist < scene.clearance - CONTACT_TOL {
                 return Err(SolveError::Obstructed {
                     obstacle: o.name.clone(),
