@@ -1,6 +1,6 @@
 #!/usr/bin/env sh
 # Install headless Chromium (Debian's `chromium` package) for the 3-D view's browser test
-# (`tests/view.rs`). CI runs this, then the tests with CCRKIT_REQUIRE_BROWSER=1.
+# (`tests/files/view.rs`). CI runs this, then the tests with CCRKIT_REQUIRE_BROWSER=1.
 set -eu
 
 SUDO=""
@@ -17,5 +17,5 @@ if command -v apt-get >/dev/null 2>&1; then
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends chromium
     chromium --version
 else
-    echo "install-browser: apt-get not available; the browser checks of tests/view.rs will be skipped." >&2
+    echo "install-browser: apt-get not available; the browser checks of tests/files/view.rs will be skipped." >&2
 fi

@@ -1,7 +1,7 @@
 #!/usr/bin/env sh
-# Install MuJoCo's Python bindings for `tests/urdf_mujoco.rs` (the exported URDF loads in
+# Install MuJoCo's Python bindings for `tests/files/urdf_mujoco.rs` (the exported URDF loads in
 # MuJoCo and its forward kinematics matches the solved disks). CI runs this, then
-# `CCRKIT_REQUIRE_MUJOCO=1 cargo test --release --test urdf_mujoco`.
+# `CCRKIT_REQUIRE_MUJOCO=1 cargo test --release --test files urdf_mujoco::`.
 set -eu
 PY="${PYTHON:-python3}"
 if ! command -v "$PY" >/dev/null 2>&1; then

@@ -1,8 +1,8 @@
 #!/usr/bin/env sh
-# Install the external URDF checkers used by `tests/urdf.rs`:
+# Install the external URDF checkers used by `tests/files/urdf.rs`:
 #   - `check_urdf` from Debian/Ubuntu's liburdfdom-tools (urdfdom's parser),
 #   - the `yourdfpy` Python module (an independent URDF forward-kinematics library).
-# CI runs this, then `CCRKIT_REQUIRE_URDF_TOOLS=1 cargo test --release --test urdf`.
+# CI runs this, then `CCRKIT_REQUIRE_URDF_TOOLS=1 cargo test --release --test files urdf::`.
 set -eu
 
 SUDO=""

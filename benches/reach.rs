@@ -132,7 +132,7 @@ fn bench_plan(c: &mut Criterion) {
     });
     // The same query through a roadmap (default build: 400 uniform + 400 expansion samples),
     // and 28 seeded random feasible queries (every pair of 8 admissible uniform samples, as in
-    // tests/plan.rs vessel_queries_succeed) through it: queries/s = 28 / time per iteration.
+    // tests/inverse/plan.rs vessel_queries_succeed) through it: queries/s = 28 / time per iteration.
     let rm = build(&model, &req, &BuildOptions::default()).unwrap();
     g.bench_function("vessel_roadmap_query", |b| {
         b.iter(|| {

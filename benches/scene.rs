@@ -9,8 +9,7 @@ use ccrkit::Scene;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 
-#[path = "../tests/common/scenes.rs"]
-mod scenes;
+use ccrkit_test_support::scenes;
 
 fn bench(c: &mut Criterion) {
     let dir = std::env::temp_dir().join(format!("ccrkit-bench-scene-{}", std::process::id()));

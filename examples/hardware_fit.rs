@@ -41,7 +41,7 @@ const FAMILIES: [&str; 3] = ["all3_same", "all3_scurve", "all3_spiral"];
 fn options() -> PredictOptions {
     let mut s = Settings::new();
     // Straight tendons, no loads: each segment bends at constant curvature, so one
-    // constant-strain sub-arc per section is exact (tests/hardware.rs checks chunking and rows).
+    // constant-strain sub-arc per section is exact (tests/hardware/hardware.rs checks chunking and rows).
     s.push("sub-arcs", "1");
     PredictOptions {
         request: SolveRequest::new(MethodKind::Energy).with_settings(s),
@@ -114,7 +114,7 @@ fn main() -> Result<()> {
         // Fits and the choice among the candidates on train only (protocol §8), in the library
         // function that sees nothing but train: `calibrate::select` fits each candidate on all
         // of train and on train without the two-segment `_same_` patterns, scores the latter on
-        // them and chooses the lowest (tests/hardware_select.rs).
+        // them and chooses the lowest (tests/hardware/hardware_select.rs).
         let fo = FitOptions::new(options());
         let sel = select(
             &nominal,

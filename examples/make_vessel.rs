@@ -6,7 +6,7 @@
 //!
 //! Bend radius 0.11 m, inner radius 20 mm (the paper robot's disks have 12 mm), the arc from
 //! θ = −0.1 rad (a little below the robot's base) to 1.8 rad, 61 rings of 32 vertices. A test
-//! (`tests/obstacles.rs`) checks the committed file equals this output.
+//! (`tests/contact/obstacles.rs`) checks the committed file equals this output.
 
 use anyhow::Result;
 use ccrkit::mesh::{bent_tube, to_obj};

@@ -10,7 +10,7 @@
 //! go to the earlier candidate, so the order of the list is the preference among equals.
 //!
 //! Val is read by the caller only after [`select`] has returned (`examples/hardware_fit.rs`);
-//! `tests/hardware_select.rs` checks that the choice does not change with a val file present,
+//! `tests/hardware/hardware_select.rs` checks that the choice does not change with a val file present,
 //! absent or garbage beside the train file.
 
 use super::data::Dataset;

@@ -92,13 +92,18 @@ pub(crate) fn within_box(
     (kept, clear)
 }
 
-/// The base disk must not lie inside (or within the clearance of) an obstacle.
+/// The base disk (for a rod without spacer disks, the ball of the body's radius about the
+/// base) must not lie inside (or within the clearance of) an obstacle.
 pub(crate) fn check_base(
     robot: &Robot,
     scene: &Scene,
     relevant: &[usize],
 ) -> Result<(), SolveError> {
-    let disk = features::disk(robot);
+    let base: Box<dyn parry3d::shape::Shape> = if robot.has_disks() {
+        Box::new(features::disk(robot))
+    } else {
+        Box::new(parry3d::shape::Ball::new(robot.body_radius()))
+    };
     let pose = super::ppose(&super::y_to_z(), &Vector3::zeros());
     for &k in relevant {
         let o = &scene.obstacles[k];
@@ -115,9 +120,9 @@ pub(crate) fn check_base(
         }
         // A solid's distance signed (`contact/solid.rs`); any other shape's as parry gives it.
         let ct = match super::solid::solid(&*o.shape) {
-            Some(_) => super::query(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance),
+            Some(_) => super::query(&pose, &*base, &o.parry_pose, &*o.shape, scene.clearance),
             None => {
-                parry3d::query::contact(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance)
+                parry3d::query::contact(&pose, &*base, &o.parry_pose, &*o.shape, scene.clearance)
                     .ok()
                     .flatten()
             }

@@ -6,8 +6,7 @@
 use super::super::FileScene;
 use super::{plain_number, plain_scene};
 
-#[path = "../../tests/common/scenes.rs"]
-mod scenes;
+use ccrkit_test_support::scenes;
 
 use crate::numeric::test_rng as rng;
 

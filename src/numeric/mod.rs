@@ -9,8 +9,7 @@ pub mod ode;
 pub mod qp;
 pub mod semisep;
 pub mod so3;
-/// The tests' deterministic generator (xorshift64), the one `tests/common/rng.rs` gives the
-/// integration tests, for the unit tests here.
+/// The tests' deterministic generator (xorshift64), the one the integration tests use
+/// (`ccrkit-test-support`, a dev-dependency), for the unit tests here.
 #[cfg(test)]
-#[path = "../../tests/common/rng.rs"]
-pub(crate) mod test_rng;
+pub(crate) use ccrkit_test_support::rng as test_rng;

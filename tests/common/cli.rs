@@ -1,7 +1,7 @@
 //! Where the integration tests find things and run the binary: the repository root, the
 //! paper cases, a scratch folder per test and process, and one run of the built `ccrkit`.
-//! Depends on std only, so a test or the adversarial harness can include it with `#[path]`
-//! (`tests/common/mod.rs` declares it as `common::cli`).
+//! Depends on std only (`tests/common/mod.rs` declares it as `common::cli`; the adversarial
+//! harness re-exports it).
 #![allow(dead_code)]
 
 use std::ffi::OsStr;

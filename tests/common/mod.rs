@@ -1,7 +1,15 @@
-//! Helpers shared by the integration tests (each test file uses the ones it needs).
+//! Helpers shared by the integration tests, one crate per concept (`tests/<concept>/main.rs`
+//! declares `#[path = "../common/mod.rs"] mod common;` and one module per test file; each
+//! module uses the helpers it needs). The std-only ones that `src/`'s unit tests and the
+//! benches need too (`rng`, `scenes`) live in the dev-only crate `tests/support/`.
 #![allow(dead_code)]
 
+pub mod adversarial_harness;
 pub mod cli;
+pub mod one_cable;
+pub mod urdf_scripts;
+#[allow(unused_imports)] // not every crate uses both
+pub use ccrkit_test_support::{rng, scenes};
 
 use ccrkit::{Method, Model, Scene, Shape};
 

@@ -1,5 +1,5 @@
-//! Robots with compliant cables, shared by `tests/compliance.rs` (energy model),
-//! `tests/cosserat_compliance.rs` (rods) and `tests/hardware.rs` (included with `#[path]`):
+//! Robots with compliant cables, shared by the method tests `compliance` (energy model) and
+//! `cosserat_compliance` (rods) and the hardware test `hardware`:
 //! the straight one-cable robot, three symmetric pretensioned cables on it, and FTDCR v4 with
 //! every cable compliant.
 #![allow(dead_code)]

@@ -1,6 +1,6 @@
-//! Running the Python URDF checkers (`tests/urdf_fk.py` with yourdfpy, `tests/urdf_mujoco.py`
-//! with MuJoCo) on an export: shared by `tests/urdf.rs` and `tests/urdf_mujoco.rs`
-//! (included with `#[path]`).
+//! Running the Python URDF checkers (`tests/scripts/urdf_fk.py` with yourdfpy,
+//! `tests/scripts/urdf_mujoco.py` with MuJoCo) on an export: shared by the file tests `urdf`
+//! and `urdf_mujoco`.
 #![allow(dead_code)]
 
 use ccrkit::export::UrdfExport;
@@ -32,7 +32,7 @@ pub fn disks_json(poses: impl IntoIterator<Item = (Vector3<f64>, Matrix3<f64>)>)
     serde_json::to_string(&list).expect("json")
 }
 
-/// Runs `tests/SCRIPT URDF EXPECTED` on the export written at `urdf` (its joint values: the
+/// Runs `tests/scripts/SCRIPT URDF EXPECTED` on the export written at `urdf` (its joint values: the
 /// SRDF group state `robot_name` when the export has an SRDF, i.e. is articulated), with
 /// `expected` (from [`disks_json`]) written beside it; prints the script's verdict after
 /// `label` and fails with its output unless it exits 0.
@@ -49,7 +49,7 @@ pub fn check_with_script(
     let mut cmd = Command::new(python());
     cmd.arg(
         Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests")
+            .join("tests/scripts")
             .join(script),
     )
     .arg(urdf)

@@ -325,6 +325,13 @@ fn print_methods() {
             yes(i.loads.tip_force),
             yes(i.loads.tip_moment)
         );
+        println!(
+            "    cables inside the rod: {}; compliant cables: {}; capstan friction: {}; bending stiffening: {}",
+            yes(i.tendons_inside),
+            yes(i.cable_compliance),
+            yes(i.capstan_friction),
+            yes(i.bending_stiffening)
+        );
         for s in i.settings {
             println!(
                 "    --set {}=<{}>   default {}: {}",

@@ -26,7 +26,7 @@
 //! 2. **All taut is degenerate**: at the straight rod the balanced pull
 //!    `δτ = w`, `δn(0) = −(Σ w_i) e3` changes neither the tip wrench nor any length (an axial
 //!    force does not deform an inextensible rod), so it is a null vector of the shooting
-//!    Jacobian (checked in `tests/cosserat_refs.rs`): the first continuation step hit a singular
+//!    Jacobian (checked in `tests/methods/cosserat_refs.rs`): the first continuation step hit a singular
 //!    Jacobian. Away from the straight rod all taut needs `Σ w_i ℓ_i = Σ w_i ℓ_i⁰ − Σ w_i d_i`,
 //!    i.e. exactly the twist that makes up `−Σ w_i d_i`, which the cables' own loads do not
 //!    produce; at `Σ w_i d_i = 0` the tension along `w` is free and the least one has a cable

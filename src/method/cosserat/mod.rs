@@ -55,7 +55,7 @@
 //! tensions included) are integrated with the state in the same RK4 pass: each stage's
 //! tangent is pushed through the analytic `∂y'/∂y` (and `∂y'/∂τ` for tension columns), so the
 //! result is the exact derivative of the *discrete* shooting residual (checked against central
-//! differences in `tests/cosserat.rs`). The tendon terms are differentiated in vector form,
+//! differences in `tests/methods/cosserat.rs`). The tendon terms are differentiated in vector form,
 //! `δA_i x = δα (x − t(t·x)) − α (δt (t·x) + t (δt·x))` with `A_i = α (I − t tᵀ)`,
 //! `α = τ/|ṗ|`, and `δ[v'; u'] = M⁻¹(δ[d; c] − δM [v'; u'])` reuses the factors of `M`. The
 //! pass with all 6 base-wrench columns costs about 6.3 plain integrations (case III) — a
@@ -108,7 +108,7 @@
 //! `C` is positive semidefinite (eigenvalues ≥ −1e-9 of the largest) at every disk. The
 //! disks sample `s`; a focal point between disks shows at the next one, where the eigenvalue
 //! is still far below zero. Euler's column: `C = tan(ks)/k` for `k² = P/EI`, first focal
-//! point at `ks = π/2`, i.e. `P_cr = π² EI/(4L²)` (test `tests/cosserat_stability.rs`).
+//! point at `ks = π/2`, i.e. `P_cr = π² EI/(4L²)` (test `tests/methods/cosserat_stability.rs`).
 //! With a length-controlled cable the test holds its tension fixed, which admits more
 //! perturbations than fixed lengths do: no focal point proves the displacement-controlled
 //! answer stable too, a focal point does not prove it unstable (`None`). Also `None` where the
@@ -127,7 +127,7 @@
 //! `ℓ = t + τ/k` with `t = ℓ⁰ − d − T₀/k` (the energy model's `L − t − λ/k`); the length
 //! equation becomes `k_ℓ (ℓ − t − τ/k)` and its Jacobian gains `−k_ℓ/k` on the cable's own
 //! tension column. A compliant solve at shortening `d` is therefore the inextensible solve
-//! at `d + T₀/k − τ/k` (`tests/cosserat_compliance.rs`). Under force control k changes nothing.
+//! at `d + T₀/k − τ/k` (`tests/methods/cosserat_compliance.rs`). Under force control k changes nothing.
 //! The stability test above still proves stability: a spring's potential `½ k (ℓ − t)²` adds
 //! `k δℓ² ≥ 0` to the fixed-tension second variation the test checks.
 //! Cables pull only: an active set makes a cable whose tension comes out negative slack

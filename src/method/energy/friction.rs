@@ -66,7 +66,7 @@
 //! `μ λ r ℓ / EI`. With compliant tendons `λ` stays a few newtons and `ρ` ≈ 0.02–0.5; with
 //! rigid tendons pulling against each other (the nominal v4's `all3_same_dir180_hold` rows: the
 //! three distal tendons taut at 110–150 N, compressing the backbone) `ρ` ≈ 0.8 to ≥ 1, and the
-//! passes creep or wander (`tests/hardware_friction.rs`).
+//! passes creep or wander (`tests/hardware/hardware_friction.rs`).
 //!
 //! Full Newton steps on the friction equilibrium (`[∇E + Σ_c λ_c Σ_j w_cj ∇L_cj; L_c − t_c −
 //! λ_c/k_c]` with the non-symmetric matrix of `Problem::friction_jacobian`, the taut set held

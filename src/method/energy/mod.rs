@@ -46,7 +46,7 @@
 //! `λ = k (L − t)₊` gives the potential `½ k (L − t)₊²` (used in the merit). In the step's dual
 //! QP, `1/k` adds to the diagonal (a primal stretch variable costing `½ k s²`); the tip
 //! Jacobian's KKT system gets `−1/k` on the same diagonal (`energy/sensitivity.rs`). `k → ∞`
-//! is the inextensible cable. Cross-checks in `tests/compliance.rs`: the series-spring relation
+//! is the inextensible cable. Cross-checks in `tests/methods/compliance.rs`: the series-spring relation
 //! (a compliant solve equals an inextensible one at the effective shortening `δ − T/k`), the
 //! closed-form pretension of three symmetric cables, and the Jacobian against central
 //! differences.
@@ -78,7 +78,7 @@
 //! another cable is tied in the rod) presses on its hole with `τ (t⁺ − t⁻)`; varying the whole
 //! path length includes that force automatically. The rod of [`crate::method::cosserat`] adds it
 //! as a point force at the disk; before it did, the two disagreed by ≈ 2.4 mm RMS when a cable
-//! with `r' ≠ 0` passed a disk where another is tied (`tests/energy.rs`,
+//! with `r' ≠ 0` passed a disk where another is tied (`tests/methods/energy.rs`,
 //! `agrees_with_cosserat_with_a_helix_passing_a_termination_disk`).
 //!
 //! # Accuracy (against the rod driven by the same path lengths, 20 RK4 steps per section)

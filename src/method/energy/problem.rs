@@ -134,7 +134,7 @@ impl Problem<'_> {
     /// energy) the second Newton step of an FTDCR row predicts ~1e-15 J while `pen × δL` is
     /// ~1e-14 J, so `φ(x + d) − φ(x)` is round-off of either sign and Armijo's test rejected the
     /// unit step at random; the backtracked step then took the step's multipliers with a tiny
-    /// `α`, and stationarity stalled at 1e-8–1e-6 (`tests/hardware_roundoff.rs`).
+    /// `α`, and stationarity stalled at 1e-8–1e-6 (`tests/hardware/hardware_roundoff.rs`).
     /// A merit that cannot resolve the decrease cannot judge the step, so it is taken when both
     /// the predicted decrease and the actual change lie below the bound: the unit Newton step is
     /// what converges locally (Nocedal & Wright, *Numerical Optimization*, 2nd ed., §18.7; the
@@ -192,7 +192,7 @@ impl Problem<'_> {
     /// quadratic `½ Σ k ξ²` of the module docs of [`super`]; `β > 0` adds `½ β ℓ EI κ⁴` per
     /// sub-arc, convex (κ⁴ is), so the problem stays convex. A constant-curvature arc under a
     /// pure moment `M` is stationary at `∂/∂κ (½ EI κ² (1 + β κ²)) = EI κ (1 + 2 β κ²) = M`
-    /// (`tests/stiffening.rs` checks that closed form).
+    /// (`tests/methods/stiffening.rs` checks that closed form).
     pub(super) fn energy(&self, xi: &[f64]) -> f64 {
         let quad = 0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>();
         if self.stiffening == 0.0 {

@@ -29,10 +29,10 @@ pub(super) const CONTACT_STEP_TOL: f64 = 1e-11;
 /// solve found no certified candidate in section 5 (not measured further; the squared
 /// objective is not the paper's method).
 /// The literal method falls back to it in a section near obstacles where no candidate
-/// converged at 1e-11 ([`SectionData::loose_contacts`]): found by `tests/adversarial_files.rs`
+/// converged at 1e-11 ([`SectionData::loose_contacts`]): found by `tests/adversarial/adversarial_files.rs`
 /// (the pillar turned by 1e5 rad solved before the tightening and not after). The
 /// contact curvature did not make it unneeded: on the 40 turned pillars of
-/// `tests/geometric_contact.rs` the failing candidates chatter with steps of 1e-8–1e-6 at a
+/// `tests/contact/geometric_contact.rs` the failing candidates chatter with steps of 1e-8–1e-6 at a
 /// residual of 1e-13 — the noise of parry's distance and normal for the disk against the
 /// pillar's side, not a slow step — and without the retry 34 of 40 fail (39 without the
 /// curvature; with the closed-form derivatives next to obstacles 7 of 40 with it, 36 without).
@@ -45,7 +45,7 @@ pub(super) const CONTACT_STAT_TOL: f64 = 1e-6;
 /// Consecutive line searches cut below 1e-3 of the step after which a run is given up as
 /// stalled (it is a kink of a term this face keeps non-zero, or no minimum on this face). Was
 /// 3; 2 measured: the same certified answers on every case of
-/// `tests/geometric_tips.rs` (and the same `NotConverged` count in `geometric_random.rs`) with
+/// `tests/methods/geometric_tips.rs` (and the same `NotConverged` count in `geometric_random.rs`) with
 /// 12–14 % fewer Newton iterations on the paper cases; 1 loses a random robot. The former
 /// search ([`SectionData::former_search`]) keeps [`FORMER_MAX_SHORT_STEPS`].
 const MAX_SHORT_STEPS: usize = 2;

@@ -16,7 +16,7 @@
 //! ([`Sqp::unpenalize`]), `= λ'` on the active face. The Hessian term alone (`½ ρ (aᵀd)²`)
 //! is exact only for a row at `c = 0`: for a pressing pair not yet touching (`c < 0`) the
 //! step would need `λ' = λ + ρ c`, negative once `λ < ρ |c|`; the dual holds it at 0 and the
-//! step closes only `λ / ρ` of the gap (random dense scene 5 of `tests/dense_scenes.rs`
+//! step closes only `λ / ρ` of the gap (random dense scene 5 of `tests/contact/dense_scenes.rs`
 //! with the step guard's exact distances: a disk 0.44 mm short of a sphere closed by 16 µm
 //! per iteration, 40 iterations instead of 12). Only where no `ρ` makes the Hessian
 //! positive definite is the energy's `K` added (a damped step, as for the blocks).

@@ -60,7 +60,7 @@ fn pillar_converges_superlinearly() {
 /// (`newton/curved.rs`) leaves the step's QP solution unchanged: every penalized contact row
 /// the step keeps pressing (multiplier > 0 after [`Sqp::unpenalize`]) is met by the step,
 /// `c + aᵀd = 0`, also for a pair not yet touching (`c ≠ 0`). Random dense scene 5 of
-/// `tests/dense_scenes.rs` (written to `tests/data/dense_scene5.json`) has such pairs: with
+/// `tests/contact/dense_scenes.rs` (written to `tests/data/dense_scene5.json`) has such pairs: with
 /// the Hessian term alone a disk 0.44 mm short of a sphere was closed by 16 µm per step.
 #[test]
 fn penalized_rows_the_step_keeps_are_met() {

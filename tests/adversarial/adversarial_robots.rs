@@ -1,0 +1,291 @@
+//! Random robots × every registered method (issue 11): proptest draws robots (sections,
+//! lengths, disks, backbone, 1–6 cables with straight, helical or per-disk routing, ends
+//! anywhere, shortenings from a payout to 99.99 %, tensions, optional loads and obstacles) and
+//! solves each with every method of `MethodKind::ALL` through the built binary under a
+//! wall-time budget. Judged by `adversarial_harness`: no panic, no hang, no exit 0 with a
+//! non-finite number, every failure named. Set `CCRKIT_ADVERSARIAL_CASES` for more robots.
+
+use crate::common::adversarial_harness::{methods, run_all, scratch, Tally};
+use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use parry3d::math::Pose;
+use parry3d::shape::{Ball, Cylinder};
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+use proptest::test_runner::{Config, TestRunner};
+use std::fmt::Write as _;
+use std::time::Duration;
+
+const BUDGET: Duration = Duration::from_secs(40);
+
+#[derive(Debug, Clone)]
+struct CableSpec {
+    radius_frac: f64,
+    angle: f64,
+    helix: Option<f64>,
+    per_disk_jitter: Option<f64>,
+    ends_frac: f64,
+    shorten_percent: Option<f64>,
+    tension: Option<f64>,
+}
+
+#[derive(Debug, Clone)]
+struct RobotSpec {
+    sections: usize,
+    section_length: f64,
+    disk_radius: f64,
+    thickness_frac: f64,
+    youngs: f64,
+    diameter_frac: f64,
+    cables: Vec<CableSpec>,
+    gravity: Option<f64>,
+    tip_moment: Option<f64>,
+    sphere: Option<(f64, f64)>,
+}
+
+fn cable() -> impl Strategy<Value = CableSpec> {
+    (
+        0.3..0.95f64,
+        -7.0..7.0f64,
+        prop::option::weighted(0.3, -1.0..1.0f64),
+        prop::option::weighted(0.2, 0.0..0.3f64),
+        0.0..1.0f64,
+        prop::option::weighted(
+            0.8,
+            prop_oneof![
+                4 => -5.0..8.0f64,
+                1 => Just(0.0),
+                1 => 8.0..99.0f64,
+                1 => Just(99.99),
+            ],
+        ),
+        prop::option::weighted(
+            0.6,
+            prop_oneof![4 => 0.0..10.0f64, 1 => Just(0.0), 1 => 10.0..500.0f64],
+        ),
+    )
+        .prop_map(
+            |(radius_frac, angle, helix, per_disk_jitter, ends_frac, shorten_percent, tension)| {
+                CableSpec {
+                    radius_frac,
+                    angle,
+                    helix,
+                    per_disk_jitter,
+                    ends_frac,
+                    shorten_percent,
+                    tension,
+                }
+            },
+        )
+}
+
+fn robot() -> impl Strategy<Value = RobotSpec> {
+    (
+        (1usize..10, 0.005..0.06f64, 0.003..0.03f64, 0.01..0.3f64),
+        (
+            prop_oneof![Just(1.1e9), 1e6..2e11f64],
+            0.05..0.5f64,
+            prop::collection::vec(cable(), 1..6),
+        ),
+        (
+            prop::option::weighted(0.15, -20.0..20.0f64),
+            prop::option::weighted(0.1, -0.5..0.5f64),
+            prop::option::weighted(0.15, (0.005..0.05f64, 0.0..1.0f64)),
+        ),
+    )
+        .prop_map(|(a, b, c)| RobotSpec {
+            sections: a.0,
+            section_length: a.1,
+            disk_radius: a.2,
+            thickness_frac: a.3,
+            youngs: b.0,
+            diameter_frac: b.1,
+            cables: b.2,
+            gravity: c.0,
+            tip_moment: c.1,
+            sphere: c.2,
+        })
+}
+
+/// The model file of a spec (valid by construction, except what the methods must judge).
+fn toml(r: &RobotSpec) -> String {
+    let n = r.sections;
+    let mut t = String::new();
+    let d = 2.0 * r.disk_radius * r.diameter_frac * 0.5;
+    let _ = writeln!(t, "name = \"random\"\n[robot]\nsections = {n}");
+    let _ = writeln!(t, "section_length = {:e}", r.section_length);
+    let _ = writeln!(t, "disk_radius = {:e}", r.disk_radius);
+    let _ = writeln!(
+        t,
+        "disk_thickness = {:e}",
+        r.section_length * r.thickness_frac
+    );
+    let _ = writeln!(
+        t,
+        "backbone = {{ youngs_modulus = {:e}, poisson_ratio = 0.3, diameter = {d:e} }}",
+        r.youngs
+    );
+    for (k, c) in r.cables.iter().enumerate() {
+        let ends = 1 + ((n - 1) as f64 * c.ends_frac).round() as usize;
+        let rad = d / 2.0 + (r.disk_radius - d / 2.0) * c.radius_frac;
+        let _ = writeln!(
+            t,
+            "[[cables]]\nname = \"c{k}\"\nradius = {rad:e}\nends_at = {ends}"
+        );
+        match (c.helix, c.per_disk_jitter) {
+            (Some(h), _) => {
+                let _ = writeln!(
+                    t,
+                    "angles = {{ helix = {{ start = {:e}, per_disk = {h:e} }} }}",
+                    c.angle
+                );
+            }
+            (None, Some(j)) => {
+                let a: Vec<String> = (0..=ends)
+                    .map(|i| format!("{:e}", c.angle + j * ((i * 7919) % 13) as f64 / 13.0))
+                    .collect();
+                let _ = writeln!(t, "angles = [{}]", a.join(", "));
+            }
+            (None, None) => {
+                let _ = writeln!(t, "angles = {{ straight = {:e} }}", c.angle);
+            }
+        }
+        if let Some(p) = c.shorten_percent {
+            let _ = writeln!(t, "shorten_percent = {p:e}");
+        }
+        if let Some(f) = c.tension {
+            let _ = writeln!(t, "tension = {f:e}");
+        }
+    }
+    if r.gravity.is_some() || r.tip_moment.is_some() {
+        let _ = writeln!(t, "[loads]");
+        if let Some(g) = r.gravity {
+            let _ = writeln!(t, "gravity = [0.0, {g:e}, -9.81]\ndisk_mass = 0.002");
+        }
+        if let Some(m) = r.tip_moment {
+            let _ = writeln!(t, "tip_moment = [{m:e}, 0.0, 0.0]");
+        }
+    }
+    if let Some((rad, h)) = r.sphere {
+        let len = n as f64 * r.section_length;
+        let _ = writeln!(
+            t,
+            "[[obstacles]]\nname = \"ball\"\nshape = \"sphere\"\nradius = {rad:e}\nposition = [{:e}, 0.0, {:e}]",
+            r.disk_radius + rad + 0.002,
+            h * len
+        );
+    }
+    t
+}
+
+#[test]
+fn random_robots_with_every_method_end_named_and_bounded() {
+    let cases: u32 = std::env::var("CCRKIT_ADVERSARIAL_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(40);
+    let dir = scratch("robots");
+    let mut runner = TestRunner::new(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let ms = methods();
+    let mut jobs = vec![];
+    let mut specs = vec![];
+    for k in 0..cases {
+        let spec = robot()
+            .new_tree(&mut runner)
+            .expect("strategy draws")
+            .current();
+        specs.push(spec.clone());
+        let file = dir.join(format!("robot{k}.toml"));
+        std::fs::write(&file, toml(&spec)).expect("write");
+        for (j, m) in ms.iter().enumerate() {
+            let json = dir.join(format!("robot{k}_{j}.json"));
+            let args: Vec<String> = [
+                "solve",
+                &file.display().to_string(),
+                "--method",
+                m,
+                "--json",
+                &json.display().to_string(),
+            ]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+            jobs.push((args, Some(json)));
+        }
+    }
+    let t: Tally = run_all(&dir, jobs, BUDGET);
+    t.report_and_assert("random robots × methods");
+    // Every solved shape with the ball obstacle keeps its disks out of the ball, checked from
+    // the JSON alone with parry3d (independent of the methods' own contact code).
+    let mut checked = 0;
+    for (k, spec) in specs.iter().enumerate() {
+        let Some((rad, h)) = spec.sphere else {
+            continue;
+        };
+        let centre = Vector3::new(
+            spec.disk_radius + rad + 0.002,
+            0.0,
+            h * spec.sections as f64 * spec.section_length,
+        );
+        for (j, m) in ms.iter().enumerate() {
+            let json = dir.join(format!("robot{k}_{j}.json"));
+            let Ok(text) = std::fs::read_to_string(&json) else {
+                continue;
+            };
+            let v: serde_json::Value = serde_json::from_str(&text).expect("JSON of a solve");
+            let depth = deepest_disk_in_ball(&v, spec, centre, rad);
+            // Contact tolerances of the methods are far below 1 µm.
+            assert!(
+                depth < 1e-6,
+                "{m} robot{k}: a disk is {depth:e} m inside the ball"
+            );
+            checked += 1;
+        }
+    }
+    println!("random robots: {checked} solved shapes with an obstacle checked for penetration");
+}
+
+/// Largest penetration of a disk (a cylinder at its solved frame) into the ball \[m\].
+fn deepest_disk_in_ball(v: &serde_json::Value, spec: &RobotSpec, c: Vector3<f64>, rad: f64) -> f64 {
+    let thickness = spec.section_length * spec.thickness_frac;
+    let disk = Cylinder::new(thickness / 2.0, spec.disk_radius);
+    let ball = Ball::new(rad);
+    let ball_pose: Pose = Isometry3::translation(c.x, c.y, c.z).into();
+    let num = |x: &serde_json::Value| x.as_f64().expect("a number");
+    let mut worst = f64::NEG_INFINITY;
+    for d in v["disks"].as_array().expect("disks") {
+        let p: Vec<f64> = d["position"]
+            .as_array()
+            .expect("position")
+            .iter()
+            .map(num)
+            .collect();
+        let r: Vec<Vec<f64>> = d["rotation"]
+            .as_array()
+            .expect("rotation")
+            .iter()
+            .map(|row| row.as_array().expect("row").iter().map(num).collect())
+            .collect();
+        let rot = Matrix3::from_fn(|i, j| r[i][j]);
+        // Parry's cylinder axis is y; the disk normal is the frame's z.
+        let y_to_z = Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
+        let q = UnitQuaternion::from_matrix(&(rot * y_to_z));
+        let pose: Pose = Isometry3::from_parts(Translation3::new(p[0], p[1], p[2]), q).into();
+        let gap = parry3d::query::distance(&pose, &disk, &ball_pose, &ball)
+            .expect("convex")
+            .distance;
+        let depth = if gap > 0.0 {
+            -gap
+        } else {
+            parry3d::query::contact(&pose, &disk, &ball_pose, &ball, 0.0)
+                .ok()
+                .flatten()
+                .map_or(0.0, |ct| -ct.dist)
+        };
+        worst = worst.max(depth);
+    }
+    worst
+}

@@ -1,0 +1,13 @@
+//! Obstacles and contact: scene obstacles of every kind, dense random scenes, and each method's
+//! contact steps.
+//!
+//! One test crate per concept, one module per topic: `cargo test --release --test contact <module>::`.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod dense_scenes;
+mod energy_contact_convergence;
+mod geometric_contact;
+mod obstacles;
+mod solid_mesh;

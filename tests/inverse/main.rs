@@ -1,0 +1,10 @@
+//! The inverse problems: reach (least-effort actuation to a tip) and plan (collision-free paths,
+//! roadmaps).
+//!
+//! One test crate per concept, one module per topic: `cargo test --release --test inverse <module>::`.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod plan;
+mod reach;
