@@ -35,7 +35,9 @@
 //! piece with the rest, the tip moves by at most `θ·d + ℓ'`, `θ ≤ κ_max ℓ'` the angle the piece
 //! would have turned (a rigid turn of the rest about the port), i.e. `O(SNAP)`; the methods'
 //! section problems stay well scaled (none sees a section shorter than `SNAP`). The sweep test
-//! in `tests/` measures the step across the snap.
+//! (`tests/methods/port_sweep.rs`: 1000 insertion steps through the whole length, one landing
+//! exactly on a disk) finds no tip step longer than the insertion step under a fixed tension
+//! of a straight cable (energy and the rod), and no jump along helical cables.
 //!
 //! **Cables behind the port.** A cable tied at a disk at or behind the port is straight over
 //! its whole length and held: it cannot change the shape. A tension on it is carried by the

@@ -25,6 +25,7 @@
 
 pub mod compare;
 pub mod figures;
+pub mod random;
 mod speed_accuracy;
 mod stability;
 mod workspace;
