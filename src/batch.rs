@@ -180,6 +180,10 @@ pub struct BatchRow {
     pub tensions: Vec<f64>,
     /// Disk frames, when [`BatchOptions::keep_disks`] and the row solved.
     pub disks: Option<Vec<DiskFrame>>,
+    /// The estimated tip distance from the converged reference rod \[m\], when the request
+    /// asks for estimates ([`SolveRequest::estimate`]); `None` otherwise, on failure, or
+    /// where the model part is unknown ([`crate::method::estimate`]).
+    pub error_estimate_m: Option<f64>,
 }
 
 impl BatchRow {
@@ -197,6 +201,7 @@ impl BatchRow {
                 .map(|c| c.tension.unwrap_or(f64::NAN))
                 .collect(),
             disks: keep_disks.then(|| s.disks.clone()),
+            error_estimate_m: s.report.error_estimate.as_ref().and_then(|e| e.bound_m),
         }
     }
 
@@ -211,6 +216,7 @@ impl BatchRow {
             converged: false,
             tensions: vec![f64::NAN; cables],
             disks: None,
+            error_estimate_m: None,
         }
     }
 }
@@ -275,7 +281,18 @@ pub fn solve_batch(
             inputs.rows,
             &|r| inputs.actuation(r),
             None,
-            &|_, out: &Solved| match &out.result {
+            &|r, out: &Solved| match &out.result {
+                Ok(s) if request.estimate => {
+                    let act = inputs.actuation(r);
+                    match solver.estimate(&model.robot, &act, &scene, s) {
+                        Ok(e) => {
+                            let mut s = s.clone();
+                            s.report.error_estimate = Some(e);
+                            BatchRow::solved(&s, opts.keep_disks)
+                        }
+                        Err(e) => BatchRow::failed(e.status(), e.to_string(), cables, Some(&e)),
+                    }
+                }
                 Ok(s) => BatchRow::solved(s, opts.keep_disks),
                 Err(RowFailure::Error(e)) => {
                     BatchRow::failed(e.status(), e.to_string(), cables, Some(e))
@@ -359,6 +376,41 @@ mod tests {
             .as_deref()
             .unwrap_or("")
             .contains("cables[0].shorten"));
+    }
+
+    #[test]
+    fn rows_carry_the_single_solves_estimate_when_asked() {
+        let model = case1();
+        let n = 3;
+        let inputs = BatchInputs::new(n, 2, Some(rows(&model, n)), None).expect("inputs");
+        let req = SolveRequest::new(MethodKind::Energy).with_estimate(true);
+        let opts = BatchOptions {
+            warm_start: false,
+            ..Default::default()
+        };
+        let b = solve_batch(&model, &req, &inputs, &opts).expect("batch");
+        for (r, row) in b.rows.iter().enumerate() {
+            let mut m = model.clone();
+            m.actuation = inputs.actuation(r);
+            let single = req.run(&m).expect("single").shape.report.error_estimate;
+            let want = single.and_then(|e| e.bound_m).expect("a bound");
+            let got = row.error_estimate_m.expect("asked for");
+            assert!(
+                (got - want).abs() <= 1e-9 * want.max(1e-12),
+                "row {r}: {got} vs {want}"
+            );
+        }
+        let plain = solve_batch(
+            &model,
+            &SolveRequest::new(MethodKind::Energy),
+            &inputs,
+            &opts,
+        );
+        assert!(plain
+            .expect("batch")
+            .rows
+            .iter()
+            .all(|r| r.error_estimate_m.is_none()));
     }
 
     #[test]

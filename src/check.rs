@@ -167,22 +167,20 @@ fn parts(robot: &Robot, shape: &Shape, tol: f64) -> Vec<Part> {
     } else {
         1.0
     };
-    let (ht, r) = (robot.disk_thickness / 2.0, robot.disk_radius);
-    let disk = SharedShape::new(Cylinder::new(ht, r));
-    let disk_shrunk = SharedShape::new(Cylinder::new(ht - tol, r - tol));
-    let mut out: Vec<Part> = shape
-        .disks
-        .iter()
-        .enumerate()
-        .map(|(k, d)| Part {
+    let mut out: Vec<Part> = Vec::new();
+    if robot.has_disks() {
+        let (ht, r) = (robot.disk_thickness / 2.0, robot.disk_radius);
+        let disk = SharedShape::new(Cylinder::new(ht, r));
+        let disk_shrunk = SharedShape::new(Cylinder::new(ht - tol, r - tol));
+        out.extend(shape.disks.iter().enumerate().map(|(k, d)| Part {
             shape: disk.clone(),
             shrunk: disk_shrunk.clone(),
             pose: disk_pose(&d.rotation, &d.position),
             s: (d.s * scale, d.s * scale),
             section: k,
             disk: Some(k),
-        })
-        .collect();
+        }));
+    }
     if pts.len() < 2 {
         return out;
     }
@@ -209,7 +207,7 @@ fn parts(robot: &Robot, shape: &Shape, tol: f64) -> Vec<Part> {
     if idx.last() != Some(&(pts.len() - 1)) {
         idx.push(pts.len() - 1);
     }
-    let rho = robot.backbone.radius();
+    let rho = robot.body_radius();
     let mut s = 0.0;
     for w in idx.windows(2) {
         let (a, b) = (pts[w[0]], pts[w[1]]);
@@ -276,8 +274,14 @@ pub fn self_contact(robot: &Robot, shape: &Shape) -> Option<SelfContact> {
     if shape.disks.len() != robot.disk_s.len() {
         return None;
     }
-    let d = robot.backbone.diameter;
-    let tol = SELF_CONTACT_TOL * robot.disk_thickness.min(d);
+    // The body's diameter (the backbone's unless the model gives a collision radius).
+    let d = 2.0 * robot.body_radius();
+    let thinnest = if robot.has_disks() {
+        robot.disk_thickness.min(d)
+    } else {
+        d
+    };
+    let tol = SELF_CONTACT_TOL * thinnest;
     let parts = parts(robot, shape, tol);
     let mut worst: Option<SelfContact> = None;
     for (a, b) in broad_phase(&parts) {

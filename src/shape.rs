@@ -115,6 +115,11 @@ pub struct SolveReport {
     /// Sensitivities of the tip to the inputs, where the method computes them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub jacobian: Option<TipJacobian>,
+    /// The estimated distance of the tip from the converged reference rod for the same
+    /// inputs, when asked for ([`SolveRequest::estimate`](crate::method::run::SolveRequest),
+    /// `--estimate`; [`crate::method::estimate`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_estimate: Option<crate::method::estimate::ErrorEstimate>,
     /// Method-specific solver state for warm starts (not serialized).
     #[serde(skip)]
     pub warm: Option<WarmState>,

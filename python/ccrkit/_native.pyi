@@ -103,6 +103,9 @@ class Shape:
     @property
     def stable(self) -> Optional[bool]: ...
     @property
+    def error_estimate(self) -> Optional[float]:
+        """Estimated tip distance from the converged rod [m] (``estimate=True``), or None."""
+    @property
     def jacobian(self) -> Optional[Dict[str, Any]]:
         """``inputs`` [(cable, input)], ``position`` and ``tangent`` (3, k) arrays; or None."""
     def to_json(self) -> str:
@@ -145,6 +148,7 @@ class Model:
         *,
         steps: int = 1,
         warm_from: Optional[str] = None,
+        estimate: bool = False,
         **settings: _Setting,
     ) -> Shape: ...
     def export_urdf(

@@ -236,9 +236,11 @@ impl Model {
     /// Solve the shape with `method` (see `ccrkit.methods()`). `shorten` [m] and `tension` [N]
     /// (one value per cable, NaN: none) replace the file's actuation when either is given.
     /// `steps` reaches the actuation in that many warm-started steps; `warm_from` starts from
-    /// another method's shape. Every other keyword is a setting of the method by name
-    /// (`sub_arcs=8`, `length="chord"`); a setting the method does not take is refused.
-    #[pyo3(signature = (method=None, shorten=None, tension=None, *, steps=1, warm_from=None, **settings))]
+    /// another method's shape; `estimate=True` adds the answer's estimated distance from the
+    /// converged rod (`Shape.error_estimate`, one extra solve). Every other keyword is a setting
+    /// of the method by name (`sub_arcs=8`, `length="chord"`); a setting the method does not
+    /// take is refused.
+    #[pyo3(signature = (method=None, shorten=None, tension=None, *, steps=1, warm_from=None, estimate=false, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
@@ -248,6 +250,7 @@ impl Model {
         tension: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
         steps: usize,
         warm_from: Option<&str>,
+        estimate: bool,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Shape> {
         let request = SolveRequest {
@@ -257,6 +260,7 @@ impl Model {
             warm_from: warm_from.map(|w| method_kind(py, Some(w))).transpose()?,
             steps,
             repeat: 1,
+            estimate,
         };
         let actuation = self.actuation(py, shorten, tension)?;
         let model = &self.inner;

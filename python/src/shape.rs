@@ -157,6 +157,18 @@ impl Shape {
         self.inner.report.stable
     }
 
+    /// The estimated tip distance from the converged reference rod [m], when the solve was
+    /// asked for it (`estimate=True`) and the model part is known; the parts are in
+    /// `report["error_estimate"]`.
+    #[getter]
+    fn error_estimate(&self) -> Option<f64> {
+        self.inner
+            .report
+            .error_estimate
+            .as_ref()
+            .and_then(|e| e.bound_m)
+    }
+
     /// Tip sensitivities, where the method computes them: a dict with `inputs` (list of
     /// `(cable, "shortening" | "tension")`), `position` and `tangent`, each (3, k) arrays
     /// (column j: ∂p_tip/∂u_j, ∂t_tip/∂u_j); else None.

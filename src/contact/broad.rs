@@ -92,18 +92,23 @@ pub(crate) fn within_box(
     (kept, clear)
 }
 
-/// The base disk must not lie inside (or within the clearance of) an obstacle.
+/// The base disk (for a rod without spacer disks, the ball of the body's radius about the
+/// base) must not lie inside (or within the clearance of) an obstacle.
 pub(crate) fn check_base(
     robot: &Robot,
     scene: &Scene,
     relevant: &[usize],
 ) -> Result<(), SolveError> {
-    let disk = features::disk(robot);
+    let base: Box<dyn parry3d::shape::Shape> = if robot.has_disks() {
+        Box::new(features::disk(robot))
+    } else {
+        Box::new(parry3d::shape::Ball::new(robot.body_radius()))
+    };
     let pose = super::ppose(&super::y_to_z(), &Vector3::zeros());
     for &k in relevant {
         let o = &scene.obstacles[k];
         if let Ok(Some(ct)) =
-            parry3d::query::contact(&pose, &disk, &o.parry_pose, &*o.shape, scene.clearance)
+            parry3d::query::contact(&pose, &*base, &o.parry_pose, &*o.shape, scene.clearance)
         {
             if ct.dist < scene.clearance - CONTACT_TOL {
                 return Err(SolveError::Obstructed {

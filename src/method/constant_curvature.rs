@@ -214,6 +214,7 @@ impl Method for ConstantCurvature {
                 notes,
                 stable: None,
                 jacobian: None,
+                error_estimate: None,
                 warm: None,
             },
         })

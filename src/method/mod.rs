@@ -18,6 +18,7 @@
 pub mod constant_curvature;
 pub mod cosserat;
 pub mod energy;
+pub mod estimate;
 pub mod geometric;
 pub mod output;
 mod port;

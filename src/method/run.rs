@@ -52,6 +52,9 @@ pub struct SolveRequest {
     pub steps: usize,
     /// Solve this many times and report the median time (≥ 1).
     pub repeat: usize,
+    /// Estimate each answer's distance from the converged reference rod
+    /// ([`crate::method::estimate`]: one extra solve), into `report.error_estimate`.
+    pub estimate: bool,
 }
 
 /// A solved request.
@@ -78,7 +81,14 @@ impl SolveRequest {
             warm_from: None,
             steps: 1,
             repeat: 1,
+            estimate: false,
         }
+    }
+
+    /// Builder: estimate each answer's error ([`SolveRequest::estimate`]).
+    pub fn with_estimate(mut self, on: bool) -> Self {
+        self.estimate = on;
+        self
     }
 
     /// Builder: settings.
@@ -127,7 +137,8 @@ impl SolveRequest {
                 ),
             });
         }
-        Ok(Solver::new(self.method.build(&self.settings)?, self.steps))
+        Ok(Solver::new(self.method.build(&self.settings)?, self.steps)
+            .with_settings(self.settings.clone()))
     }
 
     /// The warm-start method: `warm_from` with those of the request's settings it takes.
@@ -232,6 +243,10 @@ impl SolveRequest {
         }
         // The output boundary: no non-finite number, no robot passing through itself.
         crate::check::output(&model.robot, &shape)?;
+        if self.estimate {
+            shape.report.error_estimate =
+                Some(solver.estimate(&model.robot, &model.actuation, &scene, &shape)?);
+        }
         Ok(Solved {
             shape,
             scene,

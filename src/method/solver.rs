@@ -7,7 +7,8 @@
 //! [`Method::solve`]); after it, the output boundary ([`crate::check::output`]: every number
 //! finite, the robot not through itself). A failed gate is an error, never a shape.
 
-use super::{solve_stepped_prepared, Method, MethodKind, Prepared};
+use super::estimate::ErrorEstimate;
+use super::{solve_stepped_prepared, Method, MethodKind, Prepared, Settings};
 use crate::error::SolveError;
 use crate::model::actuation::Actuation;
 use crate::model::robot::Robot;
@@ -31,6 +32,7 @@ use crate::shape::Shape;
 pub struct Solver {
     method: Box<dyn Method>,
     steps: usize,
+    settings: Settings,
 }
 
 impl Solver {
@@ -40,7 +42,33 @@ impl Solver {
         Solver {
             method,
             steps: steps.max(1),
+            settings: Settings::new(),
         }
+    }
+
+    /// The settings the method was built with (what [`Solver::estimate`] reads its
+    /// resolution from).
+    pub(crate) fn with_settings(mut self, settings: Settings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// The settings the method was built with.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// How far `shape` (this solver's answer for `robot`, `act`, `scene`) is from the
+    /// converged reference rod: one extra solve at the companion resolution and the model's
+    /// left-out strains ([`crate::method::estimate`]).
+    pub fn estimate(
+        &self,
+        robot: &Robot,
+        act: &Actuation,
+        scene: &Scene,
+        shape: &Shape,
+    ) -> Result<ErrorEstimate, SolveError> {
+        super::estimate::estimate(self.kind(), &self.settings, robot, act, scene, shape)
     }
 
     /// The method.

@@ -5,7 +5,7 @@ use super::actuation::Actuation;
 use super::bounds;
 use super::file_cable::FileCable;
 use super::hardware::{FileHardware, Hardware};
-use super::robot::{Backbone, Cable, Loads, Robot};
+use super::robot::{Backbone, Body, Loads, Robot, Tendons};
 use super::scene::Scene;
 use super::scene_file::FileObstacle;
 use super::{Model, MAX_SECTIONS};
@@ -50,9 +50,21 @@ struct FileRobot {
     sections: i64,
     section_length: Option<f64>,
     section_lengths: Option<Vec<f64>>,
-    disk_radius: f64,
-    disk_thickness: f64,
+    /// Spacer disks' radius and thickness; only without `spacer_disks = false`.
+    #[serde(default)]
+    disk_radius: Option<f64>,
+    #[serde(default)]
+    disk_thickness: Option<f64>,
     backbone: FileBackbone,
+    /// Where the cables run: `disks` (default) or `inside` the rod.
+    #[serde(default)]
+    tendons: Option<String>,
+    /// `false`: a rod without spacer disks (cables inside it).
+    #[serde(default)]
+    spacer_disks: Option<bool>,
+    /// The body's radius for contact \[m\] (default: the backbone's).
+    #[serde(default)]
+    collision_radius: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -61,6 +73,8 @@ struct FileBackbone {
     youngs_modulus: f64,
     poisson_ratio: f64,
     diameter: f64,
+    #[serde(default)]
+    inner_diameter: Option<f64>,
     #[serde(default)]
     density: Option<f64>,
     #[serde(default)]
@@ -125,52 +139,50 @@ impl FileModel {
             ));
         }
         let (lengths, disk_s) = r.stations(n)?;
-        let disk_radius = bounds::DISK_RADIUS.check("robot.disk_radius", r.disk_radius)?;
-        let disk_thickness =
-            bounds::DISK_THICKNESS.check("robot.disk_thickness", r.disk_thickness)?;
-        let min_l = lengths.iter().cloned().fold(f64::INFINITY, f64::min);
-        if disk_thickness >= min_l {
-            return Err(ModelError::invalid(
-                "robot.disk_thickness",
-                format!("{disk_thickness} m is not smaller than the shortest section ({min_l} m)"),
-            ));
-        }
-        let backbone = r.backbone.validate(disk_radius)?;
+        let body = r.body()?;
+        let backbone = r.backbone.validate()?;
+        let (disk_radius, disk_thickness) = r.disks(&body, &backbone, &lengths)?;
         let loads = match &self.loads {
             None => Loads::default(),
             Some(l) => l.validate()?,
         };
+        let mut robot = Robot {
+            name: self.name.clone(),
+            disk_s,
+            disk_radius,
+            disk_thickness,
+            backbone,
+            cables: Vec::with_capacity(self.cables.len()),
+            loads,
+            port: None,
+            body,
+        };
+        robot.backbone.check(if robot.has_disks() {
+            disk_radius
+        } else {
+            f64::INFINITY
+        })?;
 
-        let mut cables: Vec<Cable> = Vec::with_capacity(self.cables.len());
         let mut drives = Vec::with_capacity(self.cables.len());
         for (ci, fc) in self.cables.iter().enumerate() {
-            if cables.iter().any(|c| c.name == fc.name) && !fc.name.trim().is_empty() {
+            if robot.cables.iter().any(|c| c.name == fc.name) && !fc.name.trim().is_empty() {
                 return Err(ModelError::invalid(
                     format!("cables[{ci}].name"),
                     format!("two cables are named `{}`", fc.name),
                 ));
             }
-            let cable = fc.cable(ci, &disk_s, disk_radius, &backbone)?;
-            drives.push(fc.drive(ci, &cable, &disk_s)?);
-            cables.push(cable);
+            let cable = fc.cable(ci, &robot)?;
+            drives.push(fc.drive(ci, &cable, &robot.disk_s)?);
+            robot.cables.push(cable);
         }
 
         let scene = self.scene(dir)?;
         let port = self
             .port
             .as_ref()
-            .map(|p| p.validate(disk_s[n]))
+            .map(|p| p.validate(robot.disk_s[n]))
             .transpose()?;
-        let robot = Robot {
-            name: self.name,
-            disk_s,
-            disk_radius,
-            disk_thickness,
-            backbone,
-            cables,
-            loads,
-            port: port.as_ref().map(|p| p.port.clone()),
-        };
+        robot.port = port.as_ref().map(|p| p.port.clone());
         // The rules every robot keeps, however built (the file's own spellings were checked
         // above, each naming the file's field).
         robot.check()?;
@@ -223,6 +235,79 @@ impl FileModel {
 }
 
 impl FileRobot {
+    /// Where the cables run, spacer disks, collision radius ([`Body::check`]).
+    fn body(&self) -> Result<Body, ModelError> {
+        let tendons = match self.tendons.as_deref() {
+            None | Some("disks") => Tendons::Disks,
+            Some("inside") => Tendons::Inside,
+            Some(other) => {
+                return Err(ModelError::invalid(
+                    "robot.tendons",
+                    format!(
+                        "must be `disks` (through spacer disks, outside the rod) or `inside` \
+                         (in channels inside the rod), got `{other}`"
+                    ),
+                ))
+            }
+        };
+        let body = Body {
+            tendons,
+            no_spacer_disks: self.spacer_disks == Some(false),
+            collision_radius: self.collision_radius,
+        };
+        body.check()?;
+        Ok(body)
+    }
+
+    /// The spacer disks' radius and thickness, checked; a rod without spacer disks takes
+    /// neither (its stations are drawn at the body's radius, with no thickness).
+    fn disks(
+        &self,
+        body: &Body,
+        backbone: &Backbone,
+        lengths: &[f64],
+    ) -> Result<(f64, f64), ModelError> {
+        if body.no_spacer_disks {
+            for (field, v) in [
+                ("robot.disk_radius", self.disk_radius),
+                ("robot.disk_thickness", self.disk_thickness),
+            ] {
+                if v.is_some() {
+                    return Err(ModelError::invalid(
+                        field,
+                        "a rod without spacer disks (`spacer_disks = false`) has no disks to size",
+                    ));
+                }
+            }
+            return Ok((body.collision_radius.unwrap_or(backbone.radius()), 0.0));
+        }
+        let need = |field: &str, v: Option<f64>| {
+            v.ok_or_else(|| {
+                ModelError::invalid(
+                    field,
+                    "missing: give the spacer disks' size (or `spacer_disks = false` for a rod \
+                     without disks, its cables inside it)",
+                )
+            })
+        };
+        let disk_radius = bounds::DISK_RADIUS.check(
+            "robot.disk_radius",
+            need("robot.disk_radius", self.disk_radius)?,
+        )?;
+        let disk_thickness = bounds::DISK_THICKNESS.check(
+            "robot.disk_thickness",
+            need("robot.disk_thickness", self.disk_thickness)?,
+        )?;
+        let min_l = lengths.iter().cloned().fold(f64::INFINITY, f64::min);
+        if disk_thickness >= min_l {
+            return Err(ModelError::invalid(
+                "robot.disk_thickness",
+                format!("{disk_thickness} m is not smaller than the shortest section ({min_l} m)"),
+            ));
+        }
+        Ok((disk_radius, disk_thickness))
+    }
+
     /// The checked section lengths and the arc length of every disk (`disk_s[0] = 0`).
     fn stations(&self, n: usize) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
         let lengths: Vec<f64> = match (&self.section_length, &self.section_lengths) {
@@ -277,16 +362,18 @@ impl FileRobot {
 }
 
 impl FileBackbone {
-    /// The backbone, checked by its own rules ([`Backbone::check`]).
-    fn validate(&self, disk_radius: f64) -> Result<Backbone, ModelError> {
+    /// The backbone, checked by its own rules ([`Backbone::check`]) short of the disks (the
+    /// caller checks it against them).
+    fn validate(&self) -> Result<Backbone, ModelError> {
         let b = Backbone {
             youngs_modulus: self.youngs_modulus,
             poisson_ratio: self.poisson_ratio,
             diameter: self.diameter,
+            inner_diameter: self.inner_diameter.unwrap_or(0.0),
             density: self.density.unwrap_or(0.0),
             stiffening: self.stiffening.unwrap_or(0.0),
         };
-        b.check(disk_radius)?;
+        b.check(f64::INFINITY)?;
         Ok(b)
     }
 }

@@ -5,7 +5,7 @@
 use super::actuation::{CableDrive, Shortening};
 use super::bounds;
 use super::file::finite;
-use super::robot::{Backbone, Cable};
+use super::robot::{Cable, Robot};
 use super::robot_check::{hole_radius, pretension};
 use super::routing::Helix;
 use crate::error::ModelError;
@@ -85,15 +85,11 @@ fn compliance(
 }
 
 impl FileCable {
-    /// The routed cable `cables[ci]`: end disk, hole radii and angles, checked against the disk
+    /// The routed cable `cables[ci]` of `robot` (its stations, disks, backbone and body; its
+    /// cables so far are not read): end disk, hole radii and angles, checked against the disk
     /// and the backbone.
-    pub(super) fn cable(
-        &self,
-        ci: usize,
-        disk_s: &[f64],
-        disk_radius: f64,
-        backbone: &Backbone,
-    ) -> Result<Cable, ModelError> {
+    pub(super) fn cable(&self, ci: usize, robot: &Robot) -> Result<Cable, ModelError> {
+        let disk_s = &robot.disk_s[..];
         let f = |name: &str| format!("cables[{ci}].{name}");
         if self.name.trim().is_empty() {
             return Err(ModelError::invalid(f("name"), "must not be empty"));
@@ -113,7 +109,7 @@ impl FileCable {
         let mut cable = Cable {
             name: self.name.clone(),
             ends_at,
-            radius: self.radii(ci, ends_at, disk_radius, backbone)?,
+            radius: self.radii(ci, ends_at, robot)?,
             angle,
             helix,
             stiffness: None,
@@ -123,14 +119,9 @@ impl FileCable {
         Ok(cable)
     }
 
-    /// One hole radius per disk `0..=ends_at`, each between the backbone and the disk rim.
-    fn radii(
-        &self,
-        ci: usize,
-        ends_at: usize,
-        disk_radius: f64,
-        backbone: &Backbone,
-    ) -> Result<Vec<f64>, ModelError> {
+    /// One hole radius per disk `0..=ends_at`, each between the backbone and the disk rim (in
+    /// the rod's wall for cables inside the rod).
+    fn radii(&self, ci: usize, ends_at: usize, robot: &Robot) -> Result<Vec<f64>, ModelError> {
         let count = ends_at + 1;
         let radius = match &self.radius {
             FileRadius::One(r) => vec![*r; count],
@@ -153,7 +144,7 @@ impl FileCable {
             } else {
                 format!("cables[{ci}].radius[{k}]")
             };
-            hole_radius(&field, *rr, disk_radius, backbone)?;
+            hole_radius(&field, *rr, robot)?;
         }
         Ok(radius)
     }

@@ -11,15 +11,19 @@
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
-/// Elastic backbone (a rod of circular cross-section).
+/// Elastic backbone: a solid rod of circular cross-section, or a tube (an annulus between
+/// [`Backbone::inner_diameter`] and [`Backbone::diameter`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Backbone {
     /// Young's modulus E \[Pa\].
     pub youngs_modulus: f64,
     /// Poisson's ratio ν [-].
     pub poisson_ratio: f64,
-    /// Rod diameter d \[m\].
+    /// Rod (outer) diameter d \[m\].
     pub diameter: f64,
+    /// Inner diameter dᵢ of a tube \[m\] (0: a solid rod, the default). The section is the
+    /// annulus: `A = π (d² − dᵢ²)/4`, `I = π (d⁴ − dᵢ⁴)/64`.
+    pub inner_diameter: f64,
     /// Density [kg/m³] (0 when the file gives none: weightless backbone).
     pub density: f64,
     /// Curvature stiffening `β` \[m²\] (0: linear elastic, the default): the bending energy
@@ -39,19 +43,20 @@ impl Backbone {
     pub fn shear_modulus(&self) -> f64 {
         self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
     }
-    /// Cross-section area A = π d² / 4 \[m²\].
+    /// Cross-section area A = π (d² − dᵢ²) / 4 \[m²\] (the annulus; `π d²/4` for a solid rod).
     pub fn area(&self) -> f64 {
-        PI * self.diameter * self.diameter / 4.0
+        let (d, di) = (self.diameter, self.inner_diameter);
+        PI * (d - di) * (d + di) / 4.0
     }
-    /// Second moment of area I = π d⁴ / 64 \[m⁴\].
+    /// Second moment of area I = π (d⁴ − dᵢ⁴) / 64 \[m⁴\] (`π d⁴/64` for a solid rod).
     pub fn second_moment(&self) -> f64 {
-        PI * self.diameter.powi(4) / 64.0
+        PI * (self.diameter.powi(4) - self.inner_diameter.powi(4)) / 64.0
     }
     /// Bending stiffness EI [N m²].
     pub fn ei(&self) -> f64 {
         self.youngs_modulus * self.second_moment()
     }
-    /// Torsional stiffness GJ with J = 2I (circular section) [N m²].
+    /// Torsional stiffness GJ with J = 2I (circular section or annulus) [N m²].
     pub fn gj(&self) -> f64 {
         self.shear_modulus() * 2.0 * self.second_moment()
     }
@@ -63,9 +68,57 @@ impl Backbone {
     pub fn ga(&self) -> f64 {
         self.shear_modulus() * self.area()
     }
-    /// Backbone radius \[m\].
+    /// Backbone (outer) radius \[m\].
     pub fn radius(&self) -> f64 {
         self.diameter / 2.0
+    }
+    /// Inner radius of a tube \[m\] (0 for a solid rod).
+    pub fn inner_radius(&self) -> f64 {
+        self.inner_diameter / 2.0
+    }
+}
+
+/// Where the cables run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Tendons {
+    /// Through holes in spacer disks, outside the backbone, free between disks (the default).
+    #[default]
+    Disks,
+    /// In channels inside the backbone rod (a soft rod, a tube's wall): each hole lies between
+    /// the rod's inner and outer radius and the cable follows the rod; spacer disks optional.
+    Inside,
+}
+
+impl Tendons {
+    /// The model file's word for it (`robot.tendons`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Tendons::Disks => "disks",
+            Tendons::Inside => "inside",
+        }
+    }
+}
+
+/// The robot's body as it meets the world: where its tendons run, whether it carries spacer
+/// disks, and the radius its backbone collides with.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Body {
+    /// Where the cables run (model file `robot.tendons`).
+    pub tendons: Tendons,
+    /// `false`: a rod without spacer disks (only with [`Tendons::Inside`]); the disks are then
+    /// stations along the rod (sections, cable ends), with no body of their own: no disk takes
+    /// part in contact. Model file `robot.spacer_disks` (default `true`).
+    pub no_spacer_disks: bool,
+    /// Radius of the body about the backbone for obstacle contact and self-contact \[m\]
+    /// (`None`: the backbone's radius, the default). Model file `robot.collision_radius`.
+    pub collision_radius: Option<f64>,
+}
+
+impl Body {
+    /// Whether the cables' runs between disks are features of their own for contact: yes
+    /// through spacer disks, no inside the rod (the body covers them).
+    pub fn cables_exposed(&self) -> bool {
+        self.tendons == Tendons::Disks
     }
 }
 
@@ -172,6 +225,8 @@ pub struct Robot {
     pub backbone: Backbone,
     /// Cables, in file order.
     pub cables: Vec<Cable>,
+    /// Where the cables run, spacer disks, collision radius ([`Body`]).
+    pub body: Body,
     /// External loads (gravity, tip wrench) for force-based methods.
     pub loads: Loads,
     /// The entry port the robot is deployed through (`None`: its base is fixed at the scene
@@ -208,6 +263,18 @@ impl Robot {
         (1..=self.cables[c].ends_at)
             .map(|i| self.undeformed_chord(c, i))
             .sum()
+    }
+    /// Radius of the body about the backbone for contact \[m\]: the collision radius when the
+    /// model gives one, else the backbone's radius.
+    pub fn body_radius(&self) -> f64 {
+        self.body
+            .collision_radius
+            .unwrap_or_else(|| self.backbone.radius())
+    }
+    /// Whether the disks are spacer disks that take part in contact (false for a rod without
+    /// spacer disks, [`Body::no_spacer_disks`]).
+    pub fn has_disks(&self) -> bool {
+        !self.body.no_spacer_disks
     }
     /// Index of the cable with this name.
     pub fn cable_index(&self, name: &str) -> Option<usize> {

@@ -10,7 +10,7 @@
 //! [`super::bounds`]'s.
 
 use super::bounds;
-use super::robot::{Backbone, Cable, Loads, Robot, MAX_STIFFENING};
+use super::robot::{Backbone, Body, Cable, Loads, Robot, Tendons, MAX_STIFFENING};
 use super::MAX_SECTIONS;
 use crate::error::ModelError;
 use nalgebra::Vector3;
@@ -21,7 +21,8 @@ impl Robot {
     /// [`bounds::ROBOT_LENGTH`]; disks in range and thinner than the shortest section; the
     /// backbone ([`Backbone::check`]) inside the disks; at most [`bounds::MAX_CABLES`]
     /// cables with distinct, non-empty names, each with a hole per disk it passes inside the
-    /// disk and outside the backbone, angles and compliance in range; loads
+    /// disk and outside the backbone (in the rod's wall with cables inside the rod, [`Body`]),
+    /// angles and compliance in range; a body that holds together ([`Body::check`]); loads
     /// ([`Loads::check`]); a port placed within [`bounds::COORDINATE`].
     ///
     /// ```
@@ -57,18 +58,26 @@ impl Robot {
             shortest = shortest.min(l);
         }
         bounds::ROBOT_LENGTH.check("robot.section_lengths", self.length())?;
-        bounds::DISK_RADIUS.check("robot.disk_radius", self.disk_radius)?;
-        bounds::DISK_THICKNESS.check("robot.disk_thickness", self.disk_thickness)?;
-        if self.disk_thickness >= shortest {
-            return Err(ModelError::invalid(
-                "robot.disk_thickness",
-                format!(
-                    "{} m is not smaller than the shortest section ({shortest} m)",
-                    self.disk_thickness
-                ),
-            ));
+        if self.has_disks() {
+            bounds::DISK_RADIUS.check("robot.disk_radius", self.disk_radius)?;
+            bounds::DISK_THICKNESS.check("robot.disk_thickness", self.disk_thickness)?;
+            if self.disk_thickness >= shortest {
+                return Err(ModelError::invalid(
+                    "robot.disk_thickness",
+                    format!(
+                        "{} m is not smaller than the shortest section ({shortest} m)",
+                        self.disk_thickness
+                    ),
+                ));
+            }
         }
-        self.backbone.check(self.disk_radius)?;
+        self.body.check()?;
+        let room = if self.has_disks() {
+            self.disk_radius
+        } else {
+            f64::INFINITY
+        };
+        self.backbone.check(room)?;
         self.loads.check()?;
         if self.cables.len() > bounds::MAX_CABLES {
             return Err(ModelError::invalid(
@@ -130,12 +139,7 @@ impl Robot {
             }
         }
         for (k, r) in c.radius.iter().enumerate() {
-            hole_radius(
-                &f(&format!("radius[{k}]")),
-                *r,
-                self.disk_radius,
-                &self.backbone,
-            )?;
+            hole_radius(&f(&format!("radius[{k}]")), *r, self)?;
         }
         for (k, a) in c.angle.iter().enumerate() {
             bounds::ANGLE.check(&f(&format!("angles[{k}]")), *a)?;
@@ -157,31 +161,46 @@ impl Robot {
     }
 }
 
-/// A hole radius `r` \[m\]: positive, inside the disk and outside the backbone (`field` names
-/// it in the error). The file's cables and [`Robot::check`] both ask this.
-pub(super) fn hole_radius(
-    field: &str,
-    r: f64,
-    disk_radius: f64,
-    backbone: &Backbone,
-) -> Result<f64, ModelError> {
+/// A hole radius `r` \[m\] of `robot` (only its disks, backbone and body are read): positive;
+/// with cables through the disks ([`Tendons::Disks`]) inside the disk and outside the backbone,
+/// with cables inside the rod ([`Tendons::Inside`]) inside the rod and outside a tube's bore
+/// (`field` names it in the error). The file's cables and [`Robot::check`] both ask this.
+pub(super) fn hole_radius(field: &str, r: f64, robot: &Robot) -> Result<f64, ModelError> {
     super::file::positive(field, r)?;
-    if r >= disk_radius {
-        return Err(ModelError::invalid(
-            field,
-            format!("hole radius {r} m lies beyond the disk (radius {disk_radius} m)"),
-        ));
-    }
-    if r <= backbone.radius() {
+    let (rod, bore) = (robot.backbone.radius(), robot.backbone.inner_radius());
+    if robot.has_disks() && r >= robot.disk_radius {
         return Err(ModelError::invalid(
             field,
             format!(
-                "hole radius {r} m lies inside the backbone (radius {} m)",
-                backbone.radius()
+                "hole radius {r} m lies beyond the disk (radius {} m)",
+                robot.disk_radius
             ),
         ));
     }
-    Ok(r)
+    match robot.body.tendons {
+        Tendons::Disks if r <= rod => Err(ModelError::invalid(
+            field,
+            format!(
+                "hole radius {r} m lies inside the backbone (radius {rod} m); a cable that runs \
+                 inside the rod needs `robot.tendons = \"inside\"`"
+            ),
+        )),
+        Tendons::Inside if r >= rod => Err(ModelError::invalid(
+            field,
+            format!(
+                "hole radius {r} m lies outside the rod (radius {rod} m), but `robot.tendons = \
+                 \"inside\"` routes every cable inside it"
+            ),
+        )),
+        Tendons::Inside if r <= bore => Err(ModelError::invalid(
+            field,
+            format!(
+                "hole radius {r} m lies in the tube's bore (inner radius {bore} m); a cable \
+                 inside the rod runs in its wall"
+            ),
+        )),
+        _ => Ok(r),
+    }
 }
 
 /// A pretension `t` \[N\] (`None`: none given) of a cable of stiffness `k` and undeformed
@@ -218,7 +237,8 @@ pub(super) fn pretension(
 impl Backbone {
     /// The backbone's rules (fields named `robot.backbone.*`): Young's modulus in
     /// [`bounds::YOUNGS_MODULUS`], Poisson's ratio in (−1, 0.5], the diameter in
-    /// [`bounds::DIAMETER`] and inside disks of radius `disk_radius`, the density in
+    /// [`bounds::DIAMETER`] and inside disks of radius `disk_radius` (infinite: no spacer
+    /// disks), a tube's inner diameter in `[0, diameter)`, the density in
     /// [`bounds::DENSITY`], the curvature stiffening in `[0, MAX_STIFFENING]`.
     pub fn check(&self, disk_radius: f64) -> Result<(), ModelError> {
         bounds::YOUNGS_MODULUS.check("robot.backbone.youngs_modulus", self.youngs_modulus)?;
@@ -236,6 +256,16 @@ impl Backbone {
                 format!("{d} m does not fit inside the disk (radius {disk_radius} m)"),
             ));
         }
+        let di = super::file::finite("robot.backbone.inner_diameter", self.inner_diameter)?;
+        if !(0.0..d).contains(&di) {
+            return Err(ModelError::invalid(
+                "robot.backbone.inner_diameter",
+                format!(
+                    "a tube's inner diameter lies in [0, {d}) m (0: a solid rod; below the outer \
+                     diameter), got {di}"
+                ),
+            ));
+        }
         bounds::DENSITY.check("robot.backbone.density", self.density)?;
         let beta = super::file::finite("robot.backbone.stiffening", self.stiffening)?;
         if !(0.0..=MAX_STIFFENING).contains(&beta) {
@@ -245,6 +275,25 @@ impl Backbone {
                     "must lie in [0, {MAX_STIFFENING}] m² (the β of ½ EI κ² (1 + β κ²)), got {beta}"
                 ),
             ));
+        }
+        Ok(())
+    }
+}
+
+impl Body {
+    /// The body's rules: a rod without spacer disks carries its cables inside
+    /// (`robot.spacer_disks`), a collision radius in [`bounds::DISK_RADIUS`]
+    /// (`robot.collision_radius`).
+    pub fn check(&self) -> Result<(), ModelError> {
+        if self.no_spacer_disks && self.tendons != Tendons::Inside {
+            return Err(ModelError::invalid(
+                "robot.spacer_disks",
+                "false needs `tendons = \"inside\"`: cables outside the rod run through the \
+                 spacer disks' holes",
+            ));
+        }
+        if let Some(r) = self.collision_radius {
+            bounds::DISK_RADIUS.check("robot.collision_radius", r)?;
         }
         Ok(())
     }

@@ -24,6 +24,7 @@
 
 mod answer;
 mod clear;
+mod descend;
 mod sens;
 mod solve;
 
@@ -134,11 +135,20 @@ impl Space {
 
     /// The actuation shortening cable `c` by `u[c]` metres.
     pub fn actuation(&self, u: &[f64]) -> Actuation {
+        self.actuation_with(u, &[])
+    }
+
+    /// The actuation shortening cable `c` by `u[c]` metres, except the cables marked in
+    /// `released` (shorter slices: none), which are left free: slack, they follow the shape
+    /// (the search's released cables, `reach/descend.rs`).
+    pub fn actuation_with(&self, u: &[f64], released: &[bool]) -> Actuation {
         Actuation {
             cables: u
                 .iter()
-                .map(|&x| CableDrive {
-                    shorten: Some(Shortening::Length(x)),
+                .enumerate()
+                .map(|(c, &x)| CableDrive {
+                    shorten: (!released.get(c).copied().unwrap_or(false))
+                        .then_some(Shortening::Length(x)),
                     tension: None,
                     capstan: 0.0,
                 })
@@ -167,8 +177,23 @@ impl Space {
     /// Solve the shape at `u` (warm-started from `warm`, a shape of this space), through the
     /// request's [`Solver`] (so through the output check).
     pub fn solve(&self, u: &[f64], warm: Option<&Shape>) -> Result<Shape, SolveError> {
-        self.solver
-            .solve(&self.robot, &self.actuation(u), &self.solve_scene, warm)
+        self.solve_with(u, &[], warm)
+    }
+
+    /// [`Space::solve`] with the cables marked in `released` left free
+    /// ([`Space::actuation_with`]).
+    pub fn solve_with(
+        &self,
+        u: &[f64],
+        released: &[bool],
+        warm: Option<&Shape>,
+    ) -> Result<Shape, SolveError> {
+        self.solver.solve(
+            &self.robot,
+            &self.actuation_with(u, released),
+            &self.solve_scene,
+            warm,
+        )
     }
 
     /// The shape at `u` solved exactly as `ccrkit solve` does (cold, through

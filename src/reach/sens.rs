@@ -41,12 +41,16 @@ fn tangent(shape: &Shape) -> Vector3<f64> {
         .into_owned()
 }
 
-/// The method's own Jacobian, when it has a shortening column for every cable of `space`.
-fn exact(space: &Space, shape: &Shape) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+/// The method's own Jacobian, when it has a shortening column for every cable of `space` not
+/// released (a released cable is free: the tip does not depend on its input, a zero column).
+fn exact(space: &Space, shape: &Shape, released: &[bool]) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
     let j = shape.report.jacobian.as_ref()?;
     let k = space.dim();
     let (mut p, mut t) = (DMatrix::zeros(3, k), DMatrix::zeros(3, k));
     for (c, cable) in space.robot.cables.iter().enumerate() {
+        if released.get(c).copied().unwrap_or(false) {
+            continue;
+        }
         let col = j
             .inputs
             .iter()
@@ -67,9 +71,21 @@ pub fn sensitivity(
     shape: &Shape,
     want_clearance: bool,
 ) -> Result<TipSens, SolveError> {
+    sensitivity_with(space, u, &[], shape, want_clearance)
+}
+
+/// [`sensitivity`] with the cables marked in `released` left free ([`Space::solve_with`]):
+/// their columns are zero.
+pub(super) fn sensitivity_with(
+    space: &Space,
+    u: &[f64],
+    released: &[bool],
+    shape: &Shape,
+    want_clearance: bool,
+) -> Result<TipSens, SolveError> {
     let want_clearance = want_clearance && !space.scene.is_empty();
     let k = space.dim();
-    let ex = exact(space, shape);
+    let ex = exact(space, shape, released);
     if let (Some((p, t)), false) = (&ex, want_clearance) {
         return Ok(TipSens {
             position: p.clone(),
@@ -81,12 +97,15 @@ pub fn sensitivity(
     let (mut p, mut t) = (DMatrix::zeros(3, k), DMatrix::zeros(3, k));
     let mut g = vec![0.0; k];
     for j in 0..k {
+        if released.get(j).copied().unwrap_or(false) {
+            continue;
+        }
         let mut up = u.to_vec();
         up[j] += FD_STEP;
         let mut um = u.to_vec();
         um[j] -= FD_STEP;
-        let sp = space.solve(&up, Some(shape))?;
-        let sm = space.solve(&um, Some(shape))?;
+        let sp = space.solve_with(&up, released, Some(shape))?;
+        let sm = space.solve_with(&um, released, Some(shape))?;
         let dp = (sp.tip() - sm.tip()) / (2.0 * FD_STEP);
         let dt = (tangent(&sp) - tangent(&sm)) / (2.0 * FD_STEP);
         for a in 0..3 {

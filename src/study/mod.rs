@@ -26,6 +26,7 @@
 pub mod compare;
 #[cfg(feature = "plot")]
 pub mod figures;
+pub mod random;
 mod speed_accuracy;
 mod stability;
 mod workspace;

@@ -1,6 +1,6 @@
 //! The methods, one at a time: the paper's geometric solver, the energy model, the Cosserat rod,
 //! compliance, stiffening and friction, the method registry and its settings, typed inputs, the
-//! entry port and the cable report.
+//! entry port, soft rods (cables inside the rod, tubes, no spacer disks) and the cable report.
 //!
 //! One test crate per concept, one module per topic: `cargo test --release --test methods <module>::`.
 
@@ -16,6 +16,7 @@ mod cosserat_stability;
 mod energy;
 mod energy_sensitivity;
 mod energy_warm;
+mod estimate;
 mod friction;
 mod geometric;
 mod geometric_feasibility;
@@ -23,7 +24,9 @@ mod geometric_many_cables;
 mod geometric_random;
 mod geometric_tips;
 mod port;
+mod port_sweep;
 mod registry;
 mod registry_ranges;
+mod rod_body;
 mod stiffening;
 mod typed_inputs;

@@ -145,6 +145,9 @@ struct SolveArgs {
     /// Adaptive RK45 tolerance instead of fixed RK4 steps (setting `adaptive`).
     #[arg(long)]
     adaptive: Option<String>,
+    /// Estimate the answer's distance from the converged reference rod (one extra solve).
+    #[arg(long)]
+    estimate: bool,
 }
 
 fn parse_method(s: &str) -> Result<MethodKind, String> {
@@ -183,6 +186,7 @@ impl SolveArgs {
             warm_from: self.warm_from,
             steps: self.steps,
             repeat,
+            estimate: self.estimate,
         };
         r.solver()?;
         Ok(r)
@@ -325,6 +329,13 @@ fn print_methods() {
             yes(i.loads.tip_force),
             yes(i.loads.tip_moment)
         );
+        println!(
+            "    cables inside the rod: {}; compliant cables: {}; capstan friction: {}; bending stiffening: {}",
+            yes(i.tendons_inside),
+            yes(i.cable_compliance),
+            yes(i.capstan_friction),
+            yes(i.bending_stiffening)
+        );
         for s in i.settings {
             println!(
                 "    --set {}=<{}>   default {}: {}",
@@ -459,6 +470,30 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
         shape.report.iterations,
         median * 1e6
     );
+    if let Some(e) = &shape.report.error_estimate {
+        println!("{}", error_line(e));
+    }
+}
+
+/// One line of an error estimate: the bound and its parts, in mm.
+fn error_line(e: &ccrkit::method::estimate::ErrorEstimate) -> String {
+    let mm = |x: f64| format!("{:.4} mm", x * 1e3);
+    let model = e.model_m.map_or_else(|| "unknown".to_string(), mm);
+    let against = if e.against.is_empty() {
+        String::new()
+    } else {
+        format!(" against {}", e.against)
+    };
+    let mut s = format!(
+        "error   ≤ {} from the converged rod (discretization {}{against}, model {model}; estimate took {:.1} µs)",
+        e.bound_m.map_or_else(|| "?".to_string(), mm),
+        mm(e.discretization_m),
+        e.cost_s * 1e6
+    );
+    if !e.note.is_empty() {
+        s += &format!("\n        {}", e.note);
+    }
+    s
 }
 
 fn create_dir(out: &PathBuf) -> Result<()> {

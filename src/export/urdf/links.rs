@@ -182,15 +182,17 @@ pub(super) fn disk_link(
         body = body.combine(&inertia::backbone(robot, k, &Vector3::zeros(), &prev));
     }
     link.inertial = body.to_urdf();
-    let half = Vector3::new(0.0, 0.0, h / 2.0);
-    add_cylinder(&mut link, &name, &-half, &half, r, &disk_material(), true);
+    if robot.has_disks() {
+        let half = Vector3::new(0.0, 0.0, h / 2.0);
+        add_cylinder(&mut link, &name, &-half, &half, r, &disk_material(), true);
+    }
     if let Some(prev) = backbone_to_prev {
         add_cylinder(
             &mut link,
             &format!("section_{k}_backbone"),
             &Vector3::zeros(),
             &prev,
-            robot.backbone.radius(),
+            robot.body_radius(),
             &backbone_material(),
             true,
         );

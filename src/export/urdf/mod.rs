@@ -59,8 +59,9 @@
 //! decomposed the same way ([`rpy_from_rotation`]). A zero-length chord gets `a = b = 0`.
 //!
 //! **Geometry.** Every disk link carries the disk as a cylinder (radius `disk_radius`, length
-//! `disk_thickness`, centred on the disk frame) for both visual and collision; the backbone of
-//! section `i` is a cylinder of the backbone diameter spanning the solved chord (on `disk_i` in
+//! `disk_thickness`, centred on the disk frame) for both visual and collision (a rod without
+//! spacer disks has none); the backbone of section `i` is a cylinder of the body's diameter
+//! (the collision radius, else the backbone's) spanning the solved chord (on `disk_i` in
 //! fixed mode, on `section_i_chord` in articulated mode, where it follows the bending joints).
 //! With [`UrdfOptions::cables`] the cable chords between consecutive holes are thin cylinders on
 //! `disk_i`, drawn as the solved shape routes them (in articulated mode they are exact at the
@@ -437,7 +438,7 @@ fn articulated_section(
             &format!("{sec}_backbone"),
             &Vector3::zeros(),
             &Vector3::new(0.0, 0.0, c),
-            robot.backbone.radius(),
+            robot.body_radius(),
             &backbone_material(),
             true,
         );

@@ -281,6 +281,7 @@ impl Cosserat {
                 notes,
                 stable: None,
                 jacobian: None,
+                error_estimate: None,
                 warm: None,
             },
         }

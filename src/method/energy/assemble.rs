@@ -111,6 +111,7 @@ impl Energy {
                 notes,
                 stable: sol.sensitivity.stable,
                 jacobian: sol.sensitivity.jacobian,
+                error_estimate: None,
                 warm: Some(state),
             },
         }

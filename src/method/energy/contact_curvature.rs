@@ -107,7 +107,7 @@ impl World<'_> {
                     });
                 }
                 if let Feat::Backbone(_) = p.feat {
-                    d_pt += self.robot.backbone.radius();
+                    d_pt += self.robot.body_radius();
                 }
             }
         }

@@ -194,7 +194,7 @@ impl<'a> World<'a> {
     /// move of a sub-arc end plus the disk radius times the largest change of its frame
     /// (`|ΔR|_F` bounds `|ΔR x|` for `|x| ≤ 1`) \[m\].
     pub fn max_move(&self, a: &Kin, b: &Kin) -> f64 {
-        let r = self.robot.disk_radius.max(self.robot.backbone.radius());
+        let r = self.robot.disk_radius.max(self.robot.body_radius());
         a.pos
             .iter()
             .zip(&b.pos)
@@ -266,7 +266,7 @@ impl<'a> World<'a> {
         let robot = self.robot;
         let m = self.m;
         let nsub = kin.pos.len() - 1;
-        let rb = robot.backbone.radius();
+        let rb = robot.body_radius();
         let (rd, ht) = (robot.disk_radius, robot.disk_thickness / 2.0);
         let identity = PPose::IDENTITY;
         for j in 1..=nsub {
@@ -280,7 +280,14 @@ impl<'a> World<'a> {
             );
         }
         let disk = features::disk(robot);
-        for k in 1..=robot.sections() {
+        // A rod without spacer disks has stations, no disks; cables inside the rod are inside
+        // its body (which meets the world for them).
+        let disks = if robot.has_disks() {
+            robot.sections()
+        } else {
+            0
+        };
+        for k in 1..=disks {
             let f = k * m;
             q.feature(
                 Feat::Disk(k),
@@ -290,7 +297,8 @@ impl<'a> World<'a> {
                 Ends::Rigid(f),
             );
         }
-        for (c, cable) in robot.cables.iter().enumerate() {
+        let exposed = robot.body.cables_exposed();
+        for (c, cable) in robot.cables.iter().enumerate().filter(|_| exposed) {
             for i in 1..=cable.ends_at {
                 let (fa, fb) = ((i - 1) * m, i * m);
                 let pa = kin.pos[fa] + kin.rot[fa] * cable.hole(i - 1);
@@ -322,7 +330,7 @@ impl<'a> World<'a> {
     /// (disk radius, half a sub-arc); obstacles farther than the margin from it only bound
     /// `clear`.
     fn robot_box(&self, kin: &Kin) -> (Vector3<f64>, Vector3<f64>) {
-        let grow = self.robot.disk_radius.max(self.robot.backbone.radius())
+        let grow = self.robot.disk_radius.max(self.robot.body_radius())
             + kin
                 .pos
                 .windows(2)

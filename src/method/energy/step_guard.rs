@@ -49,7 +49,7 @@ impl World<'_> {
     fn geom(&self, kin: &Kin, feat: Feat) -> Geom {
         let robot = self.robot;
         match feat {
-            Feat::Backbone(j) => Geom::Segment(kin.pos[j - 1], kin.pos[j], robot.backbone.radius()),
+            Feat::Backbone(j) => Geom::Segment(kin.pos[j - 1], kin.pos[j], robot.body_radius()),
             Feat::Disk(k) => {
                 let f = k * self.m;
                 Geom::Disk(kin.rot[f], kin.pos[f])
@@ -114,8 +114,14 @@ impl World<'_> {
         let robot = self.robot;
         let nsub = robot.sections() * self.m;
         let mut out: Vec<Feat> = (1..=nsub).map(Feat::Backbone).collect();
-        out.extend((1..=robot.sections()).map(Feat::Disk));
-        for (c, cable) in robot.cables.iter().enumerate() {
+        let disks = if robot.has_disks() {
+            robot.sections()
+        } else {
+            0
+        };
+        out.extend((1..=disks).map(Feat::Disk));
+        let exposed = robot.body.cables_exposed();
+        for (c, cable) in robot.cables.iter().enumerate().filter(|_| exposed) {
             out.extend((1..=cable.ends_at).map(|i| Feat::Cable(c, i)));
         }
         out

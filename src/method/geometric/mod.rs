@@ -266,6 +266,7 @@ impl Method for Geometric {
                 notes,
                 stable: strict.then_some(true),
                 jacobian: None,
+                error_estimate: None,
                 warm: None,
             },
         })

@@ -161,7 +161,7 @@ impl SectionWorld {
                 .filter(|(_, c)| c.reaches_section(i))
                 .map(|(k, c)| (k, x_prev + r_prev * c.hole(i - 1), c.hole(i)))
                 .collect(),
-            backbone_radius: robot.backbone.radius(),
+            backbone_radius: robot.body_radius(),
             disk_radius: robot.disk_radius,
             half_thickness: robot.disk_thickness / 2.0,
             clearance: scene.clearance,

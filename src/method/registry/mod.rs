@@ -8,7 +8,7 @@ use super::settings::{canonical, Configure, SettingInfo, Settings};
 use super::Method;
 use crate::error::SolveError;
 use crate::model::actuation::{Actuation, Drive, Input};
-use crate::model::robot::Robot;
+use crate::model::robot::{Robot, Tendons};
 use crate::model::scene::Scene;
 use std::fmt;
 use std::str::FromStr;
@@ -86,6 +86,10 @@ pub struct MethodInfo {
     /// Whether it models a bending stiffness that rises with curvature (the backbone's
     /// `stiffening` β, [`crate::model::robot::Backbone::stiffening`]).
     pub bending_stiffening: bool,
+    /// Whether it models cables that run inside the backbone rod (`robot.tendons = "inside"`,
+    /// [`crate::model::robot::Tendons::Inside`]): the cable follows the rod, its moment arm
+    /// the hole's position in the section.
+    pub tendons_inside: bool,
     /// Settings it takes (by name).
     pub settings: &'static [SettingInfo],
     /// Unit of its contact multipliers (`N` where they are reactions, `rad/m` for the
@@ -243,6 +247,15 @@ impl MethodKind {
                 "the backbone's `stiffening` (β = {} m², a bending stiffness rising with \
                  curvature) is not modelled by {} (it would be ignored); use {}, or drop it",
                 robot.backbone.stiffening,
+                info.name,
+                by.join(" or ")
+            ));
+        }
+        if !info.tendons_inside && robot.body.tendons == Tendons::Inside {
+            let by = Self::names_with(|i| i.tendons_inside);
+            return refuse(format!(
+                "the model's cables run inside the rod (`robot.tendons = \"inside\"`), which {} \
+                 does not model (its cables run straight between spacer disks' holes); use {}",
                 info.name,
                 by.join(" or ")
             ));
