@@ -45,6 +45,8 @@ pub struct BatchInputs {
     cables: usize,
     shorten: Option<Vec<f64>>,
     tension: Option<Vec<f64>>,
+    insertion: Option<Vec<f64>>,
+    rotation: Option<Vec<f64>>,
 }
 
 impl BatchInputs {
@@ -90,7 +92,33 @@ impl BatchInputs {
             cables,
             shorten,
             tension,
+            insertion: None,
+            rotation: None,
         })
+    }
+
+    /// The same rows through the model's port: `insertion` \[m\] and `rotation` \[rad\], one
+    /// value per row each (NaN: the row gives none: full insertion, no rotation). Checked for
+    /// their sizes here and for their ranges by each row's solve (a robot without a port
+    /// refuses them by name).
+    pub fn with_port(
+        mut self,
+        insertion: Option<Vec<f64>>,
+        rotation: Option<Vec<f64>>,
+    ) -> Result<Self, SolveError> {
+        for (field, v) in [("insertion", &insertion), ("rotation", &rotation)] {
+            if let Some(v) = v {
+                if v.len() != self.rows {
+                    return Err(SolveError::InvalidInput {
+                        field: field.into(),
+                        reason: format!("needs one value per row ({}), got {}", self.rows, v.len()),
+                    });
+                }
+            }
+        }
+        self.insertion = insertion;
+        self.rotation = rotation;
+        Ok(self)
     }
 
     /// Number of rows.
@@ -113,8 +141,12 @@ impl BatchInputs {
                     capstan: 0.0,
                 })
                 .collect(),
-            insertion: None,
-            rotation: None,
+            insertion: self
+                .insertion
+                .as_ref()
+                .map(|v| v[r])
+                .filter(|x| !x.is_nan()),
+            rotation: self.rotation.as_ref().map(|v| v[r]).filter(|x| !x.is_nan()),
         }
     }
 }
@@ -376,6 +408,58 @@ mod tests {
             .as_deref()
             .unwrap_or("")
             .contains("cables[0].shorten"));
+    }
+
+    /// Rows through a port: each row's insertion and rotation reach its solve (a row equals
+    /// the single solve at them; NaN is none: full insertion, no rotation), a bad length is
+    /// named, a robot without a port refuses them in the row by name.
+    #[test]
+    fn rows_through_a_port_carry_their_insertion_and_rotation() {
+        let model = Model::from_file("models/soft/lung_rod.toml").expect("lung rod");
+        let (n, k) = (4, 3);
+        let tension: Vec<f64> = (0..n).flat_map(|_| [0.6, 0.3, 0.2]).collect();
+        let ins = vec![0.03, 0.06, f64::NAN, 0.11];
+        let rot = vec![-1.0, f64::NAN, 0.5, 2.0];
+        let inputs = BatchInputs::new(n, k, None, Some(tension.clone()))
+            .and_then(|b| b.with_port(Some(ins.clone()), Some(rot.clone())))
+            .expect("inputs");
+        assert_eq!(inputs.actuation(0).insertion, Some(0.03));
+        assert_eq!(inputs.actuation(1).rotation, None);
+        assert_eq!(inputs.actuation(2).insertion, None);
+        let req = SolveRequest::new(MethodKind::Energy);
+        let opts = BatchOptions {
+            warm_start: false,
+            ..Default::default()
+        };
+        let b = solve_batch(&model, &req, &inputs, &opts).expect("batch");
+        for r in 0..n {
+            let mut a = model.actuation.clone();
+            for (c, t) in a.cables.iter_mut().zip(&tension[r * k..]) {
+                c.tension = Some(*t);
+            }
+            a.insertion = (!ins[r].is_nan()).then_some(ins[r]);
+            a.rotation = (!rot[r].is_nan()).then_some(rot[r]);
+            let s = req
+                .solver()
+                .and_then(|sv| sv.solve(&model.robot, &a, &model.scene, None))
+                .expect("single");
+            assert_eq!(b.rows[r].tip, <[f64; 3]>::from(s.tip()), "row {r}");
+        }
+        let e = BatchInputs::new(n, k, None, Some(tension))
+            .and_then(|b| b.with_port(Some(vec![0.05; 3]), None))
+            .expect_err("one insertion per row");
+        assert!(e.to_string().contains("insertion"), "{e}");
+        let plain = case1();
+        let inputs = BatchInputs::new(1, 2, Some(vec![0.001, 0.0]), None)
+            .and_then(|b| b.with_port(Some(vec![0.05]), None))
+            .expect("inputs");
+        let b = solve_batch(&plain, &req, &inputs, &opts).expect("batch");
+        assert_eq!(b.rows[0].status.name(), "invalid_input");
+        assert!(b.rows[0]
+            .error
+            .as_deref()
+            .unwrap_or("")
+            .contains("insertion"));
     }
 
     #[test]

@@ -76,6 +76,8 @@ def solve_batch(
     chunk=64,
     full=False,
     steps=1,
+    insertion=None,
+    rotation=None,
     **settings,
 ):
     """Solve many actuations of one model, in parallel, without the GIL.
@@ -83,6 +85,9 @@ def solve_batch(
     ``shorten`` [m] and/or ``tension`` [N] are (N, cables) arrays, one row per solve, one
     column per cable in ``model.cables`` order; NaN gives that cable no input of that kind
     in that row (a cable with neither is free). The model's own actuation is not used.
+    For a model with a ``[port]``, ``insertion`` [m] and ``rotation`` [rad] are (N,) arrays,
+    one value per row (NaN or omitted: full insertion, no rotation); the batch returns each
+    row's as solved (``Batch.insertion``, ``Batch.rotation``).
 
     Rows are cut into blocks of ``chunk``; inside a block each row starts from the previous
     solved row (``warm_start``), blocks run in parallel on ``threads`` threads (default: one
@@ -105,6 +110,8 @@ def solve_batch(
         chunk=chunk,
         full=full,
         steps=steps,
+        insertion=insertion,
+        rotation=rotation,
         **settings,
     )
     return Batch._from_native(raw, list(model.cables))

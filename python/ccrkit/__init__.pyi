@@ -37,5 +37,7 @@ def solve_batch(
     chunk: int = 64,
     full: bool = False,
     steps: int = 1,
+    insertion: Optional[npt.ArrayLike] = None,
+    rotation: Optional[npt.ArrayLike] = None,
     **settings: object,
 ) -> Batch: ...

@@ -70,6 +70,12 @@ class Shape:
     @property
     def method(self) -> str: ...
     @property
+    def insertion(self) -> Optional[float]:
+        """Insertion through the model's port [m] (None without a port)."""
+    @property
+    def rotation(self) -> Optional[float]:
+        """Rotation about the port axis [rad] (None without a port)."""
+    @property
     def disk_positions(self) -> npt.NDArray[np.float64]:
         """(n+1, 3) disk centres [m]."""
     @property
@@ -146,6 +152,8 @@ class Model:
         shorten: Optional[_Vec] = None,
         tension: Optional[_Vec] = None,
         *,
+        insertion: Optional[float] = None,
+        rotation: Optional[float] = None,
         steps: int = 1,
         warm_from: Optional[str] = None,
         estimate: bool = False,
@@ -283,5 +291,7 @@ def _solve_batch(
     chunk: int = 64,
     full: bool = False,
     steps: int = 1,
+    insertion: Optional[npt.ArrayLike] = None,
+    rotation: Optional[npt.ArrayLike] = None,
     **settings: _Setting,
 ) -> Dict[str, Any]: ...

@@ -20,6 +20,10 @@ class Batch:
         tensions: (N, cables) cable tensions [N], NaN where not computed or failed.
         disk_positions: (N, n+1, 3) [m] with ``full=True``, else None.
         disk_rotations: (N, n+1, 3, 3) with ``full=True``, else None.
+        insertion: (N,) insertion through the model's port [m] of each row as solved (full
+            insertion where the row gave none), NaN for a model without a port.
+        rotation: (N,) rotation about the port axis [rad] (0 where the row gave none), NaN
+            for a model without a port.
     """
 
     __slots__ = (
@@ -34,10 +38,13 @@ class Batch:
         "tensions",
         "disk_positions",
         "disk_rotations",
+        "insertion",
+        "rotation",
     )
 
     def __init__(self, method, cables, tips, status, errors, iterations, residual,
-                 converged, tensions, disk_positions=None, disk_rotations=None):
+                 converged, tensions, disk_positions=None, disk_rotations=None,
+                 insertion=None, rotation=None):
         import numpy as np
 
         self.method = method
@@ -51,6 +58,9 @@ class Batch:
         self.tensions = np.asarray(tensions, dtype=float)
         self.disk_positions = disk_positions
         self.disk_rotations = disk_rotations
+        n = len(self.status)
+        self.insertion = np.full(n, np.nan) if insertion is None else np.asarray(insertion, dtype=float)
+        self.rotation = np.full(n, np.nan) if rotation is None else np.asarray(rotation, dtype=float)
 
     @classmethod
     def _from_native(cls, raw, cables):
@@ -66,6 +76,8 @@ class Batch:
             raw["tensions"],
             raw.get("disk_positions"),
             raw.get("disk_rotations"),
+            raw.get("insertion"),
+            raw.get("rotation"),
         )
 
     def __len__(self):
@@ -105,6 +117,8 @@ class Batch:
             np.concatenate([b.tensions for b in batches]),
             np.concatenate([b.disk_positions for b in batches]) if full else None,
             np.concatenate([b.disk_rotations for b in batches]) if full else None,
+            np.concatenate([b.insertion for b in batches]),
+            np.concatenate([b.rotation for b in batches]),
         )
 
     def __getstate__(self):
@@ -112,7 +126,13 @@ class Batch:
 
     def __setstate__(self, state):
         for k in self.__slots__:
-            setattr(self, k, state[k])
+            # A batch pickled before insertion and rotation were kept has neither: NaN.
+            setattr(self, k, state.get(k))
+        if self.insertion is None or self.rotation is None:
+            import numpy as np
+
+            self.insertion = np.full(len(self.status), np.nan)
+            self.rotation = np.full(len(self.status), np.nan)
 
     def __repr__(self):
         return f"Batch(method={self.method!r}, rows={len(self)}, status={self.counts()})"

@@ -12,7 +12,7 @@ use ccrkit::batch::{solve_batch as core_batch, BatchInputs, BatchOptions};
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::MethodKind;
 use model::{method_kind, settings_from, Model};
-use numpy::{AllowTypeChange, PyArray1, PyArrayLike2, PyArrayMethods};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLike1, PyArrayLike2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use shape::Shape;
@@ -78,7 +78,7 @@ fn rows_of(
 /// The native batch: rows solved by `ccrkit::batch::solve_batch` with the GIL released.
 /// Returns a dict of arrays; `ccrkit.solve_batch` wraps it in a `Batch`.
 #[pyfunction]
-#[pyo3(signature = (model, shorten=None, tension=None, method=None, threads=None, warm_start=true, chunk=64, full=false, steps=1, **settings))]
+#[pyo3(signature = (model, shorten=None, tension=None, method=None, threads=None, warm_start=true, chunk=64, full=false, steps=1, insertion=None, rotation=None, **settings))]
 #[allow(clippy::too_many_arguments)]
 fn _solve_batch<'py>(
     py: Python<'py>,
@@ -91,6 +91,8 @@ fn _solve_batch<'py>(
     chunk: usize,
     full: bool,
     steps: usize,
+    insertion: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+    rotation: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
     settings: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let k = model.inner.robot.cables.len();
@@ -107,7 +109,9 @@ fn _solve_batch<'py>(
         (Some((n, _)), _) | (None, Some((n, _))) => *n,
         (None, None) => 0,
     };
+    let vec = |a: Option<PyArrayLike1<'_, f64, AllowTypeChange>>| a.map(|a| a.as_array().to_vec());
     let inputs = BatchInputs::new(rows, k, s.map(|x| x.1), t.map(|x| x.1))
+        .and_then(|b| b.with_port(vec(insertion), vec(rotation)))
         .map_err(|e| errors::solve_error(py, &e))?;
     let request = SolveRequest {
         steps,
@@ -123,7 +127,30 @@ fn _solve_batch<'py>(
     let batch = py
         .detach(|| core_batch(m, &request, &inputs, &opts))
         .map_err(|e| errors::solve_error(py, &e))?;
-    batch_dict(py, &batch, k, m.robot.sections() + 1, full)
+    let d = batch_dict(py, &batch, k, m.robot.sections() + 1, full)?;
+    // Each row's insertion and rotation as solved (a row without them: full insertion, no
+    // rotation; NaN for a model without a port).
+    let (len, port) = (m.robot.length(), m.robot.port.is_some());
+    let per_row = |f: &dyn Fn(&ccrkit::Actuation) -> f64| -> Vec<f64> {
+        (0..inputs.rows())
+            .map(|r| {
+                if port {
+                    f(&inputs.actuation(r))
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect()
+    };
+    d.set_item(
+        "insertion",
+        PyArray1::from_vec(py, per_row(&|a| a.insertion.unwrap_or(len))),
+    )?;
+    d.set_item(
+        "rotation",
+        PyArray1::from_vec(py, per_row(&|a| a.rotation.unwrap_or(0.0))),
+    )?;
+    Ok(d)
 }
 
 fn batch_dict<'py>(

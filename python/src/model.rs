@@ -234,13 +234,15 @@ impl Model {
     }
 
     /// Solve the shape with `method` (see `ccrkit.methods()`). `shorten` [m] and `tension` [N]
-    /// (one value per cable, NaN: none) replace the file's actuation when either is given.
+    /// (one value per cable, NaN: none) replace the file's actuation when either is given;
+    /// `insertion` [m] and `rotation` [rad] replace the port's (a model with a `[port]`; the
+    /// shape's `insertion` and `rotation` give them back).
     /// `steps` reaches the actuation in that many warm-started steps; `warm_from` starts from
     /// another method's shape; `estimate=True` adds the answer's estimated distance from the
     /// converged rod (`Shape.error_estimate`, one extra solve). Every other keyword is a setting
     /// of the method by name (`sub_arcs=8`, `length="chord"`); a setting the method does not
     /// take is refused.
-    #[pyo3(signature = (method=None, shorten=None, tension=None, *, steps=1, warm_from=None, estimate=false, **settings))]
+    #[pyo3(signature = (method=None, shorten=None, tension=None, *, insertion=None, rotation=None, steps=1, warm_from=None, estimate=false, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
@@ -248,6 +250,8 @@ impl Model {
         method: Option<&str>,
         shorten: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
         tension: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+        insertion: Option<f64>,
+        rotation: Option<f64>,
         steps: usize,
         warm_from: Option<&str>,
         estimate: bool,
@@ -262,7 +266,13 @@ impl Model {
             repeat: 1,
             estimate,
         };
-        let actuation = self.actuation(py, shorten, tension)?;
+        let mut actuation = self.actuation(py, shorten, tension)?;
+        if insertion.is_some() {
+            actuation.insertion = insertion;
+        }
+        if rotation.is_some() {
+            actuation.rotation = rotation;
+        }
         let model = &self.inner;
         let solved = py.detach(|| {
             let mut m = model.clone();

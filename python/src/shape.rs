@@ -70,6 +70,18 @@ impl Shape {
         PyArray1::from_vec(py, self.inner.disks.iter().map(|d| d.s).collect())
     }
 
+    /// Insertion through the model's port [m] (`None` without a port).
+    #[getter]
+    fn insertion(&self) -> Option<f64> {
+        self.inner.port.as_ref().map(|p| p.insertion)
+    }
+
+    /// Rotation about the model's port axis [rad] (`None` without a port).
+    #[getter]
+    fn rotation(&self) -> Option<f64> {
+        self.inner.port.as_ref().map(|p| p.rotation)
+    }
+
     /// Tip (last disk) position, (3,) [m].
     #[getter]
     fn tip<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
