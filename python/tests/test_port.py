@@ -14,7 +14,7 @@ ROD = MODELS / "soft" / "lung_rod.toml"
 
 
 def test_solve_takes_and_returns_insertion_and_rotation():
-    m = ccrkit.Model.from_file(ROD)
+    m = ccrkit.Model.load(ROD)
     tension = [0.6, 0.3, 0.2]
     s = m.solve(tension=tension, insertion=0.07, rotation=1.2)
     assert s.insertion == 0.07 and s.rotation == 1.2
@@ -24,14 +24,14 @@ def test_solve_takes_and_returns_insertion_and_rotation():
     x, y, z = s0.tip
     assert np.allclose(s.tip, [c * x - d * y, d * x + c * y, z], atol=1e-9)
     # A model without a port has neither, and refuses them by name.
-    plain = ccrkit.Model.from_file(MODELS / "paper" / "case1.toml")
+    plain = ccrkit.Model.load(MODELS / "paper" / "case1.toml")
     assert plain.solve().insertion is None and plain.solve().rotation is None
     with pytest.raises(ccrkit.SolveError, match="insertion"):
         plain.solve(insertion=0.1)
 
 
 def test_solve_batch_takes_insertion_and_rotation_arrays():
-    m = ccrkit.Model.from_file(ROD)
+    m = ccrkit.Model.load(ROD)
     n = 6
     tension = np.tile([0.6, 0.3, 0.2], (n, 1))
     insertion = np.linspace(0.02, 0.12, n)
