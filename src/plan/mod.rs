@@ -399,9 +399,8 @@ fn check_options(o: &PlanOptions) -> Result<(), SolveError> {
     if !(o.output_step.is_finite() && o.output_step > 0.0) {
         return bad("output_step", format!("must be > 0, got {}", o.output_step));
     }
-    if o.max_samples == 0 {
-        return bad("max_samples", "must be ≥ 1".into());
-    }
+    crate::counts::PLAN_SAMPLES.check(o.max_samples)?;
+    crate::counts::PLAN_SHORTCUTS.check(o.shortcuts)?;
     if let Some(m) = o.margin {
         if !(m.is_finite() && m >= 0.0) {
             return bad("margin", format!("must be finite and ≥ 0, got {m}"));

@@ -254,9 +254,8 @@ fn check_input(target: &Target, opts: &ReachOptions) -> Result<(), SolveError> {
     if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
         return bad("tolerance", format!("must be > 0, got {}", opts.tolerance));
     }
-    if opts.starts == 0 || opts.max_iterations == 0 {
-        return bad("starts", "starts and max_iterations must be ≥ 1".into());
-    }
+    crate::counts::REACH_STARTS.check(opts.starts)?;
+    crate::counts::REACH_ITERATIONS.check(opts.max_iterations)?;
     if let Some(m) = opts.margin {
         if !(m.is_finite() && m >= 0.0) {
             return bad("margin", format!("must be finite and ≥ 0, got {m}"));
