@@ -23,6 +23,7 @@
 //! Measured numbers live in the user's guide (`docs/guide/`, with the commands that regenerate
 //! them), not here.
 
+mod auto;
 pub mod compare;
 pub mod figures;
 pub mod random;
@@ -32,6 +33,9 @@ mod workspace;
 
 pub use crate::error::Status;
 pub use crate::model::actuation::Input;
+pub use auto::{
+    auto_study, auto_study_csv, summarize, AutoStudyOptions, AutoStudyRow, AutoSummary,
+};
 pub use compare::{compare, Comparison, ComparisonRow};
 pub use speed_accuracy::*;
 pub use stability::*;
