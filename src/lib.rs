@@ -13,6 +13,7 @@ pub mod batch;
 pub mod calibrate;
 pub mod check;
 pub(crate) mod contact;
+pub mod counts;
 pub mod error;
 pub mod export;
 pub mod method;

@@ -107,9 +107,27 @@ pub(crate) fn check_base(
     let pose = super::ppose(&super::y_to_z(), &Vector3::zeros());
     for &k in relevant {
         let o = &scene.obstacles[k];
-        if let Ok(Some(ct)) =
-            parry3d::query::contact(&pose, &*base, &o.parry_pose, &*o.shape, scene.clearance)
-        {
+        // The base of a robot in a solid mesh must be on its free side, however far from the
+        // wall (the signed distances rely on it: `contact/solid.rs`).
+        if let Some(mesh) = super::solid::solid(&*o.shape) {
+            if super::solid::in_obstacle(mesh, &o.parry_pose, super::pvec(&Vector3::zeros())) {
+                return Err(SolveError::Obstructed {
+                    obstacle: o.name.clone(),
+                    section: 0,
+                    reason: "the base lies on the obstacle side of this solid mesh (outside a lumen, or inside an organ)".into(),
+                });
+            }
+        }
+        // A solid's distance signed (`contact/solid.rs`); any other shape's as parry gives it.
+        let ct = match super::solid::solid(&*o.shape) {
+            Some(_) => super::query(&pose, &*base, &o.parry_pose, &*o.shape, scene.clearance),
+            None => {
+                parry3d::query::contact(&pose, &*base, &o.parry_pose, &*o.shape, scene.clearance)
+                    .ok()
+                    .flatten()
+            }
+        };
+        if let Some(ct) = ct {
             if ct.dist < scene.clearance - CONTACT_TOL {
                 return Err(SolveError::Obstructed {
                     obstacle: o.name.clone(),

@@ -13,6 +13,8 @@
 //!   for the second derivative of a feature–obstacle distance;
 //! * [`primitives`]: closed-form distances of the features to a box where one of its faces
 //!   decides them (parry otherwise);
+//! * [`solid`]: signed distances to a closed mesh with a declared free side (a lumen, an
+//!   organ), so a feature beyond a thin wall is seen;
 //! * [`broad`]: the broad phase (obstacles within reach of the robot, exact duplicates
 //!   merged, bounds against a box), the contact budget ([`broad::MAX_PAIRS`]) and the
 //!   base-disk check.
@@ -26,6 +28,7 @@ pub(crate) mod curvature;
 pub(crate) mod features;
 pub(crate) mod parry;
 pub(crate) mod primitives;
+pub(crate) mod solid;
 
 pub(crate) use parry::{
     nvec, polish, ppose, pvec, query, query_near, y_to_z, Witness, CONTACT_TOL,

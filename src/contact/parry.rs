@@ -50,6 +50,9 @@ pub(crate) fn nvec(v: PVec) -> Vector3<f64> {
 /// `shift` away along the normal, where GJK alone answers: the signed distance is the max over
 /// directions m of (−h_B(−m) − h_A(m)), so the shifted answer minus `shift` is at least as
 /// close to the true value as the first one.
+///
+/// A solid mesh's distance is signed by the side of the wall the feature is on
+/// ([`super::solid`]), without the shift (its triangles are flat).
 pub(crate) fn query(
     gpose: &PPose,
     g: &dyn PShape,
@@ -57,6 +60,19 @@ pub(crate) fn query(
     shape: &dyn PShape,
     margin: f64,
 ) -> Option<PContact> {
+    // A solid mesh: parry's closest triangle, signed by the side the feature is on.
+    if let Some(mesh) = super::solid::solid(shape) {
+        return match parry3d::query::contact(gpose, g, opose, shape, margin).ok()? {
+            Some(ct) => Some(super::solid::signed(ct, g, gpose, mesh, opose)),
+            None if parry3d::query::intersection_test(gpose, g, opose, shape)
+                .ok()?
+                .intersecting =>
+            {
+                Some(super::solid::intersecting(g, gpose, mesh, opose))
+            }
+            None => None,
+        };
+    }
     let mut exact = true;
     let ct = match parry3d::query::contact(gpose, g, opose, shape, margin).ok()? {
         Some(ct) => ct,

@@ -1,147 +1,252 @@
-//! Triangle meshes from STL (binary or ASCII) and Wavefront OBJ files.
+//! Triangle meshes from STL (binary or ASCII), Wavefront OBJ and PLY (ASCII or binary) files,
+//! read by maintained crates made for each format (`stl_io`, `tobj`, `ply-rs-bw`) from bytes
+//! already read with a size cap ([`super::read::MAX_MESH_BYTES`]); then checked
+//! ([`super::mesh_check`]): finite, indices in range, no degenerate triangle, at most
+//! [`mesh_check::MAX_TRIANGLES`]. Only vertices and triangles are kept (polygons fanned into
+//! triangles; normals, texture coordinates, colours and materials ignored), and vertices equal
+//! to the bit are merged, so that triangles that share a corner share its index whatever the
+//! format (an STL lists every corner of every triangle; an OBJ's objects each have their own).
 //!
-//! Small, dependency-free readers: vertices and triangles only (OBJ polygons are fanned into
-//! triangles; normals, texture coordinates and materials are ignored). Identical STL vertices
-//! are merged so parry's mesh topology sees a connected surface.
+//! Whether a mesh is a solid (closed, with an inside) is asked of it only when the scene
+//! declares which side is free ([`Free`], [`mesh_check::solid`]).
 
+use super::mesh_check::{self, MeshError};
 use nalgebra::Vector3;
+use parry3d::math::Vector as PVec;
+use parry3d::shape::{TriMesh, TriMeshFlags};
 use std::collections::HashMap;
+use std::io::Cursor;
 use std::path::Path;
 
 /// Vertices and triangles (indices into the vertices).
 pub type MeshData = (Vec<Vector3<f64>>, Vec<[u32; 3]>);
 
-/// Vertices and triangles of a mesh file, or why it cannot be read.
-pub fn load(path: &Path) -> Result<MeshData, String> {
+/// Which side of a closed mesh the robot may be on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Free {
+    /// The enclosed volume is free (a lumen: an airway, a vessel); everything outside is wall.
+    Inside,
+    /// The enclosed volume is an obstacle (an organ to avoid).
+    Outside,
+}
+
+impl Free {
+    /// The word a scene file writes (`inside`, `outside`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Free::Inside => "inside",
+            Free::Outside => "outside",
+        }
+    }
+}
+
+/// Vertices and triangles of a mesh file, checked ([`mesh_check::basic`]), or why it cannot
+/// be read. The format is chosen by the extension (`.stl`, `.obj`, `.ply`, any case).
+pub fn load(path: &Path) -> Result<MeshData, MeshError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
-    if !matches!(ext.as_deref(), Some("stl" | "obj")) {
-        return Err("unknown mesh format: use .stl or .obj".into());
-    }
+    let format = match ext.as_deref() {
+        Some("stl") => "STL",
+        Some("obj") => "OBJ",
+        Some("ply") => "PLY",
+        _ => return Err(MeshError::Format),
+    };
     let bytes =
         super::read::read_capped(path, super::read::MAX_MESH_BYTES, "mesh file").map_err(|e| {
-            match e {
-                crate::error::ModelError::Io { reason, .. } => reason,
-                other => other.to_string(),
+            MeshError::Read {
+                format,
+                reason: match e {
+                    crate::error::ModelError::Io { reason, .. } => reason,
+                    other => other.to_string(),
+                },
             }
         })?;
-    let (v, t) = match ext.as_deref() {
-        Some("stl") => stl(&bytes)?,
-        Some("obj") => obj(&String::from_utf8_lossy(&bytes))?,
-        _ => return Err("unknown mesh format: use .stl or .obj".into()),
+    let (v, t) = parse(format, bytes)?;
+    mesh_check::basic(&v, &t)?;
+    Ok((v, t))
+}
+
+/// Parse the bytes of a mesh file in `format` (`STL`, `OBJ` or `PLY`), vertices merged.
+pub fn parse(format: &'static str, bytes: Vec<u8>) -> Result<MeshData, MeshError> {
+    let read = |reason: String| MeshError::Read { format, reason };
+    let (v, t) = match format {
+        "STL" => stl(bytes).map_err(read)?,
+        "OBJ" => obj(&bytes).map_err(read)?,
+        "PLY" => ply(&bytes).map_err(read)?,
+        _ => return Err(MeshError::Format),
     };
-    if t.is_empty() {
-        return Err("the mesh has no triangles".into());
+    Ok(merge(v, t))
+}
+
+/// An STL file by `stl_io`. A file whose size is exactly that of a binary STL with the
+/// triangle count of its header is binary even when its 80-byte header starts with `solid`
+/// (as some exporters write it), so the header's first bytes are blanked before `stl_io`
+/// guesses; any other file is given to `stl_io` as it is (ASCII when it starts with
+/// `solid `). A binary header's count is never trusted beyond the bytes present.
+fn stl(mut bytes: Vec<u8>) -> Result<MeshData, String> {
+    let count = bytes
+        .get(80..84)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as u64);
+    let binary = count.is_some_and(|n| bytes.len() as u64 == 84 + 50 * n);
+    if binary {
+        bytes[..5].copy_from_slice(b"\0\0\0\0\0");
+    } else if !bytes.starts_with(b"solid") {
+        return Err(format!(
+            "neither a binary STL ({} bytes, not 84 + 50 × the {} triangles of its header) nor an ASCII STL (starts with `solid `)",
+            bytes.len(),
+            count.map_or("missing".into(), |n| n.to_string())
+        ));
     }
-    if v.iter().any(|p| !p.iter().all(|x| x.is_finite())) {
-        return Err("the mesh has non-finite vertices".into());
+    let mesh = stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    let v = mesh
+        .vertices
+        .iter()
+        .map(|p| Vector3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
+        .collect();
+    let t = mesh
+        .faces
+        .iter()
+        .map(|f| try_indices(f.vertices.map(|i| i as u64)))
+        .collect::<Result<_, _>>()?;
+    Ok((v, t))
+}
+
+/// A Wavefront OBJ file by `tobj` (faces fanned into triangles, every object's vertices in one
+/// list; points, lines and materials ignored).
+fn obj(bytes: &[u8]) -> Result<MeshData, String> {
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj_buf(&mut Cursor::new(bytes), &opts, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| e.to_string())?;
+    let (mut v, mut t) = (vec![], vec![]);
+    for m in models {
+        let base = v.len() as u64;
+        let m = m.mesh;
+        v.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|p| Vector3::new(p[0], p[1], p[2])),
+        );
+        for tri in m.indices.chunks_exact(3) {
+            t.push(try_indices(
+                [tri[0], tri[1], tri[2]].map(|i| base + u64::from(i)),
+            )?);
+        }
     }
     Ok((v, t))
 }
 
-fn stl(bytes: &[u8]) -> Result<MeshData, String> {
-    let mut soup: Vec<[Vector3<f64>; 3]> = vec![];
-    let binary_len = bytes
-        .get(80..84)
-        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
-    match binary_len {
-        Some(n) if bytes.len() == 84 + 50 * n => {
-            for k in 0..n {
-                let base = 84 + 50 * k + 12;
-                let f = |o: usize| {
-                    let b = &bytes[base + 4 * o..base + 4 * o + 4];
-                    f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64
-                };
-                soup.push([
-                    Vector3::new(f(0), f(1), f(2)),
-                    Vector3::new(f(3), f(4), f(5)),
-                    Vector3::new(f(6), f(7), f(8)),
-                ]);
-            }
+/// A PLY file (ASCII or binary) by `ply-rs-bw`: the `vertex` element's `x`, `y`, `z` and the
+/// `face` element's `vertex_indices` (or `vertex_index`) lists, fanned into triangles.
+fn ply(bytes: &[u8]) -> Result<MeshData, String> {
+    use ply_rs_bw::parser::Parser;
+    use ply_rs_bw::ply::{DefaultElement, Property};
+    let ply = Parser::<DefaultElement>::new()
+        .read_ply(&mut Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
+    let num = |p: Option<&Property>, what: &str| -> Result<f64, String> {
+        match p {
+            Some(Property::Float(x)) => Ok(f64::from(*x)),
+            Some(Property::Double(x)) => Ok(*x),
+            Some(Property::Int(x)) => Ok(f64::from(*x)),
+            Some(Property::Short(x)) => Ok(f64::from(*x)),
+            _ => Err(format!("a vertex has no number `{what}`")),
         }
-        _ => {
-            let text = String::from_utf8_lossy(bytes);
-            if !text.trim_start().starts_with("solid") {
-                return Err("neither a binary STL (size does not match its triangle count) nor an ASCII STL".into());
-            }
-            let mut cur: Vec<Vector3<f64>> = vec![];
-            for (ln, line) in text.lines().enumerate() {
-                let mut it = line.split_whitespace();
-                if it.next() == Some("vertex") {
-                    let xs: Result<Vec<f64>, _> = it.map(str::parse::<f64>).collect();
-                    let xs = xs.map_err(|e| format!("line {}: {e}", ln + 1))?;
-                    if xs.len() != 3 {
-                        return Err(format!("line {}: a vertex needs 3 numbers", ln + 1));
-                    }
-                    cur.push(Vector3::new(xs[0], xs[1], xs[2]));
-                    if cur.len() == 3 {
-                        soup.push([cur[0], cur[1], cur[2]]);
-                        cur.clear();
-                    }
-                }
-            }
+    };
+    let mut v = vec![];
+    for e in ply.payload.get("vertex").map_or(&[][..], |x| &x[..]) {
+        v.push(Vector3::new(
+            num(e.get("x"), "x")?,
+            num(e.get("y"), "y")?,
+            num(e.get("z"), "z")?,
+        ));
+    }
+    let mut t = vec![];
+    for (k, e) in ply
+        .payload
+        .get("face")
+        .map_or(&[][..], |x| &x[..])
+        .iter()
+        .enumerate()
+    {
+        let ids: Vec<i64> = match e.get("vertex_indices").or_else(|| e.get("vertex_index")) {
+            Some(Property::ListInt(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListUInt(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListShort(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListUShort(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListUChar(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListChar(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            _ => return Err(format!("face {k} has no integer list `vertex_indices`")),
+        };
+        if ids.len() < 3 {
+            return Err(format!("face {k} has {} vertices, fewer than 3", ids.len()));
+        }
+        let id = |i: i64| u64::try_from(i).map_err(|_| format!("face {k} names vertex {i}"));
+        for j in 1..ids.len() - 1 {
+            t.push(try_indices([id(ids[0])?, id(ids[j])?, id(ids[j + 1])?])?);
         }
     }
-    // Merge identical vertices.
-    let mut index: HashMap<[u64; 3], u32> = HashMap::new();
-    let mut verts = vec![];
-    let mut tris = vec![];
-    for tri in soup {
-        let mut ids = [0u32; 3];
-        for (k, p) in tri.iter().enumerate() {
-            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-            ids[k] = *index.entry(key).or_insert_with(|| {
-                verts.push(*p);
-                (verts.len() - 1) as u32
-            });
-        }
-        if ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2] {
-            tris.push(ids);
-        }
-    }
-    Ok((verts, tris))
+    Ok((v, t))
 }
 
-fn obj(text: &str) -> Result<MeshData, String> {
-    let mut verts = vec![];
-    let mut tris = vec![];
-    for (ln, line) in text.lines().enumerate() {
-        let mut it = line.split_whitespace();
-        match it.next() {
-            Some("v") => {
-                let xs: Result<Vec<f64>, _> = it.take(3).map(str::parse::<f64>).collect();
-                let xs = xs.map_err(|e| format!("line {}: {e}", ln + 1))?;
-                if xs.len() != 3 {
-                    return Err(format!("line {}: a vertex needs 3 numbers", ln + 1));
-                }
-                verts.push(Vector3::new(xs[0], xs[1], xs[2]));
-            }
-            Some("f") => {
-                let mut ids = vec![];
-                for tok in it {
-                    let first = tok.split('/').next().unwrap_or("");
-                    let i: i64 = first
-                        .parse()
-                        .map_err(|e| format!("line {}: face index `{tok}`: {e}", ln + 1))?;
-                    let idx = if i < 0 { verts.len() as i64 + i } else { i - 1 };
-                    if idx < 0 || idx as usize >= verts.len() {
-                        return Err(format!("line {}: face index {i} out of range", ln + 1));
-                    }
-                    ids.push(idx as u32);
-                }
-                if ids.len() < 3 {
-                    return Err(format!("line {}: a face needs 3 vertices", ln + 1));
-                }
-                for k in 1..ids.len() - 1 {
-                    tris.push([ids[0], ids[k], ids[k + 1]]);
-                }
-            }
-            _ => {}
+/// Three indices as `u32`, or why not (a mesh this large is refused anyway).
+fn try_indices(ids: [u64; 3]) -> Result<[u32; 3], String> {
+    let one = |i: u64| u32::try_from(i).map_err(|_| format!("vertex index {i} is too large"));
+    Ok([one(ids[0])?, one(ids[1])?, one(ids[2])?])
+}
+
+/// Vertices equal to the bit merged (the first kept, in order), triangles re-indexed; an
+/// index out of range is kept out of range (for [`mesh_check::basic`] to name).
+fn merge(v: Vec<Vector3<f64>>, t: Vec<[u32; 3]>) -> MeshData {
+    let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(v.len());
+    let mut verts = Vec::with_capacity(v.len());
+    let map: Vec<u32> = v
+        .iter()
+        .map(|p| {
+            *index
+                .entry([p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+                .or_insert_with(|| {
+                    verts.push(*p);
+                    (verts.len() - 1) as u32
+                })
+        })
+        .collect();
+    let tris = t
+        .iter()
+        .map(|tri| tri.map(|i| map.get(i as usize).copied().unwrap_or(i)))
+        .collect();
+    (verts, tris)
+}
+
+/// The parry mesh of an obstacle: a surface as given (`free` absent), or a solid whose
+/// obstacle region is what parry's oriented mesh calls inside: the enclosed volume of an organ
+/// (`outside` free: triangles as given, outward), the space around a lumen (`inside` free:
+/// triangles reversed, so their normals point into the lumen, its free side). The contact
+/// queries sign a solid's distances from its pseudo-normals ([`crate::contact::parry`]).
+pub fn trimesh(
+    vertices: &[Vector3<f64>],
+    triangles: &[[u32; 3]],
+    free: Option<Free>,
+) -> Result<TriMesh, parry3d::shape::TriMeshBuilderError> {
+    let pv: Vec<PVec> = vertices.iter().map(|v| PVec::new(v.x, v.y, v.z)).collect();
+    match free {
+        None => TriMesh::new(pv, triangles.to_vec()),
+        Some(free) => {
+            let tris = match free {
+                Free::Outside => triangles.to_vec(),
+                Free::Inside => triangles.iter().map(|t| [t[0], t[2], t[1]]).collect(),
+            };
+            TriMesh::with_flags(pv, tris, TriMeshFlags::ORIENTED)
         }
     }
-    Ok((verts, tris))
 }
 
 /// Write a mesh as Wavefront OBJ text.
@@ -196,16 +301,5 @@ pub fn bent_tube(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn obj_quads_are_fanned_and_ascii_stl_vertices_merged() {
-        let (v, t) = obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
-        assert_eq!((v.len(), t.len()), (4, 2));
-        let stl_text = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
-        let (v, t) = stl(stl_text.as_bytes()).unwrap();
-        assert_eq!((v.len(), t.len()), (4, 2));
-        assert!(obj("v 0 0 0\nf 1 2 3\n").is_err());
-    }
-}
+#[path = "mesh_tests.rs"]
+mod tests;

@@ -35,6 +35,7 @@ mod file_cable;
 pub mod hardware;
 pub mod limits;
 pub mod mesh;
+pub mod mesh_check;
 pub mod port;
 pub mod read;
 pub mod robot;

@@ -10,7 +10,8 @@
 //! half_extents = [0.005, 0.05, 0.05]      # box
 //! # radius = 0.01                          # sphere, capsule, cylinder
 //! # half_height = 0.02                     # capsule, cylinder: along their local z axis
-//! # path = "meshes/vessel.obj"; scale = 1.0 (or [sx, sy, sz])   # mesh (STL or OBJ)
+//! # path = "meshes/vessel.obj"; scale = 1.0 (or [sx, sy, sz])   # mesh (STL, OBJ or PLY)
+//! # free = "inside"                      # a closed mesh: a lumen (or "outside": an organ)
 //! ```
 //!
 //! The same scene as JSON, in a file named `*.json`: the same fields, defaults and checks,
@@ -72,8 +73,11 @@ pub enum ObstacleKind {
         path: PathBuf,
         /// Vertices \[m\].
         vertices: Vec<Vector3<f64>>,
-        /// Triangles.
+        /// Triangles (a solid's wound outward).
         triangles: Vec<[u32; 3]>,
+        /// Which side is free, for a closed mesh declared a solid; `None`: a surface
+        /// (unsigned distances).
+        free: Option<crate::model::mesh::Free>,
     },
 }
 
@@ -362,9 +366,11 @@ impl Obstacle {
             ObstacleKind::Mesh {
                 vertices,
                 triangles,
+                free,
                 ..
             } => {
-                let head = [4, vertices.len() as u64, triangles.len() as u64];
+                let side = free.map_or(0, |f| 1 + f as u64);
+                let head = [4, vertices.len() as u64, triangles.len() as u64, side];
                 let v = vertices
                     .iter()
                     .flat_map(|v| [v.x, v.y, v.z].map(f64::to_bits));

@@ -3,11 +3,12 @@
 //! name `obstacles[k].field`) and built into its parry shape, pose and bounds. A TOML scene of
 //! the plain shape is read straight from the parser's events ([`scene_toml`]).
 
+use super::mesh::Free;
 use super::scene::{Obstacle, ObstacleKind, Scene};
 use crate::error::ModelError;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d::math::{Pose, Vector as PVec};
-use parry3d::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape, TriMesh};
+use parry3d::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -136,6 +137,8 @@ pub(crate) struct FileObstacle {
     half_height: Option<f64>,
     path: Option<String>,
     scale: Option<FileScale>,
+    /// A mesh's free side: `inside` (a lumen) or `outside` (an organ); absent: a surface.
+    pub(super) free: Option<String>,
 }
 
 /// Where obstacle `k` stands in its file (`{prefix}obstacles[{k}]`); field names are
@@ -255,6 +258,7 @@ impl FileObstacle {
             ("half_height", self.half_height.is_some()),
             ("path", self.path.is_some()),
             ("scale", self.scale.is_some()),
+            ("free", self.free.is_some()),
         ];
         for (n, g) in given {
             if g && !names.contains(&n) {
@@ -317,7 +321,18 @@ impl FileObstacle {
 
     /// A triangle mesh read from `path` (relative to `dir`), scaled, every vertex in range.
     fn mesh(&self, at: Field, dir: &Path, pose: Isometry3<f64>) -> Result<Built, ModelError> {
-        self.only(at, &["path", "scale"])?;
+        self.only(at, &["path", "scale", "free"])?;
+        let free = match self.free.as_deref() {
+            None => None,
+            Some("inside") => Some(Free::Inside),
+            Some("outside") => Some(Free::Outside),
+            Some(other) => {
+                return Err(ModelError::invalid(
+                    at.name("free"),
+                    format!("`{other}`: use inside (a lumen) or outside (an organ to avoid)"),
+                ))
+            }
+        };
         let rel = self
             .path
             .as_ref()
@@ -331,12 +346,13 @@ impl FileObstacle {
         for k in 0..3 {
             super::bounds::MESH_SCALE.check(&at.name("scale"), scale[k])?;
         }
-        let (verts, tris) = crate::model::mesh::load(&full).map_err(|reason| {
+        let cannot = |reason: String| {
             ModelError::invalid(
                 at.name("path"),
                 format!("cannot load mesh `{}`: {reason}", full.display()),
             )
-        })?;
+        };
+        let (verts, tris) = crate::model::mesh::load(&full).map_err(|e| cannot(e.to_string()))?;
         let verts: Vec<Vector3<f64>> = verts.iter().map(|v| v.component_mul(&scale)).collect();
         if let Some(v) = verts
             .iter()
@@ -351,11 +367,20 @@ impl FileObstacle {
                 ),
             ));
         }
-        let pv: Vec<PVec> = verts.iter().map(|v| PVec::new(v.x, v.y, v.z)).collect();
-        let tm = TriMesh::new(pv, tris.clone()).map_err(|e| {
+        // A solid: closed and wound outward (after the scale, which may mirror it).
+        let tris = match free {
+            None => tris,
+            Some(_) => super::mesh_check::solid(&verts, &tris).map_err(|e| {
+                ModelError::invalid(
+                    at.name("free"),
+                    format!("mesh `{}` is not a solid: {e}", full.display()),
+                )
+            })?,
+        };
+        let tm = super::mesh::trimesh(&verts, &tris, free).map_err(|e| {
             ModelError::invalid(
                 at.name("path"),
-                format!("mesh `{}` is not usable: {e:?}", full.display()),
+                format!("mesh `{}` is not usable: {e}", full.display()),
             )
         })?;
         Ok((
@@ -363,6 +388,7 @@ impl FileObstacle {
                 path: full,
                 vertices: verts,
                 triangles: tris,
+                free,
             },
             SharedShape::new(tm),
             pose,

@@ -351,6 +351,7 @@ impl EventReceiver for Reader<'_> {
             half_height: None,
             path: None,
             scale: None,
+            free: None,
         });
         self.given = 0;
     }

@@ -39,7 +39,8 @@ use parry3d::shape::Shape as PShape;
 /// The smallest distance between the robot and the obstacles, and where.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Clearance {
-    /// Signed distance \[m\] (negative: penetration depth, for convex obstacles).
+    /// Signed distance \[m\] (negative: penetration depth, for convex obstacles; for a solid
+    /// mesh, the depth of a feature across or beyond its wall).
     pub distance: f64,
     /// Obstacle name.
     pub obstacle: String,
@@ -206,11 +207,35 @@ pub fn clearance_hinted(
 /// Distance between feature `f` and obstacle `k` when within `bound` (`None` beyond it);
 /// signed for an intersecting pair (parry's contact depth).
 fn pair(f: &Feature, scene: &Scene, k: usize, bound: f64) -> Option<f64> {
+    let o = &scene.obstacles[k];
+    let g = &*f.shape;
+    // A solid mesh: the signed distance of `contact/solid.rs` (negative across or beyond the
+    // wall). A feature farther than the bound from the surface is wholly on one side: on the
+    // obstacle side its depth is below every bound, so it is measured whatever the bound
+    // (its bounds say nothing: a lumen's obstacle region is everything outside them).
+    if let Some(mesh) = crate::contact::solid::solid(&*o.shape) {
+        let query = |b: f64| crate::contact::query(&f.pose, g, &o.parry_pose, &*o.shape, b);
+        // Not below zero once a negative distance is the best so far (features across the
+        // wall are within it; those beyond it are measured below).
+        return match query(bound.max(0.0)) {
+            Some(c) => Some(c.dist),
+            None if crate::contact::solid::in_obstacle(
+                mesh,
+                &o.parry_pose,
+                crate::contact::pvec(&f.centre),
+            ) =>
+            {
+                // Finite (parry loosens boxes by it): no point of the feature is farther from
+                // the surface than the far corner of its bounds from the feature's centre plus
+                // the feature's size.
+                query(far_corner(scene, k, &f.centre) + (f.hi - f.lo).norm()).map(|c| c.dist)
+            }
+            None => None,
+        };
+    }
     if scene.bounds_gap(k, &f.lo, &f.hi) > bound {
         return None;
     }
-    let o = &scene.obstacles[k];
-    let g = &*f.shape;
     let mut d = match parry3d::query::closest_points(&f.pose, g, &o.parry_pose, &*o.shape, bound) {
         Ok(ClosestPoints::Disjoint) => return None,
         Ok(ClosestPoints::WithinMargin(a, b)) => (a - b).length(),

@@ -24,27 +24,31 @@
 //!   and clearance rows: it ends at the closest reachable tip.
 //!
 //! Both QPs are solved by [`crate::numeric::qp::qp_dense`] (closed form when no inequality
-//! binds, else clarabel). Steps are
+//! binds, else clarabel). Slack cables are released rather than differentiated across, a
+//! failed solve is a rejected step and an unsolvable start is moved towards the unactuated
+//! robot (`reach/descend.rs`, one descent). Steps are
 //! backtracked on the exact ℓ1 merit `E(u) + ν (|r| + max(0, margin − d))`, ν = [`MERIT_NU`]
 //! m (above the multipliers: with shortenings of centimetres and tip gains of order one,
 //! the price of the target in effort is ~1e-2 m). Several deterministic starts
 //! ([`ReachOptions::starts`]: every cable pulled a quarter of its range, the middle of the box,
 //! then a Kronecker sequence through it)
-//! guard against local minima; the first that reaches wins.
+//! guard against local minima; the first that reaches wins. Every descent keeps the best point
+//! it saw; an unreachable target ends with the best of all (smallest residual, then least
+//! effort), its distance, and the reason (which cables the closest answer has at a limit).
 //!
 //! The answer is finally solved again exactly as `ccrkit solve` does (cold, through the one
 //! solve path: [`Space::solve_as_cli`]), and `tip_error_m`, the clearance and the tensions are
 //! measured on *that* shape: a reported actuation reproduces the reported tip.
 
 use super::answer::{CableActuation, Reach};
+use super::descend::{residual, Attempt, Ctx};
 use super::sens::tip_tangent;
-use super::{sensitivity, Space};
+use super::Space;
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;
 use crate::model::Model;
-use crate::numeric::qp::qp_dense;
 use crate::shape::Shape;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::Vector3;
 
 /// Clearance rows enter the step when the clearance is within this of the margin \[m\].
 pub const CLEAR_BAND: f64 = 5e-3;
@@ -88,209 +92,6 @@ impl Default for ReachOptions {
     }
 }
 
-/// Residual `[p − p*; L (t − t*)]` of a shape.
-fn residual(shape: &Shape, target: &Target, len: f64) -> DVector<f64> {
-    let dp = shape.tip() - target.tip;
-    match target.tangent {
-        None => DVector::from_column_slice(dp.as_slice()),
-        Some(t) => {
-            let dt = (tip_tangent(shape) - t) * len;
-            DVector::from_column_slice(&[dp.x, dp.y, dp.z, dt.x, dt.y, dt.z])
-        }
-    }
-}
-
-struct Attempt {
-    u: Vec<f64>,
-    res: f64,
-    effort: f64,
-    iterations: usize,
-}
-
-/// An accepted line-search point: actuation, shape, merit, residual, converged.
-type Trial = (Vec<f64>, Shape, f64, f64, bool);
-
-struct Ctx<'a> {
-    space: &'a Space,
-    target: &'a Target,
-    opts: &'a ReachOptions,
-    margin: f64,
-    len: f64,
-    solves: usize,
-    exact: bool,
-    /// Search without the clearance (the fallback of [`reach_in`]).
-    free: bool,
-}
-
-impl Ctx<'_> {
-    fn keep_clear(&self) -> bool {
-        !self.free && !self.opts.allow_contact && !self.space.scene.is_empty()
-    }
-
-    fn merit(&self, u: &[f64], shape: &Shape) -> (f64, f64) {
-        let r = residual(shape, self.target, self.len).norm();
-        let viol = if self.keep_clear() {
-            self.space
-                .clearance(shape)
-                .map_or(0.0, |c| (self.margin - c.distance).max(0.0))
-        } else {
-            0.0
-        };
-        let e: f64 = u.iter().map(|x| x * x).sum();
-        (e + MERIT_NU * (r + viol), r)
-    }
-
-    /// The step at `u` (A, else B), or `None` when neither QP solves.
-    fn step(&mut self, u: &[f64], shape: &Shape) -> Result<Option<Vec<f64>>, SolveError> {
-        let k = u.len();
-        let clear = if self.keep_clear() {
-            self.space.clearance(shape).map(|c| c.distance)
-        } else {
-            None
-        };
-        let near = clear.is_some_and(|d| d < self.margin + CLEAR_BAND);
-        let s = sensitivity(self.space, u, shape, near)?;
-        self.solves += if s.exact && !near { 0 } else { 2 * k };
-        self.exact = s.exact;
-        let r = residual(shape, self.target, self.len);
-        let jac = if self.target.tangent.is_some() {
-            let mut j = DMatrix::zeros(6, k);
-            j.rows_mut(0, 3).copy_from(&s.position);
-            j.rows_mut(3, 3).copy_from(&(s.tangent * self.len));
-            j
-        } else {
-            s.position
-        };
-        // Inequalities: bounds, then the linearized clearance.
-        let mut rows: Vec<Vec<f64>> = Vec::new();
-        let mut rhs = Vec::new();
-        for c in 0..k {
-            let mut e = vec![0.0; k];
-            e[c] = 1.0;
-            rows.push(e.clone());
-            rhs.push(self.space.hi[c] - u[c]);
-            e[c] = -1.0;
-            rows.push(e);
-            rhs.push(u[c] - self.space.lo[c]);
-        }
-        if let (Some(g), Some(d)) = (&s.clearance, clear) {
-            rows.push(g.iter().map(|x| -x).collect());
-            rhs.push(d - self.margin);
-        }
-        let gm = DMatrix::from_fn(rows.len(), k, |i, j| rows[i][j]);
-        // Step A: least effort on the linearized targets.
-        let svd = jac.clone().svd(true, true);
-        let (uu, vt) = match (&svd.u, &svd.v_t) {
-            (Some(a), Some(b)) => (a, b),
-            _ => return Ok(None),
-        };
-        let smax = svd.singular_values.max();
-        let keep: Vec<usize> = (0..svd.singular_values.len())
-            .filter(|&i| svd.singular_values[i] > 1e-9 * smax && smax > 0.0)
-            .collect();
-        let eq = DMatrix::from_fn(keep.len(), k, |i, j| {
-            svd.singular_values[keep[i]] * vt[(keep[i], j)]
-        });
-        let eb: Vec<f64> = keep.iter().map(|&i| -uu.column(i).dot(&r)).collect();
-        let h = DMatrix::identity(k, k) * 2.0;
-        let g: Vec<f64> = u.iter().map(|x| 2.0 * x).collect();
-        if let Some(d) = qp_dense(&h, &g, (&eq, &eb), (&gm, &rhs)) {
-            return Ok(Some(d));
-        }
-        // Step B: Levenberg–Marquardt towards the closest reachable tip.
-        let jtj = jac.transpose() * &jac;
-        let mu = 1e-9 * jtj.trace().max(1e-12) / k as f64;
-        let h = jtj + DMatrix::identity(k, k) * mu;
-        let g: Vec<f64> = (jac.transpose() * &r).iter().copied().collect();
-        let none = DMatrix::zeros(0, k);
-        Ok(qp_dense(&h, &g, (&none, &[]), (&gm, &rhs)))
-    }
-
-    /// Backtracking line search along `du` from `(u, shape)` with merit `phi`: the first
-    /// `u + α du` (α = 1, ½, … > 1e-4) that lowers the merit, with its shape, merit, residual
-    /// and whether it converged (moved < 1e-13, or on target and no longer gaining).
-    fn line_search(&mut self, u: &[f64], shape: &Shape, phi: f64, du: &[f64]) -> Option<Trial> {
-        let mut alpha = 1.0;
-        while alpha > 1e-4 {
-            let un: Vec<f64> = self.space.clamp(
-                &u.iter()
-                    .zip(du)
-                    .map(|(a, b)| a + alpha * b)
-                    .collect::<Vec<_>>(),
-            );
-            self.solves += 1;
-            if let Ok(sn) = self.space.solve(&un, Some(shape)) {
-                let (pn, rn) = self.merit(&un, &sn);
-                if pn < phi {
-                    let moved = un
-                        .iter()
-                        .zip(u)
-                        .map(|(a, b)| (a - b).abs())
-                        .fold(0.0, f64::max);
-                    let done =
-                        moved < 1e-13 || (rn <= self.opts.tolerance * 1e-2 && phi - pn < 1e-16);
-                    return Some((un, sn, pn, rn, done));
-                }
-            }
-            alpha *= 0.5;
-        }
-        None
-    }
-
-    fn descend(&mut self, u0: &[f64]) -> Result<Attempt, SolveError> {
-        let mut u = self.space.clamp(u0);
-        let mut shape = self.space.solve(&u, None)?;
-        self.solves += 1;
-        let (mut phi, mut res) = self.merit(&u, &shape);
-        let mut it = 0;
-        while it < self.opts.max_iterations {
-            it += 1;
-            let Some(du) = self.step(&u, &shape)? else {
-                break;
-            };
-            // A step this small moves nothing (converged, or stalled where every cable is
-            // slack and the tip does not depend on the inputs): no line search for it.
-            if du.iter().all(|d| d.abs() < 1e-13) {
-                break;
-            }
-            let mut trial = self.line_search(&u, &shape, phi, &du);
-            // A slack cable moves only to save effort (the tip does not depend on it), and a
-            // full such step can cross the point where it turns taut, which no shorter step of
-            // the line search avoids when the answer has it just taut: then the step without
-            // the slack cables' moves.
-            let slack: Vec<bool> = shape
-                .cables
-                .iter()
-                .map(|c| c.slack || c.tension == Some(0.0))
-                .collect();
-            if trial.is_none() && du.iter().zip(&slack).any(|(d, s)| *s && *d != 0.0) {
-                let taut: Vec<f64> = du
-                    .iter()
-                    .zip(&slack)
-                    .map(|(d, s)| if *s { 0.0 } else { *d })
-                    .collect();
-                if taut.iter().any(|d| d.abs() >= 1e-13) {
-                    trial = self.line_search(&u, &shape, phi, &taut);
-                }
-            }
-            let Some((un, sn, pn, rn, done)) = trial else {
-                break;
-            };
-            (u, shape, phi, res) = (un, sn, pn, rn);
-            if done {
-                break;
-            }
-        }
-        let effort = u.iter().map(|x| x * x).sum();
-        Ok(Attempt {
-            u,
-            res,
-            effort,
-            iterations: it,
-        })
-    }
-}
-
 /// Start `s` of the search: a quarter of the way up each cable's pulling range, then the
 /// middle of the box, then a Kronecker sequence through it.
 ///
@@ -303,6 +104,8 @@ fn start(space: &Space, s: usize) -> Vec<f64> {
         .map(|c| {
             let (lo, hi) = (space.lo[c], space.hi[c]);
             let f = match s {
+                // The insertion and rotation start where the robot is.
+                0 if c >= space.cables() => return space.rest[c],
                 0 => {
                     let pull = lo.max(0.0).min(hi);
                     return pull + 0.25 * (hi - pull);
@@ -352,23 +155,16 @@ pub fn reach_in(
         exact: false,
         free: false,
     };
-    let mut best: Option<Attempt> = None;
+    let mut found: Vec<Attempt> = Vec::new();
     let (mut iterations, mut starts) = (0, 0);
-    let mut consider = |a: Attempt, best: &mut Option<Attempt>| {
-        iterations += a.iterations;
-        let better = best.as_ref().is_none_or(|b| {
-            a.res < b.res - 1e-12 || (a.res <= b.res + 1e-12 && a.effort < b.effort)
-        });
-        if better {
-            *best = Some(a);
-        }
-    };
+    let reached = |f: &[Attempt]| f.iter().any(|a| a.res <= opts.tolerance);
     for s in 0..opts.starts {
         starts += 1;
-        if let Ok(a) = ctx.descend(&start(space, s)) {
-            consider(a, &mut best);
+        if let Some(a) = ctx.descend(&start(space, s)) {
+            iterations += a.iterations;
+            found.push(a);
         }
-        if best.as_ref().is_some_and(|b| b.res <= opts.tolerance) {
+        if reached(&found) {
             break;
         }
     }
@@ -376,12 +172,13 @@ pub fn reach_in(
     // crosses a tube cannot move into it without passing through the wall): then the same
     // starts without the clearance, and a clear search from the first actuation that reaches
     // the target — if that one is clear, the search keeps it (its merit has no violation).
-    if ctx.keep_clear() && best.as_ref().is_none_or(|b| b.res > opts.tolerance) {
+    if ctx.keep_clear() && !reached(&found) {
         ctx.free = true;
         let mut seed = None;
         for s in 0..opts.starts {
             starts += 1;
-            if let Ok(a) = ctx.descend(&start(space, s)) {
+            if let Some(a) = ctx.descend(&start(space, s)) {
+                iterations += a.iterations;
                 if a.res <= opts.tolerance {
                     seed = Some(a.u);
                     break;
@@ -389,33 +186,51 @@ pub fn reach_in(
             }
         }
         ctx.free = false;
-        if let Some(Ok(a)) = seed.map(|u| ctx.descend(&u)) {
+        if let Some(a) = seed.and_then(|u| ctx.descend(&u)) {
+            iterations += a.iterations;
             ctx.solves += 1;
             let clear = space
                 .solve(&a.u, None)
                 .ok()
                 .is_some_and(|sh| space.clearance(&sh).is_none_or(|c| c.distance >= margin));
             if clear {
-                consider(a, &mut best);
+                found.push(a);
             }
         }
     }
-    let best = best.ok_or_else(|| SolveError::InvalidInput {
+    // Best first: the smallest residual, then the least effort. The first whose cold solve
+    // (as `ccrkit solve` does) succeeds is the answer; a failed one is passed over.
+    found.sort_by(|a, b| {
+        let key = |x: &Attempt| (x.res.max(opts.tolerance * 1e-3), x.effort);
+        key(a)
+            .partial_cmp(&key(b))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let mut last = None;
+    for best in found {
+        ctx.solves += 1;
+        match space.solve_as_cli(model, &best.u) {
+            Ok(shape) => {
+                return finish(
+                    space,
+                    target,
+                    opts,
+                    margin,
+                    best,
+                    shape,
+                    (iterations, starts, ctx.solves, ctx.exact),
+                )
+            }
+            Err(e) => last = Some(e),
+        }
+    }
+    Err(last.unwrap_or_else(|| SolveError::InvalidInput {
         field: "target".into(),
-        reason: "no start of the search could be solved".into(),
-    })?;
-    let shape = space.solve_as_cli(model, &best.u)?;
-    ctx.solves += 1;
-    finish(
-        space,
-        model,
-        target,
-        opts,
-        margin,
-        best,
-        shape,
-        (iterations, starts, ctx.solves, ctx.exact),
-    )
+        reason: format!(
+            "no start of the search could be solved ({starts} starts, each also halved towards \
+             the unactuated robot)"
+        ),
+    }))
 }
 
 fn check_input(target: &Target, opts: &ReachOptions) -> Result<(), SolveError> {
@@ -439,9 +254,8 @@ fn check_input(target: &Target, opts: &ReachOptions) -> Result<(), SolveError> {
     if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
         return bad("tolerance", format!("must be > 0, got {}", opts.tolerance));
     }
-    if opts.starts == 0 || opts.max_iterations == 0 {
-        return bad("starts", "starts and max_iterations must be ≥ 1".into());
-    }
+    crate::counts::REACH_STARTS.check(opts.starts)?;
+    crate::counts::REACH_ITERATIONS.check(opts.max_iterations)?;
     if let Some(m) = opts.margin {
         if !(m.is_finite() && m >= 0.0) {
             return bad("margin", format!("must be finite and ≥ 0, got {m}"));
@@ -453,7 +267,6 @@ fn check_input(target: &Target, opts: &ReachOptions) -> Result<(), SolveError> {
 #[allow(clippy::too_many_arguments)]
 fn finish(
     space: &Space,
-    _model: &Model,
     target: &Target,
     opts: &ReachOptions,
     margin: f64,
@@ -469,12 +282,35 @@ fn finish(
     let min_clearance_m = space.clearance(&shape).map(|c| c.distance);
     let mut reasons = Vec::new();
     if res > opts.tolerance {
+        let at: Vec<String> = (0..space.dim())
+            .filter_map(|c| {
+                let (u, lo, hi) = (best.u[c], space.lo[c], space.hi[c]);
+                let tol = 1e-9 * (hi - lo).max(1e-12);
+                let (name, unit) = match space.robot.cables.get(c) {
+                    Some(cable) => (format!("cable `{}`", cable.name), "m"),
+                    None if c == space.cables() => ("the insertion".to_string(), "m"),
+                    None => ("the rotation".to_string(), "rad"),
+                };
+                if u >= hi - tol {
+                    Some(format!("{name} at its upper limit {hi} {unit}"))
+                } else if u <= lo + tol {
+                    Some(format!("{name} at its lower limit {lo} {unit}"))
+                } else {
+                    None
+                }
+            })
+            .collect();
         reasons.push(format!(
-            "closest residual {res:.3e} m after {starts} starts within the shortening limits{}",
+            "closest residual {res:.3e} m after {starts} starts within the limits{}{}",
             if space.scene.is_empty() || opts.allow_contact {
                 String::new()
             } else {
                 format!(" keeping {margin} m clear of the obstacles")
+            },
+            if at.is_empty() {
+                String::new()
+            } else {
+                format!(" (closest answer: {})", at.join(", "))
             }
         ));
     }
@@ -508,6 +344,8 @@ fn finish(
         tip_error_m,
         tangent_error_rad,
         effort_m2: best.effort,
+        insertion: space.port_of(&best.u).map(|p| p.0),
+        rotation: space.port_of(&best.u).map(|p| p.1),
         u: best.u,
         actuation,
         min_clearance_m,
@@ -515,7 +353,11 @@ fn finish(
         iterations,
         starts,
         solves,
-        sensitivities: if exact { "exact" } else { "finite-differences" },
+        sensitivities: match (exact, space.has_port()) {
+            (true, false) => "exact",
+            (true, true) => "exact (insertion: central differences)",
+            (false, _) => "finite-differences",
+        },
         reason: reasons.join("; "),
     })
 }

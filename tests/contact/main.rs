@@ -10,3 +10,4 @@ mod dense_scenes;
 mod energy_contact_convergence;
 mod geometric_contact;
 mod obstacles;
+mod solid_mesh;

@@ -1,0 +1,116 @@
+//! Signed distances to a solid mesh: a closed mesh whose scene declares its free side
+//! (`free = "inside"` for a lumen, `"outside"` for an organ; `model/mesh_check.rs`), built as
+//! parry's oriented mesh whose inside is the obstacle region ([`crate::model::mesh::trimesh`]).
+//!
+//! parry's contact query against a mesh is the closest triangle's: unsigned, so a robot feature
+//! that has passed through a thin wall looks as clear as one on the free side. Here:
+//!
+//! * a feature apart from the surface (parry's distance `d > 0`) is on one side; its witness
+//!   point's side is parry's pseudo-normal test (exact for a closed, consistently oriented,
+//!   manifold mesh). On the free side the distance is `d`, exactly;
+//! * a feature across the surface (`d ≤ 0`) or wholly on the obstacle side is given the depth
+//!   it must move along the wall's normal `n` (the closest triangle's, pointing to the free
+//!   side) to clear the wall's plane through the closest surface point `w`:
+//!   `s = min over the feature's points x of n · (x − w) = n · (x* − w)`, `x*` the feature's
+//!   support point along `−n` — exact for a flat wall, continuous from across to beyond, and
+//!   never above `−|d|`. Its witness is `x*`, its gradient direction `n` (the envelope theorem
+//!   on the plane's distance).
+//!
+//! A feature wholly on the obstacle side farther from the surface than the query's margin is
+//! not returned (as any pair beyond the margin): the robot is one connected body from a base on
+//! the free side (checked first, [`super::broad::check_base`]), so such a robot has another
+//! feature across the wall, which is.
+
+use super::nvec;
+use parry3d::math::{Pose as PPose, Vector as PVec};
+use parry3d::query::{Contact as PContact, PointQueryWithLocation};
+use parry3d::shape::{Shape as PShape, TriMesh};
+
+/// The solid mesh of an obstacle's shape: an oriented parry mesh with pseudo-normals (a mesh
+/// with a declared free side); `None` for any other shape (surfaces included).
+pub(crate) fn solid(shape: &dyn PShape) -> Option<&TriMesh> {
+    shape
+        .as_trimesh()
+        .filter(|m| m.pseudo_normals_if_oriented().is_some())
+}
+
+/// Whether the world point `p` lies in the obstacle region of the solid `mesh` at `pose`
+/// (behind the pseudo-normal of its closest surface point).
+pub(crate) fn in_obstacle(mesh: &TriMesh, pose: &PPose, p: PVec) -> bool {
+    mesh.project_local_point_and_get_location(pose.inverse_transform_point(p), false)
+        .0
+        .is_inside
+}
+
+/// The signed contact of feature `g` at `gpose` with the solid `mesh` at `opose`, from parry's
+/// unsigned one `ct` (module docs).
+pub(crate) fn signed(
+    ct: PContact,
+    g: &dyn PShape,
+    gpose: &PPose,
+    mesh: &TriMesh,
+    opose: &PPose,
+) -> PContact {
+    if ct.dist > 0.0 && !in_obstacle(mesh, opose, ct.point1) {
+        return ct;
+    }
+    across(ct.point2, ct.point1, -ct.dist.abs(), g, gpose, mesh, opose)
+}
+
+/// The depth of a feature across or beyond the wall near the surface point `near` (world),
+/// no more than `cap`; `fallback` is the robot's witness when the feature has no support map.
+fn across(
+    near: PVec,
+    fallback: PVec,
+    cap: f64,
+    g: &dyn PShape,
+    gpose: &PPose,
+    mesh: &TriMesh,
+    opose: &PPose,
+) -> PContact {
+    let local = opose.inverse_transform_point(near);
+    let (proj, (tri, _)) = mesh.project_local_point_and_get_location(local, false);
+    let w = opose.transform_point(proj.point);
+    // The triangle's normal points to the free side (parry's outside of the oriented mesh).
+    let n = mesh
+        .triangle_normal(tri)
+        .map(|n| opose.transform_vector(n))
+        .filter(|n| nvec(*n).norm() > 0.5);
+    let Some(n) = n else {
+        // No normal (cannot happen for a checked solid): the unsigned depth, negated.
+        return PContact::new(
+            fallback,
+            w,
+            (w - fallback).normalize(),
+            (fallback - w).normalize(),
+            cap,
+        );
+    };
+    let x = g
+        .as_support_map()
+        .map_or(fallback, |sm| sm.support_point(gpose, -n));
+    let s = n.dot(x - w).min(cap);
+    PContact::new(x, w, -n, n, s)
+}
+
+/// The signed contact of a feature that parry finds intersecting the solid's surface but for
+/// which its contact query gave no answer (EPA failed on a barely overlapping pair): the depth
+/// across the wall near the surface point closest to the centre of the feature's bounds.
+pub(crate) fn intersecting(
+    g: &dyn PShape,
+    gpose: &PPose,
+    mesh: &TriMesh,
+    opose: &PPose,
+) -> PContact {
+    let c = g.compute_aabb(gpose).center();
+    let near = opose.transform_point(
+        mesh.project_local_point_and_get_location(opose.inverse_transform_point(c), false)
+            .0
+            .point,
+    );
+    across(near, c, 0.0, g, gpose, mesh, opose)
+}
+
+#[cfg(test)]
+#[path = "solid_tests.rs"]
+mod tests;
