@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # CI for the Python package (python/): a fresh venv, the package installed with the README's
-# one command (`pip install ./python`, a maturin build of the PyO3 crate), then pytest
+# command plus its test extra (`pip install "./python[test]"`, a maturin build of the PyO3 crate;
+# the extra is pytest and the `dask` extra the examples need), then pytest
 # (every API item against the CLI, the batch, pickling, the Dask cluster test, the examples).
 # Shares the root build's target/: most dependencies are reused, but pyo3's proc macros unify
 # other features of syn/serde and numpy adds num-complex's defaults, so the core, nalgebra,
@@ -12,9 +13,8 @@ venv="$CARGO_TARGET_DIR/ci-python-venv"
 rm -rf "$venv"
 python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --upgrade pip
-"$venv/bin/python" -m pip install -q pytest "dask[distributed]" matplotlib
-echo "== pip install ./python"
-"$venv/bin/python" -m pip install ./python
+echo "== pip install ./python[test] (the package with its test extra: pytest, the examples' dask and matplotlib)"
+"$venv/bin/python" -m pip install "./python[test]"
 echo "== python crate: cargo fmt --check"
 cargo fmt --check --manifest-path python/Cargo.toml
 # The CLI the tests compare with (built by `cargo test --release` already; cheap if so).

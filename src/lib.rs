@@ -4,8 +4,16 @@
 //!
 //! The flow: a model file ([`model::Model`]) gives a [`robot::Robot`] and an
 //! [`actuation::Actuation`]; a [`method::Method`] turns them into a [`shape::Shape`], which is
-//! written as JSON or drawn ([`plot`]). The user's guide (`docs/guide/`) describes the methods and
-//! their accuracy.
+//! written as JSON or drawn (`plot`, with the `plot` feature). The user's guide (`docs/guide/`)
+//! describes the methods and their accuracy.
+//!
+//! ## Cargo features
+//!
+//! All on by default. `cli`: the `ccrkit` binary (clap, anyhow, indicatif; implies the other
+//! two). `plot`: SVG/PNG figures (`plot`, `study::figures`; plotters and an embedded font).
+//! `view`: the 3-D HTML view (`export::view`; an embedded viewer bundle). With
+//! `default-features = false` the library builds none of them: models, every method, batches,
+//! studies' numbers, reach, plan, calibration, URDF/SRDF and JSON stay.
 
 #![warn(missing_docs)]
 
@@ -13,6 +21,7 @@ pub mod batch;
 pub mod calibrate;
 pub mod check;
 pub(crate) mod contact;
+pub mod counts;
 pub mod error;
 pub mod export;
 pub mod method;
@@ -20,6 +29,7 @@ pub mod model;
 pub use model::{actuation, mesh, robot, routing, scene};
 pub(crate) mod numeric;
 pub mod plan;
+#[cfg(feature = "plot")]
 pub mod plot;
 pub mod progress;
 pub mod reach;

@@ -281,12 +281,13 @@ impl<'a> Fitter<'a> {
             field: "data".into(),
             reason: "has no tip_x, tip_y, tip_z columns to fit to".into(),
         })?;
-        if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) || opts.max_iterations == 0 {
+        if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
             return Err(SolveError::InvalidInput {
-                field: "tolerance / max_iterations".into(),
-                reason: "need a tolerance > 0 and at least one iteration".into(),
+                field: "tolerance".into(),
+                reason: format!("must be > 0, got {}", opts.tolerance),
             });
         }
+        crate::counts::FIT_ITERATIONS.check(opts.max_iterations)?;
         let rows = Rows::new(model, data, &opts.predict)?;
         let dirs = directions(&data.commands);
         let first = rows.solve_all(

@@ -85,12 +85,7 @@ impl Rows {
                 });
             }
         }
-        if opts.chunk == 0 {
-            return Err(SolveError::InvalidInput {
-                field: "chunk".into(),
-                reason: "must be ≥ 1 row".into(),
-            });
-        }
+        crate::counts::PREDICT_CHUNK.check(opts.chunk)?;
         let n = model.robot.cables.len();
         if data.columns.len() != n {
             return Err(SolveError::InvalidInput {

@@ -1,9 +1,10 @@
 //! Exports of a solved [`Shape`](crate::shape::Shape): URDF (+ SRDF and joint values) for
-//! robotics tools, and the 3-D HTML view ([`view`]).
+//! robotics tools, and the 3-D HTML view (`view`, with the `view` feature).
 //!
 //! JSON of the shape itself lives on [`Shape::to_json_string`](crate::shape::Shape::to_json_string).
 
 pub mod urdf;
+#[cfg(feature = "view")]
 pub mod view;
 
 pub use urdf::{

@@ -123,6 +123,12 @@ pub struct Plan {
 pub struct WaypointJson {
     /// Per-cable shortenings.
     pub actuation: Vec<CableActuation>,
+    /// Insertion \[m\] (robots with a port).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub insertion: Option<f64>,
+    /// Rotation \[rad\] (robots with a port).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<f64>,
     /// Tip \[m\].
     pub tip: [f64; 3],
     /// Clearance \[m\] (absent without obstacles).
@@ -166,8 +172,12 @@ impl Plan {
                 .iter()
                 .map(|n| {
                     let t = n.shape.tip();
+                    let port = (n.u.len() == self.cables.len() + 2)
+                        .then(|| (n.u[self.cables.len()], n.u[self.cables.len() + 1]));
                     WaypointJson {
                         actuation: actuation_json(&self.cables, &n.u, &n.shape),
+                        insertion: port.map(|p| p.0),
+                        rotation: port.map(|p| p.1),
                         tip: [t.x, t.y, t.z],
                         clearance_m: finite(n.clearance),
                         shape: n.shape.to_json(),
@@ -231,16 +241,24 @@ fn actuation_json(
         .collect()
 }
 
-/// Shortenings from a model's actuation: each cable's `shorten` (0 where it has none).
+/// The point of the actuation space ([`Space`]) of a model's actuation: each cable's `shorten`
+/// (0 where it has none), then, with a port, its insertion and rotation (default: all out,
+/// unturned).
 pub fn actuation_of(model: &Model, act: &Actuation) -> Vec<f64> {
-    (0..model.robot.cables.len())
+    let mut x: Vec<f64> = (0..model.robot.cables.len())
         .map(|c| act.shortening_length(&model.robot, c).unwrap_or(0.0))
-        .collect()
+        .collect();
+    if model.robot.port.is_some() {
+        x.push(act.insertion.unwrap_or(model.robot.length()));
+        x.push(act.rotation.unwrap_or(0.0));
+    }
+    x
 }
 
 /// Read an actuation file: JSON with `"actuation": [{"cable": NAME, "shorten": METRES}, …]`
-/// naming every cable of the model (what `ccrkit reach --json` and each waypoint of
-/// `ccrkit plan --json` write).
+/// naming every cable of the model, and, for a robot with a port, `"insertion"` \[m\] and
+/// `"rotation"` \[rad\] (default: the model's) — what `ccrkit reach --json` and each waypoint
+/// of `ccrkit plan --json` write.
 pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>, ModelError> {
     let p = path.display().to_string();
     let text = crate::model::read::read_text(path, "actuation file")?;
@@ -254,7 +272,7 @@ pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>,
         .ok_or_else(|| {
             ModelError::invalid("actuation", format!("`{p}` has no `actuation` list"))
         })?;
-    model
+    let mut x = model
         .robot
         .cables
         .iter()
@@ -270,7 +288,22 @@ pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>,
                     )
                 })
         })
-        .collect()
+        .collect::<Result<Vec<f64>, ModelError>>()?;
+    // With a port: the insertion and rotation beside the cables (default: the model's).
+    if model.robot.port.is_some() {
+        let here = actuation_of(model, &model.actuation);
+        let k = model.robot.cables.len();
+        for (i, key) in ["insertion", "rotation"].into_iter().enumerate() {
+            let x_i = match v.get(key) {
+                None => here[k + i],
+                Some(val) => val.as_f64().filter(|x| x.is_finite()).ok_or_else(|| {
+                    ModelError::invalid(key, format!("`{p}` gives `{key}` {val}, not a number"))
+                })?,
+            };
+            x.push(x_i);
+        }
+    }
+    Ok(x)
 }
 
 /// A start or goal, solved and checked (named `field` in errors).
@@ -366,9 +399,8 @@ fn check_options(o: &PlanOptions) -> Result<(), SolveError> {
     if !(o.output_step.is_finite() && o.output_step > 0.0) {
         return bad("output_step", format!("must be > 0, got {}", o.output_step));
     }
-    if o.max_samples == 0 {
-        return bad("max_samples", "must be ≥ 1".into());
-    }
+    crate::counts::PLAN_SAMPLES.check(o.max_samples)?;
+    crate::counts::PLAN_SHORTCUTS.check(o.shortcuts)?;
     if let Some(m) = o.margin {
         if !(m.is_finite() && m >= 0.0) {
             return bad("margin", format!("must be finite and ≥ 0, got {m}"));

@@ -162,12 +162,9 @@ pub fn build(
     request: &SolveRequest,
     opts: &BuildOptions,
 ) -> Result<Roadmap, SolveError> {
-    if opts.samples == 0 || opts.neighbours == 0 {
-        return Err(SolveError::InvalidInput {
-            field: "samples".into(),
-            reason: "samples and neighbours must be ≥ 1".into(),
-        });
-    }
+    crate::counts::ROADMAP_SAMPLES.check(opts.samples)?;
+    crate::counts::ROADMAP_EXPAND.check(opts.expand)?;
+    crate::counts::ROADMAP_NEIGHBOURS.check(opts.neighbours)?;
     if !(opts.spread.is_finite() && opts.spread > 0.0 && opts.spread <= 1.0) {
         return Err(SolveError::InvalidInput {
             field: "spread".into(),

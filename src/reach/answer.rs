@@ -31,11 +31,17 @@ pub struct Reach {
     pub tip_error_m: f64,
     /// Angle between the tip tangent and the target tangent \[rad\], if one was given.
     pub tangent_error_rad: Option<f64>,
-    /// Shortenings \[m\], one per cable in robot order.
+    /// The unknowns: shortenings \[m\], one per cable in robot order, then, with a port, the
+    /// insertion \[m\] and the rotation \[rad\] ([`super::Space`]).
     pub u: Vec<f64>,
+    /// Insertion `d` \[m\] of a robot with a port.
+    pub insertion: Option<f64>,
+    /// Rotation `ψ` \[rad\] of a robot with a port.
+    pub rotation: Option<f64>,
     /// The same, named, with tensions.
     pub actuation: Vec<CableActuation>,
-    /// The effort `Σ u²` \[m²\].
+    /// The effort \[m²\]: `Σ u²`, plus the scaled base motion with a port ([`super::Space`],
+    /// "Effort").
     pub effort_m2: f64,
     /// Clearance of the answer \[m\] (`None` without obstacles).
     pub min_clearance_m: Option<f64>,
@@ -72,6 +78,12 @@ pub struct ReachJson {
     pub tangent_error_rad: Option<f64>,
     /// Per-cable inputs.
     pub actuation: Vec<CableActuation>,
+    /// Insertion \[m\] (robots with a port).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub insertion: Option<f64>,
+    /// Rotation \[rad\] (robots with a port).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<f64>,
     /// Effort measure and value.
     pub effort: EffortJson,
     /// See [`Reach::min_clearance_m`].
@@ -83,7 +95,7 @@ pub struct ReachJson {
     pub starts: usize,
     /// Forward solves spent.
     pub solves: usize,
-    /// `exact` or `finite-differences`.
+    /// `exact`, `exact (insertion: central differences)` or `finite-differences`.
     pub sensitivities: &'static str,
     /// Why not reached (absent when reached).
     #[serde(skip_serializing_if = "String::is_empty")]
@@ -95,7 +107,8 @@ pub struct ReachJson {
 /// The effort measure, named.
 #[derive(Debug, Clone, Serialize)]
 pub struct EffortJson {
-    /// `sum_shorten_squared`.
+    /// `sum_shorten_squared`, or with a port `sum_shorten_squared_plus_scaled_port_motion`
+    /// ([`super::Space`], "Effort").
     pub measure: &'static str,
     /// Value \[m²\].
     pub value_m2: f64,
@@ -113,8 +126,14 @@ impl Reach {
             tip_error_m: self.tip_error_m,
             tangent_error_rad: self.tangent_error_rad,
             actuation: self.actuation.clone(),
+            insertion: self.insertion,
+            rotation: self.rotation,
             effort: EffortJson {
-                measure: "sum_shorten_squared",
+                measure: if self.insertion.is_some() {
+                    "sum_shorten_squared_plus_scaled_port_motion"
+                } else {
+                    "sum_shorten_squared"
+                },
                 value_m2: self.effort_m2,
             },
             min_clearance_m: self.min_clearance_m,

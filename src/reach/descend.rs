@@ -75,14 +75,12 @@ struct Point {
     shape: Shape,
     phi: f64,
     res: f64,
+    effort: f64,
 }
 
 impl Point {
-    fn effort(&self) -> f64 {
-        self.u.iter().map(|x| x * x).sum()
-    }
     fn better_than(&self, b: &Point) -> bool {
-        self.res < b.res - 1e-12 || (self.res <= b.res + 1e-12 && self.effort() < b.effort())
+        self.res < b.res - 1e-12 || (self.res <= b.res + 1e-12 && self.effort < b.effort)
     }
 }
 
@@ -121,8 +119,7 @@ impl Ctx<'_> {
         } else {
             0.0
         };
-        let e: f64 = u.iter().map(|x| x * x).sum();
-        (e + MERIT_NU * (r + viol), r)
+        (self.space.effort(u) + MERIT_NU * (r + viol), r)
     }
 
     /// A released cable's least-effort input that keeps it slack, given its path change `s`
@@ -169,6 +166,7 @@ impl Ctx<'_> {
         }
         let (phi, res) = self.merit(&u, &shape);
         Some(Point {
+            effort: self.space.effort(&u),
             u,
             released: rel,
             shape,
@@ -188,7 +186,7 @@ impl Ctx<'_> {
         };
         let near = clear.is_some_and(|d| d < self.margin + CLEAR_BAND);
         let s = sensitivity_with(self.space, u, &p.released, shape, near).ok()?;
-        self.solves += if s.exact && !near { 0 } else { 2 * k };
+        self.solves += s.solves;
         self.exact = s.exact;
         let r = residual(shape, self.target, self.len);
         let jac = if self.target.tangent.is_some() {
@@ -233,8 +231,12 @@ impl Ctx<'_> {
             svd.singular_values[keep[i]] * vt[(keep[i], j)]
         });
         let eb: Vec<f64> = keep.iter().map(|&i| -uu.column(i).dot(&r)).collect();
-        let h = DMatrix::identity(k, k) * 2.0;
-        let g: Vec<f64> = u.iter().map(|x| 2.0 * x).collect();
+        // E(x) = Σ w² (x − rest)²: its Hessian and gradient.
+        let w2: Vec<f64> = self.space.weights.iter().map(|w| w * w).collect();
+        let h = DMatrix::from_diagonal(&DVector::from_iterator(k, w2.iter().map(|w| 2.0 * w)));
+        let g: Vec<f64> = (0..k)
+            .map(|i| 2.0 * w2[i] * (u[i] - self.space.rest[i]))
+            .collect();
         if let Some(d) = qp_dense(&h, &g, (&eq, &eb), (&gm, &rhs)) {
             return Some((d, true));
         }
@@ -305,7 +307,7 @@ impl Ctx<'_> {
             }
         }
         Some(Attempt {
-            effort: best.effort(),
+            effort: best.effort,
             u: best.u,
             res: best.res,
             iterations: it,
@@ -327,7 +329,8 @@ impl Ctx<'_> {
                 redriven = true;
                 let mut u = p.u.clone();
                 for (c, x) in u.iter_mut().enumerate() {
-                    if let Some(s) = p.shape.cables[c].shortening.filter(|_| p.released[c]) {
+                    let path = p.shape.cables.get(c).and_then(|cp| cp.shortening);
+                    if let Some(s) = path.filter(|_| p.released[c]) {
                         *x = s.clamp(self.space.lo[c], self.space.hi[c]);
                     }
                 }

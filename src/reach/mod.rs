@@ -7,7 +7,21 @@
 //! # Actuation space
 //!
 //! The unknowns are the shortenings `u` \[m\] of *every* cable of the robot, in robot order,
-//! each within its range from the model's limits ([`crate::model::limits`]). A point is
+//! each within its range from the model's limits ([`crate::model::limits`]), and, for a robot
+//! deployed through a port ([`crate::model::port`]), its insertion `d` \[m\] and rotation `ψ`
+//! \[rad\] after them, within the port's limits: `x = [u₁ … u_k, d, ψ]`.
+//!
+//! # Effort
+//!
+//! The least-effort measure is `E(x) = Σ_c u_c² + (ρ_d (d − d₀))² + (ρ_ψ (ψ − ψ₀))²` \[m²\]:
+//! the cables' squared shortenings and the base motion away from the model's own port command
+//! `(d₀, ψ₀)` (where the robot is), each turned into metres of cable by a scale
+//! ([`Space::weights`]): `ρ_d` = [`INSERTION_SCALE`] (a metre of insertion costs as much as a
+//! tenth of a metre of cable: the default shortening range is a tenth of the cable's length,
+//! so sliding the whole length in or out costs as much as pulling one cable through its range)
+//! and `ρ_ψ` = the mean hole radius of the cables \[m/rad\] (turning the robot by `ψ` moves
+//! each hole along an arc of `r ψ`, about what a cable pulled to bend it that far moves).
+//! Without a port `E = Σ u²`, as before. A point is
 //! solved forward by the requested method (default: `energy`, the displacement-driven
 //! whole-robot model) through the same call `ccrkit solve` makes, so a reported actuation is
 //! a file's `shorten = …` away from the reported shape.
@@ -43,6 +57,11 @@ use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::shape::Shape;
 use nalgebra::Vector3;
+use std::f64::consts::PI;
+
+/// Scale of the insertion in the effort \[m of cable per m of insertion\] (module docs,
+/// "Effort").
+pub const INSERTION_SCALE: f64 = 0.1;
 
 /// The actuation space of a robot: its cables' shortenings within their limits, a method that
 /// solves a point of it, and the obstacles to keep clear of.
@@ -63,6 +82,11 @@ pub struct Space {
     pub hi: Vec<f64>,
     /// Tension range per cable \[N\].
     pub tension: Vec<[f64; 2]>,
+    /// Scale of each unknown in the effort (module docs, "Effort"): 1 per cable, then `ρ_d`
+    /// \[m/m\] and `ρ_ψ` \[m/rad\] with a port.
+    pub weights: Vec<f64>,
+    /// Where the effort of each unknown is zero: 0 per cable, then the model's `(d₀, ψ₀)`.
+    pub rest: Vec<f64>,
     /// Smallest distance every feature keeps from every obstacle \[m\] (default: the scene's
     /// `clearance`).
     pub margin: f64,
@@ -109,6 +133,27 @@ impl Space {
                 ),
             });
         }
+        let k = lim.len();
+        let mut lo: Vec<f64> = lim.iter().map(|l| l.shorten[0]).collect();
+        let mut hi: Vec<f64> = lim.iter().map(|l| l.shorten[1]).collect();
+        let mut weights = vec![1.0; k];
+        let mut rest = vec![0.0; k];
+        if let Some((d0, psi0)) = model.actuation.port_command(&model.robot)? {
+            let len = model.robot.length();
+            let ins = model.limits.insertion.unwrap_or([0.0, len]);
+            let rot = model.limits.rotation.unwrap_or([-PI, PI]);
+            lo.extend([ins[0], rot[0]]);
+            hi.extend([ins[1], rot[1]]);
+            let radius = model
+                .robot
+                .cables
+                .iter()
+                .map(|c| c.radius.iter().sum::<f64>() / c.radius.len().max(1) as f64)
+                .sum::<f64>()
+                / k as f64;
+            weights.extend([INSERTION_SCALE, radius]);
+            rest.extend([d0.clamp(ins[0], ins[1]), psi0.clamp(rot[0], rot[1])]);
+        }
         Ok(Space {
             robot: model.robot.clone(),
             request: request.clone(),
@@ -116,16 +161,43 @@ impl Space {
             margin: scene.clearance,
             scene,
             solve_scene,
-            lo: lim.iter().map(|l| l.shorten[0]).collect(),
-            hi: lim.iter().map(|l| l.shorten[1]).collect(),
+            lo,
+            hi,
             tension: lim.iter().map(|l| l.tension).collect(),
+            weights,
+            rest,
             allow_contact,
         })
     }
 
-    /// Number of inputs (cables).
+    /// Number of unknowns (cables, then insertion and rotation with a port).
     pub fn dim(&self) -> usize {
         self.lo.len()
+    }
+
+    /// Number of cables.
+    pub fn cables(&self) -> usize {
+        self.robot.cables.len()
+    }
+
+    /// True when the robot has a port: `x` ends with the insertion and the rotation.
+    pub fn has_port(&self) -> bool {
+        self.dim() > self.cables()
+    }
+
+    /// The effort `E(x)` \[m²\] (module docs, "Effort").
+    pub fn effort(&self, x: &[f64]) -> f64 {
+        x.iter()
+            .zip(&self.weights)
+            .zip(&self.rest)
+            .map(|((x, w), r)| (w * (x - r)).powi(2))
+            .sum()
+    }
+
+    /// The insertion and rotation of `x` (`None` without a port).
+    pub fn port_of(&self, x: &[f64]) -> Option<(f64, f64)> {
+        let k = self.cables();
+        (self.has_port() && x.len() >= k + 2).then(|| (x[k], x[k + 1]))
     }
 
     /// Cable names, in robot order.
@@ -133,7 +205,8 @@ impl Space {
         self.robot.cables.iter().map(|c| c.name.clone()).collect()
     }
 
-    /// The actuation shortening cable `c` by `u[c]` metres.
+    /// The actuation shortening cable `c` by `u[c]` metres (and, with a port, inserted and
+    /// turned by the last two entries).
     pub fn actuation(&self, u: &[f64]) -> Actuation {
         self.actuation_with(u, &[])
     }
@@ -142,8 +215,9 @@ impl Space {
     /// `released` (shorter slices: none), which are left free: slack, they follow the shape
     /// (the search's released cables, `reach/descend.rs`).
     pub fn actuation_with(&self, u: &[f64], released: &[bool]) -> Actuation {
+        let port = self.port_of(u);
         Actuation {
-            cables: u
+            cables: u[..u.len().min(self.cables())]
                 .iter()
                 .enumerate()
                 .map(|(c, &x)| CableDrive {
@@ -153,8 +227,8 @@ impl Space {
                     capstan: 0.0,
                 })
                 .collect(),
-            insertion: None,
-            rotation: None,
+            insertion: port.map(|p| p.0),
+            rotation: port.map(|p| p.1),
         }
     }
 

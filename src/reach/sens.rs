@@ -1,6 +1,10 @@
 //! Tip sensitivities `∂p_tip/∂u` and `∂t_tip/∂u` (t: the tip disk's normal) at a solved
 //! shape, one column per cable of the [`Space`].
 //!
+//! With a port, the rotation's column is exact (a rigid turn about the port axis, when the
+//! robot carries no loads) and the insertion's is a central difference (one-sided at its
+//! limits): sliding the robot out changes the robot that bends, not an input of its solve.
+//!
 //! When the method fills `report.jacobian` ([`crate::shape::TipJacobian`], the implicit
 //! function theorem on the converged KKT system) with a shortening column for every cable,
 //! that is used as is. Otherwise the columns are central differences of full solves at
@@ -28,10 +32,13 @@ pub struct TipSens {
     pub position: DMatrix<f64>,
     /// `∂t_tip/∂u` (3 × cables) \[1/m\].
     pub tangent: DMatrix<f64>,
-    /// True when read from the method's `report.jacobian`, false for central differences.
+    /// True when the cable columns were read from the method's `report.jacobian`, false for
+    /// central differences (the insertion's column is always one, module docs).
     pub exact: bool,
     /// `∂(clearance)/∂u` (per cable) \[m/m\], when asked for and there are obstacles.
     pub clearance: Option<Vec<f64>>,
+    /// Forward solves the central differences took.
+    pub solves: usize,
 }
 
 fn tangent(shape: &Shape) -> Vector3<f64> {
@@ -45,7 +52,7 @@ fn tangent(shape: &Shape) -> Vector3<f64> {
 /// released (a released cable is free: the tip does not depend on its input, a zero column).
 fn exact(space: &Space, shape: &Shape, released: &[bool]) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
     let j = shape.report.jacobian.as_ref()?;
-    let k = space.dim();
+    let k = space.cables();
     let (mut p, mut t) = (DMatrix::zeros(3, k), DMatrix::zeros(3, k));
     for (c, cable) in space.robot.cables.iter().enumerate() {
         if released.get(c).copied().unwrap_or(false) {
@@ -84,50 +91,75 @@ pub(super) fn sensitivity_with(
     want_clearance: bool,
 ) -> Result<TipSens, SolveError> {
     let want_clearance = want_clearance && !space.scene.is_empty();
-    let k = space.dim();
+    let (n, k) = (space.dim(), space.cables());
     let ex = exact(space, shape, released);
-    if let (Some((p, t)), false) = (&ex, want_clearance) {
-        return Ok(TipSens {
-            position: p.clone(),
-            tangent: t.clone(),
-            exact: true,
-            clearance: None,
-        });
+    let (mut p, mut t) = (DMatrix::zeros(3, n), DMatrix::zeros(3, n));
+    let mut g = vec![0.0; n];
+    let mut exact_rotation = false;
+    let mut solves = 0;
+    if let Some((pe, te)) = &ex {
+        p.columns_mut(0, k).copy_from(pe);
+        t.columns_mut(0, k).copy_from(te);
     }
-    let (mut p, mut t) = (DMatrix::zeros(3, k), DMatrix::zeros(3, k));
-    let mut g = vec![0.0; k];
-    for j in 0..k {
-        if released.get(j).copied().unwrap_or(false) {
+    if let (true, Some(port)) = (space.has_port(), space.robot.port.as_ref()) {
+        // Rotation ψ turns the whole solved robot about the port axis `a` through the port
+        // origin `o` when nothing else turns with it (no loads): ∂p/∂ψ = a × (p − o),
+        // ∂t/∂ψ = a × t, exactly.
+        let l = &space.robot.loads;
+        let unloaded = (l.gravity.norm() == 0.0 || l.disk_mass == 0.0)
+            && l.tip_force.norm() == 0.0
+            && l.tip_moment.norm() == 0.0;
+        if unloaded {
+            let (a, o) = (port.axis(), port.origin());
+            let (dp, dt) = (a.cross(&(shape.tip() - o)), a.cross(&tangent(shape)));
+            p.column_mut(k + 1).copy_from(&dp);
+            t.column_mut(k + 1).copy_from(&dt);
+            exact_rotation = true;
+        }
+    }
+    for j in 0..n {
+        let known = if j < k {
+            ex.is_some() || released.get(j).copied().unwrap_or(false)
+        } else {
+            j == k + 1 && exact_rotation
+        };
+        if known && !want_clearance {
             continue;
         }
-        let mut up = u.to_vec();
-        up[j] += FD_STEP;
-        let mut um = u.to_vec();
-        um[j] -= FD_STEP;
-        let sp = space.solve_with(&up, released, Some(shape))?;
-        let sm = space.solve_with(&um, released, Some(shape))?;
-        let dp = (sp.tip() - sm.tip()) / (2.0 * FD_STEP);
-        let dt = (tangent(&sp) - tangent(&sm)) / (2.0 * FD_STEP);
-        for a in 0..3 {
-            p[(a, j)] = dp[a];
-            t[(a, j)] = dt[a];
+        // Central differences, one-sided at a limit (an insertion cannot pass [0, L]).
+        let (up, um) = (
+            (u[j] + FD_STEP).min(space.hi[j].max(u[j])),
+            (u[j] - FD_STEP).max(space.lo[j].min(u[j])),
+        );
+        if up - um <= 0.0 {
+            continue;
+        }
+        let at = |x: f64| {
+            let mut v = u.to_vec();
+            v[j] = x;
+            v
+        };
+        solves += 2;
+        let sp = space.solve_with(&at(up), released, Some(shape))?;
+        let sm = space.solve_with(&at(um), released, Some(shape))?;
+        if !known {
+            let dp = (sp.tip() - sm.tip()) / (up - um);
+            let dt = (tangent(&sp) - tangent(&sm)) / (up - um);
+            p.column_mut(j).copy_from(&dp);
+            t.column_mut(j).copy_from(&dt);
         }
         if want_clearance {
             let cp = space.clearance(&sp).map_or(0.0, |c| c.distance);
             let cm = space.clearance(&sm).map_or(0.0, |c| c.distance);
-            g[j] = (cp - cm) / (2.0 * FD_STEP);
+            g[j] = (cp - cm) / (up - um);
         }
-    }
-    let exact_used = ex.is_some();
-    if let Some((pe, te)) = ex {
-        p = pe;
-        t = te;
     }
     Ok(TipSens {
         position: p,
         tangent: t,
-        exact: exact_used,
+        exact: ex.is_some(),
         clearance: want_clearance.then_some(g),
+        solves,
     })
 }
 

@@ -104,6 +104,8 @@ fn start(space: &Space, s: usize) -> Vec<f64> {
         .map(|c| {
             let (lo, hi) = (space.lo[c], space.hi[c]);
             let f = match s {
+                // The insertion and rotation start where the robot is.
+                0 if c >= space.cables() => return space.rest[c],
                 0 => {
                     let pull = lo.max(0.0).min(hi);
                     return pull + 0.25 * (hi - pull);
@@ -252,9 +254,8 @@ fn check_input(target: &Target, opts: &ReachOptions) -> Result<(), SolveError> {
     if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
         return bad("tolerance", format!("must be > 0, got {}", opts.tolerance));
     }
-    if opts.starts == 0 || opts.max_iterations == 0 {
-        return bad("starts", "starts and max_iterations must be ≥ 1".into());
-    }
+    crate::counts::REACH_STARTS.check(opts.starts)?;
+    crate::counts::REACH_ITERATIONS.check(opts.max_iterations)?;
     if let Some(m) = opts.margin {
         if !(m.is_finite() && m >= 0.0) {
             return bad("margin", format!("must be finite and ≥ 0, got {m}"));
@@ -285,18 +286,22 @@ fn finish(
             .filter_map(|c| {
                 let (u, lo, hi) = (best.u[c], space.lo[c], space.hi[c]);
                 let tol = 1e-9 * (hi - lo).max(1e-12);
-                let name = &space.robot.cables[c].name;
+                let (name, unit) = match space.robot.cables.get(c) {
+                    Some(cable) => (format!("cable `{}`", cable.name), "m"),
+                    None if c == space.cables() => ("the insertion".to_string(), "m"),
+                    None => ("the rotation".to_string(), "rad"),
+                };
                 if u >= hi - tol {
-                    Some(format!("`{name}` at its upper limit {hi} m"))
+                    Some(format!("{name} at its upper limit {hi} {unit}"))
                 } else if u <= lo + tol {
-                    Some(format!("`{name}` at its lower limit {lo} m"))
+                    Some(format!("{name} at its lower limit {lo} {unit}"))
                 } else {
                     None
                 }
             })
             .collect();
         reasons.push(format!(
-            "closest residual {res:.3e} m after {starts} starts within the shortening limits{}{}",
+            "closest residual {res:.3e} m after {starts} starts within the limits{}{}",
             if space.scene.is_empty() || opts.allow_contact {
                 String::new()
             } else {
@@ -339,6 +344,8 @@ fn finish(
         tip_error_m,
         tangent_error_rad,
         effort_m2: best.effort,
+        insertion: space.port_of(&best.u).map(|p| p.0),
+        rotation: space.port_of(&best.u).map(|p| p.1),
         u: best.u,
         actuation,
         min_clearance_m,
@@ -346,7 +353,11 @@ fn finish(
         iterations,
         starts,
         solves,
-        sensitivities: if exact { "exact" } else { "finite-differences" },
+        sensitivities: match (exact, space.has_port()) {
+            (true, false) => "exact",
+            (true, true) => "exact (insertion: central differences)",
+            (false, _) => "finite-differences",
+        },
         reason: reasons.join("; "),
     })
 }

@@ -24,6 +24,7 @@
 //! them), not here.
 
 pub mod compare;
+#[cfg(feature = "plot")]
 pub mod figures;
 pub mod random;
 mod speed_accuracy;
@@ -44,7 +45,9 @@ use crate::method::{MethodKind, Settings, Solver};
 use crate::shape::Shape;
 
 /// A study failure (a solve that the study cannot do without, a file, a figure).
+/// Non-exhaustive: the `plot` feature adds `StudyError::Plot`.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum StudyError {
     /// A solve the study needs (the reference) failed.
     #[error(transparent)]
@@ -58,6 +61,7 @@ pub enum StudyError {
         reason: String,
     },
     /// A figure could not be drawn.
+    #[cfg(feature = "plot")]
     #[error(transparent)]
     Plot(#[from] crate::plot::PlotError),
     /// A CSV that cannot be merged, or bad study options.

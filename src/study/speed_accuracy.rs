@@ -92,6 +92,7 @@ pub fn speed_accuracy(
     model: &Model,
     opts: &SpeedAccuracyOptions,
 ) -> Result<Vec<SpeedAccuracyRow>, StudyError> {
+    crate::counts::STUDY_REPEATS.check(opts.repeats)?;
     let scene = Scene::empty();
     let checked = |rod: crate::method::cosserat::Cosserat| Solver::new(Box::new(rod), 1);
     let reference = checked(reference()).solve(&model.robot, &model.actuation, &scene, None)?;

@@ -146,7 +146,7 @@ pub fn actuation_for(model: &Model, input: Input, values: &[(usize, f64)]) -> Ac
 pub fn stability(model: &Model, opts: &StabilityOptions) -> Result<Stability, StudyError> {
     check_ranges(opts.max_fraction, opts.tension_factor)?;
     let [ca, cb] = swept_cables(model)?;
-    let n = opts.grid.max(2);
+    let n = crate::counts::STUDY_GRID.check(opts.grid)?;
     let kinds = method_kinds(&opts.methods)?;
     let total = (kinds.len() * 2 * n * n) as u64;
     let bar = &opts.progress;

@@ -146,7 +146,8 @@ pub fn workspace(model: &Model, opts: &WorkspaceOptions) -> Result<Workspace, St
         .iter()
         .map(|&c| max_input(model, c, input, opts.max_fraction, opts.tension_factor))
         .collect();
-    let chunk = opts.chunk.max(1);
+    crate::counts::STUDY_SAMPLES.check(opts.samples)?;
+    let chunk = crate::counts::STUDY_CHUNK.check(opts.chunk)?;
     let blocks: Vec<usize> = (0..opts.samples.div_ceil(chunk))
         .filter(|j| opts.shard.is_none_or(|s| j % s.count == s.index))
         .collect();

@@ -15,4 +15,5 @@ mod scene_json;
 mod shape_json;
 mod urdf;
 mod urdf_mujoco;
+mod urdf_replay;
 mod view;

@@ -8,3 +8,4 @@ mod common;
 
 mod plan;
 mod reach;
+mod reach_port;

@@ -139,11 +139,19 @@ pub(crate) fn run(a: ReachArgs) -> Result<()> {
                     .unwrap_or_default()
             );
         }
+        if let (Some(d), Some(psi)) = (r.insertion, r.rotation) {
+            println!(
+                "port: insertion {:.6} mm, rotation {:.6} rad ({:.3}°)",
+                d * 1e3,
+                psi,
+                psi.to_degrees()
+            );
+        }
         if let Some(c) = r.min_clearance_m {
             println!("clearance {:.3} mm", c * 1e3);
         }
         println!(
-            "effort Σ shorten² {:.4e} m², {} iterations, {} starts, {} solves ({} sensitivities)",
+            "effort {:.4e} m², {} iterations, {} starts, {} solves ({} sensitivities)",
             r.effort_m2, r.iterations, r.starts, r.solves, r.sensitivities
         );
     }

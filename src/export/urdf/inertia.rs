@@ -10,6 +10,15 @@
 //!   [`DEFAULT_BACKBONE_DENSITY`]; laid along the solved chord (centre at its middle), moments
 //!   m(3ρ² + c²)/12 across and m ρ²/2 along it (c: chord length, ρ: rod radius).
 //! - Cables are massless.
+//! - A rod **without spacer disks**: its stations take the disks' place, each a thin slice of
+//!   the rod carrying a quarter of each section beside it; each section's backbone body carries
+//!   the other half of its rod. Total mass and each section's centre of mass stay exact (the
+//!   two quarters sit at the chord's ends, whose middle is the rod body's centre).
+//! - **Port links** (articulated, through a port): `port_insertion_link` and
+//!   `port_rotation_link` move, so each carries a share of disk 0, which sits at `(0, 0, −L)`
+//!   in both frames in every configuration (the rotation is about that axis and the disk is
+//!   symmetric about it): mass, centre of mass and inertia exact, and no massless moving body
+//!   for MuJoCo.
 //!
 //! In **articulated** mode the links between a section's joints (`bend_x_link`, `chord_end`,
 //! `tilt_x_link`, `tilt_y_link`) have no body of their own, but their origins stay at a disk's
@@ -111,25 +120,49 @@ pub(super) fn disk_mass(robot: &Robot) -> f64 {
     }
 }
 
-/// Disk `k` in its own frame.
-pub(super) fn disk(robot: &Robot) -> Body {
+/// Disk `k` in its own frame. A rod without spacer disks has a station there instead: a
+/// thin slice of the rod (radius ρ) carrying a quarter of the rod of each section beside it
+/// (the other halves stay on the sections' backbone bodies, [`backbone`]) and
+/// `loads.disk_mass`, if any.
+pub(super) fn disk(robot: &Robot, k: usize) -> Body {
+    if robot.has_disks() {
+        return cylinder(
+            disk_mass(robot),
+            robot.disk_radius,
+            robot.disk_thickness,
+            &Vector3::z(),
+            Vector3::zeros(),
+        );
+    }
+    let n = robot.sections();
+    let beside: f64 = [k, k + 1]
+        .into_iter()
+        .filter(|i| (1..=n).contains(i))
+        .map(|i| rod_mass(robot, i) / 4.0)
+        .sum();
     cylinder(
-        disk_mass(robot),
-        robot.disk_radius,
-        robot.disk_thickness,
+        beside + robot.loads.disk_mass,
+        robot.backbone.radius(),
+        0.0,
         &Vector3::z(),
         Vector3::zeros(),
     )
 }
 
-/// The backbone of section `i` laid from `a` to `b` in a link frame.
-pub(super) fn backbone(robot: &Robot, i: usize, a: &Vector3<f64>, b: &Vector3<f64>) -> Body {
+/// Mass of the backbone of section `i` \[kg\].
+fn rod_mass(robot: &Robot, i: usize) -> f64 {
     let rho = if robot.backbone.density > 0.0 {
         robot.backbone.density
     } else {
         DEFAULT_BACKBONE_DENSITY
     };
-    let m = rho * robot.backbone.area() * robot.section_length(i);
+    rho * robot.backbone.area() * robot.section_length(i)
+}
+
+/// The backbone of section `i` laid from `a` to `b` in a link frame (half of it for a rod
+/// without spacer disks: its stations carry the other half, [`disk`]).
+pub(super) fn backbone(robot: &Robot, i: usize, a: &Vector3<f64>, b: &Vector3<f64>) -> Body {
+    let m = rod_mass(robot, i) * if robot.has_disks() { 1.0 } else { 0.5 };
     let d = b - a;
     let axis = if d.norm() > 0.0 { d } else { Vector3::z() };
     cylinder(m, robot.backbone.radius(), d.norm(), &axis, (a + b) / 2.0)
@@ -137,10 +170,11 @@ pub(super) fn backbone(robot: &Robot, i: usize, a: &Vector3<f64>, b: &Vector3<f6
 
 /// How many links of an articulated chain of `n` sections have their origin at disk `k`'s
 /// centre (the disk link and the joint links around it; see the module docs).
-pub(super) fn shares_at_disk(k: usize, n: usize) -> usize {
+pub(super) fn shares_at_disk(k: usize, n: usize, port: bool) -> usize {
     let before = if k >= 1 { 3 } else { 0 }; // chord_end, tilt_x_link, tilt_y_link
     let after = usize::from(k < n); // next section's bend_x_link
-    1 + before + after
+    let base = if k == 0 && port { 2 } else { 0 }; // port_insertion_link, port_rotation_link
+    1 + before + after + base
 }
 
 #[cfg(test)]
@@ -166,7 +200,9 @@ mod tests {
     fn shares_cover_every_link_at_a_disk() {
         // n = 3: disk 0 hosts bend_x of section 1; disks 1, 2 host five links; disk 3 four.
         assert_eq!(
-            (0..=3).map(|k| shares_at_disk(k, 3)).collect::<Vec<_>>(),
+            (0..=3)
+                .map(|k| shares_at_disk(k, 3, false))
+                .collect::<Vec<_>>(),
             vec![2, 5, 5, 4]
         );
     }

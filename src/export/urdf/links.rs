@@ -177,7 +177,7 @@ pub(super) fn disk_link(
     let name = disk_link_name(k);
     let mut link = empty_link(&name);
     let (r, h) = (robot.disk_radius, robot.disk_thickness);
-    let mut body = inertia::disk(robot).scaled(disk_share);
+    let mut body = inertia::disk(robot, k).scaled(disk_share);
     if let Some(prev) = backbone_to_prev {
         body = body.combine(&inertia::backbone(robot, k, &Vector3::zeros(), &prev));
     }

@@ -250,9 +250,10 @@ pub fn export_urdf(
         )),
     }
     // Share of a disk's mass on each link whose origin is its centre (see `inertia`).
+    let port = shape.port.is_some();
     let share = |k: usize| {
         if articulated {
-            1.0 / inertia::shares_at_disk(k, n) as f64
+            1.0 / inertia::shares_at_disk(k, n, port) as f64
         } else {
             1.0
         }
@@ -344,6 +345,12 @@ fn port_joints(
             (-PI, PI),
         ),
     ];
+    // Disk 0 sits at (0, 0, −L) in both links' frames in every configuration (the rotation
+    // is about that axis, and the disk is symmetric about it): each carries a share of it
+    // there, so MuJoCo sees no massless moving body and the mass stays where it is.
+    let mut base_share = inertia::disk(robot, 0)
+        .scaled(1.0 / inertia::shares_at_disk(0, robot.sections(), true) as f64);
+    base_share.com = Vector3::new(0.0, 0.0, -len);
     let mut parent = PORT_LINK.to_string();
     for spec in specs {
         let jname = format!("port_{}", spec.what);
@@ -352,7 +359,7 @@ fn port_joints(
             name: jname,
             value: spec.value,
         });
-        links.push(empty_link(spec.child));
+        links.push(mass_link(spec.child, base_share));
         parent = spec.child.to_string();
     }
     joints.push(fixed_joint(
@@ -379,8 +386,9 @@ fn articulated_section(
     let (prev, next) = (&shape.disks[i - 1], &shape.disks[i]);
     let t = prev.rotation.transpose() * (next.position - prev.position);
     // Share of a disk's mass on each link whose origin is its centre (see `inertia`).
-    let share = |k: usize| 1.0 / inertia::shares_at_disk(k, n) as f64;
-    let disk_part = |k: usize| inertia::disk(robot).scaled(share(k));
+    let port = shape.port.is_some();
+    let share = |k: usize| 1.0 / inertia::shares_at_disk(k, n, port) as f64;
+    let disk_part = |k: usize| inertia::disk(robot, k).scaled(share(k));
     let l0 = robot.section_length(i);
     let q = SectionJoints::from_frames(prev, next, l0);
     let sec = format!("section_{i}");
