@@ -120,7 +120,8 @@ fn roadmap_nodes_of_the_wrong_length_or_outside_the_limits_are_refused() {
         )
     };
     let hi = rm.hi[0];
-    let edits: Vec<Box<dyn Fn(&mut ccrkit::plan::roadmap::RoadmapNode)>> = vec![
+    type Edit = Box<dyn Fn(&mut ccrkit::plan::roadmap::RoadmapNode)>;
+    let edits: Vec<Edit> = vec![
         Box::new(|n| n.u.truncate(3)),
         Box::new(|n| n.u.clear()),
         Box::new(|n| n.u.push(0.0)),
