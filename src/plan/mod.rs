@@ -20,6 +20,7 @@
 mod actuation_file;
 pub mod edge;
 pub mod roadmap;
+mod roadmap_nodes;
 mod rrt;
 
 pub use edge::{Checker, EdgeCheck, Node, Stats};

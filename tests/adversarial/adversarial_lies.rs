@@ -89,3 +89,56 @@ fn a_data_csv_naming_a_column_twice_or_part_of_the_tip_is_refused_by_name() {
     let ds = Dataset::from_csv_str(fine, "d.csv", &DataOptions::default()).expect("parses");
     assert_eq!(ds.tips.map(|t| t.len()), Some(1));
 }
+
+/// Roadmap nodes edited by hand — actuations of 3, 0 or 7 values for 6 cables, or outside the
+/// limits, a non-finite clearance — are refused by the node's index before the roadmap is
+/// used.
+#[test]
+fn roadmap_nodes_of_the_wrong_length_or_outside_the_limits_are_refused() {
+    use ccrkit::method::run::SolveRequest;
+    use ccrkit::method::MethodKind;
+    use ccrkit::plan::roadmap::{build, BuildOptions};
+    use ccrkit::plan::{plan, Goal, PlanOptions};
+    let model = two_segment();
+    let request = SolveRequest::new(MethodKind::Energy);
+    let opts = BuildOptions {
+        samples: 12,
+        expand: 0,
+        ..BuildOptions::default()
+    };
+    let rm = build(&model, &request, &opts).expect("a small roadmap");
+    assert!(!rm.nodes.is_empty());
+    let goal = Goal::Actuation(rm.nodes[0].u.clone());
+    let query = |r: &ccrkit::plan::roadmap::Roadmap| {
+        plan(
+            &model,
+            &request,
+            None,
+            &goal,
+            &PlanOptions::default(),
+            Some(r),
+        )
+    };
+    let hi = rm.hi[0];
+    type Edit = Box<dyn Fn(&mut ccrkit::plan::roadmap::RoadmapNode)>;
+    let edits: Vec<Edit> = vec![
+        Box::new(|n| n.u.truncate(3)),
+        Box::new(|n| n.u.clear()),
+        Box::new(|n| n.u.push(0.0)),
+        Box::new(move |n| n.u[0] = hi + 0.01),
+        Box::new(|n| n.clearance = Some(f64::NAN)),
+    ];
+    for (k, edit) in edits.iter().enumerate() {
+        let mut bad = rm.clone();
+        edit(&mut bad.nodes[0]);
+        match query(&bad) {
+            Err(ccrkit::SolveError::InvalidInput { field, reason }) => {
+                assert_eq!(field, "roadmap.nodes[0]", "edit {k}: {reason}");
+            }
+            other => panic!(
+                "edit {k}: expected a named refusal, got {:?}",
+                other.map(|p| p.stats)
+            ),
+        }
+    }
+}
