@@ -33,7 +33,7 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
     let text = ccrkit::model::read::read_text(&a.file, "model file")?;
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;
-    let predict = a.data.predict_options()?;
+    let predict = a.data.predict_options(&model)?;
     let mut opts = FitOptions::new(predict);
     opts.params = a.fit.clone();
     opts.max_iterations = a.max_iterations;
