@@ -298,3 +298,52 @@ fn bad_inputs_are_named() {
         .to_string();
     assert!(e.contains("waypoints[0].shape.disks"), "{e}");
 }
+
+/// A plan through a port animates insertion and rotation: every frame of the page carries the
+/// waypoint's insertion and rotation (the shape's), the robot carries the port's pose, and the
+/// page opened at a waypoint reports that waypoint's insertion and rotation and draws the port.
+#[test]
+fn a_plan_through_a_port_carries_insertion_and_rotation_per_frame() {
+    let mut model = Model::from_file("models/soft/lung_rod.toml").unwrap();
+    model.robot.port.as_mut().unwrap().pose = nalgebra::Isometry3::translation(0.01, -0.02, 0.03);
+    for (c, t) in model.actuation.cables.iter_mut().zip([0.6, 0.3, 0.2]) {
+        c.tension = Some(t);
+    }
+    let solver = SolveRequest::new(MethodKind::DEFAULT).solver().unwrap();
+    let states = [(0.03, -1.0), (0.06, 0.0), (0.09, 1.0), (0.11, 2.5)];
+    let shapes: Vec<Shape> = states
+        .iter()
+        .map(|&(d, psi)| {
+            let mut a = model.actuation.clone();
+            a.insertion = Some(d);
+            a.rotation = Some(psi);
+            solver.solve(&model.robot, &a, &model.scene, None).unwrap()
+        })
+        .collect();
+    let mut view = View::new("through the port", &model.robot, &model.scene);
+    view.add_path("plan", &shapes).unwrap();
+    let doc = serde_json::to_value(&view).unwrap();
+    assert_eq!(
+        doc["robot"]["port"]["position"],
+        serde_json::json!([0.01, -0.02, 0.03])
+    );
+    for (k, (s, &(d, psi))) in shapes.iter().zip(&states).enumerate() {
+        let p = s.port.as_ref().unwrap();
+        assert_eq!((p.insertion, p.rotation), (d, psi));
+        assert_eq!(
+            doc["layers"][0]["frames"][k]["port"],
+            serde_json::json!([d, psi]),
+            "{k}"
+        );
+    }
+    let page = out_dir().join("port_plan.html");
+    view.write(&page).unwrap();
+    let Some(bin) = chromium() else { return };
+    for (k, &(d, psi)) in states.iter().enumerate() {
+        let got = read_back(&bin, &page, &format!("#frame={k}"));
+        assert_eq!(got["frame"], k, "{got}");
+        assert_eq!(got["port"]["insertion"], d, "{got}");
+        assert_eq!(got["port"]["rotation"], psi, "{got}");
+        assert_layer(&got, 0, &shapes[k]);
+    }
+}

@@ -37,6 +37,7 @@ import {
   CylinderGeometry,
   Sprite,
   SpriteMaterial,
+  TorusGeometry,
   TubeGeometry,
   Vector3,
   WebGLRenderer,
@@ -44,7 +45,7 @@ import {
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 
 const data = window.CCRKIT_DATA;
-const summary = { ready: false, layers: [], obstacles: 0, frames: 1, frame: 0, points: 0 };
+const summary = { ready: false, layers: [], obstacles: 0, frames: 1, frame: 0, points: 0, port: null };
 window.ccrkitScene = summary;
 
 const v3 = (a, i = 0) => new Vector3(a[i], a[i + 1], a[i + 2]);
@@ -277,12 +278,36 @@ const diskGeoms = robot.holes.map((_, k) => diskGeometry(k));
 const layers = data.layers.map((spec, i) => new Layer(spec, i, diskGeoms, arrowScaleOf(spec.contact_unit)));
 summary.frames = Math.max(1, ...data.layers.map((l) => l.frames.length));
 
+// The entry port: a ring at the port frame and the channel behind it, along its −z (the robot
+// comes out along +z; each frame's shape already holds the insertion and rotation, the
+// label names them).
+if (robot.port) {
+  const ringR = 1.6 * Math.max(robot.disk_radius, robot.backbone_radius);
+  const port = new Group();
+  port.name = "port";
+  port.add(new Mesh(new TorusGeometry(ringR, 0.12 * ringR, 12, 48), new MeshStandardMaterial({ color: 0x444444 })));
+  const channel = new Mesh(
+    new CylinderGeometry(0.9 * ringR, 0.9 * ringR, robot.length, 24, 1, true),
+    new MeshStandardMaterial({ color: 0x888888, transparent: true, opacity: 0.15, depthWrite: false, side: DoubleSide }),
+  );
+  channel.rotateX(Math.PI / 2); // three's cylinders run along y; the channel along the port's z
+  channel.position.z = -robot.length / 2;
+  port.add(channel);
+  port.position.set(...robot.port.position);
+  port.quaternion.set(...robot.port.quaternion);
+  scene.add(port);
+}
+
 function showFrame(f) {
   summary.frame = f;
   for (const l of layers) l.show(f);
   summary.layers = layers.map((l) => l.counts);
+  // Insertion and rotation at this waypoint (the first layer solved through the port).
+  const st = layers.map((l) => l.spec.frames[Math.min(f, l.spec.frames.length - 1)].port).find((p) => p);
+  summary.port = st ? { insertion: st[0], rotation: st[1] } : null;
   const label = document.getElementById("frame-label");
-  if (label) label.textContent = `waypoint ${f + 1} / ${summary.frames}`;
+  const port = st ? ` · inserted ${(1000 * st[0]).toFixed(1)} mm · turned ${st[1].toFixed(3)} rad` : "";
+  if (label) label.textContent = `waypoint ${f + 1} / ${summary.frames}${port}`;
   publish();
   render();
 }
@@ -476,7 +501,9 @@ camera.near = extent * 1e-3;
 camera.far = extent * 100;
 camera.updateProjectionMatrix();
 controls.update();
-showFrame(0);
+// `#frame=K`: open at waypoint K (0-based), e.g. to read its insertion and rotation back.
+const start = /^#frame=(\d+)$/.exec(location.hash);
+showFrame(start ? Math.min(Number(start[1]), summary.frames - 1) : 0);
 // `#step-all`: show 100 frames spread over the path and record what a frame change costs:
 // the scene update alone (the script's part, what a slider drag waits for besides the GPU)
 // and with the draw finished, so a test can tell a long plan stays interactive.

@@ -74,6 +74,17 @@ struct RobotDoc {
     hole_radius: f64,
     /// Hole centres `(x, y)` in each disk's frame, disks `0..=n`.
     holes: Vec<Vec<[f64; 2]>>,
+    /// The entry port the robot is deployed through, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    port: Option<PortDoc>,
+}
+
+/// The port's frame in the scene: the robot comes out along its +z.
+#[derive(Debug, Clone, Serialize)]
+struct PortDoc {
+    position: [f64; 3],
+    /// `[x, y, z, w]` (three.js order).
+    quaternion: [f64; 4],
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -112,6 +123,10 @@ struct FrameDoc {
     backbone: Vec<f64>,
     cables: Vec<CableDoc>,
     contacts: Vec<ContactDoc>,
+    /// `[insertion d [m], rotation ψ [rad]]` of a shape solved through a port (the page
+    /// shows them beside the waypoint and moves the robot through the port with them).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    port: Option<[f64; 2]>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -203,9 +218,17 @@ impl View {
                 length: robot.length(),
                 disk_radius: r,
                 disk_thickness: robot.disk_thickness,
-                backbone_radius: robot.backbone.radius(),
+                backbone_radius: robot.body_radius(),
                 hole_radius,
                 holes,
+                port: robot.port.as_ref().map(|p| {
+                    let t = p.pose.translation.vector;
+                    let q = p.pose.rotation.coords;
+                    PortDoc {
+                        position: [t.x, t.y, t.z],
+                        quaternion: [q.x, q.y, q.z, q.w],
+                    }
+                }),
             },
             obstacles: scene.obstacles.iter().map(obstacle_doc).collect(),
             layers: Vec::new(),
@@ -311,6 +334,7 @@ impl View {
                     reaction: c.multiplier,
                 })
                 .collect(),
+            port: s.port.as_ref().map(|p| [p.insertion, p.rotation]),
         })
     }
 
