@@ -120,6 +120,9 @@ pub struct SolveReport {
     /// `--estimate`; [`crate::method::estimate`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_estimate: Option<crate::method::estimate::ErrorEstimate>,
+    /// What `auto` chose for this answer and what that cost ([`crate::method::auto`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub auto: Option<crate::method::auto::AutoReport>,
     /// Method-specific solver state for warm starts (not serialized).
     #[serde(skip)]
     pub warm: Option<WarmState>,

@@ -149,6 +149,7 @@ class Model:
         steps: int = 1,
         warm_from: Optional[str] = None,
         estimate: bool = False,
+        tolerance: Optional[float] = None,
         **settings: _Setting,
     ) -> Shape: ...
     def export_urdf(

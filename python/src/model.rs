@@ -240,7 +240,9 @@ impl Model {
     /// converged rod (`Shape.error_estimate`, one extra solve). Every other keyword is a setting
     /// of the method by name (`sub_arcs=8`, `length="chord"`); a setting the method does not
     /// take is refused.
-    #[pyo3(signature = (method=None, shorten=None, tension=None, *, steps=1, warm_from=None, estimate=false, **settings))]
+    /// `method="auto"` picks the cheapest model and resolution whose estimated error is within
+    /// `tolerance` [m] (default 1e-4); what it chose is in `report["auto"]`.
+    #[pyo3(signature = (method=None, shorten=None, tension=None, *, steps=1, warm_from=None, estimate=false, tolerance=None, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
@@ -251,10 +253,27 @@ impl Model {
         steps: usize,
         warm_from: Option<&str>,
         estimate: bool,
+        tolerance: Option<f64>,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Shape> {
+        let auto = match (method, tolerance) {
+            (Some("auto"), t) => Some(t.unwrap_or(1e-4)),
+            (_, None) => None,
+            (_, Some(_)) => {
+                return Err(crate::errors::invalid(
+                    py,
+                    "tolerance",
+                    "is the tolerance of method=\"auto\"".to_string(),
+                ))
+            }
+        };
         let request = SolveRequest {
-            method: method_kind(py, method)?,
+            auto,
+            method: if auto.is_some() {
+                MethodKind::DEFAULT
+            } else {
+                method_kind(py, method)?
+            },
             settings: settings_from(settings)?,
             extra_scene: None,
             warm_from: warm_from.map(|w| method_kind(py, Some(w))).transpose()?,

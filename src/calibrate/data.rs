@@ -105,6 +105,7 @@ impl Dataset {
             .split(',')
             .map(str::trim)
             .collect();
+        check_header(&header, name)?;
         let find = |c: &str| header.iter().position(|h| *h == c);
         let cols: Vec<usize> = if opts.columns.is_empty() {
             header
@@ -198,4 +199,37 @@ pub fn family(label: &str) -> String {
         Some(i) if s[i + 4..].chars().all(|c| c.is_ascii_digit()) => s[..i].to_string(),
         _ => s.to_string(),
     }
+}
+
+/// A header names each column once, and gives the tip as all of `tip_x`, `tip_y`, `tip_z` or
+/// none of them: a duplicated name (`tip_x` twice, no `tip_y`) once dropped the tip comparison
+/// without a word.
+fn check_header(header: &[&str], name: &str) -> Result<(), ModelError> {
+    for (k, h) in header.iter().enumerate() {
+        if header[..k].contains(h) {
+            return Err(ModelError::invalid(
+                format!("{name}: header"),
+                format!(
+                    "names the column `{}` twice (columns {} and {})",
+                    h.escape_debug(),
+                    header[..k].iter().position(|x| x == h).unwrap_or(0) + 1,
+                    k + 1
+                ),
+            ));
+        }
+    }
+    let tips = ["tip_x", "tip_y", "tip_z"];
+    let given: Vec<&str> = tips.into_iter().filter(|t| header.contains(t)).collect();
+    if !given.is_empty() && given.len() < 3 {
+        let missing: Vec<&str> = tips.into_iter().filter(|t| !header.contains(t)).collect();
+        return Err(ModelError::invalid(
+            format!("{name}: header"),
+            format!(
+                "has {} but not {}: give all three tip columns or none",
+                given.join(", "),
+                missing.join(", ")
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -215,6 +215,7 @@ impl Method for ConstantCurvature {
                 stable: None,
                 jacobian: None,
                 error_estimate: None,
+                auto: None,
                 warm: None,
             },
         })

@@ -264,11 +264,15 @@ pub(crate) fn estimate(
         Some(c) => {
             let mut s = settings.clone();
             s.push(c.name, &c.value);
+            quiet(kind, &mut s);
+            // Never handed out, so only the finite half of the output check.
             let at = |k: MethodKind| {
-                super::run::SolveRequest::new(k)
+                let other = super::run::SolveRequest::new(k)
                     .with_settings(s.clone())
                     .solver()?
-                    .solve(robot, act, scene, Some(shape))
+                    .solve_unchecked(robot, act, scene, Some(shape))?;
+                crate::check::finite(&other)?;
+                Ok::<_, SolveError>(other)
             };
             let other = at(kind)?;
             if part == ModelPart::RodAtCompanion && scene.is_empty() {
@@ -289,6 +293,38 @@ pub(crate) fn estimate(
         Resolution::Adaptive(tol) => discretization.max(SAFETY * tol * robot.length()),
         _ => discretization,
     };
+    let (model, note) = model_estimate(kind, robot, act, scene, shape, rod_gap);
+    Ok(ErrorEstimate {
+        bound_m: model.map(|m| m + discretization),
+        discretization_m: discretization,
+        model_m: model,
+        against,
+        order,
+        cost_s: t0.elapsed().as_secs_f64(),
+        note,
+    })
+}
+
+/// Settings that skip what a companion solve does not need (the tip is the same to the bit):
+/// `energy`'s stability and Jacobian, the rods' stability test.
+pub(crate) fn quiet(kind: MethodKind, s: &mut Settings) {
+    match kind {
+        MethodKind::Energy => s.push("sensitivity", "off"),
+        MethodKind::Cosserat | MethodKind::Kirchhoff => s.push("stability", "skip"),
+        _ => {}
+    }
+}
+
+/// The model part of `kind`'s `shape` \[m\] (safety factor included) and why it is unknown
+/// when it is; `rod_gap` is the Cosserat rod's distance at the companion (for `kirchhoff`).
+pub(crate) fn model_estimate(
+    kind: MethodKind,
+    robot: &Robot,
+    act: &Actuation,
+    scene: &Scene,
+    shape: &Shape,
+    rod_gap: Option<f64>,
+) -> (Option<f64>, String) {
     let mut note = String::new();
     let unmodelled = if !scene.is_empty() {
         Some("the rod has no obstacles: the model part next to obstacles is unknown")
@@ -299,7 +335,7 @@ pub(crate) fn estimate(
     } else {
         None
     };
-    let model = match (part, unmodelled) {
+    let model = match (model_part(kind), unmodelled) {
         (ModelPart::Zero, _) => Some(0.0),
         (ModelPart::Unknown, _) => {
             note = format!("{kind} is not a mechanical model: the model part is unknown");
@@ -314,15 +350,7 @@ pub(crate) fn estimate(
         }
         (ModelPart::RodAtCompanion, None) => rod_gap.map(|g| SAFETY * g),
     };
-    Ok(ErrorEstimate {
-        bound_m: model.map(|m| m + discretization),
-        discretization_m: discretization,
-        model_m: model,
-        against,
-        order,
-        cost_s: t0.elapsed().as_secs_f64(),
-        note,
-    })
+    (model, note)
 }
 
 #[cfg(test)]

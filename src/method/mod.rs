@@ -15,6 +15,7 @@
 //! from its kind and [`Settings`] by [`MethodKind::build`]. Adding a method is one module plus
 //! one arm in each `match` of this file (see `CONTRIBUTING.md`).
 
+pub mod auto;
 pub mod constant_curvature;
 pub mod cosserat;
 pub mod energy;

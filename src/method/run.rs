@@ -55,6 +55,9 @@ pub struct SolveRequest {
     /// Estimate each answer's distance from the converged reference rod
     /// ([`crate::method::estimate`]: one extra solve), into `report.error_estimate`.
     pub estimate: bool,
+    /// `auto` with this tolerance \[m\]: the cheapest model and resolution whose estimated
+    /// error is within it ([`crate::method::auto`]); `method` is then not used.
+    pub auto: Option<f64>,
 }
 
 /// A solved request.
@@ -82,7 +85,42 @@ impl SolveRequest {
             steps: 1,
             repeat: 1,
             estimate: false,
+            auto: None,
         }
+    }
+
+    /// `auto`: the cheapest model and resolution whose estimated tip distance from the
+    /// converged rod is within `tolerance` \[m\] for the robot, input and scene solved
+    /// ([`crate::method::auto`]).
+    pub fn auto(tolerance: f64) -> Self {
+        SolveRequest {
+            auto: Some(tolerance),
+            ..SolveRequest::new(MethodKind::DEFAULT)
+        }
+    }
+
+    /// This request settled for `model`: an `auto` request becomes the request of the method
+    /// and resolution it chooses for the model's own actuation and scene (for the commands
+    /// that solve many actuations at one choice: reach, plan, predict, batches); any other is
+    /// itself.
+    pub fn resolved(&self, model: &Model) -> Result<SolveRequest, SolveError> {
+        let Some(t) = self.auto else {
+            return Ok(self.clone());
+        };
+        let scene = self.scene_for(model);
+        let shape = super::auto::choose(&model.robot, &model.actuation, &scene, t, &self.settings)?;
+        let settled = super::auto::settled(&shape, &self.settings).ok_or_else(|| {
+            SolveError::InvalidInput {
+                field: "method".into(),
+                reason: "auto's choice is not on the registry's ladder (a bug in ccrkit)".into(),
+            }
+        })?;
+        Ok(SolveRequest {
+            method: settled.method,
+            settings: settled.settings,
+            auto: None,
+            ..self.clone()
+        })
     }
 
     /// Builder: estimate each answer's error ([`SolveRequest::estimate`]).
@@ -116,6 +154,14 @@ impl SolveRequest {
     /// the combination of options, and the settings (each taken by the method, or refused) —
     /// and build the method: the [`Solver`] every solve of this request goes through.
     pub fn solver(&self) -> Result<Solver, SolveError> {
+        if self.auto.is_some() {
+            return Err(SolveError::InvalidInput {
+                field: "method".into(),
+                reason: "auto chooses for one robot, input and scene: solve with `run`, or \
+                         settle the choice first (`SolveRequest::resolved`)"
+                    .into(),
+            });
+        }
         if !(1..=MAX_STEPS).contains(&self.steps) {
             return Err(SolveError::InvalidInput {
                 field: "steps".into(),
@@ -155,9 +201,9 @@ impl SolveRequest {
     /// The JSON of `shape` solved by this request on `model`, with the model's name and the
     /// input that drove the solve (the method's `control`, its settings, each cable's drive).
     pub fn json(&self, model: &Model, shape: &Shape) -> ShapeJson {
-        let control = self.method.input_with(&self.settings);
-        let drives = self
-            .method
+        let method = MethodKind::from_name(&shape.method).unwrap_or(self.method);
+        let control = method.input_with(&self.settings);
+        let drives = method
             .drives(&model.robot, &model.actuation, control)
             .unwrap_or_default();
         let cables = model
@@ -198,6 +244,9 @@ impl SolveRequest {
     /// Solve `model` (its robot, actuation and obstacles, and the request's obstacles): the
     /// shape (checked at the output boundary), the scene it was solved in, the median time.
     pub fn run(&self, model: &Model) -> Result<Solved, SolveError> {
+        if let Some(t) = self.auto {
+            return self.run_auto(model, t);
+        }
         let solver = self.solver()?;
         let scene = self.scene_for(model);
         let warm = match self.warm_from {
@@ -252,6 +301,42 @@ impl SolveRequest {
             scene,
             median_time_s,
             merged_duplicates,
+        })
+    }
+}
+
+impl SolveRequest {
+    /// [`SolveRequest::run`] of an `auto` request: the choice and every solve it took, timed
+    /// as one (the median of `repeat` runs).
+    fn run_auto(&self, model: &Model, tolerance: f64) -> Result<Solved, SolveError> {
+        let scene = self.scene_for(model);
+        let mut times = Vec::with_capacity(self.repeat.max(1));
+        let mut shape = None;
+        for _ in 0..self.repeat.clamp(1, MAX_REPEAT) {
+            let t = Instant::now();
+            let s = super::auto::choose(
+                &model.robot,
+                &model.actuation,
+                &scene,
+                tolerance,
+                &self.settings,
+            )?;
+            times.push(t.elapsed().as_secs_f64());
+            shape = Some(s);
+        }
+        times.sort_by(f64::total_cmp);
+        let median_time_s = times[times.len() / 2];
+        let mut shape = shape.ok_or_else(|| SolveError::InvalidInput {
+            field: "repeat".into(),
+            reason: "no solve ran".into(),
+        })?;
+        shape.report.solve_time_s = median_time_s;
+        crate::check::output(&model.robot, &shape)?;
+        Ok(Solved {
+            shape,
+            scene,
+            median_time_s,
+            merged_duplicates: 0,
         })
     }
 }

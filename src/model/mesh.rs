@@ -300,6 +300,32 @@ pub fn bent_tube(
     (verts, tris)
 }
 
+/// [`bent_tube`] closed at both ends by flat caps (a fan about each end ring's centre): a
+/// closed, consistently wound solid ([`mesh_check::solid`]) of `2 rings × segments`
+/// triangles — a lumen with `free = "inside"`.
+pub fn capped_tube(
+    bend_radius: f64,
+    tube_radius: f64,
+    theta0: f64,
+    theta1: f64,
+    rings: usize,
+    segments: usize,
+) -> MeshData {
+    let (rings, segments) = (rings.max(2), segments.max(3));
+    let (mut v, mut t) = bent_tube(bend_radius, tube_radius, theta0, theta1, rings, segments);
+    let centre =
+        |th: f64| Vector3::new(bend_radius * (1.0 - th.cos()), 0.0, bend_radius * th.sin());
+    let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
+    v.push(centre(theta0));
+    v.push(centre(theta1));
+    let (c0, c1) = ((v.len() - 2) as u32, (v.len() - 1) as u32);
+    for j in 0..segments {
+        t.push([c0, id(0, j), id(0, j + 1)]);
+        t.push([c1, id(rings - 1, j + 1), id(rings - 1, j)]);
+    }
+    (v, t)
+}
+
 #[cfg(test)]
 #[path = "mesh_tests.rs"]
 mod tests;

@@ -182,3 +182,18 @@ fn each_bad_file_is_named() {
         Err(MeshError::Format)
     ));
 }
+
+/// The capped tube is a solid whose volume is the torus section's, `π r² R Δθ`, to the
+/// facets' (inscribed polygons': `n/(2π) sin(2π/n)` of the disk) and the caps' accuracy.
+#[test]
+fn the_capped_tube_is_a_solid_of_the_torus_volume() {
+    let (r_bend, r, th) = (0.11, 0.02, 1.9);
+    let (v, t) = capped_tube(r_bend, r, -0.1, 1.8, 400, 64);
+    mesh_check::basic(&v, &t).unwrap();
+    let solid = mesh_check::solid(&v, &t).unwrap();
+    let n = 64.0;
+    let polygon = n / std::f64::consts::TAU * (std::f64::consts::TAU / n).sin();
+    let want = std::f64::consts::PI * r * r * polygon * r_bend * th;
+    let got = mesh_check::enclosed_volume(&v, &solid);
+    assert!((got / want - 1.0).abs() < 1e-4, "{got} vs {want}");
+}

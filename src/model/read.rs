@@ -15,6 +15,10 @@ pub const MAX_TEXT_BYTES: u64 = 64 << 20;
 /// Largest mesh file read \[bytes\] (256 MiB: about five million binary-STL triangles).
 pub const MAX_MESH_BYTES: u64 = 256 << 20;
 
+/// Largest actuation file read \[bytes\] (1 MiB: an actuation of 256 cables is about 20 kB;
+/// a 37 MB goal file once took 794 MB of memory as a JSON tree).
+pub const MAX_ACTUATION_BYTES: u64 = 1 << 20;
+
 /// The bytes of `path`, or [`ModelError::Io`] when it cannot be read or holds more than
 /// `limit` bytes (`what` names the kind of file in the message).
 pub fn read_capped(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, ModelError> {
@@ -29,8 +33,12 @@ pub fn read_capped(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Model
         .map_err(|e| io(e.to_string()))?;
     if bytes.len() as u64 > limit {
         return Err(io(format!(
-            "larger than the {} MiB limit for a {what} (is it a device or the wrong file?)",
-            limit >> 20
+            "larger than the {} limit for a {what} (is it a device or the wrong file?)",
+            if limit >= 1 << 20 {
+                format!("{} MiB", limit >> 20)
+            } else {
+                format!("{limit} byte")
+            }
         )));
     }
     Ok(bytes)
@@ -39,7 +47,12 @@ pub fn read_capped(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Model
 /// The text of a model or scene file, capped at [`MAX_TEXT_BYTES`]; not UTF-8 is an
 /// [`ModelError::Io`] naming the byte offset.
 pub fn read_text(path: &Path, what: &str) -> Result<String, ModelError> {
-    let bytes = read_capped(path, MAX_TEXT_BYTES, what)?;
+    read_text_capped(path, MAX_TEXT_BYTES, what)
+}
+
+/// [`read_text`] with its own cap of `limit` bytes.
+pub fn read_text_capped(path: &Path, limit: u64, what: &str) -> Result<String, ModelError> {
+    let bytes = read_capped(path, limit, what)?;
     String::from_utf8(bytes).map_err(|e| ModelError::Io {
         path: path.display().to_string(),
         reason: format!(

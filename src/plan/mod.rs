@@ -17,8 +17,10 @@
 //! (keeping the same margin) first. Shapes are solved without obstacles and checked against
 //! them (the robot keeps clear, so the obstacle-aware solve is the same shape).
 
+mod actuation_file;
 pub mod edge;
 pub mod roadmap;
+mod roadmap_nodes;
 mod rrt;
 
 pub use edge::{Checker, EdgeCheck, Node, Stats};
@@ -261,7 +263,11 @@ pub fn actuation_of(model: &Model, act: &Actuation) -> Vec<f64> {
 /// of `ccrkit plan --json` write.
 pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>, ModelError> {
     let p = path.display().to_string();
-    let text = crate::model::read::read_text(path, "actuation file")?;
+    let text = crate::model::read::read_text_capped(
+        path,
+        crate::model::read::MAX_ACTUATION_BYTES,
+        "actuation file",
+    )?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| ModelError::Parse {
         path: p.clone(),
         reason: e.to_string(),
@@ -272,6 +278,7 @@ pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>,
         .ok_or_else(|| {
             ModelError::invalid("actuation", format!("`{p}` has no `actuation` list"))
         })?;
+    actuation_file::entries(list, model, &p)?;
     let mut x = model
         .robot
         .cables

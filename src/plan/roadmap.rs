@@ -389,7 +389,7 @@ impl Roadmap {
                 settings_of(request)
             ));
         }
-        Ok(())
+        super::roadmap_nodes::check(self, space)
     }
 
     /// [`plan`](super::plan) on this roadmap, from the solved end points `s`, `g` checked by

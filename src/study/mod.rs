@@ -23,6 +23,7 @@
 //! Measured numbers live in the user's guide (`docs/guide/`, with the commands that regenerate
 //! them), not here.
 
+mod auto;
 pub mod compare;
 #[cfg(feature = "plot")]
 pub mod figures;
@@ -33,6 +34,9 @@ mod workspace;
 
 pub use crate::error::Status;
 pub use crate::model::actuation::Input;
+pub use auto::{
+    auto_study, auto_study_csv, summarize, AutoStudyOptions, AutoStudyRow, AutoSummary,
+};
 pub use compare::{compare, Comparison, ComparisonRow};
 pub use speed_accuracy::*;
 pub use stability::*;

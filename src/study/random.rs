@@ -1,7 +1,7 @@
 //! Seeded random robots: soft (silicone-like, E 2–5 MPa) and stiff (NiTi to steel) backbones,
 //! 4–12 sections, 1–4 straight or helical cables (some tied at an inner disk), driven by
-//! tensions or by one cable's shortening, some with gravity. The same seed gives the same
-//! model file on every machine (xorshift64), so studies and tests over "random robots" are
+//! tensions or by one cable's shortening, some sagging sideways under gravity. The same seed
+//! gives the same model file on every machine (xorshift64), so studies and tests over "random robots" are
 //! repeatable. The bending each draws is aimed at 0.2–1.5 rad over the robot, where every
 //! method should give an answer.
 
@@ -95,7 +95,10 @@ pub fn random_robot_toml(seed: u64) -> String {
         }
     }
     if d.next() < 0.25 {
-        let mass = if soft { 2e-4 } else { 1e-3 } * d.range(0.5, 2.0);
+        // Disks whose weight alone would bend the robot by 0.05–0.3 rad sideways
+        // (θ ≈ w L² / 6EI for a load w per metre): a sag, never a second equilibrium.
+        let sag = d.range(0.05, 0.3);
+        let mass = sag * 6.0 * ei / (9.81 * length * sections as f64);
         let _ = writeln!(
             t,
             "[loads]\ngravity = [0.0, 9.81, 0.0]\ndisk_mass = {mass:e}"

@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod auto;
 mod cable_report;
 mod compliance;
 mod cosserat;

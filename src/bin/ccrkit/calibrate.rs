@@ -48,7 +48,7 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
     let text = ccrkit::model::read::read_text(&a.file, "model file")?;
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;
-    let mut opts = FitOptions::new(a.data.predict_options()?);
+    let mut opts = FitOptions::new(a.data.predict_options(&model)?);
     opts.max_iterations = a.max_iterations;
     let t = Instant::now();
     let (rep, chosen) = if a.fit.is_empty() {

@@ -114,9 +114,14 @@ enum ExportCommand {
 /// same for every subcommand that solves, through the library's one solve path.
 #[derive(clap::Args, Clone)]
 struct SolveArgs {
-    /// Method: see `ccrkit methods` (`geometric` is the paper's literal section solver).
-    #[arg(long, default_value_t = MethodKind::DEFAULT, value_parser = parse_method)]
-    method: MethodKind,
+    /// Method: see `ccrkit methods` (`geometric` is the paper's literal section solver), or
+    /// `auto`: the cheapest model and resolution whose estimated error is within `--tolerance`.
+    #[arg(long, default_value_t = MethodArg::Named(MethodKind::DEFAULT), value_parser = parse_method_arg)]
+    method: MethodArg,
+    /// The tolerance of `--method auto`: the estimated tip distance from the converged rod the
+    /// answer may have \[m\] (default 1e-4).
+    #[arg(long)]
+    tolerance: Option<f64>,
     /// A scene file with obstacles (added to the model file's own).
     #[arg(long)]
     scene: Option<PathBuf>,
@@ -154,6 +159,49 @@ fn parse_method(s: &str) -> Result<MethodKind, String> {
     s.parse::<MethodKind>().map_err(|e| e.to_string())
 }
 
+/// The tolerance of `--method auto` when none is given \[m\].
+pub(crate) const AUTO_TOLERANCE: f64 = 1e-4;
+
+/// A method by name, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum MethodArg {
+    /// A registered method.
+    Named(MethodKind),
+    /// The cheapest model and resolution within a tolerance.
+    Auto,
+}
+
+impl std::fmt::Display for MethodArg {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MethodArg::Named(k) => write!(f, "{k}"),
+            MethodArg::Auto => f.write_str("auto"),
+        }
+    }
+}
+
+fn parse_method_arg(s: &str) -> Result<MethodArg, String> {
+    if s.trim() == "auto" {
+        Ok(MethodArg::Auto)
+    } else {
+        parse_method(s).map(MethodArg::Named)
+    }
+}
+
+impl MethodArg {
+    /// The request of this method (`auto` at `tolerance`, default [`AUTO_TOLERANCE`]); a
+    /// tolerance without `auto` is refused by name.
+    pub(crate) fn request(self, tolerance: Option<f64>) -> Result<SolveRequest> {
+        match (self, tolerance) {
+            (MethodArg::Auto, t) => Ok(SolveRequest::auto(t.unwrap_or(AUTO_TOLERANCE))),
+            (MethodArg::Named(k), None) => Ok(SolveRequest::new(k)),
+            (MethodArg::Named(k), Some(_)) => {
+                anyhow::bail!("--tolerance is the tolerance of `--method auto`, not of {k}")
+            }
+        }
+    }
+}
+
 impl SolveArgs {
     /// The settings given, named flags first, then `--set` in order.
     fn settings(&self) -> Result<Settings> {
@@ -180,15 +228,17 @@ impl SolveArgs {
     fn request(&self, repeat: usize) -> Result<SolveRequest> {
         let scene = self.scene.as_ref().map(Scene::from_file).transpose()?;
         let r = SolveRequest {
-            method: self.method,
             settings: self.settings()?,
             extra_scene: scene,
             warm_from: self.warm_from,
             steps: self.steps,
             repeat,
             estimate: self.estimate,
+            ..self.method.request(self.tolerance)?
         };
-        r.solver()?;
+        if r.auto.is_none() {
+            r.solver()?;
+        }
         Ok(r)
     }
 }
@@ -277,7 +327,7 @@ fn run() -> Result<()> {
             }
             let request = solve.request(repeat)?;
             let model = Model::from_file(&file)?;
-            let bar = progress::spinner(&format!("solving with {}", request.method));
+            let bar = progress::spinner(&format!("solving with {}", solve.method));
             let solved = request.run(&model);
             bar.finish_and_clear();
             let solved = solved?;
@@ -470,6 +520,17 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
         shape.report.iterations,
         median * 1e6
     );
+    if let Some(a) = &shape.report.auto {
+        println!(
+            "auto    {} {} for tolerance {:.4} mm{}: {} solves in {:.1} µs",
+            a.method,
+            a.setting,
+            a.tolerance_m * 1e3,
+            if a.met { "" } else { " (NOT met)" },
+            a.solves,
+            a.cost_s * 1e6
+        );
+    }
     if let Some(e) = &shape.report.error_estimate {
         println!("{}", error_line(e));
     }

@@ -43,8 +43,8 @@ pub(crate) struct PlanArgs {
 }
 
 pub(crate) fn run(a: PlanArgs) -> Result<()> {
-    let request = a.inverse.request()?;
     let model = Model::from_file(&a.file)?;
+    let request = a.inverse.request(&model)?;
     let goal = match (a.to_tip.is_empty(), &a.to_actuation) {
         (false, None) => Goal::Tip(vec3("to-tip", &a.to_tip)?),
         (true, Some(p)) => Goal::Actuation(read_actuation(p, &model)?),

@@ -42,10 +42,11 @@ impl DataArgs {
         Ok((Dataset::from_file(&self.data, &opts)?, unit))
     }
 
-    /// The prediction options (request checked, progress bar on).
-    pub fn predict_options(&self) -> Result<PredictOptions> {
+    /// The prediction options for `model` (request checked, `auto` settled on the model's
+    /// own actuation, progress bar on).
+    pub fn predict_options(&self, model: &Model) -> Result<PredictOptions> {
         Ok(PredictOptions {
-            request: self.solve.request(1)?,
+            request: self.solve.request(1)?.resolved(model)?,
             chunk: self.chunk,
             progress: crate::progress::handle(),
         })
@@ -69,7 +70,7 @@ pub struct PredictArgs {
 pub fn run(a: PredictArgs) -> Result<()> {
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;
-    let opts = a.data.predict_options()?;
+    let opts = a.data.predict_options(&model)?;
     let t = Instant::now();
     let rows = predict(&model, &data, &opts)?;
     let wall = t.elapsed().as_secs_f64();

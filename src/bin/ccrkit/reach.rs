@@ -1,6 +1,7 @@
 //! `ccrkit reach`: the least-effort actuation that puts the tip on a target
 //! ([`ccrkit::reach::reach`]), and the arguments `plan` and `roadmap` share.
 
+use super::MethodArg;
 use anyhow::{bail, Context, Result};
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
@@ -12,9 +13,13 @@ use std::path::PathBuf;
 /// What the inverse commands solve with: method, settings, obstacles, contact.
 #[derive(clap::Args, Clone)]
 pub(crate) struct InverseArgs {
-    /// Method driven by shortenings (see `ccrkit methods`).
-    #[arg(long, default_value_t = MethodKind::DEFAULT, value_parser = super::parse_method)]
-    pub method: MethodKind,
+    /// Method driven by shortenings (see `ccrkit methods`), or `auto` (chosen once for the
+    /// model's own actuation at `--model-tolerance`).
+    #[arg(long, default_value_t = MethodArg::Named(MethodKind::DEFAULT), value_parser = super::parse_method_arg)]
+    pub method: MethodArg,
+    /// The tolerance of `--method auto` \[m\] (default 1e-4).
+    #[arg(long)]
+    pub model_tolerance: Option<f64>,
     /// A scene file with obstacles (added to the model file's own).
     #[arg(long)]
     pub scene: Option<PathBuf>,
@@ -28,17 +33,20 @@ pub(crate) struct InverseArgs {
 }
 
 impl InverseArgs {
-    /// The solve request, checked.
-    pub fn request(&self) -> Result<SolveRequest> {
+    /// The solve request for `model`, checked (`auto` settled on the model's own actuation).
+    pub fn request(&self, model: &Model) -> Result<SolveRequest> {
         let mut s = Settings::new();
         for kv in &self.set {
             let (k, v) = Settings::parse_pair(kv)?;
             s.push(k, v);
         }
         let scene = self.scene.as_ref().map(Scene::from_file).transpose()?;
-        let r = SolveRequest::new(self.method)
+        let r = self
+            .method
+            .request(self.model_tolerance)?
             .with_settings(s)
-            .with_scene(scene);
+            .with_scene(scene)
+            .resolved(model)?;
         r.solver()?;
         Ok(r)
     }
@@ -101,8 +109,8 @@ pub(crate) fn run(a: ReachArgs) -> Result<()> {
         }
         Some(t.normalize())
     };
-    let request = a.inverse.request()?;
     let model = Model::from_file(&a.file)?;
+    let request = a.inverse.request(&model)?;
     let opts = ReachOptions {
         allow_contact: a.allow_contact,
         tolerance: a.tolerance,

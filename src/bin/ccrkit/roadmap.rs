@@ -50,8 +50,8 @@ pub(crate) fn run(cmd: RoadmapCommand) -> Result<()> {
             neighbours,
             seed,
         } => {
-            let request = inverse.request()?;
             let model = Model::from_file(&file)?;
+            let request = inverse.request(&model)?;
             let opts = BuildOptions {
                 samples,
                 neighbours,

@@ -22,6 +22,28 @@ pub(crate) enum StudyCommand {
     Workspace(WorkspaceArgs),
     /// Join workspace shards into one CSV sorted by sample index.
     Merge(MergeArgs),
+    /// How often `--method auto` keeps its tolerance on seeded random robots, how often its
+    /// estimate bounds the true error, and its cost against the hindsight-cheapest model.
+    Auto(AutoArgs),
+}
+
+#[derive(Args)]
+pub(crate) struct AutoArgs {
+    /// Random robots (seeds FIRST..FIRST+N).
+    #[arg(long, default_value_t = 200)]
+    robots: u64,
+    /// The first seed.
+    #[arg(long, default_value_t = 0)]
+    first_seed: u64,
+    /// Tolerances \[m\], comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [1e-4, 1e-3])]
+    tolerance: Vec<f64>,
+    /// Timed runs per solve (median).
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Write DIR/auto.csv (one row per robot and tolerance).
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -126,7 +148,41 @@ pub(crate) fn run(cmd: StudyCommand) -> Result<()> {
         StudyCommand::Stability(a) => stability(a),
         StudyCommand::Workspace(a) => workspace(a),
         StudyCommand::Merge(a) => merge(a),
+        StudyCommand::Auto(a) => auto(a),
     }
+}
+
+/// `ccrkit study auto`: how often auto's answers keep their tolerance.
+fn auto(a: AutoArgs) -> Result<()> {
+    let opts = study::AutoStudyOptions {
+        robots: a.robots,
+        first_seed: a.first_seed,
+        tolerances: a.tolerance,
+        repeats: a.repeats,
+        progress: crate::progress::handle(),
+    };
+    let rows = study::auto_study(&opts)?;
+    if let Some(out) = &a.out {
+        create_dir(out)?;
+        let path = out.join("auto.csv");
+        study::write_text(&path, &study::auto_study_csv(&rows))?;
+        eprintln!("wrote {}", path.display());
+    }
+    println!(
+        "{:>12} {:>8} {:>16} {:>18} {:>22}",
+        "tolerance", "answers", "true error ≤ T", "estimate ≥ error", "cost / hindsight (med)"
+    );
+    for s in study::summarize(&rows) {
+        println!(
+            "{:>9.4} mm {:>8} {:>14.1} % {:>16.1} % {:>21.2}×",
+            s.tolerance * 1e3,
+            s.answers,
+            100.0 * s.within,
+            100.0 * s.bounded,
+            s.median_cost_ratio
+        );
+    }
+    Ok(())
 }
 
 /// `ccrkit study speed-accuracy`: the speed–accuracy study and its table.

@@ -282,6 +282,7 @@ impl Cosserat {
                 stable: None,
                 jacobian: None,
                 error_estimate: None,
+                auto: None,
                 warm: None,
             },
         }

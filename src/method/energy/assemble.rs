@@ -112,6 +112,7 @@ impl Energy {
                 stable: sol.sensitivity.stable,
                 jacobian: sol.sensitivity.jacobian,
                 error_estimate: None,
+                auto: None,
                 warm: Some(state),
             },
         }

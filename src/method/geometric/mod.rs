@@ -267,6 +267,7 @@ impl Method for Geometric {
                 stable: strict.then_some(true),
                 jacobian: None,
                 error_estimate: None,
+                auto: None,
                 warm: None,
             },
         })

@@ -198,6 +198,18 @@ const ROD_RESOLUTIONS: &[(&str, &[(&str, &str)])] = &[
 
 const DEFAULT_RESOLUTION: &[(&str, &[(&str, &str)])] = &[("default", &[])];
 
+// The energy model's sub-arcs, coarse to fine (the default, 4, among them).
+const ENERGY_RESOLUTIONS: &[(&str, &[(&str, &str)])] = &[
+    ("sub-arcs 1", &[("sub-arcs", "1")]),
+    ("sub-arcs 2", &[("sub-arcs", "2")]),
+    ("sub-arcs 3", &[("sub-arcs", "3")]),
+    ("sub-arcs 4", &[("sub-arcs", "4")]),
+    ("sub-arcs 6", &[("sub-arcs", "6")]),
+    ("sub-arcs 8", &[("sub-arcs", "8")]),
+    ("sub-arcs 12", &[("sub-arcs", "12")]),
+    ("sub-arcs 16", &[("sub-arcs", "16")]),
+];
+
 const BOTH: &[Input] = &[Input::Shortening, Input::Tension];
 const SHORTENING: &[Input] = &[Input::Shortening];
 
@@ -282,7 +294,7 @@ pub(super) const INFO: [MethodInfo; 6] = [
         tendons_inside: true,
         settings: ENERGY_SETTINGS,
         contact_unit: "N",
-        resolutions: DEFAULT_RESOLUTION,
+        resolutions: ENERGY_RESOLUTIONS,
     },
     rod(
         MethodKind::Cosserat,

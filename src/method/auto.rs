@@ -1,0 +1,281 @@
+//! `auto`: the cheapest model and resolution whose estimated error ([`super::estimate`]) for
+//! this robot, input and scene is within a tolerance.
+//!
+//! The candidates are the registry's resolution ladders, cheapest first: `energy`'s sub-arcs
+//! (2, 3, 4, 6, 8, 12, 16), then the Cosserat rod's fixed RK4 steps (2 … 20 per section)
+//! where `energy` cannot meet the tolerance (its model part, the shear it leaves out, exceeds
+//! it) or cannot solve the problem (a tip moment). On a ladder:
+//!
+//! 1. the coarsest rung is solved and estimated (one extra solve one rung up or down, without
+//!    stability or Jacobian: [`super::estimate::quiet`]); within the tolerance, it is the answer;
+//! 2. otherwise the method's order predicts the discretization part of every finer rung from
+//!    the last one measured, `e(n) = e(m) (m/n)^p`, and the first rung predicted within 70 % of
+//!    what the model part leaves of the tolerance is solved, warm-started from the last
+//!    answer; its estimate is Richardson against that answer (no further solve);
+//! 3. repeat until a rung's estimate is within the tolerance or the ladder ends.
+//!
+//! The answer says what was chosen, its estimate and the cost of everything solved
+//! ([`AutoReport`] in `report.auto`). Next to obstacles the rod has no counterpart, so only
+//! the discretization part is held to the tolerance (the report's note says so). When no
+//! rung meets the tolerance, the answer with the smallest estimate is returned with
+//! `met = false`.
+
+use super::estimate::{self, ErrorEstimate, SAFETY};
+use super::run::SolveRequest;
+use super::{MethodKind, Settings};
+use crate::error::SolveError;
+use crate::model::actuation::Actuation;
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
+use crate::shape::Shape;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// What `auto` chose and what it cost.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AutoReport {
+    /// The method chosen.
+    pub method: String,
+    /// Its resolution (`sub-arcs=2`, `rk4-steps=6`).
+    pub setting: String,
+    /// The tolerance asked for \[m\].
+    pub tolerance_m: f64,
+    /// Whether the chosen answer's estimate is within it.
+    pub met: bool,
+    /// Solves run (answers and estimates).
+    pub solves: usize,
+    /// Wall time of all of them \[s\].
+    pub cost_s: f64,
+}
+
+/// One rung: the method, its resolution setting and value.
+struct Rung {
+    kind: MethodKind,
+    name: &'static str,
+    n: usize,
+    order: f64,
+}
+
+/// The fixed-step rungs of `kind` from the registry's ladder, coarse to fine. `energy` starts
+/// at 2 sub-arcs: one sub-arc per section takes more Newton steps and is slower than two
+/// (`ccrkit study auto` measures both), and is 2's companion.
+fn ladder(kind: MethodKind) -> Vec<Rung> {
+    let (name, order) = match kind {
+        MethodKind::Energy => ("sub-arcs", estimate::SUB_ARC_ORDER),
+        _ => ("rk4-steps", estimate::RK4_ORDER),
+    };
+    kind.info()
+        .resolutions
+        .iter()
+        .filter_map(|(_, pairs)| {
+            let s = pairs.iter().find(|(k, _)| *k == name)?;
+            Some(Rung {
+                kind,
+                name,
+                n: s.1.parse().ok()?,
+                order,
+            })
+        })
+        .filter(|r| !(kind == MethodKind::Energy && r.n < 2))
+        .collect()
+}
+
+/// The settings of a rung: the caller's (those the method takes, resolution left out), the
+/// input, the rung's resolution.
+fn rung_settings(rung: &Rung, base: &Settings, control: &str) -> Settings {
+    let mut s = Settings::new();
+    for (k, v) in base.iter() {
+        let k = super::settings::canonical(k);
+        let own = ["sub-arcs", "rk4-steps", "adaptive", "control"].contains(&k.as_str());
+        if !own && rung.kind.check_setting(&k).is_ok() {
+            s.push(k, v);
+        }
+    }
+    s.push("control", control);
+    s.push(rung.name, rung.n);
+    s
+}
+
+/// What a walk along the ladders found so far.
+struct Search<'a> {
+    robot: &'a Robot,
+    act: &'a Actuation,
+    scene: &'a Scene,
+    tolerance: f64,
+    base: &'a Settings,
+    control: String,
+    solves: usize,
+    best: Option<(Shape, ErrorEstimate, String)>,
+}
+
+impl Search<'_> {
+    fn solve(&mut self, rung: &Rung, warm: Option<&Shape>) -> Result<Shape, SolveError> {
+        self.solves += 1;
+        SolveRequest::new(rung.kind)
+            .with_settings(rung_settings(rung, self.base, &self.control))
+            .solver()?
+            .solve(self.robot, self.act, self.scene, warm)
+    }
+
+    /// Keep `shape` if its estimate is the smallest yet; true when it meets the tolerance.
+    fn offer(&mut self, rung: &Rung, shape: Shape, est: ErrorEstimate, model: f64) -> bool {
+        let bound = est.discretization_m + model;
+        let met = bound <= self.tolerance;
+        let better = self
+            .best
+            .as_ref()
+            .is_none_or(|(_, e, _)| bound < e.discretization_m + e.model_m.unwrap_or(0.0));
+        if better || met {
+            self.best = Some((shape, est, format!("{}={}", rung.name, rung.n)));
+        }
+        met
+    }
+
+    /// Walk one method's ladder; true when a rung met the tolerance.
+    fn walk(&mut self, rungs: &[Rung]) -> Result<bool, SolveError> {
+        let Some(first) = rungs.first() else {
+            return Ok(false);
+        };
+        let a0 = self.solve(first, None)?;
+        let settings = rung_settings(first, self.base, &self.control);
+        let e0 = estimate::estimate(first.kind, &settings, self.robot, self.act, self.scene, &a0)?;
+        self.solves += 1;
+        let model = e0.model_m.unwrap_or(0.0);
+        let mut disc = e0.discretization_m;
+        if self.offer(first, a0.clone(), e0, model) {
+            return Ok(true);
+        }
+        if model > self.tolerance {
+            return Ok(false);
+        }
+        let (mut at, mut last) = (0, a0);
+        while at + 1 < rungs.len() {
+            let room = 0.7 * (self.tolerance - model);
+            let from = &rungs[at];
+            let next = (at + 1..rungs.len())
+                .find(|&j| disc * (from.n as f64 / rungs[j].n as f64).powf(from.order) <= room)
+                .unwrap_or(rungs.len() - 1);
+            let rung = &rungs[next];
+            let shape = self.solve(rung, Some(&last))?;
+            let ratio = rung.n as f64 / from.n as f64;
+            disc =
+                SAFETY * estimate::richardson(shape.tip_distance(&last), ratio, rung.order, true);
+            let (m, note) =
+                estimate::model_estimate(rung.kind, self.robot, self.act, self.scene, &shape, None);
+            let model = m.unwrap_or(0.0);
+            let est = ErrorEstimate {
+                bound_m: m.map(|m| m + disc),
+                discretization_m: disc,
+                model_m: m,
+                against: format!("{}={}", from.name, from.n),
+                order: rung.order,
+                cost_s: 0.0,
+                note,
+            };
+            if self.offer(rung, shape.clone(), est, model) {
+                return Ok(true);
+            }
+            if model > self.tolerance {
+                return Ok(false);
+            }
+            (at, last) = (next, shape);
+        }
+        Ok(false)
+    }
+}
+
+/// The cheapest answer whose estimated tip distance from the converged rod is within
+/// `tolerance` \[m\] (module docs): the shape, with `report.error_estimate` and `report.auto`
+/// filled and a note naming the choice. `base` settings are passed to the rungs of the
+/// methods that take them (resolution settings excepted); `control` chooses the input where a
+/// cable gives both (default: shortening, as `energy`).
+pub fn choose(
+    robot: &Robot,
+    act: &Actuation,
+    scene: &Scene,
+    tolerance: f64,
+    base: &Settings,
+) -> Result<Shape, SolveError> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(SolveError::InvalidInput {
+            field: "tolerance".into(),
+            reason: format!("auto needs a positive tolerance in metres, got {tolerance}"),
+        });
+    }
+    let t0 = Instant::now();
+    let mut search = Search {
+        robot,
+        act,
+        scene,
+        tolerance,
+        base,
+        control: base.get("control").unwrap_or("displacement").to_string(),
+        solves: 0,
+        best: None,
+    };
+    let mut failure = None;
+    let mut met = false;
+    for kind in [MethodKind::Energy, MethodKind::Cosserat] {
+        if let Err(e) = kind.check_support(robot, scene) {
+            failure.get_or_insert(e);
+            continue;
+        }
+        match search.walk(&ladder(kind)) {
+            Ok(true) => {
+                met = true;
+                break;
+            }
+            Ok(false) => {}
+            Err(e) => {
+                failure.get_or_insert(e);
+            }
+        }
+    }
+    let solves = search.solves;
+    let Some((mut shape, mut est, setting)) = search.best else {
+        return Err(failure.unwrap_or_else(|| SolveError::InvalidInput {
+            field: "method".into(),
+            reason: "auto found no method for this robot and scene".into(),
+        }));
+    };
+    let cost = t0.elapsed().as_secs_f64();
+    est.cost_s = cost;
+    let bound = est.discretization_m + est.model_m.unwrap_or(0.0);
+    shape.report.notes.push(format!(
+        "auto: {} {setting}, estimated {:.4} mm {} the tolerance {:.4} mm; {solves} solves in {:.1} µs{}",
+        shape.method,
+        bound * 1e3,
+        if met { "within" } else { "above" },
+        tolerance * 1e3,
+        cost * 1e6,
+        if est.model_m.is_none() {
+            " (model part unknown: only the discretization part is held to it)"
+        } else {
+            ""
+        }
+    ));
+    shape.report.auto = Some(AutoReport {
+        method: shape.method.clone(),
+        setting,
+        tolerance_m: tolerance,
+        met,
+        solves,
+        cost_s: cost,
+    });
+    shape.report.error_estimate = Some(est);
+    Ok(shape)
+}
+
+/// The request that solves at what an `auto` answer chose (its method, the caller's settings
+/// it takes, the input, the chosen resolution): for reach, plan, predict and batches, which
+/// solve many actuations at one choice.
+pub fn settled(shape: &Shape, base: &Settings) -> Option<SolveRequest> {
+    let a = shape.report.auto.as_ref()?;
+    let kind = MethodKind::from_name(&a.method)?;
+    let (name, value) = a.setting.split_once('=')?;
+    let rung = ladder(kind)
+        .into_iter()
+        .find(|r| r.name == name && r.n.to_string() == value)?;
+    let control = base.get("control").unwrap_or("displacement");
+    Some(SolveRequest::new(kind).with_settings(rung_settings(&rung, base, control)))
+}
