@@ -282,13 +282,46 @@ impl Ctx<'_> {
         let mut u = self.space.clamp(u0);
         for _ in 0..=START_BACKOFF {
             if let Some(p) = self.eval(u.clone(), vec![false; u.len()], None, true) {
-                return Some(p);
+                return Some(self.aimed(p));
             }
             u = self
                 .space
                 .clamp(&u.iter().map(|x| 0.5 * x).collect::<Vec<_>>());
         }
         None
+    }
+
+    /// A start through a port turned about the port axis so that its tip lies at the target's
+    /// azimuth (the rotation that does so within the limits nearest the start's; kept when
+    /// it solves and lowers the merit): the tip turns rigidly with the rotation, and a descent
+    /// from the wrong side of the axis ends in a local minimum more often than not.
+    fn aimed(&mut self, p: Point) -> Point {
+        let (Some(port), true) = (self.space.robot.port.as_ref(), self.space.has_port()) else {
+            return p;
+        };
+        let (a, o) = (port.axis(), port.origin());
+        let flat = |v: nalgebra::Vector3<f64>| v - a * a.dot(&v);
+        let (tip, goal) = (flat(p.shape.tip() - o), flat(self.target.tip - o));
+        if tip.norm() < 1e-9 || goal.norm() < 1e-9 {
+            return p;
+        }
+        let turn = a.dot(&tip.cross(&goal)).atan2(tip.dot(&goal));
+        let j = self.space.cables() + 1;
+        let (lo, hi) = (self.space.lo[j], self.space.hi[j]);
+        let tau = std::f64::consts::TAU;
+        let psi = (-3..=3)
+            .map(|k| p.u[j] + turn + k as f64 * tau)
+            .filter(|x| (lo..=hi).contains(x))
+            .min_by(|x, y| (x - p.u[j]).abs().total_cmp(&(y - p.u[j]).abs()));
+        let Some(psi) = psi else {
+            return p;
+        };
+        let mut u = p.u.clone();
+        u[j] = psi;
+        match self.eval(u, p.released.clone(), Some(&p.shape), true) {
+            Some(q) if q.phi < p.phi => q,
+            _ => p,
+        }
     }
 
     /// One descent from `u0` (module docs); `None` when no start point could be solved.

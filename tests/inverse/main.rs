@@ -9,3 +9,4 @@ mod common;
 mod plan;
 mod reach;
 mod reach_port;
+mod reach_random;

@@ -2,5 +2,6 @@
 //! integration tests (`tests/common/` re-exports them) and its benches: a dev-dependency, so
 //! no file of `src/` reaches into `tests/`.
 
+pub mod port_robots;
 pub mod rng;
 pub mod scenes;

@@ -1,0 +1,50 @@
+//! The reach measurement on seeded random robots with a port (2–6 cables, straight and
+//! helical, tied at the tip or at inner disks, targets made by shortenings or by tensions):
+//! success rate (forward-checked to 1e-6 m) and the median and worst time of a reach.
+//!
+//! `cargo run --release --example reach_random_ports [COUNT]` (default 200 robots)
+
+#[path = "common/reach_measure.rs"]
+mod reach_measure;
+
+fn main() {
+    let count: u64 = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(200);
+    let mut out = Vec::new();
+    let mut seed = 0;
+    while (out.len() as u64) < count {
+        seed += 1;
+        if let Some(o) = reach_measure::measure(seed) {
+            if !o.ok {
+                println!(
+                    "robot {} ({} cables, {}): not reached, {:.2e} m away: {}",
+                    o.seed,
+                    o.cables,
+                    if o.tension_driven {
+                        "tensions"
+                    } else {
+                        "shortenings"
+                    },
+                    o.distance,
+                    o.reason
+                );
+            }
+            out.push(o);
+        }
+    }
+    let ok = out.iter().filter(|o| o.ok).count();
+    let mut t: Vec<f64> = out.iter().map(|o| o.seconds * 1e3).collect();
+    t.sort_by(f64::total_cmp);
+    let tension = out.iter().filter(|o| o.tension_driven).count();
+    println!(
+        "{ok} of {} reached ({:.1} %; {tension} with tension-made targets), reach time median {:.1} ms, \
+         90th percentile {:.1} ms, worst {:.1} ms",
+        out.len(),
+        100.0 * ok as f64 / out.len() as f64,
+        t[t.len() / 2],
+        t[t.len() * 9 / 10],
+        t[t.len() - 1]
+    );
+}
