@@ -1,6 +1,7 @@
 //! The OpenCR FTDCR benchmark (data README §8, `models/hardware/data/`): for v4 and v6, predict
 //! train and val with the nominal model; calibrate each candidate parameter set
-//! ([`candidates`], ≤ 9 scalars) on train only; choose among them on train only (each is also
+//! (`ccrkit::calibrate::select::candidates`, ≤ 9 scalars; the ones `ccrkit calibrate` chooses
+//! among by default) on train only; choose among them on train only (each is also
 //! fitted on train without its two-segment `_same_` patterns and scored on them, the train
 //! family nearest to val's three-segment motions); predict val with every fitted model; print
 //! the protocol's table (mean-offset-aligned Euclidean tip RMSE in mm on train, val and val by
@@ -24,7 +25,7 @@ use anyhow::Result;
 use ccrkit::calibrate::data::{family, DataOptions, Dataset};
 use ccrkit::calibrate::fit::{fitted_toml, FitOptions, FitReport};
 use ccrkit::calibrate::predict::{predict, PredictOptions, DEFAULT_CHUNK};
-use ccrkit::calibrate::select::{select, Candidate, SelectOptions};
+use ccrkit::calibrate::select::{candidates, select, SelectOptions};
 use ccrkit::calibrate::{aligned_errors, first_point_errors, ErrorStats};
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
@@ -119,7 +120,7 @@ fn main() -> Result<()> {
         let sel = select(
             &nominal,
             &train,
-            &candidates(&nominal, with_friction),
+            &candidates(&nominal.robot, with_friction),
             &SelectOptions::new(fo),
         )?;
         let mut rows = vec![];
@@ -220,88 +221,6 @@ fn main() -> Result<()> {
         println!("{r}");
     }
     Ok(())
-}
-
-/// The candidate parameter sets (each ≤ 9 scalars, the protocol's limit): the default set
-/// (per-segment gain and offset, one cable compliance, the marker), the same plus one common
-/// backlash, plus the base rotation about z, plus capstan friction, the EA form of the
-/// compliance (`k = EA/ℓ`: longer cables softer) in place of the uniform one, plus the
-/// backbone's curvature stiffening `β` (bending energy `½ EI κ² (1 + β κ²)`), and `β` with the
-/// backlash, the base rotation or the friction in place of the marker (kept at the nominal 8 mm).
-/// Two with `β` that spend scalars elsewhere than per segment (marker fixed, no backlash):
-/// the base tilted against the measurement frame's z axis (`base.rx`, `base.ry`) in place of
-/// the proximal offset, and an offset per tendon of the distal segment in place of its
-/// segment's (the proximal offset at its nominal 0). The two with friction only when
-/// `friction` (`--friction`; module docs).
-fn candidates(nominal: &Model, friction: bool) -> Vec<Candidate> {
-    let default = ccrkit::calibrate::params::default_names(&nominal.robot);
-    let segs = ccrkit::calibrate::params::segments(&nominal.robot);
-    let last = segs.len().saturating_sub(1);
-    let names = |f: &dyn Fn(usize) -> String| (0..segs.len()).map(f).collect::<Vec<_>>();
-    let stiff = ["compliance".to_string(), "stiffening".to_string()];
-    let mut tilt = names(&|k| format!("gain.seg{k}"));
-    tilt.extend((1..segs.len()).map(|k| format!("offset.seg{k}")));
-    tilt.extend(stiff.clone());
-    tilt.extend(["base.rx".to_string(), "base.ry".to_string()]);
-    let mut per_tendon = names(&|k| format!("gain.seg{k}"));
-    per_tendon.extend((1..last).map(|k| format!("offset.seg{k}")));
-    per_tendon.extend(
-        segs[last]
-            .iter()
-            .map(|&c| format!("offset.{}", nominal.robot.cables[c].name)),
-    );
-    per_tendon.extend(stiff);
-    let with = |extra: &str| {
-        let mut v = default.clone();
-        v.push(extra.into());
-        v
-    };
-    // Two additions within 9 scalars: the marker stays at the repository's 8 mm.
-    let no_marker = |extra: &[&str]| {
-        let mut v: Vec<String> = default
-            .iter()
-            .filter(|n| *n != "marker.z")
-            .cloned()
-            .collect();
-        v.extend(extra.iter().map(|e| e.to_string()));
-        v
-    };
-    let ea = default
-        .iter()
-        .map(|n| {
-            if n == "compliance" {
-                "axial-compliance".to_string()
-            } else {
-                n.clone()
-            }
-        })
-        .collect();
-    [
-        ("fitted", default.clone()),
-        ("fitted+backlash", with("backlash")),
-        ("fitted+base.rz", with("base.rz")),
-        ("fitted+friction", with("friction")),
-        ("fitted_EA", ea),
-        ("fitted+stiffening", with("stiffening")),
-        (
-            "backlash+stiffening",
-            no_marker(&["backlash", "stiffening"]),
-        ),
-        ("base.rz+stiffening", no_marker(&["base.rz", "stiffening"])),
-        (
-            "friction+stiffening",
-            no_marker(&["friction", "stiffening"]),
-        ),
-        ("tilt+stiffening", tilt),
-        ("offset.tendon+stiffening", per_tendon),
-    ]
-    .into_iter()
-    .filter(|(label, _)| friction || !label.contains("friction"))
-    .map(|(label, params)| Candidate {
-        label: label.into(),
-        params,
-    })
-    .collect()
 }
 
 /// Print a fit's report, write and reload the fitted model (`DIR/ftdcr_{v}_{label}.toml`).

@@ -9,15 +9,19 @@
 //! rows, and the candidate with the lowest mean-offset-aligned tip RMSE there is chosen. Ties
 //! go to the earlier candidate, so the order of the list is the preference among equals.
 //!
-//! Val is read by the caller only after [`select`] has returned (`examples/hardware_fit.rs`);
+//! [`candidates`] is the list `ccrkit calibrate` chooses from when no `--fit` is given, and the
+//! `hardware_fit` example too. Val is read by the caller only after [`select`] has returned
+//! (`examples/hardware_fit.rs`);
 //! `tests/hardware/hardware_select.rs` checks that the choice does not change with a val file present,
 //! absent or garbage beside the train file.
 
 use super::data::Dataset;
 use super::fit::{calibrate, FitOptions, FitReport};
+use super::params::{default_names, segments};
 use super::predict::predict;
 use super::{aligned_errors, ErrorStats};
 use crate::error::SolveError;
+use crate::model::robot::Robot;
 use crate::model::Model;
 use nalgebra::Vector3;
 
@@ -189,4 +193,86 @@ fn score(
         holdout_rmse: rmse,
         holdout_failed: pred.len() - sim.len(),
     })
+}
+
+/// The candidate parameter sets `ccrkit calibrate` (without `--fit`) and the `hardware_fit`
+/// example choose among, each ≤ 9 scalars on a three-segment robot (the data protocol's
+/// limit): the default set ([`super::params::default_names`]: per-segment gain and offset, one
+/// cable compliance, the marker), the same plus one common backlash, plus the base rotation
+/// about z, plus capstan friction, the EA form of the compliance (`k = EA/ℓ`: longer cables
+/// softer) in place of the uniform one, plus the backbone's curvature stiffening `β` (bending
+/// energy `½ EI κ² (1 + β κ²)`), and `β` with the backlash, the base rotation or the friction
+/// in place of the marker (kept at its value in the model). Two with `β` that spend scalars
+/// elsewhere than per segment (marker kept, no backlash): the base tilted against the
+/// measurement frame's z axis (`base.rx`, `base.ry`) in place of the proximal offset, and an
+/// offset per tendon of the distal segment in place of its segment's (the proximal offset
+/// kept). The two with friction only when `friction`: a friction row costs several times more.
+/// The default set comes first, so it wins ties.
+pub fn candidates(robot: &Robot, friction: bool) -> Vec<Candidate> {
+    let default = default_names(robot);
+    let segs = segments(robot);
+    let n = segs.len();
+    let gains = || (0..n).map(|k| format!("gain.seg{k}")).collect::<Vec<_>>();
+    let stiff = ["compliance".to_string(), "stiffening".to_string()];
+    let mut tilt = gains();
+    tilt.extend((1..n).map(|k| format!("offset.seg{k}")));
+    tilt.extend(stiff.clone());
+    tilt.extend(["base.rx".to_string(), "base.ry".to_string()]);
+    let mut per_tendon = gains();
+    per_tendon.extend((1..n.saturating_sub(1)).map(|k| format!("offset.seg{k}")));
+    if let Some(distal) = segs.last() {
+        per_tendon.extend(
+            distal
+                .iter()
+                .map(|&c| format!("offset.{}", robot.cables[c].name)),
+        );
+    }
+    per_tendon.extend(stiff);
+    let with = |extra: &str| {
+        let mut v = default.clone();
+        v.push(extra.into());
+        v
+    };
+    let no_marker = |extra: &[&str]| {
+        let mut v: Vec<String> = default
+            .iter()
+            .filter(|n| *n != "marker.z")
+            .cloned()
+            .collect();
+        v.extend(extra.iter().map(|e| e.to_string()));
+        v
+    };
+    let ea = default
+        .iter()
+        .map(|n| match n.as_str() {
+            "compliance" => "axial-compliance".to_string(),
+            _ => n.clone(),
+        })
+        .collect();
+    [
+        ("fitted", default.clone()),
+        ("fitted+backlash", with("backlash")),
+        ("fitted+base.rz", with("base.rz")),
+        ("fitted+friction", with("friction")),
+        ("fitted_EA", ea),
+        ("fitted+stiffening", with("stiffening")),
+        (
+            "backlash+stiffening",
+            no_marker(&["backlash", "stiffening"]),
+        ),
+        ("base.rz+stiffening", no_marker(&["base.rz", "stiffening"])),
+        (
+            "friction+stiffening",
+            no_marker(&["friction", "stiffening"]),
+        ),
+        ("tilt+stiffening", tilt),
+        ("offset.tendon+stiffening", per_tendon),
+    ]
+    .into_iter()
+    .filter(|(label, _)| friction || !label.contains("friction"))
+    .map(|(label, params)| Candidate {
+        label: label.into(),
+        params,
+    })
+    .collect()
 }

@@ -415,6 +415,9 @@ fn stability_setting_and_data_csvs_end_named_and_bounded() {
         let out = format!("p{j}.csv");
         jobs.push((args(&["predict", &model, "--data", f, "--out", &out]), None));
         jobs.push((calibrate(f, &format!("f{j}.toml"), "2", &[]), None));
+        // The default chooses among parameter sets; `--fit default` fits one, as before.
+        let one = ["--fit", "default"];
+        jobs.push((calibrate(f, &format!("g{j}.toml"), "2", &one), None));
     }
     let good = dir.join("good.csv");
     std::fs::write(&good, format!("{}\n", lines.join("\n"))).expect("write");

@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod calibrate_default;
 mod hardware;
 mod hardware_friction;
 mod hardware_roundoff;
