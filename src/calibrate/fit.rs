@@ -68,6 +68,20 @@ impl FitOptions {
             tolerance: 1e-4,
         }
     }
+
+    /// Refuse a tolerance that is not a positive number or an iteration count outside
+    /// [`crate::counts::FIT_ITERATIONS`], naming the field — before any row is solved, so a
+    /// selection over many candidates fails once, at once, instead of once per candidate.
+    pub fn check(&self) -> Result<(), SolveError> {
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(SolveError::InvalidInput {
+                field: "tolerance".into(),
+                reason: format!("must be > 0, got {}", self.tolerance),
+            });
+        }
+        crate::counts::FIT_ITERATIONS.check(self.max_iterations)?;
+        Ok(())
+    }
 }
 
 /// One fitted parameter.
@@ -281,13 +295,7 @@ impl<'a> Fitter<'a> {
             field: "data".into(),
             reason: "has no tip_x, tip_y, tip_z columns to fit to".into(),
         })?;
-        if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
-            return Err(SolveError::InvalidInput {
-                field: "tolerance".into(),
-                reason: format!("must be > 0, got {}", opts.tolerance),
-            });
-        }
-        crate::counts::FIT_ITERATIONS.check(opts.max_iterations)?;
+        opts.check()?;
         let rows = Rows::new(model, data, &opts.predict)?;
         let dirs = directions(&data.commands);
         let first = rows.solve_all(

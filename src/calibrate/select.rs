@@ -105,6 +105,7 @@ pub fn select(
     if candidates.is_empty() {
         return Err(bad("candidates", "no candidate to select from".into()));
     }
+    opts.fit.check()?;
     let labels = train.labels.as_ref().ok_or_else(|| {
         bad(
             "holdout",
