@@ -120,7 +120,14 @@ pub(crate) fn check_base(
         }
         // A solid's distance signed (`contact/solid.rs`); any other shape's as parry gives it.
         let ct = match super::solid::solid(&*o.shape) {
-            Some(_) => super::query(&pose, &*base, &o.parry_pose, &*o.shape, scene.clearance),
+            Some(_) => super::query(
+                &pose,
+                &*base,
+                &o.parry_pose,
+                &*o.shape,
+                scene.clearance,
+                o.field(),
+            ),
             None => {
                 parry3d::query::contact(&pose, &*base, &o.parry_pose, &*o.shape, scene.clearance)
                     .ok()

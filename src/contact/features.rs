@@ -39,13 +39,14 @@ pub(crate) fn witness(
     shape: &dyn PShape,
     opose: &PPose,
     margin: f64,
+    field: Option<&super::field::SolidField>,
 ) -> Option<(Witness, f64)> {
     witness_of(
         g,
         gpose,
         shape,
         opose,
-        query(gpose, g, opose, shape, margin)?,
+        query(gpose, g, opose, shape, margin, field)?,
     )
 }
 
@@ -59,10 +60,11 @@ pub(crate) fn witness_near(
     opose: &PPose,
     margin: f64,
     near: (&Vector3<f64>, f64),
+    field: Option<&super::field::SolidField>,
 ) -> Option<(Witness, f64)> {
     let ct = match query_near(gpose, g, opose, shape, margin, near) {
         Some(answer) => answer?,
-        None => query(gpose, g, opose, shape, margin)?,
+        None => query(gpose, g, opose, shape, margin, field)?,
     };
     witness_of(g, gpose, shape, opose, ct)
 }
@@ -244,7 +246,7 @@ mod tests {
             assert!(gap <= d + 1e-12, "{k}: gap {gap} > distance {d}");
             if gap > margin {
                 pruned += 1;
-                assert!(witness(&*g, &gpose, &*o, &opose, margin).is_none(), "{k}");
+                assert!(witness(&*g, &gpose, &*o, &opose, margin, None).is_none(), "{k}");
             }
         }
         assert!(pruned > 50, "{pruned}");
@@ -275,14 +277,14 @@ mod tests {
             let n = -nvec(ct.normal1);
             let t = gpose.translation + pvec(&(n * (target - ct.dist)));
             let pose = PPose::from_parts(t, gpose.rotation);
-            let Some((want, _)) = witness(&*g, &pose, &*o, &opose, margin) else {
+            let Some((want, _)) = witness(&*g, &pose, &*o, &opose, margin, None) else {
                 continue;
             };
             // A normal off by up to ~1e-3 rad (an early Newton step) or ~1e-6 rad (a late one).
             let eps = if k % 2 == 0 { 1e-3 } else { 1e-6 };
             let hint = (want.normal + gen.vec(eps)).normalize();
             let old = want.dist + gen.range(-1e-5, 1e-5);
-            let (got, _) = witness_near(&*g, &pose, &*o, &opose, margin, (&hint, old))
+            let (got, _) = witness_near(&*g, &pose, &*o, &opose, margin, (&hint, old), None)
                 .expect("near pair found");
             // Both shapes' separation along a direction (support functions) is a lower bound
             // on the signed distance that only the contact normal attains.

@@ -26,6 +26,8 @@
 pub(crate) mod broad;
 pub(crate) mod curvature;
 pub(crate) mod features;
+pub mod field;
+mod field_build;
 pub(crate) mod parry;
 pub(crate) mod primitives;
 pub(crate) mod solid;

@@ -114,3 +114,81 @@ pub(crate) fn intersecting(
 #[cfg(test)]
 #[path = "solid_tests.rs"]
 mod tests;
+
+/// parry's closest contact of feature `g` with the triangles of `mesh` within `margin`
+/// (what `parry3d::query::contact` against the whole mesh answers: the smallest distance,
+/// ties to the earlier triangle of its tree), found with fewer triangle queries: parry's tree
+/// is walked only into nodes whose bounds come within `margin` of the feature (their bounding
+/// ball's distance from it), each triangle there gets a lower bound (the gap between the
+/// feature's extent along the triangle's normal and the triangle's plane, and its bounding
+/// ball's distance), and parry's triangle query runs in the order of those bounds until the
+/// next bound is above the best distance found.
+pub(crate) fn closest_triangle(
+    gpose: &PPose,
+    g: &dyn PShape,
+    opose: &PPose,
+    mesh: &TriMesh,
+    margin: f64,
+) -> Option<PContact> {
+    use parry3d::bounding_volume::BoundingVolume;
+    let sm = g.as_support_map()?;
+    use parry3d::query::{DefaultQueryDispatcher, QueryDispatcher};
+    // The feature in the mesh's frame, composed as parry's composite query composes it, and
+    // each triangle queried as it queries it (triangle first), so the answers agree.
+    let rel = gpose.inv_mul(opose).inverse();
+    let reach = g.compute_aabb(&rel).loosened(margin);
+    let gap = |c: PVec, radius: f64| g.distance_to_point(&rel, c, true) - radius;
+    // (A node's ball farther than `margin` from the feature: nothing in it is within it.)
+    let mut cands: Vec<(f64, usize, u32)> = Vec::new();
+    let leaves = mesh.bvh().leaves(|node| {
+        let b = node.aabb();
+        b.intersects(&reach) && gap(b.center(), b.half_extents().length()) <= margin
+    });
+    for (order, t) in leaves.enumerate() {
+        let tri = mesh.triangle(t);
+        let c = (tri.a + tri.b + tri.c) / 3.0;
+        let radius = [tri.a, tri.b, tri.c]
+            .iter()
+            .map(|v| (*v - c).length())
+            .fold(0.0, f64::max);
+        // The ball's gap bounds the distance only when the two are apart.
+        let mut lb = gap(c, radius).max(f64::MIN);
+        if lb < 0.0 {
+            lb = f64::MIN;
+        }
+        if let Some(n) = tri.normal() {
+            let p = n.dot(tri.a);
+            let lo = n.dot(sm.support_point(&rel, -n));
+            let hi = n.dot(sm.support_point(&rel, n));
+            lb = lb.max(lo - p).max(p - hi);
+        }
+        // Round-off of parry's own distance: a bound this close to the best is queried.
+        let lb = lb - 1e-9 * (1.0 + lb.abs());
+        if lb <= margin {
+            cands.push((lb, order, t));
+        }
+    }
+    cands.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut best: Option<(usize, u32, PContact)> = None;
+    for (lb, order, t) in cands {
+        if best.as_ref().is_some_and(|(_, _, b)| lb > b.dist) {
+            break;
+        }
+        let tri = mesh.triangle(t);
+        let Ok(Some(ct)) = DefaultQueryDispatcher.contact(&rel, &tri, g, margin) else {
+            continue;
+        };
+        let better = best
+            .as_ref()
+            .is_none_or(|(o, _, b)| ct.dist < b.dist || (ct.dist == b.dist && order < *o));
+        if better {
+            best = Some((order, t, ct));
+        }
+    }
+    best.map(|(_, t, mut ct)| {
+        ct.subshape1 = t;
+        let mut ct = ct.flipped();
+        ct.transform_by_mut(gpose, opose);
+        ct
+    })
+}

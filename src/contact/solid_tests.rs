@@ -67,7 +67,7 @@ fn a_ball_against_a_box_matches_the_closed_form() {
             };
             let ball = Ball::new(r);
             let bpose = PPose::from_translation(pvec(&c));
-            let got = query(&bpose, &ball, &pose, &mesh, 0.05).expect("within the margin");
+            let got = query(&bpose, &ball, &pose, &mesh, 0.05, None).expect("within the margin");
             assert!(
                 (got.dist - want).abs() < 1e-9,
                 "{k} {free:?}: {} vs {want} (c = {c:?}, r = {r})",
@@ -188,7 +188,7 @@ fn the_side_agrees_with_ray_parity_and_point_distances_with_the_facets() {
             // A point (a ball of radius 0): signed distance against the spheres that bound
             // the facets.
             let ball = Ball::new(0.0);
-            let got = query(&PPose::from_translation(world), &ball, &pose, &mesh, 1.0)
+            let got = query(&PPose::from_translation(world), &ball, &pose, &mesh, 1.0, None)
                 .expect("within the margin")
                 .dist;
             let sd = match free {
@@ -226,9 +226,9 @@ fn a_feature_beyond_a_thin_wall_is_seen() {
         pvec(&Vector3::new(x, 0.005, 0.0)),
         rb,
     );
-    let unsigned = query(&pose, &cap, &pose, &surface, 0.01).unwrap().dist;
+    let unsigned = query(&pose, &cap, &pose, &surface, 0.01, None).unwrap().dist;
     assert!((unsigned - 0.001).abs() < 1e-9, "{unsigned}");
-    let signed = query(&pose, &cap, &pose, &lumen, 0.01).unwrap();
+    let signed = query(&pose, &cap, &pose, &lumen, 0.01, None).unwrap();
     assert!(
         (signed.dist + 0.001 + 2.0 * rb).abs() < 1e-9,
         "{}",
@@ -242,6 +242,6 @@ fn a_feature_beyond_a_thin_wall_is_seen() {
         pvec(&Vector3::new(h + 0.002, 0.0, 0.001)),
         rb,
     );
-    let across = query(&pose, &cap, &pose, &lumen, 0.01).unwrap().dist;
+    let across = query(&pose, &cap, &pose, &lumen, 0.01, None).unwrap().dist;
     assert!((across + 0.002 + rb).abs() < 1e-9, "{across}");
 }

@@ -38,7 +38,9 @@
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Vector3};
 use parry3d::math::Pose;
 use parry3d::shape::SharedShape;
+use crate::contact::field::{nodes_for, SolidField};
 use std::path::PathBuf;
+use std::sync::{Arc, OnceLock};
 
 /// What an obstacle is, with its sizes (kept for drawing and export).
 #[derive(Debug, Clone, PartialEq)]
@@ -96,6 +98,9 @@ pub struct Obstacle {
     pub parry_pose: Pose,
     /// Axis-aligned bounds in the base frame: (min, max).
     pub aabb: (Vector3<f64>, Vector3<f64>),
+    /// A solid mesh's signed-distance grid, built on first use and shared by every copy of the
+    /// obstacle (`contact/field.rs`).
+    pub(crate) field: Arc<OnceLock<Option<Arc<SolidField>>>>,
 }
 
 impl std::fmt::Debug for Obstacle {
@@ -254,6 +259,23 @@ pub(crate) fn aabb_gap(
 }
 
 impl Obstacle {
+    /// The signed-distance grid of a solid mesh (built on the first call, then shared);
+    /// `None` for any other shape.
+    pub fn field(&self) -> Option<&SolidField> {
+        self.field
+            .get_or_init(|| {
+                crate::contact::solid::solid(&*self.shape)
+                    .map(|m| Arc::new(SolidField::build(m, nodes_for(m.num_triangles()))))
+            })
+            .as_deref()
+    }
+
+    /// [`Obstacle::field`], shared.
+    pub(crate) fn field_shared(&self) -> Option<Arc<SolidField>> {
+        self.field();
+        self.field.get().cloned().flatten()
+    }
+
     /// Polylines on the obstacle's surface in the base frame, for drawing.
     pub fn wireframe(&self) -> Vec<Vec<Vector3<f64>>> {
         let circle = |r: f64, z: f64, axis: usize| -> Vec<Vector3<f64>> {

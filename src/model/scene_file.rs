@@ -242,6 +242,7 @@ impl FileObstacle {
             shape,
             parry_pose,
             aabb,
+            field: Default::default(),
         })
     }
 

@@ -158,7 +158,15 @@ pub fn clearance_hinted(
             .map(|k| far_corner(scene, k, &f.centre))
             .fold(f64::INFINITY, f64::min)
     });
-    let start = 2.0 * scene.clearance.max(5e-4);
+    let bounds = grid_bounds(&feats, scene);
+    // A grid's upper bound of a feature wholly on a solid's free side bounds the answer: the
+    // first pass within it finds it.
+    let within = bounds
+        .iter()
+        .filter(|b| b.0 > 0.0)
+        .map(|b| b.1 * (1.0 + 1e-9) + 1e-12)
+        .fold(f64::INFINITY, f64::min);
+    let start = (2.0 * scene.clearance.max(5e-4)).min(within);
     let mut cap = start;
     if let Some((f, k)) = hint.filter(|&(f, k)| f < feats.len() && k < scene.obstacles.len()) {
         // The hinted pair's own distance, by the same growing bound (finite: the far corner
@@ -180,7 +188,7 @@ pub fn clearance_hinted(
     loop {
         // The last pass (beyond every obstacle's far corner) is unbounded.
         let last = cap > far;
-        let best = pass(&feats, scene, if last { f64::MAX } else { cap });
+        let best = pass(&feats, scene, if last { f64::MAX } else { cap }, &bounds);
         if let Some((d, f, k)) = best {
             let c = Clearance {
                 distance: d,
@@ -214,11 +222,21 @@ fn pair(f: &Feature, scene: &Scene, k: usize, bound: f64) -> Option<f64> {
     // obstacle side its depth is below every bound, so it is measured whatever the bound
     // (its bounds say nothing: a lumen's obstacle region is everything outside them).
     if let Some(mesh) = crate::contact::solid::solid(&*o.shape) {
-        let query = |b: f64| crate::contact::query(&f.pose, g, &o.parry_pose, &*o.shape, b);
+        let query = |b: f64| {
+            crate::contact::query(&f.pose, g, &o.parry_pose, &*o.shape, b, o.field())
+        };
         // Not below zero once a negative distance is the best so far (features across the
         // wall are within it; those beyond it are measured below).
         return match query(bound.max(0.0)) {
             Some(c) => Some(c.dist),
+            // Wholly on the free side by the grid: beyond the bound.
+            None if o
+                .field()
+                .and_then(|fd| fd.feature_bounds(g, &f.pose, &o.parry_pose, false))
+                .is_some_and(|(lo, _)| lo > 0.0) =>
+            {
+                None
+            }
             None if crate::contact::solid::in_obstacle(
                 mesh,
                 &o.parry_pose,
@@ -251,17 +269,49 @@ fn pair(f: &Feature, scene: &Scene, k: usize, bound: f64) -> Option<f64> {
     Some(d)
 }
 
+/// Lower and upper bounds on each feature–obstacle pair's distance from a solid mesh's
+/// signed-distance grid (`contact/field.rs`), `(−∞, ∞)` where there is none; indexed
+/// `feature × obstacles + obstacle`.
+fn grid_bounds(feats: &[Feature], scene: &Scene) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(feats.len() * scene.obstacles.len());
+    for f in feats {
+        for o in &scene.obstacles {
+            let b = o.field().and_then(|fd| {
+                let coarse = fd.feature_bounds(&*f.shape, &f.pose, &o.parry_pose, false)?;
+                Some(coarse)
+            });
+            out.push(b.unwrap_or((f64::NEG_INFINITY, f64::INFINITY)));
+        }
+    }
+    out
+}
+
 /// One pass over every feature–obstacle pair with the query bound `min(cap, best so far)`:
-/// the smallest distance found, its feature and obstacle (`None`: none within the bound).
-fn pass(feats: &[Feature], scene: &Scene, cap: f64) -> Option<(f64, usize, usize)> {
+/// the smallest distance found, its feature and obstacle (`None`: none within the bound); ties
+/// go to the earlier feature, then obstacle. Pairs are queried in the order of their grid
+/// lower bounds `bounds` ([`grid_bounds`]), so the best so far falls fast, and a pair whose
+/// lower bound is above it (and above zero: a feature wholly on a solid's free side) is not
+/// queried at all (its distance is at least that bound).
+fn pass(
+    feats: &[Feature],
+    scene: &Scene,
+    cap: f64,
+    bounds: &[(f64, f64)],
+) -> Option<(f64, usize, usize)> {
+    let nk = scene.obstacles.len();
+    let mut order: Vec<usize> = (0..bounds.len()).collect();
+    order.sort_by(|&a, &b| bounds[a].0.total_cmp(&bounds[b].0).then(a.cmp(&b)));
     let mut best: Option<(f64, usize, usize)> = None;
-    for (i, f) in feats.iter().enumerate() {
-        for k in 0..scene.obstacles.len() {
-            let bound = cap.min(best.map_or(f64::INFINITY, |b| b.0));
-            if let Some(d) = pair(f, scene, k, bound) {
-                if best.is_none_or(|b| d < b.0) {
-                    best = Some((d, i, k));
-                }
+    for j in order {
+        let (i, k) = (j / nk, j % nk);
+        let bound = cap.min(best.map_or(f64::INFINITY, |b| b.0));
+        if bounds[j].0 > bound.max(0.0) {
+            break;
+        }
+        if let Some(d) = pair(&feats[i], scene, k, bound) {
+            let better = best.is_none_or(|b| d < b.0 || (d == b.0 && (i, k) < (b.1, b.2)));
+            if better {
+                best = Some((d, i, k));
             }
         }
     }

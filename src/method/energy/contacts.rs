@@ -466,8 +466,11 @@ impl Collect<'_, '_> {
                     &o.parry_pose,
                     margin,
                     (&h.normal, h.dist),
+                    o.field(),
                 ),
-                (None, None) => features::witness(g, gpose, &*o.shape, &o.parry_pose, margin),
+                (None, None) => {
+                    features::witness(g, gpose, &*o.shape, &o.parry_pose, margin, o.field())
+                }
             };
             let Some((mut w, raw)) = found else {
                 self.clear = self.clear.min(margin);

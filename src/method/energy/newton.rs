@@ -134,6 +134,12 @@ impl Energy {
         let mut resid = f64::INFINITY;
         for it in 0..=self.max_iterations {
             sqp.linearize();
+            // A start across a solid mesh's wall cannot come back (module docs): refused now.
+            if it == 0 {
+                if let Some(e) = self.across_solid(&sqp) {
+                    return Err(e);
+                }
+            }
             let r = sqp.residuals();
             // Chords: Gauss–Newton while it contracts fast, the exact Hessian once it slows.
             let now = r.feas.max(r.stat);
@@ -281,6 +287,36 @@ impl Energy {
             });
         }
         None
+    }
+
+    /// [`SolveError::Obstructed`] when a feature of the start lies across or beyond the wall of
+    /// a solid mesh (a negative signed distance): every iterate would keep it there, as the
+    /// start that crosses any obstacle ([`Energy::obstructed`]), so the solve is refused before
+    /// its first step rather than after its last.
+    fn across_solid(&self, sqp: &Sqp) -> Option<SolveError> {
+        let scene = sqp.world?.scene;
+        let p = sqp
+            .pairs
+            .iter()
+            .filter(|p| p.dist < -CONTACT_RESIDUAL)
+            .filter(|p| crate::contact::solid::solid(&*scene.obstacles[p.obstacle].shape).is_some())
+            .min_by(|a, b| a.dist.total_cmp(&b.dist))?;
+        let c = sqp.world.map(|wd| wd.contact(p, 0.0));
+        Some(SolveError::Obstructed {
+            obstacle: scene.obstacles[p.obstacle].name.clone(),
+            section: c.and_then(|c| c.section.or(c.disk)).unwrap_or(0),
+            reason: format!(
+                "the start's {} lies {:.3e} m across the wall of this solid mesh: the start \
+                 crosses the obstacle; start from a shape that is clear of it (e.g. the \
+                 geometric method's, `--warm-from geometric`)",
+                match p.feat {
+                    Feat::Backbone(_) => "backbone",
+                    Feat::Disk(_) => "disk",
+                    Feat::Cable(..) => "cable",
+                },
+                -p.dist
+            ),
+        })
     }
 
     /// A solution that compresses the backbone below `min_stretch` means the cable lengths

@@ -93,6 +93,8 @@ impl Pair {
 pub(super) struct SectionWorld {
     pub(super) names: Vec<String>,
     pub(super) shapes: Vec<(parry3d::shape::SharedShape, PPose)>,
+    /// Each solid mesh's signed-distance grid (`contact/field.rs`).
+    fields: Vec<Option<std::sync::Arc<crate::contact::field::SolidField>>>,
     /// Each obstacle's bounding box in its own frame (min and max corners), for
     /// [`SectionWorld::pairs_within`]'s lower bound.
     boxes: Vec<(Vector3<f64>, Vector3<f64>)>,
@@ -143,6 +145,10 @@ impl SectionWorld {
                         scene.obstacles[k].parry_pose,
                     )
                 })
+                .collect(),
+            fields: near
+                .iter()
+                .map(|&k| scene.obstacles[k].field_shared())
                 .collect(),
             boxes: near
                 .iter()
@@ -303,7 +309,14 @@ impl SectionWorld {
                     .and_then(|c| box_witness(&nvec(c.half_extents), opose, &hull, self.margin));
                 let w = match closed {
                     Some(decided) => decided,
-                    None => features::witness(g, gpose, &**shape, opose, self.margin).map(|w| w.0),
+                    None => features::witness(
+                        g,
+                        gpose,
+                        &**shape,
+                        opose,
+                        self.margin,
+                        self.fields[k].as_deref(),
+                    ).map(|w| w.0),
                 };
                 let Some(w) = w else {
                     return;
