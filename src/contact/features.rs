@@ -246,7 +246,10 @@ mod tests {
             assert!(gap <= d + 1e-12, "{k}: gap {gap} > distance {d}");
             if gap > margin {
                 pruned += 1;
-                assert!(witness(&*g, &gpose, &*o, &opose, margin, None).is_none(), "{k}");
+                assert!(
+                    witness(&*g, &gpose, &*o, &opose, margin, None).is_none(),
+                    "{k}"
+                );
             }
         }
         assert!(pruned > 50, "{pruned}");

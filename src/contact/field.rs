@@ -150,7 +150,10 @@ impl SolidField {
         // Points of the disk: its centre and eight points of its rim.
         let rim = |a: f64| local(PVec::new(r * a.cos(), 0.0, r * a.sin()));
         let hi = (0..8)
-            .map(|k| self.point_bounds(rim(k as f64 * std::f64::consts::FRAC_PI_4)).1)
+            .map(|k| {
+                self.point_bounds(rim(k as f64 * std::f64::consts::FRAC_PI_4))
+                    .1
+            })
             .fold(hi, f64::min);
         if !refine {
             return Some((lo - r.hypot(hh), hi));

@@ -24,7 +24,10 @@ impl SolidField {
     /// with about `nodes` nodes.
     pub fn build(mesh: &TriMesh, nodes: usize) -> SolidField {
         let b = mesh.local_aabb();
-        let (lo, hi) = ([b.mins.x, b.mins.y, b.mins.z], [b.maxs.x, b.maxs.y, b.maxs.z]);
+        let (lo, hi) = (
+            [b.mins.x, b.mins.y, b.mins.z],
+            [b.maxs.x, b.maxs.y, b.maxs.z],
+        );
         let ext = [0, 1, 2].map(|a| (hi[a] - lo[a]).max(1e-9));
         // Spacing from the budget over the bounds padded by two cells (fixed point, twice).
         let mut h = (ext[0] * ext[1] * ext[2] / nodes.max(8) as f64).cbrt();

@@ -58,13 +58,19 @@ fn bounds_contain_the_exact_signed_distance() {
             let d = (q - proj.point).length();
             let exact = if proj.is_inside { -d } else { d };
             let (lo, hi) = f.point_bounds(p);
-            assert!(lo <= exact + 1e-12 && exact <= hi + 1e-12, "{free:?} {p:?}: {lo} {exact} {hi}");
-            let inside_grid = (0..3).all(|a| {
-                p[a] >= f.origin[a] && p[a] <= f.origin[a] + (f.n[a] - 1) as f64 * f.h
-            });
+            assert!(
+                lo <= exact + 1e-12 && exact <= hi + 1e-12,
+                "{free:?} {p:?}: {lo} {exact} {hi}"
+            );
+            let inside_grid = (0..3)
+                .all(|a| p[a] >= f.origin[a] && p[a] <= f.origin[a] + (f.n[a] - 1) as f64 * f.h);
             if inside_grid {
                 let width = hi - lo;
-                assert!(width <= f.h * (2.0 * HALF_DIAG + LOOSE) + 1e-6 * lo.abs(), "{width} {} {p:?} {lo} {hi}", f.h);
+                assert!(
+                    width <= f.h * (2.0 * HALF_DIAG + LOOSE) + 1e-6 * lo.abs(),
+                    "{width} {} {p:?} {lo} {hi}",
+                    f.h
+                );
             }
         }
     }
@@ -111,8 +117,7 @@ fn feature_bounds_contain_the_exact_clearance() {
         let c = Vector3::new(0.11 * (1.0 - th.cos()), 0.0, 0.11 * th.sin());
         let off = Vector3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5);
         let c = c + 0.03 * off;
-        let dir = Vector3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5)
-            .normalize();
+        let dir = Vector3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5).normalize();
         let a = crate::contact::pvec(&(c - 0.004 * dir));
         let b = crate::contact::pvec(&(c + 0.004 * dir));
         let cap = parry3d::shape::Capsule::new(a, b, 0.0015);
@@ -131,7 +136,10 @@ fn feature_bounds_contain_the_exact_clearance() {
             }
             for refine in [false, true] {
                 let (lo, hi) = f.feature_bounds(g, &gpose, &id, refine).unwrap();
-                assert!(lo <= exact + 1e-12 && exact <= hi + 1e-12, "{lo} {exact} {hi}");
+                assert!(
+                    lo <= exact + 1e-12 && exact <= hi + 1e-12,
+                    "{lo} {exact} {hi}"
+                );
             }
             checked += 1;
         }
@@ -155,8 +163,8 @@ fn query_with_the_grid_is_parrys() {
             let c = Vector3::new(0.11 * (1.0 - th.cos()), 0.0, 0.11 * th.sin());
             let off = Vector3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5);
             let c = c + 0.06 * off + Vector3::new(0.01, -0.02, 0.03);
-            let dir = Vector3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5)
-                .normalize();
+            let dir =
+                Vector3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5).normalize();
             let cap = parry3d::shape::Capsule::new(
                 crate::contact::pvec(&(c - 0.005 * dir)),
                 crate::contact::pvec(&(c + 0.005 * dir)),

@@ -180,7 +180,8 @@ mod tests {
                 asked += 1;
                 continue;
             };
-            let theirs = features::witness(&*shape, &gpose, &cube, &opose, margin, None).map(|w| w.0);
+            let theirs =
+                features::witness(&*shape, &gpose, &cube, &opose, margin, None).map(|w| w.0);
             let (Some(m), Some(t)) = (mine, theirs) else {
                 panic!("{n}: mine {mine:?} parry {theirs:?}");
             };

@@ -188,9 +188,16 @@ fn the_side_agrees_with_ray_parity_and_point_distances_with_the_facets() {
             // A point (a ball of radius 0): signed distance against the spheres that bound
             // the facets.
             let ball = Ball::new(0.0);
-            let got = query(&PPose::from_translation(world), &ball, &pose, &mesh, 1.0, None)
-                .expect("within the margin")
-                .dist;
+            let got = query(
+                &PPose::from_translation(world),
+                &ball,
+                &pose,
+                &mesh,
+                1.0,
+                None,
+            )
+            .expect("within the margin")
+            .dist;
             let sd = match free {
                 Free::Outside => p.norm() - r,
                 Free::Inside => r - p.norm(),
@@ -226,7 +233,9 @@ fn a_feature_beyond_a_thin_wall_is_seen() {
         pvec(&Vector3::new(x, 0.005, 0.0)),
         rb,
     );
-    let unsigned = query(&pose, &cap, &pose, &surface, 0.01, None).unwrap().dist;
+    let unsigned = query(&pose, &cap, &pose, &surface, 0.01, None)
+        .unwrap()
+        .dist;
     assert!((unsigned - 0.001).abs() < 1e-9, "{unsigned}");
     let signed = query(&pose, &cap, &pose, &lumen, 0.01, None).unwrap();
     assert!(

@@ -35,10 +35,10 @@
 //! Reading and checking a scene file is `scene_file.rs` ([`Scene::from_file`]); this file is
 //! what a scene is and the broad-phase queries on it.
 
+use crate::contact::field::{nodes_for, SolidField};
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Vector3};
 use parry3d::math::Pose;
 use parry3d::shape::SharedShape;
-use crate::contact::field::{nodes_for, SolidField};
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 

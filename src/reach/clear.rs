@@ -222,9 +222,8 @@ fn pair(f: &Feature, scene: &Scene, k: usize, bound: f64) -> Option<f64> {
     // obstacle side its depth is below every bound, so it is measured whatever the bound
     // (its bounds say nothing: a lumen's obstacle region is everything outside them).
     if let Some(mesh) = crate::contact::solid::solid(&*o.shape) {
-        let query = |b: f64| {
-            crate::contact::query(&f.pose, g, &o.parry_pose, &*o.shape, b, o.field())
-        };
+        let query =
+            |b: f64| crate::contact::query(&f.pose, g, &o.parry_pose, &*o.shape, b, o.field());
         // Not below zero once a negative distance is the best so far (features across the
         // wall are within it; those beyond it are measured below).
         return match query(bound.max(0.0)) {

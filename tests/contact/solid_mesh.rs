@@ -180,7 +180,8 @@ fn each_bad_solid_is_refused_naming_the_field_and_the_defect() {
 }
 
 /// A straight robot whose last 80 mm lie beyond the end wall of a lumen: no method hands out
-/// a shape; the energy model names the obstacle and says the start crosses it.
+/// a shape; the energy model names the obstacle and says the start crosses it, before its
+/// first step.
 #[test]
 fn a_start_across_the_wall_is_refused() {
     let model = straight();
@@ -202,6 +203,11 @@ fn a_start_across_the_wall_is_refused() {
                 "{e}"
             );
             assert!(e.to_string().contains("the start crosses"), "{e}");
+            // Refused before the first step, not after the last iteration.
+            assert!(
+                e.to_string().contains("across the wall of this solid mesh"),
+                "{e}"
+            );
         }
     }
 }

@@ -130,7 +130,8 @@
 //! or when every feature–obstacle pair passes the distance and separating-plane tests of
 //! `energy/step_guard.rs` (which let a feature in contact slide along a convex obstacle). A
 //! start that already crosses an obstacle (the straight robot through a bent tube) ends in
-//! [`SolveError::Obstructed`] naming the obstacle; start from a clear shape instead. A base
+//! [`SolveError::Obstructed`] naming the obstacle (across a solid mesh's wall: at once, before
+//! the first step); start from a clear shape instead. A base
 //! disk inside an obstacle is `Obstructed` at section 0.
 //!
 //! Errors: a target length ≤ 0, or a solution that needs the backbone compressed below

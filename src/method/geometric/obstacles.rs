@@ -316,7 +316,8 @@ impl SectionWorld {
                         opose,
                         self.margin,
                         self.fields[k].as_deref(),
-                    ).map(|w| w.0),
+                    )
+                    .map(|w| w.0),
                 };
                 let Some(w) = w else {
                     return;
