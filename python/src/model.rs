@@ -284,6 +284,7 @@ impl Model {
             steps,
             repeat: 1,
             estimate,
+            check_unique,
         };
         let mut actuation = self.actuation(py, shorten, tension)?;
         if insertion.is_some() {
