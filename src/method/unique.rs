@@ -167,7 +167,10 @@ impl Found {
                 tip_m: None,
                 stable: s.report.stable,
                 distinct: false,
-                error: Some(format!("did not converge (residual {:.1e})", s.report.residual)),
+                error: Some(format!(
+                    "did not converge (residual {:.1e})",
+                    s.report.residual
+                )),
             },
             Err(e) => UniqueTry {
                 start,
@@ -241,7 +244,11 @@ pub fn check(
     let other_model = other_request(request.method, &request.settings)
         .map(|o| against_other(&o, &solver, model, scene, &mut f));
     let equilibria = f.tips.len();
-    let converged_tries = f.tries.iter().filter(|t| t.tip_distance_m.is_some()).count();
+    let converged_tries = f
+        .tries
+        .iter()
+        .filter(|t| t.tip_distance_m.is_some())
+        .count();
     Ok(UniqueReport {
         only: equilibria == 1 && converged_tries > 0,
         converged_tries,

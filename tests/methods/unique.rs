@@ -12,7 +12,10 @@ use ccrkit_test_support::{port_robots::port_robot, rng::Rng};
 fn two_answers_robot() -> String {
     let seed = 22;
     let toml = port_robot(seed).toml;
-    let body = toml.split("[port]").next().expect("the robot before its port");
+    let body = toml
+        .split("[port]")
+        .next()
+        .expect("the robot before its port");
     let mut r = Rng(seed * 7 + 3);
     let mut t = String::new();
     for line in body.lines() {
@@ -33,7 +36,9 @@ fn displacement(kind: MethodKind) -> SolveRequest {
 fn two_converged_answers_19_mm_apart_are_reported_and_explained() {
     let model = Model::from_toml_str(&two_answers_robot()).expect("valid by construction");
     // Before: one solve says nothing; only `compare` flags the pair (and says so in JSON).
-    let plain = displacement(MethodKind::Energy).run(&model).expect("solves");
+    let plain = displacement(MethodKind::Energy)
+        .run(&model)
+        .expect("solves");
     assert!(plain.shape.report.converged && plain.shape.report.unique.is_none());
     let cmp = compare(
         &model,

@@ -635,7 +635,11 @@ fn unique_lines(u: &ccrkit::method::unique::UniqueReport) -> String {
                 "tip {:.3} mm away, {}{}",
                 d * 1e3,
                 stable(t.stable),
-                if t.distinct { "  ANOTHER EQUILIBRIUM" } else { "" }
+                if t.distinct {
+                    "  ANOTHER EQUILIBRIUM"
+                } else {
+                    ""
+                }
             ),
             (None, Some(e)) => format!("failed: {e}"),
             (None, None) => "failed".to_string(),
@@ -643,9 +647,9 @@ fn unique_lines(u: &ccrkit::method::unique::UniqueReport) -> String {
         s += &format!("        {}: {what}\n", t.start);
     }
     if let Some(o) = &u.other_model {
-        let d = o
-            .tip_distance_m
-            .map_or_else(String::new, |d| format!("tip {:.3} mm away, {}: ", d * 1e3, stable(o.stable)));
+        let d = o.tip_distance_m.map_or_else(String::new, |d| {
+            format!("tip {:.3} mm away, {}: ", d * 1e3, stable(o.stable))
+        });
         s += &format!("        other model {}: {d}{}\n", o.method, o.verdict);
     }
     s
