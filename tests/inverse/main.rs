@@ -7,6 +7,7 @@
 mod common;
 
 mod plan;
+mod plan_port;
 mod reach;
 mod reach_port;
 mod reach_random;
