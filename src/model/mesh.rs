@@ -230,7 +230,7 @@ fn merge(v: Vec<Vector3<f64>>, t: Vec<[u32; 3]>) -> MeshData {
 /// obstacle region is what parry's oriented mesh calls inside: the enclosed volume of an organ
 /// (`outside` free: triangles as given, outward), the space around a lumen (`inside` free:
 /// triangles reversed, so their normals point into the lumen, its free side). The contact
-/// queries sign a solid's distances from its pseudo-normals ([`crate::contact::parry`]).
+/// queries sign a solid's distances from its pseudo-normals (`contact::parry`).
 pub fn trimesh(
     vertices: &[Vector3<f64>],
     triangles: &[[u32; 3]],
