@@ -9,5 +9,6 @@ mod common;
 mod plan;
 mod plan_port;
 mod reach;
+mod reach_body;
 mod reach_port;
 mod reach_random;
