@@ -27,6 +27,7 @@ pub mod error;
 pub mod export;
 pub mod method;
 pub mod model;
+pub mod output;
 pub use model::{actuation, mesh, robot, routing, scene};
 pub(crate) mod numeric;
 pub mod plan;

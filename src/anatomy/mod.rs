@@ -62,7 +62,10 @@ fn check(opts: &AirwayOptions) -> Result<(), AirwayError> {
         }
     }
     if !(0.0..=0.4).contains(&opts.asymmetry) {
-        return bad("asymmetry", format!("{} is not in [0, 0.4]", opts.asymmetry));
+        return bad(
+            "asymmetry",
+            format!("{} is not in [0, 0.4]", opts.asymmetry),
+        );
     }
     if let Some(c) = opts.cell {
         if !(c.is_finite() && c > 0.0) {

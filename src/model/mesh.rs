@@ -269,7 +269,10 @@ pub fn to_stl(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> Vec<u8> {
         .iter()
         .map(|t| {
             let [a, b, c] = t.map(|i| vertices[i as usize]);
-            let n = (b - a).cross(&(c - a)).try_normalize(0.0).unwrap_or_default();
+            let n = (b - a)
+                .cross(&(c - a))
+                .try_normalize(0.0)
+                .unwrap_or_default();
             stl_io::Triangle {
                 normal: f(&n),
                 vertices: [f(&a), f(&b), f(&c)],

@@ -346,16 +346,13 @@ impl Roadmap {
         Ok(r)
     }
 
-    /// Write the roadmap as JSON.
+    /// Write the roadmap as JSON, atomically ([`crate::output`]).
     pub fn save(&self, path: &std::path::Path) -> Result<(), ModelError> {
         let text = serde_json::to_string(self).map_err(|e| ModelError::Parse {
             path: path.display().to_string(),
             reason: e.to_string(),
         })?;
-        std::fs::write(path, text).map_err(|e| ModelError::Io {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })
+        Ok(crate::output::write_file(path, text.as_bytes())?)
     }
 
     pub(super) fn check_fits(

@@ -72,7 +72,10 @@ fn volume_matches_a_monte_carlo_estimate_of_the_swept_spheres() {
     // 1/sqrt(hits) ≈ 1.2 % standard error (about 7 000 hits), and the facets cut inside by
     // about h²/(8r) on the thinnest tubes.
     let rel = (volume - estimate).abs() / estimate;
-    assert!(rel < 0.05, "mesh {volume:e} m³, Monte Carlo {estimate:e} m³");
+    assert!(
+        rel < 0.05,
+        "mesh {volume:e} m³, Monte Carlo {estimate:e} m³"
+    );
 }
 
 #[test]
@@ -100,7 +103,13 @@ fn diameters_halve_in_cube_root_steps_by_generation() {
             "generation {n}: measured {mean:e} m, Weibel {law:e} m, facets within {short:e} m"
         );
         let (x, y) = (n as f64, mean.log2());
-        fit = (fit.0 + 1.0, fit.1 + x, fit.2 + y, fit.3 + x * x, fit.4 + x * y);
+        fit = (
+            fit.0 + 1.0,
+            fit.1 + x,
+            fit.2 + y,
+            fit.3 + x * x,
+            fit.4 + x * y,
+        );
     }
     let slope = (fit.0 * fit.4 - fit.1 * fit.2) / (fit.0 * fit.3 - fit.1 * fit.1);
     assert!(

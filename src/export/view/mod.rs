@@ -368,12 +368,9 @@ impl View {
         page::html(&self.title, self)
     }
 
-    /// Write the page to `path`.
+    /// Write the page to `path` atomically ([`crate::output`]).
     pub fn write(&self, path: &Path) -> Result<(), ExportError> {
-        std::fs::write(path, self.to_html()).map_err(|e| ExportError::Io {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })
+        Ok(crate::output::write_file(path, self.to_html().as_bytes())?)
     }
 }
 
