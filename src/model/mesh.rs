@@ -285,7 +285,7 @@ pub fn to_stl(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> Vec<u8> {
     bytes
 }
 
-/// Write a mesh to `path`: binary STL (`.stl`) or Wavefront OBJ (`.obj`), by the extension.
+/// Write a mesh to `path` (atomically, [`crate::output::write_file`]): binary STL (`.stl`) or Wavefront OBJ (`.obj`), by the extension.
 pub fn write(
     path: &Path,
     vertices: &[Vector3<f64>],
@@ -305,9 +305,9 @@ pub fn write(
             })
         }
     };
-    std::fs::write(path, bytes).map_err(|e| MeshError::Write {
+    crate::output::write_file(path, &bytes).map_err(|e| MeshError::Write {
         format,
-        reason: format!("{}: {e}", path.display()),
+        reason: e.to_string(),
     })
 }
 
