@@ -8,5 +8,6 @@ mod common;
 
 mod plan;
 mod reach;
+mod reach_body;
 mod reach_port;
 mod reach_random;
