@@ -5,8 +5,9 @@ use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
 use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
+mod anatomy;
 mod calibrate;
 mod plan;
 mod predict;
@@ -45,6 +46,11 @@ enum Command {
         /// Solve N times and report the median time.
         #[arg(long, default_value_t = 1)]
         repeat: usize,
+        /// `unique`: solve the input again along other paths (a ramp from zero, an overshoot,
+        /// each cable leading, the other model's answer) and say whether this answer is the
+        /// only equilibrium found (a few extra solves; their count and time are printed).
+        #[arg(long, value_enum)]
+        check: Option<Check>,
     },
     /// Compare methods on one model: a table of tips and times, pairwise distances, and a
     /// flag where two methods driven by the same input disagree.
@@ -64,6 +70,10 @@ enum Command {
         /// Write the solved shapes overlaid in three views (.svg or .png).
         #[arg(long)]
         plot: Option<PathBuf>,
+        /// Write the comparison as JSON (rows, pairs, each pair's `disagree` flag and
+        /// `any_disagreement`) to this path (`-` for standard output, the table then not printed).
+        #[arg(long)]
+        json: Option<String>,
     },
     /// List the available methods, their inputs, obstacle and load support, and settings.
     Methods,
@@ -80,6 +90,9 @@ enum Command {
     Reach(reach::ReachArgs),
     /// A path of actuations to a tip or an actuation, clear of the obstacles.
     Plan(plan::PlanArgs),
+    /// Generated anatomy: a seeded airway tree as one closed mesh.
+    #[command(subcommand)]
+    Anatomy(anatomy::AnatomyCommand),
     /// Roadmaps for repeated `plan` queries.
     #[command(subcommand)]
     Roadmap(roadmap::RoadmapCommand),
@@ -87,6 +100,13 @@ enum Command {
     Predict(predict::PredictArgs),
     /// Fit a model's hardware parameters to measured tips (Levenberg–Marquardt).
     Calibrate(calibrate::CalibrateArgs),
+}
+
+/// A check of the answer after a solve.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum Check {
+    /// Is it the only equilibrium found along other paths?
+    Unique,
 }
 
 #[derive(Subcommand)]
@@ -274,6 +294,7 @@ fn run() -> Result<()> {
         Command::Reach(a) => reach::run(a),
         Command::Plan(a) => plan::run(a),
         Command::Roadmap(c) => roadmap::run(c),
+        Command::Anatomy(c) => anatomy::run(c),
         Command::Predict(a) => predict::run(a),
         Command::Calibrate(a) => calibrate::run(a),
         Command::Compare {
@@ -282,12 +303,14 @@ fn run() -> Result<()> {
             scene,
             tolerance,
             plot: plot_path,
+            json,
         } => compare(
             &file,
             &methods,
             scene.as_ref(),
             tolerance,
             plot_path.as_ref(),
+            json.as_deref(),
         ),
         Command::Methods => {
             print_methods();
@@ -301,6 +324,16 @@ fn run() -> Result<()> {
             out,
         }) => {
             let mode = mode.parse()?;
+            let outs = ccrkit::export::UrdfExport::paths(mode, &out);
+            let outs: Vec<(&str, Option<&Path>)> =
+                outs.iter().map(|(r, p)| (*r, Some(p.as_path()))).collect();
+            check_files(
+                &[
+                    ("model file", Some(&file)),
+                    ("--scene file", solve.scene.as_deref()),
+                ],
+                &outs,
+            )?;
             let request = solve.request(1)?;
             let model = Model::from_file(&file)?;
             let shape = request.run(&model)?.shape;
@@ -321,11 +354,24 @@ fn run() -> Result<()> {
             json,
             plot: plot_path,
             repeat,
+            check,
         } => {
             if let Some(p) = &plot_path {
                 plot::check_path(p)?;
             }
-            let request = solve.request(repeat)?;
+            check_files(
+                &[
+                    ("model file", Some(&file)),
+                    ("--scene file", solve.scene.as_deref()),
+                ],
+                &[
+                    ("--json file", json.as_deref().map(Path::new)),
+                    ("--plot file", plot_path.as_deref()),
+                ],
+            )?;
+            let request = solve
+                .request(repeat)?
+                .with_unique_check(matches!(check, Some(Check::Unique)));
             let model = Model::from_file(&file)?;
             let bar = progress::spinner(&format!("solving with {}", solve.method));
             let solved = request.run(&model);
@@ -349,7 +395,7 @@ fn run() -> Result<()> {
                 if j == "-" {
                     println!("{text}");
                 } else {
-                    std::fs::write(&j, text).with_context(|| format!("writing {j}"))?;
+                    write_out(Path::new(&j), &text)?;
                     eprintln!("wrote {j}");
                 }
             }
@@ -409,10 +455,21 @@ fn compare(
     scene: Option<&PathBuf>,
     tolerance: f64,
     plot_path: Option<&PathBuf>,
+    json: Option<&str>,
 ) -> Result<()> {
     if let Some(p) = plot_path {
         plot::check_path(p)?;
     }
+    check_files(
+        &[
+            ("model file", Some(file)),
+            ("--scene file", scene.map(|p| p.as_path())),
+        ],
+        &[
+            ("--plot file", plot_path.map(|p| p.as_path())),
+            ("--json file", json.filter(|j| *j != "-").map(Path::new)),
+        ],
+    )?;
     let default = [
         "geometric",
         "energy",
@@ -436,7 +493,16 @@ fn compare(
         .collect::<Result<Vec<_>>>()?;
     let model = Model::from_file(file)?;
     let cmp = study::compare(&model, &requests, tolerance)?;
-    print!("{cmp}");
+    match json {
+        Some("-") => println!("{}", serde_json::to_string_pretty(&cmp.to_json())?),
+        Some(path) => {
+            print!("{cmp}");
+            let text = serde_json::to_string_pretty(&cmp.to_json())?;
+            write_out(Path::new(path), &text)?;
+            eprintln!("wrote {path}");
+        }
+        None => print!("{cmp}"),
+    }
     if let Some(p) = plot_path {
         let mut all = model.scene.clone();
         if let Some(x) = extra {
@@ -534,6 +600,64 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
     if let Some(e) = &shape.report.error_estimate {
         println!("{}", error_line(e));
     }
+    if let Some(u) = &shape.report.unique {
+        print!("{}", unique_lines(u));
+    }
+}
+
+/// The lines of a uniqueness check: the verdict, each path tried, the other model.
+fn unique_lines(u: &ccrkit::method::unique::UniqueReport) -> String {
+    let stable = |s: Option<bool>| match s {
+        Some(true) => "stable",
+        Some(false) => "UNSTABLE",
+        None => "stability unknown",
+    };
+    let mut s = if u.only {
+        format!(
+            "unique  the only equilibrium found ({} of {} paths converged; {} solves, {:.1} ms)\n",
+            u.converged_tries,
+            u.tries.len(),
+            u.solves,
+            u.time_s * 1e3
+        )
+    } else if u.converged_tries == 0 {
+        format!(
+            "unique  NOT CHECKED: no other path converged ({} solves, {:.1} ms)\n",
+            u.solves,
+            u.time_s * 1e3
+        )
+    } else {
+        format!(
+            "unique  NO: {} equilibria found for this input ({} solves, {:.1} ms)\n",
+            u.equilibria,
+            u.solves,
+            u.time_s * 1e3
+        )
+    };
+    for t in &u.tries {
+        let what = match (t.tip_distance_m, &t.error) {
+            (Some(d), _) => format!(
+                "tip {:.3} mm away, {}{}",
+                d * 1e3,
+                stable(t.stable),
+                if t.distinct {
+                    "  ANOTHER EQUILIBRIUM"
+                } else {
+                    ""
+                }
+            ),
+            (None, Some(e)) => format!("failed: {e}"),
+            (None, None) => "failed".to_string(),
+        };
+        s += &format!("        {}: {what}\n", t.start);
+    }
+    if let Some(o) = &u.other_model {
+        let d = o.tip_distance_m.map_or_else(String::new, |d| {
+            format!("tip {:.3} mm away, {}: ", d * 1e3, stable(o.stable))
+        });
+        s += &format!("        other model {}: {d}{}\n", o.method, o.verdict);
+    }
+    s
 }
 
 /// One line of an error estimate: the bound and its parts, in mm.
@@ -555,6 +679,31 @@ fn error_line(e: &ccrkit::method::estimate::ErrorEstimate) -> String {
         s += &format!("\n        {}", e.note);
     }
     s
+}
+
+/// The files of one run checked before any work: no output is one of the inputs, no two outputs
+/// are one file (`ccrkit::output::RunFiles`). `None` entries are options not given.
+pub(crate) fn check_files(
+    inputs: &[(&str, Option<&Path>)],
+    outputs: &[(&str, Option<&Path>)],
+) -> Result<()> {
+    let mut run = ccrkit::output::RunFiles::new();
+    for (role, p) in inputs {
+        if let Some(p) = p {
+            run.input(role, p);
+        }
+    }
+    for (role, p) in outputs {
+        if let Some(p) = p {
+            run.output(role, p)?;
+        }
+    }
+    Ok(())
+}
+
+/// Write an output file atomically, its folder created (`ccrkit::output::write_file`).
+pub(crate) fn write_out(path: &Path, text: &str) -> Result<()> {
+    Ok(ccrkit::output::write_file(path, text.as_bytes())?)
 }
 
 fn create_dir(out: &PathBuf) -> Result<()> {
