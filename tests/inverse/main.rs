@@ -11,3 +11,4 @@ mod reach;
 mod reach_body;
 mod reach_port;
 mod reach_random;
+mod reach_tension;
