@@ -155,6 +155,7 @@ mod lengths;
 mod newton;
 mod problem;
 mod sensitivity;
+mod shear;
 mod step_guard;
 #[cfg(test)]
 mod test_fixture;
@@ -201,6 +202,10 @@ pub struct Energy {
     /// reports neither (a note says so) and skips their KKT solves, e.g. `ccrkit predict`,
     /// which reads only the tip.
     pub sensitivity: bool,
+    /// Model the backbone's shear (`v = (γx, γy, 1 + ε)`, `GA |γ|²` in the energy, the
+    /// Cosserat rod's continuum): the shear condensed from its equilibrium between Newton
+    /// solves (`energy/shear.rs`). Path measure only, without obstacles or capstan friction.
+    pub shear: bool,
 }
 
 impl Default for Energy {
@@ -216,6 +221,7 @@ impl Default for Energy {
             samples_per_sub_arc: 1,
             contact_sensitivity: false,
             sensitivity: true,
+            shear: false,
         }
     }
 }
@@ -254,6 +260,7 @@ impl Configure for Energy {
                 self.contact_sensitivity = range.pick(name, value, common::ON_OFF)?
             }
             "sensitivity" => self.sensitivity = range.pick(name, value, common::ON_OFF)?,
+            "shear" => self.shear = range.pick(name, value, common::ON_OFF)?,
             _ => return Err(self.kind().unapplied(name)),
         }
         Ok(())
@@ -340,6 +347,8 @@ impl ReadyEnergy<'_> {
             Cow::Borrowed(&self.part.nodes),
             &self.part.len0,
         )?;
+        let capstan = friction::coefficients(act);
+        set.check_shear(&prob, capstan.is_some())?;
         let mut notes = vec![format!(
             "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
             set.sub_arcs, set.cable_length, set.routing
@@ -375,7 +384,14 @@ impl ReadyEnergy<'_> {
         if !set.sensitivity {
             notes.push("stable and jacobian not computed (`sensitivity = off`)".into());
         }
-        if let Some(a) = friction::coefficients(act) {
+        if set.shear {
+            notes.push(
+                "shear: GA |γ|² in the energy, the shear condensed from its equilibrium \
+                 (`energy/shear.rs`); the jacobian at fixed shear"
+                    .into(),
+            );
+        }
+        if let Some(a) = capstan {
             notes.push(
                 "capstan friction along the cables (lagged weights, `energy/friction.rs`); the \
                  jacobian from the non-symmetric linearization, stable not computed"

@@ -82,7 +82,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
             }
             let kin_trial = prob
                 .needs_frames()
-                .then(|| contacts::kinematics(&self.trial, &prob.ell, false));
+                .then(|| prob.kin(&self.trial, false));
             // The lengths and the smooth part of the merit, once asked for.
             let smooth: OnceCell<f64> = OnceCell::new();
             let merit = |ps: &[Pair]| {
