@@ -7,7 +7,9 @@
 //! Each section `i` (disks `i−1` → `i`, length `l_i`) is cut into [`Energy::sub_arcs`] sub-arcs
 //! of equal undeformed length `ℓ = l_i / sub_arcs`. On sub-arc `j` the strains are constant:
 //! body twist `u_j = (κx, κy, τ)` (bending about the body x and y axes, twist about the
-//! backbone) and `v_j = (0, 0, 1 + ε)` (axial strain ε, no shear). The body frame follows
+//! backbone) and `v_j = (0, 0, 1 + ε)` (axial strain ε; with [`Energy::shear`] also the
+//! shear, `v_j = (γx, γy, 1 + ε)`, condensed from its equilibrium: `energy/shear.rs`). The
+//! body frame follows
 //! `p' = R v`, `R' = R û` (Rucker & Webster 2011, eq. 1), so across the sub-arc it moves by the
 //! SE(3) exponential `g_j = exp(ℓ [û_j v_j; 0 0])`, in closed form (Rodrigues, ω = ℓu, θ = |ω|):
 //!
