@@ -23,16 +23,16 @@ fn render(
         reason,
     };
     match path.extension().and_then(|e| e.to_str()) {
-        Some("svg") => {
-            let root = SVGBackend::new(path, size).into_drawing_area();
-            draw(&root).map_err(|e| err(e.to_string()))?;
-            root.present().map_err(|e| err(e.to_string()))
-        }
-        Some("png") => {
-            let root = BitMapBackend::new(path, size).into_drawing_area();
-            draw_png(&root).map_err(|e| err(e.to_string()))?;
-            root.present().map_err(|e| err(e.to_string()))
-        }
+        Some("svg") => Ok(crate::output::write_with(path, |tmp| {
+            let root = SVGBackend::new(tmp, size).into_drawing_area();
+            draw(&root).map_err(|e| e.to_string())?;
+            root.present().map_err(|e| e.to_string())
+        })?),
+        Some("png") => Ok(crate::output::write_with(path, |tmp| {
+            let root = BitMapBackend::new(tmp, size).into_drawing_area();
+            draw_png(&root).map_err(|e| e.to_string())?;
+            root.present().map_err(|e| e.to_string())
+        })?),
         other => Err(err(format!(
             "unknown image format {:?}: use .svg or .png",
             other.unwrap_or("")

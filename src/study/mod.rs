@@ -75,12 +75,9 @@ pub enum StudyError {
     Invalid(String),
 }
 
-/// Write a text file, naming the path on failure.
+/// Write a text file atomically ([`crate::output`]), naming the path on failure.
 pub fn write_text(path: &std::path::Path, text: &str) -> Result<(), StudyError> {
-    std::fs::write(path, text).map_err(|e| StudyError::Io {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    })
+    Ok(crate::output::write_file(path, text.as_bytes())?)
 }
 
 /// The registered methods named in study options (an unknown name is an error).

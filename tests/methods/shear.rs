@@ -72,7 +72,10 @@ fn soft_rod_meets_the_cosserat_rod_with_shear() {
         assert!(d_on <= SOFT_BOUND, "{t:?}: {d_on} m");
         worst_off = worst_off.max(d_off);
     }
-    assert!(worst_off > SOFT_BOUND, "shear off never misses: {worst_off}");
+    assert!(
+        worst_off > SOFT_BOUND,
+        "shear off never misses: {worst_off}"
+    );
 }
 
 /// Timoshenko's cantilever: a short, thick soft rod under a small tip force deflects by
@@ -112,7 +115,10 @@ tip_force = [{f}, 0.0, 0.0]
     let exact = bending + shear;
     assert!(shear > 0.1 * exact, "the shear part is visible");
     assert!(((on - exact) / exact).abs() < 5e-3, "{on} vs {exact}");
-    assert!(((off - bending) / bending).abs() < 5e-3, "{off} vs {bending}");
+    assert!(
+        ((off - bending) / bending).abs() < 5e-3,
+        "{off} vs {bending}"
+    );
     let rod_tip = rod(&m).expect("rod").tip().x;
     assert!(((rod_tip - exact) / exact).abs() < 5e-3, "rod {rod_tip}");
 }
@@ -158,10 +164,10 @@ fn random_robots_energy_against_the_rod() {
                     .run(&model)
             })
             .collect();
-        if shapes
-            .iter()
-            .any(|s| s.as_ref().map_or(true, |s| s.shape.report.stable == Some(false)))
-        {
+        if shapes.iter().any(|s| {
+            s.as_ref()
+                .map_or(true, |s| s.shape.report.stable == Some(false))
+        }) {
             continue;
         }
         for (g, s) in gaps.iter_mut().zip(&shapes) {

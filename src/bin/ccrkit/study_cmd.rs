@@ -329,6 +329,11 @@ fn workspace(a: WorkspaceArgs) -> Result<()> {
 /// `ccrkit study merge`: workspace shards joined into one CSV.
 fn merge(a: MergeArgs) -> Result<()> {
     let MergeArgs { out, inputs } = a;
+    let ins: Vec<(&str, Option<&std::path::Path>)> = inputs
+        .iter()
+        .map(|p| ("input CSV", Some(p.as_path())))
+        .collect();
+    crate::check_files(&ins, &[("--out file", Some(&out))])?;
     let texts = inputs
         .iter()
         .map(|p| {

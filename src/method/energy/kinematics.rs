@@ -33,11 +33,7 @@ pub(super) fn sub_arc_exp(xi: &[f64], ell: f64) -> (Matrix3<f64>, Vector3<f64>) 
 
 /// The sub-arc transform with the shear strains `shear = (v_x, v_y)`: `v = (v_x, v_y, 1 + ε)`
 /// (`energy/shear.rs`).
-pub(super) fn sheared_exp(
-    xi: &[f64],
-    shear: [f64; 2],
-    ell: f64,
-) -> (Matrix3<f64>, Vector3<f64>) {
+pub(super) fn sheared_exp(xi: &[f64], shear: [f64; 2], ell: f64) -> (Matrix3<f64>, Vector3<f64>) {
     let w = Vector3::new(xi[0], xi[1], xi[2]) * ell;
     let (a, b, c) = abc(w.norm_squared());
     let wh = hat(&w);

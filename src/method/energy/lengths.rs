@@ -311,7 +311,8 @@ mod tests {
                     let s = s0 + p as f64 * h + 0.5 * h * (GL_X[q] + 1.0);
                     let rp = route.eval(s, sec - 1);
                     let nd = [rp.r.x, rp.r.y, rp.dr.x, rp.dr.y, 0.0];
-                    total += 0.5 * h * GL_W[q] * path_w(&nd, &xi[4 * j..4 * j + 4], [0.0; 2]).norm();
+                    total +=
+                        0.5 * h * GL_W[q] * path_w(&nd, &xi[4 * j..4 * j + 4], [0.0; 2]).norm();
                 }
             }
         }

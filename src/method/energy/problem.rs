@@ -213,8 +213,8 @@ impl Problem<'_> {
     /// pure moment `M` is stationary at `∂/∂κ (½ EI κ² (1 + β κ²)) = EI κ (1 + 2 β κ²) = M`
     /// (`tests/methods/stiffening.rs` checks that closed form).
     pub(super) fn energy(&self, xi: &[f64]) -> f64 {
-        let quad = 0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>()
-            + self.shear_energy();
+        let quad =
+            0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>() + self.shear_energy();
         if self.stiffening == 0.0 {
             return quad;
         }

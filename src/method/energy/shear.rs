@@ -56,15 +56,15 @@
 //! The tip Jacobian (`report.jacobian`) is taken at fixed shear: it leaves out the shear's
 //! own response, a relative error of the order of the coupling above.
 
+use super::contacts::Kin;
+use super::lengths::path_w;
 use super::problem::Problem;
+use super::problem::Target;
 use super::Energy;
 use crate::error::SolveError;
 use crate::method::warm::WarmState;
 use crate::method::Method;
 use crate::shape::Shape;
-use super::contacts::Kin;
-use super::lengths::path_w;
-use super::problem::Target;
 use nalgebra::Vector3;
 
 impl Problem<'_> {
@@ -141,7 +141,9 @@ impl Problem<'_> {
     /// strains `xi` and multipliers `lam` (module docs), taken; returns the bound
     /// `Σ ℓ_j |δγ_j|` on how far it moved any point \[m\].
     pub(super) fn condense_shear(&self, xi: &[f64], lam: &[f64]) -> f64 {
-        let wgt: Vec<f64> = (0..lam.len()).map(|c| self.cable_weight(c, lam[c])).collect();
+        let wgt: Vec<f64> = (0..lam.len())
+            .map(|c| self.cable_weight(c, lam[c]))
+            .collect();
         let kin = (!self.frame_forces.is_empty()).then(|| self.kin(xi, true));
         let derivs = self.shear_derivatives(xi, &wgt, kin.as_ref());
         let mut moved = 0.0;

@@ -56,9 +56,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let nc = prob.robot.cables.len();
         self.wgt = (0..nc).map(|c| prob.cable_weight(c, self.lam[c])).collect();
         prob.evaluate(&self.xi, &self.wgt, &mut self.w, self.exact);
-        self.kin = prob
-            .needs_frames()
-            .then(|| prob.kin(&self.xi, true));
+        self.kin = prob.needs_frames().then(|| prob.kin(&self.xi, true));
         self.clear = f64::INFINITY;
         if let (Some(wd), Some(k)) = (self.world, &self.kin) {
             (self.pairs, self.clear) = match self.next_pairs.take() {
