@@ -32,3 +32,4 @@ mod rod_body;
 mod shear;
 mod stiffening;
 mod typed_inputs;
+mod unique;
