@@ -7,7 +7,9 @@
 mod common;
 
 mod plan;
+mod plan_port;
 mod reach;
 mod reach_body;
 mod reach_port;
 mod reach_random;
+mod reach_tension;
