@@ -17,6 +17,7 @@
 
 #![warn(missing_docs)]
 
+pub mod anatomy;
 pub mod batch;
 pub mod calibrate;
 pub mod check;
@@ -26,6 +27,7 @@ pub mod error;
 pub mod export;
 pub mod method;
 pub mod model;
+pub mod output;
 pub use model::{actuation, mesh, robot, routing, scene};
 pub(crate) mod numeric;
 pub mod plan;

@@ -136,16 +136,16 @@ pub fn plot_rows(rows: &[Row], path: &Path) -> Result<(), PlotError> {
     check_path(path)?;
     let size = (1500u32, 480 * rows.len().max(1) as u32);
     match path.extension().and_then(|e| e.to_str()) {
-        Some("svg") => {
-            let root = SVGBackend::new(path, size).into_drawing_area();
-            draw(&root, rows).map_err(err)?;
-            root.present().map_err(|e| err(e.to_string()))
-        }
-        Some("png") => {
-            let root = BitMapBackend::new(path, size).into_drawing_area();
-            draw(&root, rows).map_err(err)?;
-            root.present().map_err(|e| err(e.to_string()))
-        }
+        Some("svg") => Ok(crate::output::write_with(path, |tmp| {
+            let root = SVGBackend::new(tmp, size).into_drawing_area();
+            draw(&root, rows)?;
+            root.present().map_err(|e| e.to_string())
+        })?),
+        Some("png") => Ok(crate::output::write_with(path, |tmp| {
+            let root = BitMapBackend::new(tmp, size).into_drawing_area();
+            draw(&root, rows)?;
+            root.present().map_err(|e| e.to_string())
+        })?),
         other => Err(err(format!(
             "unknown image format {:?}: use .svg or .png",
             other.unwrap_or("")

@@ -7,7 +7,7 @@
 //! it) or cannot solve the problem (a tip moment). On a ladder:
 //!
 //! 1. the coarsest rung is solved and estimated (one extra solve one rung up or down, without
-//!    stability or Jacobian: [`super::estimate::quiet`]); within the tolerance, it is the answer;
+//!    stability or Jacobian: `estimate::quiet`); within the tolerance, it is the answer;
 //! 2. otherwise the method's order predicts the discretization part of every finer rung from
 //!    the last one measured, `e(n) = e(m) (m/n)^p`, and the first rung predicted within 70 % of
 //!    what the model part leaves of the tolerance is solved, warm-started from the last

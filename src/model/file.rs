@@ -116,9 +116,7 @@ pub(super) fn positive(field: &str, v: f64) -> Result<f64, ModelError> {
 
 impl FileModel {
     pub(super) fn validate(self, dir: &Path) -> Result<Model, ModelError> {
-        if self.name.trim().is_empty() {
-            return Err(ModelError::invalid("name", "must not be empty"));
-        }
+        super::name::check_name("name", &self.name)?;
         let _ = &self.description;
         let r = &self.robot;
         if r.sections < 1 || r.sections as usize > MAX_SECTIONS {

@@ -91,9 +91,7 @@ impl FileCable {
     pub(super) fn cable(&self, ci: usize, robot: &Robot) -> Result<Cable, ModelError> {
         let disk_s = &robot.disk_s[..];
         let f = |name: &str| format!("cables[{ci}].{name}");
-        if self.name.trim().is_empty() {
-            return Err(ModelError::invalid(f("name"), "must not be empty"));
-        }
+        super::name::check_name(f("name"), &self.name)?;
         let n = disk_s.len() - 1;
         let ends_at = match self.ends_at {
             None => n,

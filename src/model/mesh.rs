@@ -230,7 +230,7 @@ fn merge(v: Vec<Vector3<f64>>, t: Vec<[u32; 3]>) -> MeshData {
 /// obstacle region is what parry's oriented mesh calls inside: the enclosed volume of an organ
 /// (`outside` free: triangles as given, outward), the space around a lumen (`inside` free:
 /// triangles reversed, so their normals point into the lumen, its free side). The contact
-/// queries sign a solid's distances from its pseudo-normals ([`crate::contact::parry`]).
+/// queries sign a solid's distances from its pseudo-normals (`contact::parry`).
 pub fn trimesh(
     vertices: &[Vector3<f64>],
     triangles: &[[u32; 3]],
@@ -259,6 +259,56 @@ pub fn to_obj(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> String {
         s += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
     }
     s
+}
+
+/// A mesh as binary STL bytes (`stl_io`; coordinates in `f32`, each triangle's normal from
+/// its winding).
+pub fn to_stl(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> Vec<u8> {
+    let f = |p: &Vector3<f64>| stl_io::Vector::new([p.x as f32, p.y as f32, p.z as f32]);
+    let tris: Vec<stl_io::Triangle> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| vertices[i as usize]);
+            let n = (b - a)
+                .cross(&(c - a))
+                .try_normalize(0.0)
+                .unwrap_or_default();
+            stl_io::Triangle {
+                normal: f(&n),
+                vertices: [f(&a), f(&b), f(&c)],
+            }
+        })
+        .collect();
+    let mut bytes = Vec::with_capacity(84 + 50 * tris.len());
+    // Writing into memory cannot fail.
+    let _ = stl_io::write_stl(&mut bytes, tris.iter());
+    bytes
+}
+
+/// Write a mesh to `path` (atomically, [`crate::output::write_file`]): binary STL (`.stl`) or Wavefront OBJ (`.obj`), by the extension.
+pub fn write(
+    path: &Path,
+    vertices: &[Vector3<f64>],
+    triangles: &[[u32; 3]],
+) -> Result<(), MeshError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    let (format, bytes) = match ext.as_deref() {
+        Some("stl") => ("STL", to_stl(vertices, triangles)),
+        Some("obj") => ("OBJ", to_obj(vertices, triangles).into_bytes()),
+        _ => {
+            return Err(MeshError::Write {
+                format: "mesh",
+                reason: format!("{}: ccrkit writes .stl or .obj", path.display()),
+            })
+        }
+    };
+    crate::output::write_file(path, &bytes).map_err(|e| MeshError::Write {
+        format,
+        reason: e.to_string(),
+    })
 }
 
 /// A bent tube (a section of a torus surface, open at both ends) as a triangle mesh: the

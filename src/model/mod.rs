@@ -36,6 +36,7 @@ pub mod hardware;
 pub mod limits;
 pub mod mesh;
 pub mod mesh_check;
+pub mod name;
 pub mod port;
 pub mod read;
 pub mod robot;

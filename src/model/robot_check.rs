@@ -116,9 +116,7 @@ impl Robot {
     fn check_cable(&self, ci: usize) -> Result<(), ModelError> {
         let c: &Cable = &self.cables[ci];
         let f = |name: &str| format!("cables[{ci}].{name}");
-        if c.name.trim().is_empty() {
-            return Err(ModelError::invalid(f("name"), "must not be empty"));
-        }
+        super::name::check_name(f("name"), &c.name)?;
         let n = self.sections();
         if !(1..=n).contains(&c.ends_at) {
             return Err(ModelError::invalid(

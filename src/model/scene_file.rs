@@ -197,10 +197,10 @@ type Built = (ObstacleKind, SharedShape, Isometry3<f64>);
 impl FileObstacle {
     fn build(&self, at: Field, dir: &Path) -> Result<Obstacle, ModelError> {
         let name = match &self.name {
-            Some(n) if n.trim().is_empty() => {
-                return Err(ModelError::invalid(at.name("name"), "must not be empty"))
+            Some(n) => {
+                super::name::check_name(at.name("name"), n)?;
+                n.clone()
             }
-            Some(n) => n.clone(),
             None => format!("obstacle{}", at.k),
         };
         let p = self.position.unwrap_or([0.0; 3]);

@@ -2,7 +2,7 @@
 //! speed against accuracy (log–log, Pareto front marked), stability maps (one panel per mode),
 //! the workspace tip cloud (three views). The format follows the extension (`.svg`, `.png`).
 
-use super::{speed_accuracy_front, SpeedAccuracyRow, Stability, Workspace};
+use super::{speed_accuracy_front, SpeedAccuracyRow, Stability, Workspace, AUTO};
 use crate::plot::{register_font, PlotError, PALETTE};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -23,16 +23,16 @@ fn render(
         reason,
     };
     match path.extension().and_then(|e| e.to_str()) {
-        Some("svg") => {
-            let root = SVGBackend::new(path, size).into_drawing_area();
-            draw(&root).map_err(|e| err(e.to_string()))?;
-            root.present().map_err(|e| err(e.to_string()))
-        }
-        Some("png") => {
-            let root = BitMapBackend::new(path, size).into_drawing_area();
-            draw_png(&root).map_err(|e| err(e.to_string()))?;
-            root.present().map_err(|e| err(e.to_string()))
-        }
+        Some("svg") => Ok(crate::output::write_with(path, |tmp| {
+            let root = SVGBackend::new(tmp, size).into_drawing_area();
+            draw(&root).map_err(|e| e.to_string())?;
+            root.present().map_err(|e| e.to_string())
+        })?),
+        Some("png") => Ok(crate::output::write_with(path, |tmp| {
+            let root = BitMapBackend::new(tmp, size).into_drawing_area();
+            draw_png(&root).map_err(|e| e.to_string())?;
+            root.present().map_err(|e| e.to_string())
+        })?),
         other => Err(err(format!(
             "unknown image format {:?}: use .svg or .png",
             other.unwrap_or("")
@@ -136,7 +136,7 @@ where
     let mut placed: Vec<(f64, f64)> = vec![];
     let mut methods: Vec<&str> = vec![];
     for r in &ok {
-        if !methods.contains(&r.method.as_str()) {
+        if r.method != AUTO && !methods.contains(&r.method.as_str()) {
             methods.push(&r.method);
         }
     }
@@ -178,6 +178,23 @@ where
                 EmptyElement::at((r.median_time_s, err(r))) + Text::new(label, (12, -6), style),
             ))?;
         }
+    }
+    // auto's choices: a black triangle each, labelled with its tolerance.
+    let autos: Vec<&&SpeedAccuracyRow> = ok.iter().filter(|r| r.method == AUTO).collect();
+    if !autos.is_empty() {
+        chart
+            .draw_series(
+                autos
+                    .iter()
+                    .map(|r| TriangleMarker::new((r.median_time_s, err(r)), 9, BLACK.filled())),
+            )?
+            .label("auto's choice at a tolerance (its search's whole time)")
+            .legend(|(x, y)| TriangleMarker::new((x + 8, y), 7, BLACK.filled()));
+        let style = ("sans-serif", 12).into_font().color(&BLACK);
+        chart.draw_series(autos.iter().map(|r| {
+            let label = r.setting.split(':').next().unwrap_or("").to_string();
+            EmptyElement::at((r.median_time_s, err(r))) + Text::new(label, (-10, 10), style.clone())
+        }))?;
     }
     chart
         .configure_series_labels()

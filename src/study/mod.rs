@@ -8,6 +8,8 @@
 //!   [`reference_displacement`] (the same rod driven by the file's cable displacements, lengths
 //!   along the routed path) for displacement-driven ones — the paper's cases give both inputs,
 //!   and they do not describe the same shape, so each model is judged on its own input.
+//!   `auto` adds one row per tolerance ([`AUTO_TOLERANCES`]): its choice, timed with its whole
+//!   search, judged against the rod driven by the input it chose; the chart marks them.
 //! * [`stability`]: a grid over the inputs of two cables, each method solved cold and with
 //!   continuation along the rows (warm start from the previous grid point of the row);
 //!   every point is `ok` or a named failure ([`Status`]; a shape with a non-finite number or
@@ -73,12 +75,9 @@ pub enum StudyError {
     Invalid(String),
 }
 
-/// Write a text file, naming the path on failure.
+/// Write a text file atomically ([`crate::output`]), naming the path on failure.
 pub fn write_text(path: &std::path::Path, text: &str) -> Result<(), StudyError> {
-    std::fs::write(path, text).map_err(|e| StudyError::Io {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    })
+    Ok(crate::output::write_file(path, text.as_bytes())?)
 }
 
 /// The registered methods named in study options (an unknown name is an error).

@@ -7,10 +7,11 @@ use super::{
 };
 use crate::error::SolveError;
 use crate::method::run::SolveRequest;
-use crate::method::{MethodKind, Solver};
+use crate::method::{MethodKind, Settings, Solver};
 use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::progress::ProgressHandle;
+use crate::shape::Shape;
 use std::time::Instant;
 
 /// One method at one resolution setting.
@@ -69,7 +70,8 @@ pub struct SpeedAccuracyRow {
 pub struct SpeedAccuracyOptions {
     /// Solves per setting; the median time is reported.
     pub repeats: usize,
-    /// Methods to study (default: every registered method).
+    /// Methods to study (default: every registered method and [`AUTO`]); [`AUTO`] adds a row
+    /// per tolerance of [`AUTO_TOLERANCES`].
     pub methods: Vec<String>,
     /// Where progress goes (one step per method variant; the note names the variant).
     pub progress: ProgressHandle,
@@ -79,7 +81,10 @@ impl Default for SpeedAccuracyOptions {
     fn default() -> Self {
         SpeedAccuracyOptions {
             repeats: 5,
-            methods: all_method_names(),
+            methods: all_method_names()
+                .into_iter()
+                .chain([AUTO.to_string()])
+                .collect(),
             progress: ProgressHandle::none(),
         }
     }
@@ -100,68 +105,61 @@ pub fn speed_accuracy(
     let reference_disp = checked(reference_displacement())
         .solve(&model.robot, &model.actuation, &scene, None)
         .ok();
-    let mut rows = vec![];
-    let all = method_kinds(&opts.methods)?
+    let refs = (&reference, reference_disp.as_ref());
+    let (want_auto, names): (Vec<String>, Vec<String>) =
+        opts.methods.iter().cloned().partition(|m| m == AUTO);
+    let all = method_kinds(&names)?
         .into_iter()
         .map(variants)
         .collect::<Result<Vec<_>, _>>()?;
+    let autos: &[f64] = if want_auto.is_empty() {
+        &[]
+    } else {
+        &AUTO_TOLERANCES
+    };
     let bar = &opts.progress;
     bar.start(
         "speed-accuracy",
-        Some(all.iter().map(Vec::len).sum::<usize>() as u64),
+        Some((all.iter().map(Vec::len).sum::<usize>() + autos.len()) as u64),
     );
-    for vs in all {
-        for v in vs {
-            bar.note(|| format!("{} {}", v.method, v.setting));
-            bar.advance(1);
-            let mut times = vec![];
-            let mut last = None;
-            for _ in 0..opts.repeats.max(1) {
-                let t = Instant::now();
-                // Timed alone; the shape kept is checked below.
-                let r = v
-                    .solver
-                    .solve_unchecked(&model.robot, &model.actuation, &scene, None);
-                times.push(t.elapsed().as_secs_f64());
-                let failed = r.is_err();
-                last = Some(r);
-                if failed {
-                    break;
-                }
-            }
-            times.sort_by(f64::total_cmp);
-            let last = last.unwrap_or_else(|| {
-                Err(SolveError::InvalidInput {
-                    field: "repeats".into(),
-                    reason: "no solve ran".into(),
-                })
-            });
-            let o = outcome(crate::check::checked(&model.robot, last));
-            let by_disp = v.input == Input::Shortening;
-            let refer = if by_disp {
-                reference_disp.as_ref()
-            } else {
-                Some(&reference)
-            };
-            let (tip, rms) = match (&o.shape, refer) {
-                (Some(s), Some(r)) => (s.tip_distance(r), s.rms_distance(r).unwrap_or(f64::NAN)),
-                _ => (f64::NAN, f64::NAN),
-            };
-            rows.push(SpeedAccuracyRow {
-                method: v.method.clone(),
-                setting: v.setting.clone(),
-                median_time_s: if o.shape.is_some() {
-                    times[times.len() / 2]
-                } else {
-                    f64::NAN
-                },
-                tip_error_m: tip,
-                rms_error_m: rms,
-                iterations: o.iterations,
-                status: o.status,
-                reference: if by_disp { "displacement" } else { "force" }.into(),
-            });
-        }
+    let mut rows = vec![];
+    for v in all.iter().flatten() {
+        bar.note(|| format!("{} {}", v.method, v.setting));
+        bar.advance(1);
+        let (times, last) = timed(opts.repeats, || {
+            v.solver
+                .solve_unchecked(&model.robot, &model.actuation, &scene, None)
+        });
+        let by_disp = v.input == Input::Shortening;
+        rows.push(row(
+            model, &v.method, &v.setting, times, last, by_disp, refs,
+        ));
+    }
+    for &t in autos {
+        bar.note(|| format!("auto {:.3} mm", t * 1e3));
+        bar.advance(1);
+        let settings = Settings::new();
+        let (times, last) = timed(opts.repeats, || {
+            crate::method::auto::choose(&model.robot, &model.actuation, &scene, t, &settings)
+        });
+        // The choice's input decides which rod it is judged against.
+        let chosen = last
+            .as_ref()
+            .ok()
+            .and_then(|s| crate::method::auto::settled(s, &settings));
+        let by_disp = chosen
+            .as_ref()
+            .is_some_and(|r| r.method.input_with(&r.settings) == Input::Shortening);
+        let setting = match (&last, &chosen) {
+            (Ok(s), Some(_)) => format!(
+                "tol {} mm: {} {}",
+                t * 1e3,
+                s.method,
+                s.report.auto.as_ref().map_or("", |a| a.setting.as_str())
+            ),
+            _ => format!("tol {} mm", t * 1e3),
+        };
+        rows.push(row(model, AUTO, &setting, times, last, by_disp, refs));
     }
     bar.finish();
     Ok(rows)
@@ -181,6 +179,63 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
                 })
         })
         .collect()
+}
+
+/// The pseudo-method name that adds `auto`'s choices to the study (one row per tolerance of
+/// [`AUTO_TOLERANCES`]), timed with the search it runs (estimates included).
+pub const AUTO: &str = "auto";
+
+/// The tolerances \[m\] at which `auto` is studied: 1 mm, 0.1 mm, 0.01 mm.
+pub const AUTO_TOLERANCES: [f64; 3] = [1e-3, 1e-4, 1e-5];
+
+/// Run `solve` `repeats` times (≥ 1; stops at the first failure): the sorted wall times and
+/// the last answer.
+fn timed(
+    repeats: usize,
+    solve: impl Fn() -> Result<Shape, SolveError>,
+) -> (Vec<f64>, Result<Shape, SolveError>) {
+    let mut times = vec![];
+    loop {
+        let t = Instant::now();
+        let r = solve();
+        times.push(t.elapsed().as_secs_f64());
+        if r.is_err() || times.len() >= repeats.max(1) {
+            times.sort_by(f64::total_cmp);
+            return (times, r);
+        }
+    }
+}
+
+/// One row: the answer checked, its errors against the rod driven by the same input.
+fn row(
+    model: &Model,
+    method: &str,
+    setting: &str,
+    times: Vec<f64>,
+    last: Result<Shape, SolveError>,
+    by_disp: bool,
+    (force, disp): (&Shape, Option<&Shape>),
+) -> SpeedAccuracyRow {
+    let o = outcome(crate::check::checked(&model.robot, last));
+    let refer = if by_disp { disp } else { Some(force) };
+    let (tip, rms) = match (&o.shape, refer) {
+        (Some(s), Some(r)) => (s.tip_distance(r), s.rms_distance(r).unwrap_or(f64::NAN)),
+        _ => (f64::NAN, f64::NAN),
+    };
+    SpeedAccuracyRow {
+        method: method.to_string(),
+        setting: setting.to_string(),
+        median_time_s: if o.shape.is_some() {
+            times[times.len() / 2]
+        } else {
+            f64::NAN
+        },
+        tip_error_m: tip,
+        rms_error_m: rms,
+        iterations: o.iterations,
+        status: o.status,
+        reference: if by_disp { "displacement" } else { "force" }.into(),
+    }
 }
 
 /// Pareto flags of speed–accuracy rows (time against RMS error), one front per reference:

@@ -11,6 +11,7 @@ mod adversarial_cli;
 mod adversarial_counts;
 mod adversarial_files;
 mod adversarial_lies;
+mod adversarial_outputs;
 mod adversarial_robots;
 mod adversarial_self_contact;
 mod adversarial_settings;

@@ -17,3 +17,4 @@ mod urdf;
 mod urdf_mujoco;
 mod urdf_replay;
 mod view;
+mod xml_names;

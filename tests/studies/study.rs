@@ -478,3 +478,24 @@ fn constant_curvature_slack_and_unsupported_routings() {
     // Study inputs name their CSV columns in SI.
     assert_eq!(Input::Tension.csv_name(), "tension_n");
 }
+
+/// `auto`'s rows in the speed–accuracy study: one per tolerance, each judged against the
+/// converged rod driven by the input it chose, and each within its tolerance there.
+#[test]
+fn auto_rows_meet_their_tolerance_against_the_rod() {
+    let opts = study::SpeedAccuracyOptions {
+        progress: ccrkit::progress::ProgressHandle::none(),
+        repeats: 1,
+        methods: vec![study::AUTO.into()],
+    };
+    let rows = study::speed_accuracy(&paper(2), &opts).expect("study runs");
+    assert_eq!(rows.len(), study::AUTO_TOLERANCES.len());
+    for (r, t) in rows.iter().zip(study::AUTO_TOLERANCES) {
+        assert!(r.status.is_ok(), "{r:?}");
+        assert!(
+            r.setting.starts_with(&format!("tol {} mm: ", t * 1e3)),
+            "{r:?}"
+        );
+        assert!(r.tip_error_m <= t, "{} m above {t} m: {r:?}", r.tip_error_m);
+    }
+}

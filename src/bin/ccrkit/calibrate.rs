@@ -3,7 +3,7 @@
 //! `hardware_fit` example does; `--fit` fits the named set alone.
 
 use super::predict::DataArgs;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use ccrkit::calibrate::fit::{calibrate, fitted_toml, FitOptions, FitReport};
 use ccrkit::calibrate::select::{candidates, select, SelectOptions, Selection};
 use ccrkit::{Model, SolveError};
@@ -45,6 +45,14 @@ pub struct CalibrateArgs {
 
 /// Run `ccrkit calibrate`.
 pub fn run(a: CalibrateArgs) -> Result<()> {
+    crate::check_files(
+        &[
+            ("model file", Some(&a.file)),
+            ("--data file", Some(&a.data.data)),
+            ("--scene file", a.data.solve.scene.as_deref()),
+        ],
+        &[("--out file", Some(&a.out))],
+    )?;
     let text = ccrkit::model::read::read_text(&a.file, "model file")?;
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;
@@ -104,8 +112,7 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
         println!("{c}");
         header.push_str(&format!("\nParameter set {c}."));
     }
-    std::fs::write(&a.out, fitted_toml(&text, &rep.model, &header)?)
-        .with_context(|| format!("writing {}", a.out.display()))?;
+    crate::write_out(&a.out, &fitted_toml(&text, &rep.model, &header)?)?;
     println!("wrote {}", a.out.display());
     Ok(())
 }

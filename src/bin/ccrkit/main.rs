@@ -5,8 +5,9 @@ use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
 use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
+mod anatomy;
 mod calibrate;
 mod plan;
 mod predict;
@@ -80,6 +81,9 @@ enum Command {
     Reach(reach::ReachArgs),
     /// A path of actuations to a tip or an actuation, clear of the obstacles.
     Plan(plan::PlanArgs),
+    /// Generated anatomy: a seeded airway tree as one closed mesh.
+    #[command(subcommand)]
+    Anatomy(anatomy::AnatomyCommand),
     /// Roadmaps for repeated `plan` queries.
     #[command(subcommand)]
     Roadmap(roadmap::RoadmapCommand),
@@ -274,6 +278,7 @@ fn run() -> Result<()> {
         Command::Reach(a) => reach::run(a),
         Command::Plan(a) => plan::run(a),
         Command::Roadmap(c) => roadmap::run(c),
+        Command::Anatomy(c) => anatomy::run(c),
         Command::Predict(a) => predict::run(a),
         Command::Calibrate(a) => calibrate::run(a),
         Command::Compare {
@@ -301,6 +306,16 @@ fn run() -> Result<()> {
             out,
         }) => {
             let mode = mode.parse()?;
+            let outs = ccrkit::export::UrdfExport::paths(mode, &out);
+            let outs: Vec<(&str, Option<&Path>)> =
+                outs.iter().map(|(r, p)| (*r, Some(p.as_path()))).collect();
+            check_files(
+                &[
+                    ("model file", Some(&file)),
+                    ("--scene file", solve.scene.as_deref()),
+                ],
+                &outs,
+            )?;
             let request = solve.request(1)?;
             let model = Model::from_file(&file)?;
             let shape = request.run(&model)?.shape;
@@ -325,6 +340,16 @@ fn run() -> Result<()> {
             if let Some(p) = &plot_path {
                 plot::check_path(p)?;
             }
+            check_files(
+                &[
+                    ("model file", Some(&file)),
+                    ("--scene file", solve.scene.as_deref()),
+                ],
+                &[
+                    ("--json file", json.as_deref().map(Path::new)),
+                    ("--plot file", plot_path.as_deref()),
+                ],
+            )?;
             let request = solve.request(repeat)?;
             let model = Model::from_file(&file)?;
             let bar = progress::spinner(&format!("solving with {}", solve.method));
@@ -349,7 +374,7 @@ fn run() -> Result<()> {
                 if j == "-" {
                     println!("{text}");
                 } else {
-                    std::fs::write(&j, text).with_context(|| format!("writing {j}"))?;
+                    write_out(Path::new(&j), &text)?;
                     eprintln!("wrote {j}");
                 }
             }
@@ -413,6 +438,13 @@ fn compare(
     if let Some(p) = plot_path {
         plot::check_path(p)?;
     }
+    check_files(
+        &[
+            ("model file", Some(file)),
+            ("--scene file", scene.map(|p| p.as_path())),
+        ],
+        &[("--plot file", plot_path.map(|p| p.as_path()))],
+    )?;
     let default = [
         "geometric",
         "energy",
@@ -555,6 +587,31 @@ fn error_line(e: &ccrkit::method::estimate::ErrorEstimate) -> String {
         s += &format!("\n        {}", e.note);
     }
     s
+}
+
+/// The files of one run checked before any work: no output is one of the inputs, no two outputs
+/// are one file (`ccrkit::output::RunFiles`). `None` entries are options not given.
+pub(crate) fn check_files(
+    inputs: &[(&str, Option<&Path>)],
+    outputs: &[(&str, Option<&Path>)],
+) -> Result<()> {
+    let mut run = ccrkit::output::RunFiles::new();
+    for (role, p) in inputs {
+        if let Some(p) = p {
+            run.input(role, p);
+        }
+    }
+    for (role, p) in outputs {
+        if let Some(p) = p {
+            run.output(role, p)?;
+        }
+    }
+    Ok(())
+}
+
+/// Write an output file atomically, its folder created (`ccrkit::output::write_file`).
+pub(crate) fn write_out(path: &Path, text: &str) -> Result<()> {
+    Ok(ccrkit::output::write_file(path, text.as_bytes())?)
 }
 
 fn create_dir(out: &PathBuf) -> Result<()> {

@@ -2,7 +2,7 @@
 //! ([`ccrkit::plan::plan`], on a loaded [`ccrkit::plan::roadmap::Roadmap`] when one is given).
 
 use super::reach::{vec3, write_json, InverseArgs};
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use ccrkit::plan::roadmap::Roadmap;
 use ccrkit::plan::{plan, read_actuation, Goal, Plan, PlanOptions};
 use ccrkit::Model;
@@ -43,6 +43,19 @@ pub(crate) struct PlanArgs {
 }
 
 pub(crate) fn run(a: PlanArgs) -> Result<()> {
+    super::check_files(
+        &[
+            ("model file", Some(&a.file)),
+            ("--scene file", a.inverse.scene.as_deref()),
+            ("--to-actuation file", a.to_actuation.as_deref()),
+            ("--from-actuation file", a.from_actuation.as_deref()),
+            ("--roadmap file", a.roadmap.as_deref()),
+        ],
+        &[
+            ("--json file", a.json.as_deref().map(std::path::Path::new)),
+            ("--trajectory file", a.trajectory.as_deref()),
+        ],
+    )?;
     let model = Model::from_file(&a.file)?;
     let request = a.inverse.request(&model)?;
     let goal = match (a.to_tip.is_empty(), &a.to_actuation) {
@@ -69,7 +82,7 @@ pub(crate) fn run(a: PlanArgs) -> Result<()> {
     }
     if let Some(t) = &a.trajectory {
         let csv = p.trajectory_csv(&model)?;
-        std::fs::write(t, csv).with_context(|| format!("writing {}", t.display()))?;
+        super::write_out(t, &csv)?;
         if !quiet {
             eprintln!("wrote {}", t.display());
         }

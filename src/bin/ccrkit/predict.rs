@@ -1,7 +1,7 @@
 //! `ccrkit predict`: every row of a data CSV solved in-process, tips written as CSV.
 
 use super::SolveArgs;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use ccrkit::calibrate::data::{family, unit_scale, DataOptions, Dataset};
 use ccrkit::calibrate::predict::{predict, write_csv, PredictOptions, DEFAULT_CHUNK};
 use ccrkit::calibrate::{aligned_errors, ErrorStats};
@@ -68,6 +68,14 @@ pub struct PredictArgs {
 
 /// Run `ccrkit predict`.
 pub fn run(a: PredictArgs) -> Result<()> {
+    crate::check_files(
+        &[
+            ("model file", Some(&a.file)),
+            ("--data file", Some(&a.data.data)),
+            ("--scene file", a.data.solve.scene.as_deref()),
+        ],
+        &[("--out file", Some(&a.out))],
+    )?;
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;
     let opts = a.data.predict_options(&model)?;
@@ -86,8 +94,7 @@ pub fn run(a: PredictArgs) -> Result<()> {
     if to_stdout {
         print!("{}", write_csv(&rows, unit));
     } else {
-        std::fs::write(&a.out, write_csv(&rows, unit))
-            .with_context(|| format!("writing {}", a.out.display()))?;
+        crate::write_out(&a.out, &write_csv(&rows, unit))?;
     }
     let ok = rows.iter().filter(|r| r.tip.is_ok()).count();
     say(format!(

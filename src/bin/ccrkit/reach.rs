@@ -2,7 +2,7 @@
 //! ([`ccrkit::reach::reach`]), and the arguments `plan` and `roadmap` share.
 
 use super::MethodArg;
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
 use ccrkit::reach::{reach, ReachOptions, Target};
@@ -92,7 +92,7 @@ pub(crate) fn write_json(path: &str, text: &str) -> Result<()> {
     if path == "-" {
         println!("{text}");
     } else {
-        std::fs::write(path, text).with_context(|| format!("writing {path}"))?;
+        super::write_out(std::path::Path::new(path), text)?;
         eprintln!("wrote {path}");
     }
     Ok(())
@@ -109,6 +109,13 @@ pub(crate) fn run(a: ReachArgs) -> Result<()> {
         }
         Some(t.normalize())
     };
+    super::check_files(
+        &[
+            ("model file", Some(&a.file)),
+            ("--scene file", a.inverse.scene.as_deref()),
+        ],
+        &[("--json file", a.json.as_deref().map(std::path::Path::new))],
+    )?;
     let model = Model::from_file(&a.file)?;
     let request = a.inverse.request(&model)?;
     let opts = ReachOptions {

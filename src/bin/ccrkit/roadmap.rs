@@ -50,6 +50,13 @@ pub(crate) fn run(cmd: RoadmapCommand) -> Result<()> {
             neighbours,
             seed,
         } => {
+            super::check_files(
+                &[
+                    ("model file", Some(&file)),
+                    ("--scene file", inverse.scene.as_deref()),
+                ],
+                &[("--out file", Some(&out))],
+            )?;
             let model = Model::from_file(&file)?;
             let request = inverse.request(&model)?;
             let opts = BuildOptions {

@@ -56,7 +56,7 @@ pub(crate) struct SpeedAccuracyArgs {
     /// Solves per setting (median time).
     #[arg(long, default_value_t = 5)]
     repeats: usize,
-    /// Only these methods (comma-separated; default: all).
+    /// Only these methods (comma-separated; default: all, and `auto` at 1, 0.1 and 0.01 mm).
     #[arg(long, value_delimiter = ',')]
     methods: Vec<String>,
 }
@@ -197,7 +197,11 @@ fn speed_accuracy(a: SpeedAccuracyArgs) -> Result<()> {
     create_dir(&out)?;
     let opts = study::SpeedAccuracyOptions {
         repeats,
-        methods: methods_or_all(methods),
+        methods: if methods.is_empty() {
+            study::SpeedAccuracyOptions::default().methods
+        } else {
+            methods
+        },
         progress: crate::progress::handle(),
     };
     let rows = study::speed_accuracy(&model, &opts)?;
@@ -325,6 +329,11 @@ fn workspace(a: WorkspaceArgs) -> Result<()> {
 /// `ccrkit study merge`: workspace shards joined into one CSV.
 fn merge(a: MergeArgs) -> Result<()> {
     let MergeArgs { out, inputs } = a;
+    let ins: Vec<(&str, Option<&std::path::Path>)> = inputs
+        .iter()
+        .map(|p| ("input CSV", Some(p.as_path())))
+        .collect();
+    crate::check_files(&ins, &[("--out file", Some(&out))])?;
     let texts = inputs
         .iter()
         .map(|p| {

@@ -39,6 +39,22 @@ pub struct ViewArgs {
 
 /// Solve, assemble and write the page.
 pub fn run(a: ViewArgs) -> Result<()> {
+    let out = a.out.clone().unwrap_or_else(|| {
+        let stem = a
+            .file
+            .file_stem()
+            .map_or("view".into(), |s| s.to_string_lossy());
+        PathBuf::from(format!("{stem}.html"))
+    });
+    crate::check_files(
+        &[
+            ("model file", Some(&a.file)),
+            ("--scene file", a.scene.as_deref()),
+            ("--plan file", a.plan.as_deref()),
+            ("--sweep file", a.sweep.as_deref()),
+        ],
+        &[("--out file", Some(&out))],
+    )?;
     let extra = a.scene.as_ref().map(Scene::from_file).transpose()?;
     let entries: Vec<String> = if a.method.is_empty() && a.plan.is_none() && a.sweep.is_none() {
         vec![ccrkit::method::MethodKind::DEFAULT.name().into()]
@@ -102,9 +118,6 @@ pub fn run(a: ViewArgs) -> Result<()> {
     } else if a.color_by.is_some() {
         anyhow::bail!("--color-by needs --sweep");
     }
-    let out = a
-        .out
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}.html")));
     view.write(&out)?;
     let c = view.expected();
     eprintln!(

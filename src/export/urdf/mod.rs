@@ -193,36 +193,49 @@ pub struct UrdfExport {
 
 impl UrdfExport {
     /// Write the URDF to `urdf_path` and, when present, the SRDF next to it (same stem,
-    /// `.srdf`) and the joint values (same stem, `.joints.json`). Returns the paths written.
+    /// `.srdf`) and the joint values (same stem, `.joints.json`), each atomically
+    /// ([`crate::output`]). Two of them on one file (`--out a.srdf`) are refused before any is
+    /// written. Returns the paths written.
     pub fn write_files(&self, urdf_path: &Path) -> Result<Vec<PathBuf>, ExportError> {
-        let mut written = Vec::new();
-        write_file(urdf_path, &self.urdf)?;
-        written.push(urdf_path.to_path_buf());
-        if let Some(srdf) = &self.srdf {
-            let p = urdf_path.with_extension("srdf");
-            write_file(&p, srdf)?;
-            written.push(p);
+        let paths = UrdfExport::paths(self.mode, urdf_path);
+        crate::output::RunFiles::new().outputs(&paths)?;
+        let texts = [Some(&self.urdf), self.srdf.as_ref(), self.json.as_ref()];
+        for ((_, p), text) in paths.iter().zip(texts.into_iter().flatten()) {
+            crate::output::write_file(p, text.as_bytes())?;
         }
-        if let Some(json) = &self.json {
-            let p = urdf_path.with_extension("joints.json");
-            write_file(&p, json)?;
-            written.push(p);
+        Ok(paths.into_iter().map(|(_, p)| p).collect())
+    }
+
+    /// The files [`UrdfExport::write_files`] writes in `mode` for `urdf_path`, each with its
+    /// role: the URDF, then in articulated mode the SRDF and the joint values.
+    pub fn paths(mode: UrdfMode, urdf_path: &Path) -> Vec<(&'static str, PathBuf)> {
+        let mut v = vec![("URDF", urdf_path.to_path_buf())];
+        if mode == UrdfMode::Articulated {
+            v.push(("SRDF", urdf_path.with_extension("srdf")));
+            v.push(("joint values", urdf_path.with_extension("joints.json")));
         }
-        Ok(written)
+        v
     }
 }
 
-fn write_file(path: &Path, text: &str) -> Result<(), ExportError> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| ExportError::Io {
-            path: dir.display().to_string(),
-            reason: e.to_string(),
-        })?;
+/// Every name written into the XML is one XML can hold ([`crate::model::name::check_name`]):
+/// the robot's (or the option's) and the cables' (in link names). The XML writers escape
+/// `& < > " '`; a control character or noncharacter cannot be escaped in XML 1.0.
+fn check_names(name: &str, robot: &Robot) -> Result<(), ExportError> {
+    let named = |field: String, s: &str| {
+        crate::model::name::check_name(field.clone(), s).map_err(|e| ExportError::Input {
+            field,
+            reason: match e {
+                crate::ModelError::Invalid { reason, .. } => reason,
+                e => e.to_string(),
+            },
+        })
+    };
+    named("name".into(), name)?;
+    for (i, c) in robot.cables.iter().enumerate() {
+        named(format!("cables[{i}].name"), &c.name)?;
     }
-    std::fs::write(path, text).map_err(|e| ExportError::Io {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    })
+    Ok(())
 }
 
 /// Export `shape` (a solved shape of `robot`) as URDF; see the module docs for the layout.
@@ -233,6 +246,7 @@ pub fn export_urdf(
 ) -> Result<UrdfExport, ExportError> {
     check(shape, robot)?;
     let name = opts.name.clone().unwrap_or_else(|| robot.name.clone());
+    check_names(&name, robot)?;
     let n = robot.sections();
     let disks = &shape.disks;
     let articulated = opts.mode == UrdfMode::Articulated;
