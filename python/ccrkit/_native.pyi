@@ -158,6 +158,7 @@ class Model:
         warm_from: Optional[str] = None,
         estimate: bool = False,
         tolerance: Optional[float] = None,
+        check_unique: bool = False,
         **settings: _Setting,
     ) -> Shape: ...
     def export_urdf(

@@ -32,3 +32,4 @@ mod registry_ranges;
 mod rod_body;
 mod stiffening;
 mod typed_inputs;
+mod unique;

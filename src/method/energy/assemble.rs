@@ -113,6 +113,7 @@ impl Energy {
                 jacobian: sol.sensitivity.jacobian,
                 error_estimate: None,
                 auto: None,
+                unique: None,
                 warm: Some(state),
             },
         }
