@@ -570,15 +570,21 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
             c.obstacle, p[0], p[1], p[2], c.distance, c.multiplier
         );
     }
+    // Each cable's tension and path-length change, whatever drove the solve (the
+    // shortening of a tension-driven solve drives the same shape back).
     for c in &shape.cables {
-        if let Some(t) = c.tension {
-            println!(
-                "cable {}: tension {:.4} N{}",
-                c.name,
-                t,
-                if c.slack { " (slack)" } else { "" }
-            );
-        }
+        let t = c
+            .tension
+            .map_or_else(|| "tension —".to_string(), |t| format!("tension {t:.4} N"));
+        let u = c.shortening.map_or_else(
+            || "shortening —".to_string(),
+            |u| format!("shortening {:.6} mm", u * 1e3),
+        );
+        println!(
+            "cable {}: {t}, {u}{}",
+            c.name,
+            if c.slack { " (slack)" } else { "" }
+        );
     }
     println!(
         "residual {:.2e}, iterations {}, time {:.1} µs (median of {repeat})",
