@@ -143,12 +143,6 @@ impl<'a> Checker<'a> {
         out
     }
 
-    /// Record the outcome of a check of the edge `a`–`b` made earlier under the same space
-    /// and margin (a roadmap's validated edges), so [`Checker::edge`] returns it unchecked.
-    pub fn trust_edge(&mut self, a: &[f64], b: &[f64], check: EdgeCheck) {
-        self.memo.insert(edge_key(a, b), check);
-    }
-
     /// Solve and check `u` (warm-started from `warm`); `None` when it is not admissible.
     pub fn node(&mut self, u: &[f64], warm: Option<&Shape>) -> Option<Node> {
         self.stats.solves += 1;
