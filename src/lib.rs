@@ -17,6 +17,7 @@
 
 #![warn(missing_docs)]
 
+pub mod anatomy;
 pub mod batch;
 pub mod calibrate;
 pub mod check;

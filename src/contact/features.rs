@@ -8,6 +8,31 @@ use nalgebra::{Matrix3, Vector3};
 use parry3d::math::Pose as PPose;
 use parry3d::shape::{Capsule, Cylinder, Segment, Shape as PShape, ShapeType};
 
+/// Which parts of a robot's body meet the world, and the radius of its backbone there: the
+/// one reading of [`crate::model::robot::Body`] that every list of contact features makes
+/// (the energy method's contacts, reach's and plan's clearance).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyParts {
+    /// Spacer disks take part (cylinders of the disk radius and thickness).
+    pub disks: bool,
+    /// Cable runs between disks take part (chords): cables through spacer disks, not cables
+    /// inside the rod (the body covers them).
+    pub cables: bool,
+    /// Radius of the backbone's capsules: [`Robot::body_radius`] \[m\].
+    pub radius: f64,
+}
+
+impl BodyParts {
+    /// The parts of `robot` that meet the world.
+    pub fn of(robot: &Robot) -> BodyParts {
+        BodyParts {
+            disks: robot.has_disks(),
+            cables: robot.body.cables_exposed(),
+            radius: robot.body_radius(),
+        }
+    }
+}
+
 /// A backbone piece from `a` to `b`: a capsule of the backbone radius `radius`.
 pub(crate) fn backbone(a: &Vector3<f64>, b: &Vector3<f64>, radius: f64) -> Capsule {
     Capsule::new(pvec(a), pvec(b), radius)

@@ -261,6 +261,56 @@ pub fn to_obj(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> String {
     s
 }
 
+/// A mesh as binary STL bytes (`stl_io`; coordinates in `f32`, each triangle's normal from
+/// its winding).
+pub fn to_stl(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> Vec<u8> {
+    let f = |p: &Vector3<f64>| stl_io::Vector::new([p.x as f32, p.y as f32, p.z as f32]);
+    let tris: Vec<stl_io::Triangle> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| vertices[i as usize]);
+            let n = (b - a)
+                .cross(&(c - a))
+                .try_normalize(0.0)
+                .unwrap_or_default();
+            stl_io::Triangle {
+                normal: f(&n),
+                vertices: [f(&a), f(&b), f(&c)],
+            }
+        })
+        .collect();
+    let mut bytes = Vec::with_capacity(84 + 50 * tris.len());
+    // Writing into memory cannot fail.
+    let _ = stl_io::write_stl(&mut bytes, tris.iter());
+    bytes
+}
+
+/// Write a mesh to `path` (atomically, [`crate::output::write_file`]): binary STL (`.stl`) or Wavefront OBJ (`.obj`), by the extension.
+pub fn write(
+    path: &Path,
+    vertices: &[Vector3<f64>],
+    triangles: &[[u32; 3]],
+) -> Result<(), MeshError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    let (format, bytes) = match ext.as_deref() {
+        Some("stl") => ("STL", to_stl(vertices, triangles)),
+        Some("obj") => ("OBJ", to_obj(vertices, triangles).into_bytes()),
+        _ => {
+            return Err(MeshError::Write {
+                format: "mesh",
+                reason: format!("{}: ccrkit writes .stl or .obj", path.display()),
+            })
+        }
+    };
+    crate::output::write_file(path, &bytes).map_err(|e| MeshError::Write {
+        format,
+        reason: e.to_string(),
+    })
+}
+
 /// A bent tube (a section of a torus surface, open at both ends) as a triangle mesh: the
 /// centreline is the arc `c(θ) = (R (1 − cos θ), 0, R sin θ)` in the x–z plane, starting at the
 /// origin along +z and bending towards +x with radius `bend_radius` (R), for θ from `theta0` to

@@ -103,6 +103,14 @@ pub enum MeshError {
         /// The volume of its bounding box.
         bounds: f64,
     },
+    /// A mesh file could not be written.
+    #[error("cannot write {format}: {reason}")]
+    Write {
+        /// STL or OBJ.
+        format: &'static str,
+        /// What the file system said.
+        reason: String,
+    },
 }
 
 /// Check a mesh as read: not empty, not too large, finite vertices, every index in range,

@@ -20,22 +20,32 @@
 //! `max(c₀ − δ₀, c₁ − δ₁) ≥ (c₀ + c₁ − κ D)/2`. A sub-interval whose bound is below the
 //! margin is bisected (its midpoint solved and checked) until the bound holds everywhere or a
 //! midpoint is itself too close ([`EdgeCheck::Blocked`]), or the sub-interval is shorter than
-//! [`MIN_STEP`] (refused). κ = [`KAPPA`] = 2: at the resolutions reached here the features
+//! [`MIN_STEP`] in the planners' metric ([`super::metric`]; refused).
+//!
+//! Through a port ([`super::motion`]) the bound is `(c₀ + c₁ − κ D_q − R |Δψ|)/2`: the
+//! rotation's part `R |Δψ|` is exact (a rigid turn about the port axis, `R` the farthest
+//! feature point from the axis), `κ` multiplies only the motion `D_q` of the de-rotated shapes
+//! (backbone matched by arc, as inserting resamples it), and a sub-interval whose insertion
+//! change would let the backbone turn by more than [`super::motion::MAX_TURN`] is bisected
+//! whatever its clearances — the condition under which `κ = 2` covers a point sliding out of
+//! the port along the bent robot (derived there). κ = [`KAPPA`] = 2: at the resolutions reached here the features
 //! move along nearly straight lines, so their path is far shorter than twice the chord; the
 //! tests re-check every planned path on 8× finer interpolations with parry3d.
 
-use crate::reach::{motion_bound, ClosestPair, Space};
+use super::metric::Metric;
+use crate::reach::{ClosestPair, Space};
 use crate::shape::Shape;
 
 /// Safety factor of the Lipschitz estimate (see the module docs).
 pub const KAPPA: f64 = 2.0;
-/// Shortest sub-interval an edge is cut into \[m of actuation\].
+/// Shortest sub-interval an edge is cut into \[m of cable, the planners' metric\].
 pub const MIN_STEP: f64 = 1e-6;
 
 /// A solved, admissible point of the actuation space.
 #[derive(Debug, Clone)]
 pub struct Node {
-    /// Shortenings \[m\], one per cable.
+    /// The point of the actuation space: shortenings \[m\], one per cable, then with a port
+    /// the insertion \[m\] and the rotation \[rad\].
     pub u: Vec<f64>,
     /// Its shape.
     pub shape: Shape,
@@ -92,6 +102,8 @@ pub struct Checker<'a> {
     pub space: &'a Space,
     /// Margin kept from the obstacles \[m\].
     pub margin: f64,
+    /// The distance over the space ([`super::metric`]).
+    pub metric: Metric,
     /// Counters.
     pub stats: Stats,
     /// Edges already checked (either direction): a path's edges are checked when found and
@@ -111,11 +123,17 @@ impl<'a> Checker<'a> {
         Checker {
             space,
             margin,
+            metric: Metric::of(space),
             stats: Stats::default(),
             memo: std::collections::HashMap::new(),
             hint: None,
             samples: None,
         }
+    }
+
+    /// The distance between two points of the space ([`Metric::dist`]) \[m of cable\].
+    pub fn dist(&self, a: &[f64], b: &[f64]) -> f64 {
+        self.metric.dist(a, b)
     }
 
     /// Keep the solved samples of every clear edge checked from now on, so the output stage
@@ -204,7 +222,7 @@ impl<'a> Checker<'a> {
                 pieces: 1,
             };
         }
-        let len = dist(&a.u, &b.u);
+        let len = self.dist(&a.u, &b.u);
         let robot = &self.space.robot;
         let mut certified = f64::INFINITY;
         let mut measured = a.clearance.min(b.clearance);
@@ -217,8 +235,11 @@ impl<'a> Checker<'a> {
             std::collections::VecDeque::from([(a.clone(), b.clone(), len, 0.0, 1.0)]);
         let keep = self.samples.is_some();
         while let Some((n0, n1, l, t0, t1)) = queue.pop_front() {
-            let bound = 0.5
-                * (n0.clearance + n1.clearance - KAPPA * motion_bound(robot, &n0.shape, &n1.shape));
+            let bound = super::motion::motion(robot, &n0.shape, &n1.shape).certified(
+                n0.clearance,
+                n1.clearance,
+                KAPPA,
+            );
             if bound >= self.margin {
                 certified = certified.min(bound);
                 pieces += 1;
@@ -245,13 +266,4 @@ impl<'a> Checker<'a> {
             pieces,
         }
     }
-}
-
-/// Euclidean distance between two actuations \[m\].
-pub fn dist(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y) * (x - y))
-        .sum::<f64>()
-        .sqrt()
 }

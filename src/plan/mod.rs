@@ -19,6 +19,9 @@
 
 mod actuation_file;
 pub mod edge;
+mod insert;
+pub mod metric;
+pub mod motion;
 pub mod roadmap;
 mod roadmap_nodes;
 mod rrt;
@@ -42,7 +45,8 @@ use std::time::Instant;
 /// Where to go.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Goal {
-    /// Shortenings \[m\], one per cable.
+    /// Shortenings \[m\], one per cable, then with a port the insertion \[m\] and the
+    /// rotation \[rad\].
     Actuation(Vec<f64>),
     /// A tip position \[m\] (reached first by least-effort [`crate::reach::reach`]).
     Tip(Vector3<f64>),
@@ -55,13 +59,16 @@ pub struct PlanOptions {
     pub seed: u64,
     /// Margin kept from the obstacles \[m\] (default: the scene's `clearance`).
     pub margin: Option<f64>,
-    /// Largest step of a tree, as a fraction of the largest cable range.
+    /// Largest step of a tree, as a fraction of the limits box's largest extent along one
+    /// unknown, measured in the planners' metric ([`metric`]: with a port, insertion and
+    /// rotation in metres of cable).
     pub step: f64,
     /// Samples before giving up.
     pub max_samples: usize,
     /// Shortcut attempts: edge checks of the greedy shortcut stage (`src/plan/rrt.rs`).
     pub shortcuts: usize,
-    /// Largest actuation change between output waypoints \[m\].
+    /// Largest actuation change between output waypoints, in the planners' metric \[m of
+    /// cable\] ([`metric`]).
     pub output_step: f64,
 }
 
@@ -89,7 +96,8 @@ pub struct PlanStats {
     pub tree_nodes: usize,
     /// Waypoints removed by shortcuts.
     pub shortcut_removed: usize,
-    /// Path length in actuation space before and after shortcuts \[m\].
+    /// Path length in actuation space before and after shortcuts, in the planners' metric
+    /// \[m of cable\].
     pub length_before_m: f64,
     /// After.
     pub length_after_m: f64,
@@ -198,7 +206,9 @@ impl Plan {
     }
 
     /// The path as joint values of the articulated URDF export (`ccrkit export urdf`, same
-    /// joint names), one CSV row per waypoint: `waypoint,<joint>,…`.
+    /// joint names), one CSV row per waypoint: `waypoint,<joint>,…`. Through a port the
+    /// base joints come first: `port_insertion` (the insertion `d` \[m\]) and
+    /// `port_rotation` (the rotation `ψ` \[rad\]), so a URDF client replays them.
     pub fn trajectory_csv(&self, model: &Model) -> Result<String, ExportError> {
         let opts = UrdfOptions {
             mode: UrdfMode::Articulated,
@@ -206,15 +216,24 @@ impl Plan {
             name: None,
         };
         let mut out = String::new();
+        let mut names: Vec<String> = Vec::new();
         for (k, n) in self.waypoints.iter().enumerate() {
             let e = export_urdf(&n.shape, &model.robot, &opts)?;
+            let these: Vec<String> = e.joint_values.iter().map(|j| j.name.clone()).collect();
             if k == 0 {
                 out.push_str("waypoint");
-                for j in &e.joint_values {
+                for j in &these {
                     out.push(',');
-                    out.push_str(&j.name);
+                    out.push_str(j);
                 }
                 out.push('\n');
+                names = these;
+            } else if these != names {
+                // A row must fill the header's columns (a port on some waypoints only).
+                return Err(ExportError::Input {
+                    field: format!("waypoints[{k}]"),
+                    reason: format!("exports joints {these:?}, the first waypoint {names:?}"),
+                });
             }
             out.push_str(&k.to_string());
             for j in &e.joint_values {
@@ -443,12 +462,7 @@ pub fn plan(
         return rm.query(&mut ck, s, g, opts, t0);
     }
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);
-    let range = space
-        .lo
-        .iter()
-        .zip(&space.hi)
-        .map(|(l, h)| h - l)
-        .fold(0.0, f64::max);
+    let range = ck.metric.largest_range(&space.lo, &space.hi);
     let found = rrt::rrt_connect(&mut ck, s, g, opts.step * range, opts.max_samples, &mut rng)
         .map_err(|samples| SolveError::NoPath {
             samples,
@@ -475,7 +489,7 @@ fn fill(
     step: f64,
     samples: usize,
 ) -> Result<(), SolveError> {
-    let pieces = (edge::dist(from, to) / step).ceil().max(1.0) as usize;
+    let pieces = (ck.dist(from, to) / step).ceil().max(1.0) as usize;
     for k in 1..pieces {
         let f = k as f64 / pieces as f64;
         let u: Vec<f64> = from.iter().zip(to).map(|(a, b)| a + f * (b - a)).collect();
@@ -497,7 +511,8 @@ pub(crate) fn finish(
     mut stats: PlanStats,
     t0: Instant,
 ) -> Result<Plan, SolveError> {
-    let length = |p: &[Node]| p.windows(2).map(|w| edge::dist(&w[0].u, &w[1].u)).sum();
+    let metric = ck.metric.clone();
+    let length = |p: &[Node]| p.windows(2).map(|w| metric.dist(&w[0].u, &w[1].u)).sum();
     stats.length_before_m = length(&path);
     stats.shortcut_removed = rrt::shortcut(ck, &mut path, opts.shortcuts);
     stats.length_after_m = length(&path);
@@ -536,7 +551,7 @@ pub(crate) fn finish(
             let from = out[out.len() - 1].u.clone();
             let within = stops[next..]
                 .iter()
-                .take_while(|n| edge::dist(&from, &n.u) <= opts.output_step)
+                .take_while(|n| ck.dist(&from, &n.u) <= opts.output_step)
                 .count();
             if within == 0 {
                 let to = &stops[next].u;

@@ -28,8 +28,17 @@
 //! "The Gaussian sampling strategy for probabilistic roadmap planners", ICRA 1999). Samples
 //! that keep the margin join the roadmap, so it grows along the free space's connected parts
 //! that the uniform phase touched.
+//!
+//! # Through a port
+//!
+//! Nodes are points `[u, d, ψ]` (shortenings, insertion \[m\], rotation \[rad\]), nearest
+//! neighbours and path lengths are measured in the planners' metric ([`super::metric`]), every
+//! [`super::insert::ALONG_EVERY`]-th uniform sample slides the last admissible node along its
+//! insertion, and a query tries the staged insert-first paths ([`super::insert`]) before the
+//! graph.
 
-use super::edge::{dist, Checker, EdgeCheck, Node};
+use super::edge::{Checker, EdgeCheck, Node};
+use super::metric::Metric;
 use super::{finish, Plan, PlanOptions, PlanStats};
 use crate::error::{ModelError, SolveError};
 use crate::method::run::SolveRequest;
@@ -78,7 +87,7 @@ impl Default for BuildOptions {
 /// One roadmap node.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RoadmapNode {
-    /// Shortenings \[m\].
+    /// Shortenings \[m\], then with a port the insertion \[m\] and the rotation \[rad\].
     pub u: Vec<f64>,
     /// Tip \[m\].
     pub tip: [f64; 3],
@@ -141,11 +150,11 @@ fn settings_of(request: &SolveRequest) -> Vec<String> {
 }
 
 /// The `k` nearest of `nodes` to `u` (indices, nearest first).
-fn nearest(nodes: &[RoadmapNode], u: &[f64], k: usize) -> Vec<usize> {
+fn nearest(metric: &Metric, nodes: &[RoadmapNode], u: &[f64], k: usize) -> Vec<usize> {
     let mut d: Vec<(f64, usize)> = nodes
         .iter()
         .enumerate()
-        .map(|(i, n)| (dist(&n.u, u), i))
+        .map(|(i, n)| (metric.dist(&n.u, u), i))
         .collect();
     d.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     d.into_iter().take(k).map(|x| x.1).collect()
@@ -177,7 +186,7 @@ pub fn build(
     let mut edges = Vec::new();
     let mut edge_clearance = Vec::new();
     for i in 0..nodes.len() {
-        for j in nearest(&plain, &nodes[i].u, opts.neighbours + 1) {
+        for j in nearest(&ck.metric, &plain, &nodes[i].u, opts.neighbours + 1) {
             let key = (i.min(j), i.max(j));
             if i == j || !tried.insert(key) {
                 continue;
@@ -228,7 +237,15 @@ fn sample_nodes(
     if space.contains(&own) {
         nodes.extend(ck.node(&own, None));
     }
-    for _ in 0..opts.samples {
+    for i in 1..=opts.samples {
+        // Through a port every few samples slide the last admissible node along its
+        // insertion (`insert.rs`), warm from it.
+        if space.has_port() && i % super::insert::ALONG_EVERY == 0 && !nodes.is_empty() {
+            let last = nodes[nodes.len() - 1].clone();
+            let u = super::insert::along_insertion(space, &last.u, rng);
+            nodes.extend(ck.node(&u, Some(&last.shape)));
+            continue;
+        }
         let u: Vec<f64> = space
             .lo
             .iter()
@@ -271,7 +288,7 @@ fn plain_node(n: &Node) -> RoadmapNode {
     }
 }
 
-/// Dijkstra from node `s` to node `g` over `adj` (lengths in actuation space).
+/// Dijkstra from node `s` to node `g` over `adj` (lengths in the planners' metric).
 fn shortest(adj: &[Vec<(usize, f64)>], s: usize, g: usize) -> Option<Vec<usize>> {
     #[derive(PartialEq)]
     struct Item(f64, usize);
@@ -418,6 +435,9 @@ impl Roadmap {
         if let EdgeCheck::Clear { .. } = ck.edge(&s, &g) {
             return finish(ck, vec![s, g], opts, stats, t0);
         }
+        if let Some(path) = super::insert::staged(ck, &s, &g) {
+            return finish(ck, path, opts, stats, t0);
+        }
         let n = self.nodes.len();
         let (si, gi) = (n, n + 1);
         let mut adj: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n + 2];
@@ -429,9 +449,10 @@ impl Roadmap {
             Some(0) => s.clearance,
             Some(_) => g.clearance,
         };
+        let metric = ck.metric.clone();
         let link = |adj: &mut Vec<Vec<(usize, f64)>>, a: usize, b: usize| {
             let c = clear(a).min(clear(b)).max(1e-6);
-            let w = dist(self.u_of(a, &s, &g), self.u_of(b, &s, &g)) * (1.0 + 1e-3 / c);
+            let w = metric.dist(self.u_of(a, &s, &g), self.u_of(b, &s, &g)) * (1.0 + 1e-3 / c);
             adj[a].push((b, w));
             adj[b].push((a, w));
         };
@@ -510,7 +531,7 @@ impl Roadmap {
         have: &[usize],
     ) -> Vec<usize> {
         let mut out = Vec::new();
-        for j in nearest(&self.nodes, &end.u, 4 * 3) {
+        for j in nearest(&ck.metric, &self.nodes, &end.u, 4 * 3) {
             if have.len() + out.len() >= want {
                 break;
             }

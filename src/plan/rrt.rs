@@ -7,9 +7,12 @@
 //! feature–obstacle pairs and jumps where the closest pair changes, the case that stalls an
 //! optimization-based planner. Both trees grow by steps of at most [`super::PlanOptions::step`]
 //! towards seeded uniform samples in the limits box; each new node is solved warm from its
-//! parent and its edge validated ([`super::edge`]).
+//! parent and its edge validated ([`super::edge`]). Through a port the staged paths that
+//! insert first are tried before any sample, and every [`super::insert::ALONG_EVERY`]-th
+//! sample moves a node of the growing tree along its insertion ([`super::insert`]).
 
-use super::edge::{dist, Checker, EdgeCheck, Node};
+use super::edge::{Checker, EdgeCheck, Node};
+use super::metric::Metric;
 use crate::shape::Shape;
 use rand_core::Rng;
 use rand_xorshift::XorShiftRng;
@@ -31,10 +34,10 @@ impl Tree {
             parent: vec![None],
         }
     }
-    fn nearest(&self, q: &[f64]) -> usize {
+    fn nearest(&self, metric: &Metric, q: &[f64]) -> usize {
         let mut best = (0, f64::INFINITY);
         for (i, n) in self.nodes.iter().enumerate() {
-            let d = dist(&n.u, q);
+            let d = metric.dist(&n.u, q);
             if d < best.1 {
                 best = (i, d);
             }
@@ -60,9 +63,9 @@ enum Ext {
 }
 
 fn extend(ck: &mut Checker, tree: &mut Tree, q: &[f64], step: f64) -> Ext {
-    let n = tree.nearest(q);
+    let n = tree.nearest(&ck.metric, q);
     let from = &tree.nodes[n];
-    let d = dist(&from.u, q);
+    let d = ck.dist(&from.u, q);
     let (target, reached): (Vec<f64>, bool) = if d <= step {
         (q.to_vec(), true)
     } else {
@@ -119,13 +122,28 @@ pub(crate) fn rrt_connect(
             tree_nodes: 2,
         });
     }
+    // Through a port: the staged paths that insert first or bend first (`insert.rs`).
+    if let Some(path) = super::insert::staged(ck, &a.nodes[0], &b.nodes[0]) {
+        let tree_nodes = path.len();
+        return Ok(Found {
+            path,
+            samples: 0,
+            tree_nodes,
+        });
+    }
+    let port = ck.space.has_port();
     let mut swapped = false;
     for s in 1..=max_samples {
-        let q: Vec<f64> = lo
-            .iter()
-            .zip(&hi)
-            .map(|(l, h)| l + unit(rng) * (h - l))
-            .collect();
+        let q: Vec<f64> = if port && s % super::insert::ALONG_EVERY == 0 {
+            // Along the insertion from one of this tree's nodes.
+            let i = (unit(rng) * a.nodes.len() as f64) as usize % a.nodes.len();
+            super::insert::along_insertion(ck.space, &a.nodes[i].u, rng)
+        } else {
+            lo.iter()
+                .zip(&hi)
+                .map(|(l, h)| l + unit(rng) * (h - l))
+                .collect()
+        };
         let new = match extend(ck, &mut a, &q, step) {
             Ext::Trapped => None,
             Ext::Reached(i) | Ext::Advanced(i) => Some(i),

@@ -78,12 +78,29 @@ struct Feature {
     centre: Vector3<f64>,
 }
 
-/// Robot features of `shape` as parry shapes with their poses and bounding boxes.
+/// Robot features of `shape` as parry shapes with their poses and bounding boxes: the parts of
+/// the body that meet the world ([`features::BodyParts`], as the methods' contact code reads
+/// them: spacer disks when it has them, the backbone as capsules of the body radius, cable
+/// chords only for cables outside the rod), and, through a port, only beyond it (the disks,
+/// backbone and cables behind the port lie inside it, where no solve has contact either).
 fn features_of(robot: &Robot, shape: &Shape) -> Vec<Feature> {
     let mut out: Vec<Feature> = Vec::new();
+    let parts = features::BodyParts::of(robot);
+    // The first disk beyond the port; a backbone piece lies in the port when both its ends
+    // do (port-frame z ≤ 0).
+    let first = shape.port.as_ref().map_or(0, |p| p.first_disk);
+    let behind = |x: &Vector3<f64>| {
+        shape.port.as_ref().is_some_and(|p| {
+            let (o, a) = (p.pose.translation.vector, p.pose.rotation * Vector3::z());
+            a.dot(&(x - o)) <= 1e-12
+        })
+    };
     let r = robot.disk_radius;
     let ext = Vector3::repeat(r + robot.disk_thickness);
-    for (k, d) in shape.disks.iter().enumerate() {
+    for (k, d) in shape.disks.iter().enumerate().filter(|_| parts.disks) {
+        if k < first {
+            continue;
+        }
         out.push(Feature {
             label: Label::Disk(k),
             shape: Box::new(features::disk(robot)),
@@ -93,10 +110,13 @@ fn features_of(robot: &Robot, shape: &Shape) -> Vec<Feature> {
             centre: d.position,
         });
     }
-    let rb = robot.backbone.radius();
+    let rb = parts.radius;
     let id = parry3d::math::Pose::IDENTITY;
     for (j, w) in shape.backbone.windows(2).enumerate() {
         let (a, b) = (w[0], w[1]);
+        if behind(&a) && behind(&b) {
+            continue;
+        }
         out.push(Feature {
             label: Label::Backbone(j),
             shape: Box::new(features::backbone(&a, &b, rb)),
@@ -106,8 +126,12 @@ fn features_of(robot: &Robot, shape: &Shape) -> Vec<Feature> {
             centre: 0.5 * (a + b),
         });
     }
-    for (c, cable) in shape.cables.iter().enumerate() {
+    for (c, cable) in shape.cables.iter().enumerate().filter(|_| parts.cables) {
         for (k, w) in cable.points.windows(2).enumerate() {
+            // The chord from disk k to k + 1: beyond the port when disk k + 1 is.
+            if k + 1 < first {
+                continue;
+            }
             let (a, b) = (w[0], w[1]);
             out.push(Feature {
                 label: Label::Cable(c, k + 1),

@@ -30,15 +30,20 @@
 //! backtracked on the exact ℓ1 merit `E(u) + ν (|r| + max(0, margin − d))`, ν = [`MERIT_NU`]
 //! m (above the multipliers: with shortenings of centimetres and tip gains of order one,
 //! the price of the target in effort is ~1e-2 m). Several deterministic starts
-//! ([`ReachOptions::starts`]: every cable pulled a quarter of its range, the middle of the box,
-//! then a Kronecker sequence through it)
-//! guard against local minima; the first that reaches wins. Every descent keeps the best point
-//! it saw; an unreachable target ends with the best of all (smallest residual, then least
-//! effort), its distance, and the reason (which cables the closest answer has at a limit).
+//! ([`ReachOptions::starts`]: every cable pulled a quarter of its range — through a port, at the
+//! model's insertion, then all the way out —, the middle of the box, then a Kronecker sequence
+//! through it) guard against local minima. Every descent keeps the best point it saw; an
+//! unreachable target ends with the best of all (smallest residual, then least effort), its
+//! distance, and the reason (which cables the closest answer has at a limit); when no answer
+//! found can be solved as `ccrkit solve` does, the closest answer is the model's own port
+//! command with every cable at rest.
 //!
-//! The answer is finally solved again exactly as `ccrkit solve` does (cold, through the one
-//! solve path: [`Space::solve_as_cli`]), and `tip_error_m`, the clearance and the tensions are
-//! measured on *that* shape: a reported actuation reproduces the reported tip.
+//! A descent that reaches is confirmed at once by solving its answer exactly as `ccrkit solve`
+//! does (cold, through the one solve path: [`Space::solve_as_cli`]): the search ends only on an
+//! answer that this solve reproduces (a warm-started descent can end where a cold solve from
+//! the straight robot does not converge, or converges to another equilibrium; measured on the
+//! random port robots). `tip_error_m`, the clearance and the tensions are measured on *that*
+//! shape: a reported actuation reproduces the reported tip.
 
 use super::answer::{CableActuation, Reach};
 use super::descend::{residual, Attempt, Ctx};
@@ -100,6 +105,17 @@ impl Default for ReachOptions {
 /// (symmetric about zero) is the straight robot with every cable slack, where the tip does not
 /// depend on the inputs and no step leaves it.
 fn start(space: &Space, s: usize) -> Vec<f64> {
+    // Through a port, the second start is the first with the robot all the way out.
+    let s = match (space.has_port(), s) {
+        (false, _) | (true, 0) => s,
+        (true, 1) => {
+            let mut u = start(space, 0);
+            let k = space.cables();
+            u[k] = space.hi[k];
+            return u;
+        }
+        (true, s) => s - 1,
+    };
     (0..space.dim())
         .map(|c| {
             let (lo, hi) = (space.lo[c], space.hi[c]);
@@ -154,17 +170,17 @@ pub fn reach_in(
         solves: 0,
         exact: false,
         free: false,
+        trust: 1.0,
     };
     let mut found: Vec<Attempt> = Vec::new();
     let (mut iterations, mut starts) = (0, 0);
-    let reached = |f: &[Attempt]| f.iter().any(|a| a.res <= opts.tolerance);
     for s in 0..opts.starts {
         starts += 1;
         if let Some(a) = ctx.descend(&start(space, s)) {
             iterations += a.iterations;
-            found.push(a);
+            found.push(confirm(&mut ctx, model, a));
         }
-        if reached(&found) {
+        if found.iter().any(|a| a.res <= opts.tolerance) {
             break;
         }
     }
@@ -172,7 +188,7 @@ pub fn reach_in(
     // crosses a tube cannot move into it without passing through the wall): then the same
     // starts without the clearance, and a clear search from the first actuation that reaches
     // the target — if that one is clear, the search keeps it (its merit has no violation).
-    if ctx.keep_clear() && !reached(&found) {
+    if ctx.keep_clear() && !found.iter().any(|a| a.res <= opts.tolerance) {
         ctx.free = true;
         let mut seed = None;
         for s in 0..opts.starts {
@@ -188,28 +204,44 @@ pub fn reach_in(
         ctx.free = false;
         if let Some(a) = seed.and_then(|u| ctx.descend(&u)) {
             iterations += a.iterations;
-            ctx.solves += 1;
-            let clear = space
-                .solve(&a.u, None)
-                .ok()
-                .is_some_and(|sh| space.clearance(&sh).is_none_or(|c| c.distance >= margin));
+            let a = confirm(&mut ctx, model, a);
+            let clear = a
+                .cold
+                .as_ref()
+                .is_some_and(|sh| space.clearance(sh).is_none_or(|c| c.distance >= margin));
             if clear {
                 found.push(a);
             }
         }
     }
     // Best first: the smallest residual, then the least effort. The first whose cold solve
-    // (as `ccrkit solve` does) succeeds is the answer; a failed one is passed over.
+    // (as `ccrkit solve` does) succeeds is the answer; a failed one is passed over, and when
+    // every one fails, the model's own port command with every cable at rest (the closest
+    // answer is then the robot as it stands).
     found.sort_by(|a, b| {
         let key = |x: &Attempt| (x.res.max(opts.tolerance * 1e-3), x.effort);
         key(a)
             .partial_cmp(&key(b))
             .unwrap_or(std::cmp::Ordering::Equal)
     });
+    let rest = space.clamp(&space.rest);
+    found.push(Attempt {
+        effort: space.effort(&rest),
+        u: rest,
+        res: f64::INFINITY,
+        iterations: 0,
+        cold: None,
+    });
     let mut last = None;
-    for best in found {
-        ctx.solves += 1;
-        match space.solve_as_cli(model, &best.u) {
+    for mut best in found {
+        let shape = match best.cold.take() {
+            Some(shape) => Ok(shape),
+            None => {
+                ctx.solves += 1;
+                space.solve_as_cli(model, &best.u)
+            }
+        };
+        match shape {
             Ok(shape) => {
                 return finish(
                     space,
@@ -231,6 +263,24 @@ pub fn reach_in(
              the unactuated robot)"
         ),
     }))
+}
+
+/// An attempt that reached the target, confirmed by solving its answer as `ccrkit solve` does
+/// (cold): its residual becomes that solve's (infinite when it fails), so an answer that only
+/// a warm-started solve reproduces does not end the search. Others are returned as they are.
+fn confirm(ctx: &mut Ctx<'_>, model: &Model, mut a: Attempt) -> Attempt {
+    if a.res > ctx.opts.tolerance {
+        return a;
+    }
+    ctx.solves += 1;
+    match ctx.space.solve_as_cli(model, &a.u) {
+        Ok(shape) => {
+            a.res = residual(&shape, ctx.target, ctx.len).norm();
+            a.cold = Some(shape);
+        }
+        Err(_) => a.res = f64::INFINITY,
+    }
+    a
 }
 
 fn check_input(target: &Target, opts: &ReachOptions) -> Result<(), SolveError> {

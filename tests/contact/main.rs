@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod airway;
 mod dense_scenes;
 mod energy_contact_convergence;
 mod geometric_contact;

@@ -7,6 +7,8 @@
 mod common;
 
 mod plan;
+mod plan_port;
 mod reach;
+mod reach_body;
 mod reach_port;
 mod reach_random;

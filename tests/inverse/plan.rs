@@ -41,7 +41,7 @@ fn pv(v: &nalgebra::Vector3<f64>) -> PVec {
 
 /// Smallest distance from the features of `shape` (disks, backbone capsules, cable chords,
 /// built here) to the obstacles.
-fn parry_clearance(model: &Model, shape: &Shape, scene: &Scene) -> f64 {
+pub(crate) fn parry_clearance(model: &Model, shape: &Shape, scene: &Scene) -> f64 {
     let r = &model.robot;
     let mut feats: Vec<(Box<dyn PShape>, Pose)> = Vec::new();
     let y_to_z = nalgebra::Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
@@ -80,7 +80,7 @@ fn parry_clearance(model: &Model, shape: &Shape, scene: &Scene) -> f64 {
 }
 
 /// Every output edge re-solved at 8 interpolations and checked with parry: clearance ≥ margin.
-fn dense_recheck(model: &Model, p: &Plan) -> f64 {
+pub(crate) fn dense_recheck(model: &Model, p: &Plan) -> f64 {
     let space = Space::new(model, &energy(), false).unwrap();
     let mut worst = f64::INFINITY;
     let mut warm: Option<Shape> = None;
@@ -114,7 +114,7 @@ fn dense_recheck(model: &Model, p: &Plan) -> f64 {
 fn waypoints_are_solves(space: &Space, p: &Plan, step: f64) {
     let mut length = 0.0;
     for w in p.waypoints.windows(2) {
-        let d = ccrkit::plan::edge::dist(&w[0].u, &w[1].u);
+        let d = ccrkit::plan::metric::Metric::of(space).dist(&w[0].u, &w[1].u);
         assert!(
             d <= step * (1.0 + 1e-12),
             "waypoints {d:e} m apart, step {step} m"

@@ -7,6 +7,7 @@ use ccrkit::{plot, study, Model, Scene, Shape};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
+mod anatomy;
 mod calibrate;
 mod plan;
 mod predict;
@@ -80,6 +81,9 @@ enum Command {
     Reach(reach::ReachArgs),
     /// A path of actuations to a tip or an actuation, clear of the obstacles.
     Plan(plan::PlanArgs),
+    /// Generated anatomy: a seeded airway tree as one closed mesh.
+    #[command(subcommand)]
+    Anatomy(anatomy::AnatomyCommand),
     /// Roadmaps for repeated `plan` queries.
     #[command(subcommand)]
     Roadmap(roadmap::RoadmapCommand),
@@ -274,6 +278,7 @@ fn run() -> Result<()> {
         Command::Reach(a) => reach::run(a),
         Command::Plan(a) => plan::run(a),
         Command::Roadmap(c) => roadmap::run(c),
+        Command::Anatomy(c) => anatomy::run(c),
         Command::Predict(a) => predict::run(a),
         Command::Calibrate(a) => calibrate::run(a),
         Command::Compare {

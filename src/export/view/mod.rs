@@ -290,6 +290,7 @@ impl View {
                 self.cables
             )));
         }
+        self.check_port(s).map_err(mismatch)?;
         let disks = s
             .disks
             .iter()
@@ -336,6 +337,49 @@ impl View {
                 .collect(),
             port: s.port.as_ref().map(|p| [p.insertion, p.rotation]),
         })
+    }
+
+    /// Why the shape's place in a port does not fit the robot (`Err(reason)`): a port on one
+    /// side only, another port pose, an insertion outside `[0, L]` or a non-finite rotation.
+    fn check_port(&self, s: &Shape) -> Result<(), String> {
+        match (&self.robot.port, &s.port) {
+            (None, None) => Ok(()),
+            (Some(_), None) => Err("the robot has a port, the shape none".into()),
+            (None, Some(_)) => {
+                Err("the shape was solved through a port, the robot has none".into())
+            }
+            (Some(doc), Some(p)) => {
+                let t = p.pose.translation.vector;
+                let q = p.pose.rotation.coords;
+                let same = [t.x, t.y, t.z]
+                    .iter()
+                    .zip(&doc.position)
+                    .chain([q.x, q.y, q.z, q.w].iter().zip(&doc.quaternion))
+                    .all(|(a, b)| (a - b).abs() <= 1e-9);
+                // The same rotation is q or −q.
+                let flipped = [q.x, q.y, q.z, q.w]
+                    .iter()
+                    .zip(&doc.quaternion)
+                    .all(|(a, b)| (a + b).abs() <= 1e-9);
+                if !(same
+                    || flipped
+                        && (0..3).all(|i| ([t.x, t.y, t.z][i] - doc.position[i]).abs() <= 1e-9))
+                {
+                    return Err("the shape's port pose is not the robot's".into());
+                }
+                let len = self.robot.length;
+                if !(p.insertion.is_finite() && (-1e-9..=len + 1e-9).contains(&p.insertion)) {
+                    return Err(format!(
+                        "insertion {} m outside [0, {len}] m (the robot's length)",
+                        p.insertion
+                    ));
+                }
+                if !p.rotation.is_finite() {
+                    return Err(format!("rotation {} rad is not finite", p.rotation));
+                }
+                Ok(())
+            }
+        }
     }
 
     /// The counts the page reports once drawn (its `window.ccrkitScene`).

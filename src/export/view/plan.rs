@@ -1,6 +1,10 @@
 //! Plans for the view: the JSON `ccrkit plan` writes: an object whose `waypoints`
 //! each carry a `shape` in the format of [`Shape::to_json`](crate::shape::Shape::to_json);
-//! other fields (actuation, statistics, clearance) are not needed to draw and are skipped.
+//! other fields (actuation, statistics, clearance) are not needed to draw and are skipped,
+//! except a waypoint's `insertion` \[m\] and `rotation` \[rad\] (robots with a port), which
+//! must be finite and be the shape's own (a hand-edited plan whose base values and shapes
+//! disagree is refused by waypoint); the view then checks each shape against the robot
+//! (disks, cables, port pose, insertion within `[0, L]`).
 
 use super::ExportError;
 use crate::shape::{Shape, ShapeJson};
@@ -14,6 +18,35 @@ struct PlanFile {
 #[derive(Deserialize)]
 struct Waypoint {
     shape: ShapeJson,
+    #[serde(default)]
+    insertion: Option<f64>,
+    #[serde(default)]
+    rotation: Option<f64>,
+}
+
+/// Why waypoint `k`'s `insertion` / `rotation` disagree with its shape's port (`None`: they
+/// agree, or neither is given).
+fn base_mismatch(k: usize, given: [Option<f64>; 2], shape: &Shape) -> Option<ExportError> {
+    let port = shape.port.as_ref().map(|p| (p.insertion, p.rotation));
+    [("insertion", given[0]), ("rotation", given[1])]
+        .into_iter()
+        .enumerate()
+        .find_map(|(i, (key, given))| {
+            let given = given?;
+            let field = format!("waypoints[{k}].{key}");
+            let reason = match port {
+                _ if !given.is_finite() => format!("{given} is not finite"),
+                None => "given, but the waypoint's shape was solved without a port".into(),
+                Some(p) => {
+                    let own = if i == 0 { p.0 } else { p.1 };
+                    if (own - given).abs() <= 1e-12 * own.abs().max(1.0) {
+                        return None;
+                    }
+                    format!("{given} differs from the shape's own {own}")
+                }
+            };
+            Some(ExportError::Input { field, reason })
+        })
 }
 
 /// The waypoint shapes of a plan, in order.
@@ -32,12 +65,18 @@ pub fn read_plan(text: &str) -> Result<Vec<Shape>, ExportError> {
         .into_iter()
         .enumerate()
         .map(|(k, w)| {
-            w.shape
+            let given = [w.insertion, w.rotation];
+            let shape = w
+                .shape
                 .into_shape(&format!("waypoints[{k}].shape"))
                 .map_err(|e| ExportError::Input {
                     field: e.field().unwrap_or("plan").to_string(),
                     reason: e.to_string(),
-                })
+                })?;
+            match base_mismatch(k, given, &shape) {
+                Some(e) => Err(e),
+                None => Ok(shape),
+            }
         })
         .collect()
 }

@@ -266,7 +266,8 @@ impl<'a> World<'a> {
         let robot = self.robot;
         let m = self.m;
         let nsub = kin.pos.len() - 1;
-        let rb = robot.body_radius();
+        let parts = features::BodyParts::of(robot);
+        let rb = parts.radius;
         let (rd, ht) = (robot.disk_radius, robot.disk_thickness / 2.0);
         let identity = PPose::IDENTITY;
         for j in 1..=nsub {
@@ -282,11 +283,7 @@ impl<'a> World<'a> {
         let disk = features::disk(robot);
         // A rod without spacer disks has stations, no disks; cables inside the rod are inside
         // its body (which meets the world for them).
-        let disks = if robot.has_disks() {
-            robot.sections()
-        } else {
-            0
-        };
+        let disks = if parts.disks { robot.sections() } else { 0 };
         for k in 1..=disks {
             let f = k * m;
             q.feature(
@@ -297,7 +294,7 @@ impl<'a> World<'a> {
                 Ends::Rigid(f),
             );
         }
-        let exposed = robot.body.cables_exposed();
+        let exposed = parts.cables;
         for (c, cable) in robot.cables.iter().enumerate().filter(|_| exposed) {
             for i in 1..=cable.ends_at {
                 let (fa, fb) = ((i - 1) * m, i * m);

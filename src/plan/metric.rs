@@ -1,0 +1,87 @@
+//! The distance the planners measure in the actuation space `x = [u₁ … u_k, d, ψ]`
+//! (shortenings \[m\], and with a port the insertion \[m\] and rotation \[rad\]).
+//!
+//! # The metric
+//!
+//! `dist(x, y) = √(Σ_i (w_i (x_i − y_i))²)` \[m of cable\], with `w` the effort's scales
+//! ([`crate::reach::Space::weights`]: 1 per cable, `ρ_d` = [`crate::reach::INSERTION_SCALE`]
+//! for the insertion, `ρ_ψ` = the mean hole radius \[m/rad\] for the rotation). Its square is
+//! reach's effort of moving from `x` to `y`, so the planners and `reach` price a metre of
+//! insertion and a radian of turn alike, in metres of cable (one scale, defined once in
+//! `reach`): a turn by `ψ` counts as the arc `r̄ ψ` a cable hole travels, and a metre of
+//! insertion as a tenth of a metre of cable.
+//!
+//! Why this and not the plain Euclidean norm over mixed units: without scales a radian would
+//! count as a metre of cable (about 100 times a cable's range), so nearest neighbours, tree
+//! steps and path lengths would be decided by the rotation alone; with them, moving the tip by
+//! about the same distance costs about the same whichever input moves it.
+//!
+//! It is a metric: `W = diag(w)` with every `w_i > 0` (a scale below [`MIN_WEIGHT`] — a robot
+//! whose holes all lie on the axis — is raised to it) makes `dist(x, y) = |W (x − y)|₂` a norm
+//! of the difference: zero only for `x = y`, symmetric, and the triangle inequality holds
+//! (`tests/inverse/plan_port.rs` checks the three on random points). Without a port every
+//! weight is 1 and it is the Euclidean distance the planners measured before.
+
+use crate::reach::Space;
+
+/// Smallest scale of one unknown \[m per unit\], so the distance stays a metric.
+pub const MIN_WEIGHT: f64 = 1e-9;
+
+/// The planners' distance over one actuation space (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Metric {
+    weights: Vec<f64>,
+}
+
+impl Metric {
+    /// The metric of `space` (its effort's scales).
+    pub fn of(space: &Space) -> Metric {
+        Metric::new(space.weights.clone())
+    }
+
+    /// The metric with scales `weights` (each raised to at least [`MIN_WEIGHT`]; a
+    /// non-finite scale is taken as 1).
+    pub fn new(weights: Vec<f64>) -> Metric {
+        Metric {
+            weights: weights
+                .into_iter()
+                .map(|w| {
+                    if w.is_finite() {
+                        w.max(MIN_WEIGHT)
+                    } else {
+                        1.0
+                    }
+                })
+                .collect(),
+        }
+    }
+
+    /// The scales, one per unknown.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// The distance between `a` and `b` \[m of cable\] (unknowns beyond the scales count
+    /// with scale 1).
+    pub fn dist(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .enumerate()
+            .map(|(i, (x, y))| {
+                let w = self.weights.get(i).copied().unwrap_or(1.0);
+                (w * (x - y)).powi(2)
+            })
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    /// The largest extent of the box `lo … hi` along one unknown, measured in the metric
+    /// \[m of cable\]: the planners' steps are fractions of it.
+    pub fn largest_range(&self, lo: &[f64], hi: &[f64]) -> f64 {
+        lo.iter()
+            .zip(hi)
+            .enumerate()
+            .map(|(i, (l, h))| self.weights.get(i).copied().unwrap_or(1.0) * (h - l))
+            .fold(0.0, f64::max)
+    }
+}
