@@ -146,7 +146,7 @@ impl<'a> Checker<'a> {
 
     /// The kept samples strictly inside the edge from `a` to `b` (checked clear before, in
     /// either direction), as (parameter from `a` in (0, 1), node), in order from `a`; empty when
-    /// none were kept (a trusted roadmap edge, or samples not kept).
+    /// none were kept.
     pub fn samples_along(&self, a: &[f64], b: &[f64]) -> Vec<(f64, &Node)> {
         let key = edge_key(a, b);
         let Some(list) = self.samples.as_ref().and_then(|m| m.get(&key)) else {
