@@ -2,7 +2,9 @@
 //! helical, tied at the tip or at inner disks, targets made by shortenings or by tensions):
 //! success rate (forward-checked to 1e-6 m) and the median and worst time of a reach.
 //!
-//! `cargo run --release --example reach_random_ports [COUNT]` (default 200 robots)
+//! `cargo run --release --example reach_random_ports [COUNT] [FIRST_SEED] [tension]` (default
+//! 200 robots from seed 1; `tension`: search tensions within `[0, T_max]` N instead of
+//! shortenings, `reach_measure::measure_tensions`)
 
 #[path = "common/reach_measure.rs"]
 mod reach_measure;
@@ -12,11 +14,21 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(200);
+    let first: u64 = std::env::args()
+        .nth(2)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(1);
+    let tension = std::env::args().nth(3).as_deref() == Some("tension");
     let mut out = Vec::new();
-    let mut seed = 0;
+    let mut seed = first - 1;
     while (out.len() as u64) < count {
         seed += 1;
-        if let Some(o) = reach_measure::measure(seed) {
+        let o = if tension {
+            reach_measure::measure_tensions(seed)
+        } else {
+            reach_measure::measure(seed)
+        };
+        if let Some(o) = o {
             if !o.ok {
                 println!(
                     "robot {} ({} cables, {}): not reached, {:.2e} m away: {}",

@@ -123,6 +123,11 @@ pub struct SolveReport {
     /// What `auto` chose for this answer and what that cost ([`crate::method::auto`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub auto: Option<crate::method::auto::AutoReport>,
+    /// Whether the answer is the only equilibrium found along other paths, when asked for
+    /// ([`SolveRequest::check_unique`](crate::method::run::SolveRequest), `--check unique`;
+    /// [`crate::method::unique`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unique: Option<crate::method::unique::UniqueReport>,
     /// Method-specific solver state for warm starts (not serialized).
     #[serde(skip)]
     pub warm: Option<WarmState>,

@@ -5,6 +5,10 @@
 //! when it says reached and its answer, solved forward as `ccrkit solve` does, puts the tip
 //! within 1e-6 m of the target. Shared by `examples/reach_random_ports.rs` (timing) and
 //! `tests/inverse/reach_random.rs` (rate).
+//!
+//! In tension space ([`measure_tensions`]): the same robots with tension limits `[0, T_max]`,
+//! searched by `energy` under `control = force`, targets the tips of random tensions within
+//! them at a random insertion and rotation.
 
 use ccrkit::actuation::{Actuation, CableDrive};
 use ccrkit::method::run::SolveRequest;
@@ -13,6 +17,13 @@ use ccrkit::reach::{reach, ReachOptions, Space, Target};
 use ccrkit::Model;
 use ccrkit_test_support::port_robots::port_robot;
 use ccrkit_test_support::rng::Rng;
+
+/// The request of the tension-space measurement: `energy` under `control = force`.
+pub fn by_tension() -> SolveRequest {
+    let mut s = Settings::new();
+    s.push("control", "force");
+    SolveRequest::new(MethodKind::Energy).with_settings(s)
+}
 
 /// One robot's outcome.
 pub struct Outcome {
@@ -52,13 +63,7 @@ fn target(model: &Model, space: &Space, rng: &mut Rng, tension: Option<f64>) -> 
                 insertion: Some(x[k]),
                 rotation: Some(x[k + 1]),
             };
-            let mut s = Settings::new();
-            s.push("control", "force");
-            let shape = SolveRequest::new(MethodKind::Energy)
-                .with_settings(s)
-                .run(&m)
-                .ok()?
-                .shape;
+            let shape = by_tension().run(&m).ok()?.shape;
             let inside = shape.cables.iter().enumerate().all(|(c, p)| {
                 p.shortening
                     .is_some_and(|u| u >= space.lo[c] && u <= space.hi[c])
@@ -81,18 +86,50 @@ pub fn measure(seed: u64) -> Option<Outcome> {
     let mut rng = Rng(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) | 1);
     let tension = robot.tension_driven.then_some(robot.max_tension);
     let t = (0..5).find_map(|_| target(&model, &space, &mut rng, tension))?;
+    run(seed, &model, &req, &space, t, robot.tension_driven)
+}
+
+/// Measure robot `seed` in tension space: its cables limited to `[0, T_max]` N, searched by
+/// tension; the target the tip of random tensions within them (`None` when that solve fails).
+pub fn measure_tensions(seed: u64) -> Option<Outcome> {
+    let robot = port_robot(seed);
+    let mut text = robot.toml.clone();
+    let cables = Model::from_toml_str(&text).ok()?.robot.cables.len();
+    for c in 0..cables {
+        text += &format!("[limits.c{c}]\ntension = [0.0, {}]\n", robot.max_tension);
+    }
+    let model = Model::from_toml_str(&text).ok()?;
+    let req = by_tension();
+    let space = Space::new(&model, &req, false).ok()?;
+    let mut rng = Rng(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) | 1);
+    let x: Vec<f64> = (0..space.dim())
+        .map(|c| rng.range(space.lo[c], space.hi[c]))
+        .collect();
+    let tip = space.solve_as_cli(&model, &x).ok()?.tip();
+    run(seed, &model, &req, &space, [tip.x, tip.y, tip.z], true)
+}
+
+/// Reach `t` on `model` and check the answer forward.
+fn run(
+    seed: u64,
+    model: &Model,
+    req: &SolveRequest,
+    space: &Space,
+    t: [f64; 3],
+    tension_driven: bool,
+) -> Option<Outcome> {
     let tip = nalgebra::Vector3::from(t);
     let t0 = std::time::Instant::now();
     let r = reach(
-        &model,
-        &req,
+        model,
+        req,
         &Target { tip, tangent: None },
         &ReachOptions::default(),
     );
     let seconds = t0.elapsed().as_secs_f64();
     let (ok, distance, reason) = match r {
         Ok(r) => {
-            let again = space.solve_as_cli(&model, &r.u).map(|s| s.tip());
+            let again = space.solve_as_cli(model, &r.u).map(|s| s.tip());
             let d = again.map_or(f64::INFINITY, |a| (a - tip).norm());
             (r.reached && d <= 1e-6, d, r.reason)
         }
@@ -101,7 +138,7 @@ pub fn measure(seed: u64) -> Option<Outcome> {
     Some(Outcome {
         seed,
         cables: model.robot.cables.len(),
-        tension_driven: robot.tension_driven,
+        tension_driven,
         ok,
         seconds,
         distance,

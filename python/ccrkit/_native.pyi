@@ -97,6 +97,9 @@ class Shape:
     def tensions(self) -> npt.NDArray[np.float64]:
         """(cables,) tensions [N], NaN where the method computes none."""
     @property
+    def shortenings(self) -> npt.NDArray[np.float64]:
+        """(cables,) path-length change of each cable [m], whatever drove the solve; NaN where none."""
+    @property
     def slack(self) -> List[bool]: ...
     @property
     def contacts(self) -> List[Dict[str, Any]]:
@@ -158,6 +161,7 @@ class Model:
         warm_from: Optional[str] = None,
         estimate: bool = False,
         tolerance: Optional[float] = None,
+        check_unique: bool = False,
         **settings: _Setting,
     ) -> Shape: ...
     def export_urdf(
@@ -202,7 +206,9 @@ class Model:
     ) -> Plan:
         """A clear path of actuations from ``from_actuation`` (default: the file's) to one
         goal, ``to_tip`` [m] or ``to_actuation`` [m]; ``ccrkit plan`` (RRT-Connect, or a query
-        of the ``roadmap`` file). Raises ``NoPath`` when none is found."""
+        of the ``roadmap`` file). Through a port an actuation may end with the insertion [m]
+        and rotation [rad] (default: the file's), and the plan gives them per waypoint. Raises
+        ``NoPath`` when none is found."""
 
 class Reach:
     """The answer of ``Model.reach`` (or the closest one, ``reached == False``)."""
@@ -222,6 +228,12 @@ class Reach:
     @property
     def shorten(self) -> npt.NDArray[np.float64]:
         """(cables,) shortenings [m]."""
+    @property
+    def insertion(self) -> Optional[float]:
+        """Insertion of the answer [m] (None without a port)."""
+    @property
+    def rotation(self) -> Optional[float]:
+        """Rotation of the answer [rad] (None without a port)."""
     @property
     def tensions(self) -> npt.NDArray[np.float64]:
         """(cables,) tensions of the answer [N], NaN where none."""
@@ -251,6 +263,12 @@ class Plan:
     @property
     def shorten(self) -> npt.NDArray[np.float64]:
         """(waypoints, cables) shortenings [m]."""
+    @property
+    def insertion(self) -> Optional[npt.NDArray[np.float64]]:
+        """(waypoints,) insertions [m] (None without a port)."""
+    @property
+    def rotation(self) -> Optional[npt.NDArray[np.float64]]:
+        """(waypoints,) rotations [rad] (None without a port)."""
     @property
     def tips(self) -> npt.NDArray[np.float64]:
         """(waypoints, 3) tips [m]."""

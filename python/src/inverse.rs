@@ -31,22 +31,44 @@ fn vec3(
     Ok(Vector3::new(v[0], v[1], v[2]))
 }
 
-/// One shortening per cable \[m\], named `field`.
+/// One shortening per cable \[m\], then for a robot with a port (`port`) optionally its
+/// insertion \[m\] and rotation \[rad\] (default: the model file's), named `field`.
 fn actuation(
     py: Python<'_>,
     field: &str,
     a: PyArrayLike1<'_, f64, AllowTypeChange>,
-    cables: usize,
+    model: &ccrkit::Model,
 ) -> PyResult<Vec<f64>> {
-    let v = a.as_array().to_vec();
-    if v.len() != cables {
+    let cables = model.robot.cables.len();
+    let mut v = a.as_array().to_vec();
+    let port = model.robot.port.is_some();
+    let fits = v.len() == cables || port && v.len() == cables + 2;
+    if !fits {
+        let want = if port {
+            format!(
+                "{cables} (one per cable) or {} (then insertion [m] and rotation [rad])",
+                cables + 2
+            )
+        } else {
+            format!("{cables}, one per cable")
+        };
         return Err(invalid(
             py,
             field,
-            format!("has {} values, the robot has {cables} cables", v.len()),
+            format!("has {} values, wants {want}", v.len()),
         ));
     }
+    if port && v.len() == cables {
+        let here = ccrkit::plan::actuation_of(model, &model.actuation);
+        v.extend_from_slice(&here[cables..]);
+    }
     Ok(v)
+}
+
+/// The `j`-th unknown of every waypoint, `None` when the plan has no such unknown (no port).
+fn column(plan: &ccrkit::plan::Plan, j: usize) -> Option<Vec<f64>> {
+    (plan.waypoints.iter().all(|n| n.u.len() > j))
+        .then(|| plan.waypoints.iter().map(|n| n.u[j]).collect())
 }
 
 /// The answer of `Model.reach`: the least-effort actuation (Σ shorten² \[m²\]) within the
@@ -89,7 +111,18 @@ impl Reach {
     /// (cables,) shortenings \[m\], in `Model.cables` order.
     #[getter]
     fn shorten<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.inner.u)
+        let k = self.inner.actuation.len().min(self.inner.u.len());
+        PyArray1::from_slice(py, &self.inner.u[..k])
+    }
+    /// Insertion of the answer \[m\] (None without a port).
+    #[getter]
+    fn insertion(&self) -> Option<f64> {
+        self.inner.insertion
+    }
+    /// Rotation of the answer \[rad\] (None without a port).
+    #[getter]
+    fn rotation(&self) -> Option<f64> {
+        self.inner.rotation
     }
     /// (cables,) tensions of the answer's shape \[N\] (NaN where the method computes none).
     #[getter]
@@ -222,8 +255,18 @@ impl Plan {
     fn shorten<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let w = &self.inner.waypoints;
         let k = self.inner.cables.len();
-        let flat: Vec<f64> = w.iter().flat_map(|n| n.u.iter().copied()).collect();
+        let flat: Vec<f64> = w.iter().flat_map(|n| n.u[..k].iter().copied()).collect();
         PyArray1::from_vec(py, flat).reshape([w.len(), k])
+    }
+    /// (waypoints,) insertions \[m\] through the port (None without a port).
+    #[getter]
+    fn insertion<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        column(&self.inner, self.inner.cables.len()).map(|v| PyArray1::from_vec(py, v))
+    }
+    /// (waypoints,) rotations \[rad\] about the port axis (None without a port).
+    #[getter]
+    fn rotation<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        column(&self.inner, self.inner.cables.len() + 1).map(|v| PyArray1::from_vec(py, v))
     }
     /// (waypoints, 3) tips \[m\].
     #[getter]
@@ -321,10 +364,9 @@ pub fn plan(
     request: SolveRequest,
     a: PlanArgs<'_>,
 ) -> PyResult<Plan> {
-    let k = model.robot.cables.len();
     let goal = match (a.to_tip, a.to_actuation) {
         (Some(t), None) => Goal::Tip(vec3(py, "to_tip", t)?),
-        (None, Some(u)) => Goal::Actuation(actuation(py, "to_actuation", u, k)?),
+        (None, Some(u)) => Goal::Actuation(actuation(py, "to_actuation", u, model)?),
         _ => {
             return Err(invalid(
                 py,
@@ -335,7 +377,7 @@ pub fn plan(
     };
     let start = a
         .from_actuation
-        .map(|u| actuation(py, "from_actuation", u, k))
+        .map(|u| actuation(py, "from_actuation", u, model))
         .transpose()?;
     let roadmap = a
         .roadmap

@@ -244,7 +244,9 @@ impl Model {
     /// take is refused.
     /// `method="auto"` picks the cheapest model and resolution whose estimated error is within
     /// `tolerance` [m] (default 1e-4); what it chose is in `report["auto"]`.
-    #[pyo3(signature = (method=None, shorten=None, tension=None, *, insertion=None, rotation=None, steps=1, warm_from=None, estimate=false, tolerance=None, **settings))]
+    /// `check_unique=True` solves the input again along other paths and says whether the answer
+    /// is the only equilibrium found (`report["unique"]`, as `ccrkit solve --check unique`).
+    #[pyo3(signature = (method=None, shorten=None, tension=None, *, insertion=None, rotation=None, steps=1, warm_from=None, estimate=false, tolerance=None, check_unique=false, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
@@ -258,6 +260,7 @@ impl Model {
         warm_from: Option<&str>,
         estimate: bool,
         tolerance: Option<f64>,
+        check_unique: bool,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Shape> {
         let auto = match (method, tolerance) {
@@ -284,6 +287,7 @@ impl Model {
             steps,
             repeat: 1,
             estimate,
+            check_unique,
         };
         let mut actuation = self.actuation(py, shorten, tension)?;
         if insertion.is_some() {

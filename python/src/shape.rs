@@ -116,6 +116,19 @@ impl Shape {
         PyArray1::from_vec(py, t.collect())
     }
 
+    /// Path-length change of every cable \[m\] in robot order (its shortening, whatever
+    /// drove the solve: a tension-driven solve reports the shortening that drives the same
+    /// shape back; NaN where the method computes none).
+    #[getter]
+    fn shortenings<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let u = self
+            .inner
+            .cables
+            .iter()
+            .map(|c| c.shortening.unwrap_or(f64::NAN));
+        PyArray1::from_vec(py, u.collect())
+    }
+
     /// Whether each cable is slack somewhere, in robot order.
     #[getter]
     fn slack(&self) -> Vec<bool> {

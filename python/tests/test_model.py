@@ -192,3 +192,12 @@ def test_pickling(case1, case1_path, tmp_path):
     assert s2.to_json() == s.to_json()
     for k in ("disk_positions", "disk_rotations", "backbone", "tensions"):
         assert np.array_equal(getattr(s, k), getattr(s2, k), equal_nan=True)
+
+
+def test_check_unique_is_the_cli_check():
+    """`check_unique=True` is `ccrkit solve --check unique`: the report's `unique` object."""
+    m = ccrkit.Model.load(str(MODELS / "paper" / "case1.toml"))
+    u = m.solve("energy", check_unique=True).report["unique"]
+    assert u["only"] is True and u["equilibria"] == 1
+    assert u["other_model"]["verdict"] == "agrees"
+    assert "unique" not in m.solve("energy").report

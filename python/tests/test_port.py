@@ -50,3 +50,40 @@ def test_solve_batch_takes_insertion_and_rotation_arrays():
     # Kept through concatenation.
     both = ccrkit.Batch.concat([b, b])
     assert np.array_equal(both.insertion, np.concatenate([insertion, insertion]))
+
+
+BLOCK = MODELS / "port" / "behind_block.toml"
+TARGET = [-0.0585, 0.0429, 0.1353]
+
+
+def test_plan_through_a_port_gives_insertion_and_rotation_per_waypoint():
+    m = ccrkit.Model.load(BLOCK)
+    p = m.plan(to_tip=TARGET)
+    n = len(p.shapes)
+    assert p.shorten.shape == (n, 2)
+    assert p.insertion.shape == (n,) and p.rotation.shape == (n,)
+    # The arrays are the shapes' own base values, and the plan inserts past the block.
+    assert np.array_equal(p.insertion, [s.insertion for s in p.shapes])
+    assert np.array_equal(p.rotation, [s.rotation for s in p.shapes])
+    assert p.insertion[0] == 0.06 and p.insertion.max() > 0.126
+    assert np.allclose(p.tips[-1], TARGET, atol=1e-6)
+    # An actuation may carry the base values; a goal of the wrong length is refused by name.
+    goal = np.concatenate([p.shorten[-1], [p.insertion[-1], p.rotation[-1]]])
+    again = m.plan(to_actuation=goal)
+    assert np.allclose(again.tips[-1], p.tips[-1], atol=1e-9)
+    with pytest.raises(ccrkit.InvalidInput, match="to_actuation"):
+        m.plan(to_actuation=goal[:3])
+    # Without a port, neither.
+    plain = ccrkit.Model.load(MODELS / "paper" / "case1.toml")
+    q = plain.plan(to_actuation=[0.001, 0.0])
+    assert q.insertion is None and q.rotation is None
+
+
+def test_tension_solve_reports_shortenings_that_drive_the_shape_back():
+    m = ccrkit.Model.load(ROD)
+    s = m.solve(tension=[0.8, 0.5, 0.2], insertion=0.09, rotation=0.4)
+    u = s.shortenings
+    assert u.shape == (3,) and (u != 0).all()
+    back = m.solve(shorten=u, insertion=0.09, rotation=0.4)
+    assert np.allclose(back.disk_positions, s.disk_positions, atol=1e-9)
+    assert np.allclose(back.tensions, [0.8, 0.5, 0.2], atol=1e-6)

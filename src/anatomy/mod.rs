@@ -8,6 +8,7 @@
 //! without a hole by construction.
 
 pub mod airway;
+pub mod tasks;
 pub mod tetra;
 
 pub use airway::{AirwayOptions, Branch};

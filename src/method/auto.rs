@@ -2,9 +2,11 @@
 //! this robot, input and scene is within a tolerance.
 //!
 //! The candidates are the registry's resolution ladders, cheapest first: `energy`'s sub-arcs
-//! (2, 3, 4, 6, 8, 12, 16), then the Cosserat rod's fixed RK4 steps (2 … 20 per section)
-//! where `energy` cannot meet the tolerance (its model part, the shear it leaves out, exceeds
-//! it) or cannot solve the problem (a tip moment). On a ladder:
+//! (2, 3, 4, 6, 8, 12, 16); where its model part, the shear it leaves out, exceeds the
+//! tolerance, the same ladder with `shear = on` (the rod's continuum, model part 0,
+//! `energy/shear.rs`: dearer per solve); then the Cosserat rod's fixed RK4 steps (2 … 20 per
+//! section) where `energy` cannot meet the tolerance or cannot solve the problem (a tip
+//! moment, or obstacles with shear). On a ladder:
 //!
 //! 1. the coarsest rung is solved and estimated (one extra solve one rung up or down, without
 //!    stability or Jacobian: `estimate::quiet`); within the tolerance, it is the answer;
@@ -48,18 +50,29 @@ pub struct AutoReport {
     pub cost_s: f64,
 }
 
-/// One rung: the method, its resolution setting and value.
+/// One rung: the method, its resolution setting and value, and (`energy`) whether it models
+/// the shear.
 struct Rung {
     kind: MethodKind,
     name: &'static str,
     n: usize,
     order: f64,
+    shear: bool,
+}
+
+impl Rung {
+    /// What the answer reports as the chosen setting (`sub-arcs=4`, `sub-arcs=4, shear=on`).
+    fn describe(&self) -> String {
+        let shear = if self.shear { ", shear=on" } else { "" };
+        format!("{}={}{shear}", self.name, self.n)
+    }
 }
 
 /// The fixed-step rungs of `kind` from the registry's ladder, coarse to fine. `energy` starts
 /// at 2 sub-arcs: one sub-arc per section takes more Newton steps and is slower than two
-/// (`ccrkit study auto` measures both), and is 2's companion.
-fn ladder(kind: MethodKind) -> Vec<Rung> {
+/// (`ccrkit study auto` measures both), and is 2's companion. `shear`: `energy`'s rungs with
+/// `shear = on`.
+fn ladder(kind: MethodKind, shear: bool) -> Vec<Rung> {
     let (name, order) = match kind {
         MethodKind::Energy => ("sub-arcs", estimate::SUB_ARC_ORDER),
         _ => ("rk4-steps", estimate::RK4_ORDER),
@@ -74,6 +87,7 @@ fn ladder(kind: MethodKind) -> Vec<Rung> {
                 name,
                 n: s.1.parse().ok()?,
                 order,
+                shear,
             })
         })
         .filter(|r| !(kind == MethodKind::Energy && r.n < 2))
@@ -86,13 +100,16 @@ fn rung_settings(rung: &Rung, base: &Settings, control: &str) -> Settings {
     let mut s = Settings::new();
     for (k, v) in base.iter() {
         let k = super::settings::canonical(k);
-        let own = ["sub-arcs", "rk4-steps", "adaptive", "control"].contains(&k.as_str());
+        let own = ["sub-arcs", "rk4-steps", "adaptive", "control", "shear"].contains(&k.as_str());
         if !own && rung.kind.check_setting(&k).is_ok() {
             s.push(k, v);
         }
     }
     s.push("control", control);
     s.push(rung.name, rung.n);
+    if rung.shear {
+        s.push("shear", "on");
+    }
     s
 }
 
@@ -126,7 +143,7 @@ impl Search<'_> {
             .as_ref()
             .is_none_or(|(_, e, _)| bound < e.discretization_m + e.model_m.unwrap_or(0.0));
         if better || met {
-            self.best = Some((shape, est, format!("{}={}", rung.name, rung.n)));
+            self.best = Some((shape, est, rung.describe()));
         }
         met
     }
@@ -160,14 +177,16 @@ impl Search<'_> {
             let ratio = rung.n as f64 / from.n as f64;
             disc =
                 SAFETY * estimate::richardson(shape.tip_distance(&last), ratio, rung.order, true);
-            let (m, note) =
-                estimate::model_estimate(rung.kind, self.robot, self.act, self.scene, &shape, None);
+            let settings = rung_settings(rung, self.base, &self.control);
+            let (m, note) = estimate::model_estimate(
+                rung.kind, &settings, self.robot, self.act, self.scene, &shape, None,
+            );
             let model = m.unwrap_or(0.0);
             let est = ErrorEstimate {
                 bound_m: m.map(|m| m + disc),
                 discretization_m: disc,
                 model_m: m,
-                against: format!("{}={}", from.name, from.n),
+                against: from.describe(),
                 order: rung.order,
                 cost_s: 0.0,
                 note,
@@ -215,12 +234,18 @@ pub fn choose(
     };
     let mut failure = None;
     let mut met = false;
-    for kind in [MethodKind::Energy, MethodKind::Cosserat] {
+    // `energy` without shear, with shear (its model part then 0), the rod.
+    let ladders = [
+        (MethodKind::Energy, false),
+        (MethodKind::Energy, true),
+        (MethodKind::Cosserat, false),
+    ];
+    for (kind, shear) in ladders {
         if let Err(e) = kind.check_support(robot, scene) {
             failure.get_or_insert(e);
             continue;
         }
-        match search.walk(&ladder(kind)) {
+        match search.walk(&ladder(kind, shear)) {
             Ok(true) => {
                 met = true;
                 break;
@@ -272,10 +297,10 @@ pub fn choose(
 pub fn settled(shape: &Shape, base: &Settings) -> Option<SolveRequest> {
     let a = shape.report.auto.as_ref()?;
     let kind = MethodKind::from_name(&a.method)?;
-    let (name, value) = a.setting.split_once('=')?;
-    let rung = ladder(kind)
+    let shear = a.setting.ends_with(", shear=on");
+    let rung = ladder(kind, shear)
         .into_iter()
-        .find(|r| r.name == name && r.n.to_string() == value)?;
+        .find(|r| r.describe() == a.setting)?;
     let control = base.get("control").unwrap_or("displacement");
     Some(SolveRequest::new(kind).with_settings(rung_settings(&rung, base, control)))
 }

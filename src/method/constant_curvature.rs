@@ -216,6 +216,7 @@ impl Method for ConstantCurvature {
                 jacobian: None,
                 error_estimate: None,
                 auto: None,
+                unique: None,
                 warm: None,
             },
         })

@@ -18,7 +18,8 @@
 //!   cables' tensions back) — the rod's shear strain `v⊥ = n⊥ / GA` and axial strain `n·t /
 //!   EA` move the tip by `∫ R K⁻¹ Rᵀ n ds`, summed section by section. `energy` models the
 //!   extension but no shear (the shear part); `constant-curvature` neither (both parts; in
-//!   its regime the force is axial); `cosserat` is the reference (0). `kirchhoff`'s error is
+//!   its regime the force is axial); `energy` with `shear = on` models both (0: the rod's
+//!   continuum, `energy/shear.rs`); `cosserat` is the reference (0). `kirchhoff`'s error is
 //!   not first order in the strains it leaves out (3–15× that estimate on random robots), so
 //!   its model part is the Cosserat rod's distance at the companion resolution. The geometric methods are not a
 //!   mechanical model, and with obstacles, capstan friction or curvature stiffening the rod
@@ -188,9 +189,11 @@ enum ModelPart {
     Unknown,
 }
 
-fn model_part(kind: MethodKind) -> ModelPart {
+fn model_part(kind: MethodKind, settings: &Settings) -> ModelPart {
     match kind {
         MethodKind::Cosserat => ModelPart::Zero,
+        // With `shear = on` it is the rod's continuum (`energy/shear.rs`): nothing left out.
+        MethodKind::Energy if sheared(settings) => ModelPart::FirstOrder(false, false),
         MethodKind::Energy => ModelPart::FirstOrder(true, false),
         // In its regime (straight cables tied at the tip, no loads) the backbone carries only
         // an axial force, whose strain the first-order sum takes exactly.
@@ -198,6 +201,11 @@ fn model_part(kind: MethodKind) -> ModelPart {
         MethodKind::Kirchhoff => ModelPart::RodAtCompanion,
         MethodKind::Geometric | MethodKind::GeometricSquared => ModelPart::Unknown,
     }
+}
+
+/// Whether `energy`'s settings model the shear (`shear = on`; the registry's default is off).
+fn sheared(settings: &Settings) -> bool {
+    settings.get("shear").is_some_and(|v| v.trim() == "on")
 }
 
 /// The model part, to first order in the left-out strains (module docs) \[m\], unscaled.
@@ -257,7 +265,7 @@ pub(crate) fn estimate(
     shape: &Shape,
 ) -> Result<ErrorEstimate, SolveError> {
     let t0 = Instant::now();
-    let part = model_part(kind);
+    let part = model_part(kind, settings);
     let mut rod_gap = None;
     let res = resolution(kind, settings);
     let (discretization, against, order) = match companion(res) {
@@ -293,7 +301,7 @@ pub(crate) fn estimate(
         Resolution::Adaptive(tol) => discretization.max(SAFETY * tol * robot.length()),
         _ => discretization,
     };
-    let (model, note) = model_estimate(kind, robot, act, scene, shape, rod_gap);
+    let (model, note) = model_estimate(kind, settings, robot, act, scene, shape, rod_gap);
     Ok(ErrorEstimate {
         bound_m: model.map(|m| m + discretization),
         discretization_m: discretization,
@@ -319,6 +327,7 @@ pub(crate) fn quiet(kind: MethodKind, s: &mut Settings) {
 /// when it is; `rod_gap` is the Cosserat rod's distance at the companion (for `kirchhoff`).
 pub(crate) fn model_estimate(
     kind: MethodKind,
+    settings: &Settings,
     robot: &Robot,
     act: &Actuation,
     scene: &Scene,
@@ -335,7 +344,7 @@ pub(crate) fn model_estimate(
     } else {
         None
     };
-    let model = match (model_part(kind), unmodelled) {
+    let model = match (model_part(kind, settings), unmodelled) {
         (ModelPart::Zero, _) => Some(0.0),
         (ModelPart::Unknown, _) => {
             note = format!("{kind} is not a mechanical model: the model part is unknown");

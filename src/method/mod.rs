@@ -27,6 +27,7 @@ mod registry;
 pub mod run;
 pub mod settings;
 pub mod solver;
+pub mod unique;
 pub mod warm;
 
 use crate::error::SolveError;

@@ -58,6 +58,10 @@ pub struct SolveRequest {
     /// `auto` with this tolerance \[m\]: the cheapest model and resolution whose estimated
     /// error is within it ([`crate::method::auto`]); `method` is then not used.
     pub auto: Option<f64>,
+    /// Check whether the answer is the only equilibrium found along other paths and from the
+    /// other model's answer ([`crate::method::unique`]: a few extra solves), into
+    /// `report.unique`.
+    pub check_unique: bool,
 }
 
 /// A solved request.
@@ -86,6 +90,7 @@ impl SolveRequest {
             repeat: 1,
             estimate: false,
             auto: None,
+            check_unique: false,
         }
     }
 
@@ -126,6 +131,13 @@ impl SolveRequest {
     /// Builder: estimate each answer's error ([`SolveRequest::estimate`]).
     pub fn with_estimate(mut self, on: bool) -> Self {
         self.estimate = on;
+        self
+    }
+
+    /// Builder: check whether the answer is the only equilibrium found
+    /// ([`SolveRequest::check_unique`]).
+    pub fn with_unique_check(mut self, on: bool) -> Self {
+        self.check_unique = on;
         self
     }
 
@@ -245,6 +257,14 @@ impl SolveRequest {
     /// shape (checked at the output boundary), the scene it was solved in, the median time.
     pub fn run(&self, model: &Model) -> Result<Solved, SolveError> {
         if let Some(t) = self.auto {
+            if self.check_unique {
+                return Err(SolveError::InvalidInput {
+                    field: "check_unique".into(),
+                    reason: "auto chooses among methods: check the method it chose \
+                             (`SolveRequest::resolved`, then `check_unique`)"
+                        .into(),
+                });
+            }
             return self.run_auto(model, t);
         }
         let solver = self.solver()?;
@@ -295,6 +315,9 @@ impl SolveRequest {
         if self.estimate {
             shape.report.error_estimate =
                 Some(solver.estimate(&model.robot, &model.actuation, &scene, &shape)?);
+        }
+        if self.check_unique {
+            shape.report.unique = Some(super::unique::check(self, model, &scene, &shape)?);
         }
         Ok(Solved {
             shape,

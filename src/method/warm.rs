@@ -37,6 +37,8 @@ pub struct EnergyWarm {
     pub multipliers: Vec<f64>,
     /// The Lagrangian Hessian blocks at these strains, when the solve built them.
     pub hessian: Option<EnergyHessian>,
+    /// Shear strains `(γx, γy)` per sub-arc (empty: solved without shear).
+    pub shear: Vec<[f64; 2]>,
 }
 
 /// The energy model's Lagrangian Hessian blocks `K + Σ_c w_c ∇²L_c` (path lengths; row-major

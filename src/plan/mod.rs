@@ -451,7 +451,7 @@ pub fn plan(
 ) -> Result<Plan, SolveError> {
     check_options(opts)?;
     let t0 = Instant::now();
-    let space = Space::new(model, request, false)?;
+    let space = Space::new(model, request, false)?.only_shortenings("plan")?;
     if let Some(rm) = roadmap {
         rm.check_fits(&space, request)?;
     }

@@ -176,7 +176,7 @@ pub fn build(
         });
     }
     let t0 = Instant::now();
-    let space = Space::new(model, request, false)?;
+    let space = Space::new(model, request, false)?.only_shortenings("roadmap")?;
     let margin = opts.margin.unwrap_or(space.margin);
     let mut ck = Checker::new(&space, margin);
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);

@@ -31,8 +31,9 @@ pub struct Reach {
     pub tip_error_m: f64,
     /// Angle between the tip tangent and the target tangent \[rad\], if one was given.
     pub tangent_error_rad: Option<f64>,
-    /// The unknowns: shortenings \[m\], one per cable in robot order, then, with a port, the
-    /// insertion \[m\] and the rotation \[rad\] ([`super::Space`]).
+    /// The unknowns: shortenings \[m\] (tensions \[N\] in tension space), one per cable in
+    /// robot order, then, with a port, the insertion \[m\] and the rotation \[rad\]
+    /// ([`super::Space`]).
     pub u: Vec<f64>,
     /// Insertion `d` \[m\] of a robot with a port.
     pub insertion: Option<f64>,
@@ -40,8 +41,8 @@ pub struct Reach {
     pub rotation: Option<f64>,
     /// The same, named, with tensions.
     pub actuation: Vec<CableActuation>,
-    /// The effort \[m²\]: `Σ u²`, plus the scaled base motion with a port ([`super::Space`],
-    /// "Effort").
+    /// The effort \[m²; N² in tension space\]: `Σ u²`, plus the scaled base motion with a
+    /// port ([`super::Space`], "Effort").
     pub effort_m2: f64,
     /// Clearance of the answer \[m\] (`None` without obstacles).
     pub min_clearance_m: Option<f64>,
@@ -57,6 +58,8 @@ pub struct Reach {
     pub sensitivities: &'static str,
     /// Why the target was not reached (empty when reached).
     pub reason: String,
+    /// True in tension space: `u` and the effort are in newtons ([`super::Space::input`]).
+    pub by_tension: bool,
 }
 
 /// JSON form of a [`Reach`].
@@ -107,11 +110,15 @@ pub struct ReachJson {
 /// The effort measure, named.
 #[derive(Debug, Clone, Serialize)]
 pub struct EffortJson {
-    /// `sum_shorten_squared`, or with a port `sum_shorten_squared_plus_scaled_port_motion`
-    /// ([`super::Space`], "Effort").
-    pub measure: &'static str,
-    /// Value \[m²\].
-    pub value_m2: f64,
+    /// `sum_shorten_squared` (`sum_tension_squared` in tension space), with a port followed by
+    /// `_plus_scaled_port_motion` ([`super::Space`], "Effort").
+    pub measure: String,
+    /// Value \[m²\] (shortenings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value_m2: Option<f64>,
+    /// Value \[N²\] (tension space).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value_n2: Option<f64>,
 }
 
 impl Reach {
@@ -129,12 +136,21 @@ impl Reach {
             insertion: self.insertion,
             rotation: self.rotation,
             effort: EffortJson {
-                measure: if self.insertion.is_some() {
-                    "sum_shorten_squared_plus_scaled_port_motion"
-                } else {
-                    "sum_shorten_squared"
-                },
-                value_m2: self.effort_m2,
+                measure: format!(
+                    "sum_{}_squared{}",
+                    if self.by_tension {
+                        "tension"
+                    } else {
+                        "shorten"
+                    },
+                    if self.insertion.is_some() {
+                        "_plus_scaled_port_motion"
+                    } else {
+                        ""
+                    }
+                ),
+                value_m2: (!self.by_tension).then_some(self.effort_m2),
+                value_n2: self.by_tension.then_some(self.effort_m2),
             },
             min_clearance_m: self.min_clearance_m,
             iterations: self.iterations,

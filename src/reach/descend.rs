@@ -3,6 +3,9 @@
 //!
 //! # Slack cables: released, not differentiated across
 //!
+//! (Shortenings only: in tension space the tip is smooth in the tensions, a slack cable is one
+//! at zero tension, a bound of the QPs, and nothing is released.)
+//!
 //! A cable pulls and never pushes, so the tip is a *kinked* function of the shortenings: a
 //! cable whose path comes out longer than its length minus `u` is slack, and the tip does not
 //! depend on its `u` until it turns taut. The least-effort answer lies on such kinks more often
@@ -138,7 +141,8 @@ impl Ctx<'_> {
         } else {
             0.0
         };
-        (self.space.effort(u) + MERIT_NU * (r + viol), r)
+        let nu = MERIT_NU * self.space.effort_scale;
+        (self.space.effort(u) + nu * (r + viol), r)
     }
 
     /// A released cable's least-effort input that keeps it slack, given its path change `s`
@@ -165,7 +169,10 @@ impl Ctx<'_> {
             self.solves += 1;
             shape = self.space.solve_with(&u, &rel, warm).ok()?;
             let mut resolve = false;
-            for c in 0..u.len() {
+            // In tension space a cable at zero tension is at its bound, not at a kink: the tip
+            // is smooth in the tensions, and nothing is released.
+            let cables = if self.space.by_tension() { 0 } else { u.len() };
+            for c in 0..cables {
                 let s = shape.cables.get(c).and_then(|p| p.shortening);
                 if !(rel[c] || slack(&shape, c)) {
                     continue;
@@ -286,7 +293,7 @@ impl Ctx<'_> {
                     .collect::<Vec<_>>(),
             );
             if let Some(q) = self.eval(un, p.released.clone(), Some(&p.shape), hold) {
-                if alpha == 1.0 {
+                if alpha == 1.0 && !self.space.by_tension() {
                     kinked = (0..p.u.len())
                         .filter(|&c| !p.released[c] && slack(&q.shape, c) && !slack(&p.shape, c))
                         .collect();
@@ -438,7 +445,8 @@ impl Ctx<'_> {
                     .map(|(a, b)| (a - b).abs())
                     .fold(0.0, f64::max);
             let tol = self.opts.tolerance * 1e-2;
-            let done = moved < 1e-13 || (q.res <= tol && p.phi - q.phi < 1e-16);
+            let done =
+                moved < 1e-13 || (q.res <= tol && p.phi - q.phi < 1e-16 * self.space.effort_scale);
             p = q;
             if p.better_than(best) {
                 *best = p.clone();

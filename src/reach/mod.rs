@@ -6,7 +6,9 @@
 //!
 //! # Actuation space
 //!
-//! The unknowns are the shortenings `u` \[m\] of *every* cable of the robot, in robot order,
+//! The unknowns are the inputs `u` of *every* cable of the robot, in robot order — their
+//! shortenings \[m\], or, when the request's method is driven by tension (`energy` with
+//! `control = force`, `cosserat`), their tensions \[N\] ([`Space::input`]: *tension space*) —
 //! each within its range from the model's limits ([`crate::model::limits`]), and, for a robot
 //! deployed through a port ([`crate::model::port`]), its insertion `d` \[m\] and rotation `ψ`
 //! \[rad\] after them, within the port's limits: `x = [u₁ … u_k, d, ψ]`.
@@ -21,7 +23,14 @@
 //! so sliding the whole length in or out costs as much as pulling one cable through its range)
 //! and `ρ_ψ` = the mean hole radius of the cables \[m/rad\] (turning the robot by `ψ` moves
 //! each hole along an arc of `r ψ`, about what a cable pulled to bend it that far moves).
-//! Without a port `E = Σ u²`, as before. A point is
+//! Without a port `E = Σ u²`, as before.
+//!
+//! In tension space the cable terms are squared tensions \[N²\] and the base motion is
+//! priced in newtons by the same rule: a metre of cable is worth `T̄ / (0.1 L)` \[N/m\] (the
+//! default shortening range, a tenth of the cable, against the mean upper tension limit `T̄`),
+//! so `ρ_d = T̄ / L` \[N/m\] and `ρ_ψ = r̄ T̄ / (0.1 L)` \[N/rad\]. A tension space needs a
+//! finite upper tension limit on every cable (`[limits.NAME] tension = [lo, hi]`); the
+//! shortening limits do not bind there (the answer reports each cable's shortening). A point is
 //! solved forward by the requested method (default: `energy`, the displacement-driven
 //! whole-robot model) through the same call `ccrkit solve` makes, so a reported actuation is
 //! a file's `shorten = …` away from the reported shape.
@@ -68,6 +77,9 @@ pub const INSERTION_SCALE: f64 = 0.1;
 pub struct Space {
     /// The robot.
     pub robot: Robot,
+    /// What a cable's unknown is: its shortening \[m\] or its tension \[N\] (the request's
+    /// method input, module docs "Actuation space").
+    pub input: Input,
     /// The method (and settings) every point is solved with.
     pub request: SolveRequest,
     solver: Solver,
@@ -76,9 +88,10 @@ pub struct Space {
     /// Scene handed to each solve: empty when keeping clear, the obstacles when contact is
     /// allowed.
     solve_scene: Scene,
-    /// Lower shortening bound per cable \[m\].
+    /// Lower bound per unknown: shortening \[m\] or tension \[N\] per cable, then insertion
+    /// \[m\] and rotation \[rad\] with a port.
     pub lo: Vec<f64>,
-    /// Upper shortening bound per cable \[m\].
+    /// Upper bound per unknown (as `lo`).
     pub hi: Vec<f64>,
     /// Tension range per cable \[N\].
     pub tension: Vec<[f64; 2]>,
@@ -87,6 +100,9 @@ pub struct Space {
     pub weights: Vec<f64>,
     /// Where the effort of each unknown is zero: 0 per cable, then the model's `(d₀, ψ₀)`.
     pub rest: Vec<f64>,
+    /// The effort's unit in m² of cable: 1 for shortenings, `(T̄ / (0.1 L))²` \[N²/m²\] in
+    /// tension space (module docs, "Effort"); the search's merit prices the target in it.
+    pub effort_scale: f64,
     /// Smallest distance every feature keeps from every obstacle \[m\] (default: the scene's
     /// `clearance`).
     pub margin: f64,
@@ -95,26 +111,15 @@ pub struct Space {
 }
 
 impl Space {
-    /// The actuation space of `model` solved by `request` (its method must be driven by
-    /// shortenings with these settings).
+    /// The actuation space of `model` solved by `request`: shortenings when its method (with
+    /// these settings) is driven by shortening, tensions when it is driven by tension.
     pub fn new(
         model: &Model,
         request: &SolveRequest,
         allow_contact: bool,
     ) -> Result<Space, SolveError> {
         let kind: MethodKind = request.method;
-        if !kind.accepts(Input::Shortening)
-            || kind.input_with(&request.settings) != Input::Shortening
-        {
-            return Err(SolveError::InvalidInput {
-                field: "method".into(),
-                reason: format!(
-                    "reach and plan drive cables by shortening; `{}` with these settings is \
-                     driven by tension",
-                    kind.name()
-                ),
-            });
-        }
+        let input = kind.input_with(&request.settings);
         let solver = request.solver()?;
         let scene = request.scene_for(model);
         let solve_scene = if allow_contact {
@@ -134,16 +139,31 @@ impl Space {
             });
         }
         let k = lim.len();
-        let mut lo: Vec<f64> = lim.iter().map(|l| l.shorten[0]).collect();
-        let mut hi: Vec<f64> = lim.iter().map(|l| l.shorten[1]).collect();
+        let (mut lo, mut hi): (Vec<f64>, Vec<f64>) = match input {
+            Input::Shortening => lim.iter().map(|l| (l.shorten[0], l.shorten[1])).unzip(),
+            Input::Tension => lim.iter().map(|l| (l.tension[0], l.tension[1])).unzip(),
+        };
+        if let Some(c) = hi.iter().position(|h| !h.is_finite()) {
+            return Err(SolveError::InvalidInput {
+                field: format!("limits.{}.tension", model.robot.cables[c].name),
+                reason: format!(
+                    "`{}` drives cables by tension: reach and plan search tensions within \
+                     their limits, and need a finite upper tension limit on every cable",
+                    kind.name()
+                ),
+            });
+        }
         let mut weights = vec![1.0; k];
         let mut rest = vec![0.0; k];
+        let len = model.robot.length();
+        // Newtons per metre of cable in tension space (module docs, "Effort").
+        let per_metre = match input {
+            Input::Shortening => 1.0,
+            Input::Tension => hi.iter().sum::<f64>() / k as f64 / (0.1 * len),
+        };
         if let Some((d0, psi0)) = model.actuation.port_command(&model.robot)? {
-            let len = model.robot.length();
             let ins = model.limits.insertion.unwrap_or([0.0, len]);
             let rot = model.limits.rotation.unwrap_or([-PI, PI]);
-            lo.extend([ins[0], rot[0]]);
-            hi.extend([ins[1], rot[1]]);
             let radius = model
                 .robot
                 .cables
@@ -151,11 +171,14 @@ impl Space {
                 .map(|c| c.radius.iter().sum::<f64>() / c.radius.len().max(1) as f64)
                 .sum::<f64>()
                 / k as f64;
-            weights.extend([INSERTION_SCALE, radius]);
+            lo.extend([ins[0], rot[0]]);
+            hi.extend([ins[1], rot[1]]);
+            weights.extend([INSERTION_SCALE * per_metre, radius * per_metre]);
             rest.extend([d0.clamp(ins[0], ins[1]), psi0.clamp(rot[0], rot[1])]);
         }
         Ok(Space {
             robot: model.robot.clone(),
+            input,
             request: request.clone(),
             solver,
             margin: scene.clearance,
@@ -166,8 +189,30 @@ impl Space {
             tension: lim.iter().map(|l| l.tension).collect(),
             weights,
             rest,
+            effort_scale: per_metre * per_metre,
             allow_contact,
         })
+    }
+
+    /// This space, when it is one of shortenings; for a command that searches shortenings
+    /// only (`command` names it), tension space is refused by name.
+    pub fn only_shortenings(self, command: &str) -> Result<Space, SolveError> {
+        if self.by_tension() {
+            return Err(SolveError::InvalidInput {
+                field: "method".into(),
+                reason: format!(
+                    "{command} drives cables by shortening; `{}` with these settings is driven \
+                     by tension",
+                    self.request.method.name()
+                ),
+            });
+        }
+        Ok(self)
+    }
+
+    /// True in tension space: the cables' unknowns are tensions \[N\].
+    pub fn by_tension(&self) -> bool {
+        self.input == Input::Tension
     }
 
     /// Number of unknowns (cables, then insertion and rotation with a port).
@@ -205,25 +250,26 @@ impl Space {
         self.robot.cables.iter().map(|c| c.name.clone()).collect()
     }
 
-    /// The actuation shortening cable `c` by `u[c]` metres (and, with a port, inserted and
-    /// turned by the last two entries).
+    /// The actuation shortening cable `c` by `u[c]` metres, or pulling it with `u[c]` newtons
+    /// in tension space (and, with a port, inserted and turned by the last two entries).
     pub fn actuation(&self, u: &[f64]) -> Actuation {
         self.actuation_with(u, &[])
     }
 
     /// The actuation shortening cable `c` by `u[c]` metres, except the cables marked in
     /// `released` (shorter slices: none), which are left free: slack, they follow the shape
-    /// (the search's released cables, `reach/descend.rs`).
+    /// (the search's released cables, `reach/descend.rs`; none in tension space).
     pub fn actuation_with(&self, u: &[f64], released: &[bool]) -> Actuation {
         let port = self.port_of(u);
+        let tension = self.by_tension();
         Actuation {
             cables: u[..u.len().min(self.cables())]
                 .iter()
                 .enumerate()
                 .map(|(c, &x)| CableDrive {
-                    shorten: (!released.get(c).copied().unwrap_or(false))
+                    shorten: (!tension && !released.get(c).copied().unwrap_or(false))
                         .then_some(Shortening::Length(x)),
-                    tension: None,
+                    tension: tension.then_some(x),
                     capstan: 0.0,
                 })
                 .collect(),
@@ -302,8 +348,12 @@ impl Space {
         clearance_hinted(&self.robot, shape, &self.scene, hint)
     }
 
-    /// Why `shape`'s cable tensions break the tension limits (`None` when they keep them).
+    /// Why `shape`'s cable tensions break the tension limits (`None` when they keep them;
+    /// always in tension space, where the tensions are the unknowns, within their limits).
     pub fn tension_violation(&self, shape: &Shape) -> Option<String> {
+        if self.by_tension() {
+            return None;
+        }
         shape.cables.iter().enumerate().find_map(|(c, cp)| {
             let t = cp.tension?;
             let [lo, hi] = self.tension[c];

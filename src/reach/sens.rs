@@ -22,8 +22,11 @@ use crate::error::SolveError;
 use crate::shape::Shape;
 use nalgebra::{DMatrix, Vector3};
 
-/// Central-difference step in the shortenings \[m\].
+/// Central-difference step of an unknown: shortening \[m\], insertion \[m\], rotation \[rad\]
+/// (a tension's is [`FD_STEP_TENSION`]).
 pub const FD_STEP: f64 = 1e-6;
+/// Central-difference step of a tension \[N\].
+pub const FD_STEP_TENSION: f64 = 1e-4;
 
 /// Tip sensitivities at one point of the actuation space.
 #[derive(Debug, Clone)]
@@ -48,8 +51,8 @@ fn tangent(shape: &Shape) -> Vector3<f64> {
         .into_owned()
 }
 
-/// The method's own Jacobian, when it has a shortening column for every cable of `space` not
-/// released (a released cable is free: the tip does not depend on its input, a zero column).
+/// The method's own Jacobian, when it has a column of the space's input (shortening or
+/// tension) for every cable of `space` not released (a released cable is free: the tip does not depend on its input, a zero column).
 fn exact(space: &Space, shape: &Shape, released: &[bool]) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
     let j = shape.report.jacobian.as_ref()?;
     let k = space.cables();
@@ -61,7 +64,7 @@ fn exact(space: &Space, shape: &Shape, released: &[bool]) -> Option<(DMatrix<f64
         let col = j
             .inputs
             .iter()
-            .position(|(name, input)| name == &cable.name && input == "shortening")?;
+            .position(|(name, input)| name == &cable.name && input == space.input.name())?;
         for a in 0..3 {
             p[(a, c)] = *j.position.get(col)?.get(a)?;
             t[(a, c)] = *j.tangent.get(col)?.get(a)?;
@@ -127,9 +130,14 @@ pub(super) fn sensitivity_with(
             continue;
         }
         // Central differences, one-sided at a limit (an insertion cannot pass [0, L]).
+        let h = if j < k && space.by_tension() {
+            FD_STEP_TENSION
+        } else {
+            FD_STEP
+        };
         let (up, um) = (
-            (u[j] + FD_STEP).min(space.hi[j].max(u[j])),
-            (u[j] - FD_STEP).max(space.lo[j].min(u[j])),
+            (u[j] + h).min(space.hi[j].max(u[j])),
+            (u[j] - h).max(space.lo[j].min(u[j])),
         );
         if up - um <= 0.0 {
             continue;

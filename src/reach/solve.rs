@@ -29,7 +29,8 @@
 //! robot (`reach/descend.rs`, one descent). Steps are
 //! backtracked on the exact ℓ1 merit `E(u) + ν (|r| + max(0, margin − d))`, ν = [`MERIT_NU`]
 //! m (above the multipliers: with shortenings of centimetres and tip gains of order one,
-//! the price of the target in effort is ~1e-2 m). Several deterministic starts
+//! the price of the target in effort is ~1e-2 m), times [`Space::effort_scale`] in tension
+//! space (the effort is then in N²). Several deterministic starts
 //! ([`ReachOptions::starts`]: every cable pulled a quarter of its range — through a port, at the
 //! model's insertion, then all the way out —, the middle of the box, then a Kronecker sequence
 //! through it) guard against local minima. Every descent keeps the best point it saw; an
@@ -336,8 +337,9 @@ fn finish(
             .filter_map(|c| {
                 let (u, lo, hi) = (best.u[c], space.lo[c], space.hi[c]);
                 let tol = 1e-9 * (hi - lo).max(1e-12);
+                let cable_unit = if space.by_tension() { "N" } else { "m" };
                 let (name, unit) = match space.robot.cables.get(c) {
-                    Some(cable) => (format!("cable `{}`", cable.name), "m"),
+                    Some(cable) => (format!("cable `{}`", cable.name), cable_unit),
                     None if c == space.cables() => ("the insertion".to_string(), "m"),
                     None => ("the rotation".to_string(), "rad"),
                 };
@@ -382,10 +384,22 @@ fn finish(
         .cables
         .iter()
         .enumerate()
-        .map(|(c, cable)| CableActuation {
-            cable: cable.name.clone(),
-            shorten: best.u[c],
-            tension: shape.cables.get(c).and_then(|p| p.tension),
+        .map(|(c, cable)| {
+            let path = shape.cables.get(c);
+            if space.by_tension() {
+                // Tension space: the tension is the input, the shortening what it made.
+                CableActuation {
+                    cable: cable.name.clone(),
+                    shorten: path.and_then(|p| p.shortening).unwrap_or(f64::NAN),
+                    tension: Some(best.u[c]),
+                }
+            } else {
+                CableActuation {
+                    cable: cable.name.clone(),
+                    shorten: best.u[c],
+                    tension: path.and_then(|p| p.tension),
+                }
+            }
         })
         .collect();
     Ok(Reach {
@@ -409,5 +423,6 @@ fn finish(
             (false, _) => "finite-differences",
         },
         reason: reasons.join("; "),
+        by_tension: space.by_tension(),
     })
 }

@@ -203,3 +203,97 @@ impl std::fmt::Display for Comparison {
         Ok(())
     }
 }
+
+/// One row of [`ComparisonJson`].
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct RowJson {
+    /// The method and its settings.
+    pub label: String,
+    /// The input that drove it (`shortening` or `tension`).
+    pub input: String,
+    /// How the solve ended ([`Status`] name).
+    pub status: String,
+    /// The failure message, when it failed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// The tip, base frame \[m\], when it solved.
+    pub tip_m: Option<[f64; 3]>,
+    /// Whether the method found its answer stable, when it says.
+    pub stable: Option<bool>,
+    /// Median solve time \[s\] (`null` when it failed).
+    pub time_s: Option<f64>,
+}
+
+/// One pair of [`ComparisonJson`].
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PairJson {
+    /// The two rows' labels.
+    pub rows: (String, String),
+    /// RMS distance over the disks \[m\].
+    pub rms_m: f64,
+    /// Tip distance \[m\].
+    pub tip_m: f64,
+    /// Both driven by the same kind of input.
+    pub same_input: bool,
+    /// Same input and farther apart than the tolerance (`DISAGREE (same input)` in the text).
+    pub disagree: bool,
+}
+
+/// A comparison as JSON (`ccrkit compare --json`): the rows, every pair with its
+/// disagreement flag, and whether any pair disagrees.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ComparisonJson {
+    /// Model name.
+    pub model: String,
+    /// Tip-distance tolerance of the flag \[m\].
+    pub tolerance_m: f64,
+    /// Some same-input pair disagrees ([`Comparison::any_disagreement`]).
+    pub any_disagreement: bool,
+    /// One per method, in order.
+    pub rows: Vec<RowJson>,
+    /// Every pair of solved rows.
+    pub pairs: Vec<PairJson>,
+}
+
+impl Comparison {
+    /// This comparison as JSON ([`ComparisonJson`]).
+    pub fn to_json(&self) -> ComparisonJson {
+        let rows = self
+            .rows
+            .iter()
+            .map(|r| RowJson {
+                label: r.label.clone(),
+                input: r.input.name().to_string(),
+                status: r.status.name().to_string(),
+                error: r.error.clone(),
+                tip_m: r.shape.as_ref().map(|s| {
+                    let t = s.tip();
+                    [t.x, t.y, t.z]
+                }),
+                stable: r.shape.as_ref().and_then(|s| s.report.stable),
+                time_s: Some(r.time_s).filter(|t| t.is_finite()),
+            })
+            .collect();
+        let pairs = self
+            .pairs
+            .iter()
+            .map(|p| PairJson {
+                rows: (
+                    self.rows[p.rows.0].label.clone(),
+                    self.rows[p.rows.1].label.clone(),
+                ),
+                rms_m: p.rms_m,
+                tip_m: p.tip_m,
+                same_input: p.same_input,
+                disagree: p.disagree,
+            })
+            .collect();
+        ComparisonJson {
+            model: self.model.clone(),
+            tolerance_m: self.tolerance_m,
+            any_disagreement: self.any_disagreement(),
+            rows,
+            pairs,
+        }
+    }
+}

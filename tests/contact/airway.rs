@@ -194,3 +194,35 @@ fn the_same_seed_gives_the_same_mesh_and_bad_options_are_named() {
         assert!(e.contains(&format!("`{field}`")), "{e}");
     }
 }
+
+#[test]
+fn lumen_points_are_inside_the_triangles_and_in_their_branch() {
+    use ccrkit::anatomy::tasks::{branch_of, entrance, inside_mesh, lumen_points};
+    let a = generate(&AirwayOptions {
+        seed: 51,
+        generations: 3,
+        ..AirwayOptions::default()
+    })
+    .expect("valid");
+    let pts = lumen_points(&a, 3, 12, 7);
+    assert_eq!(pts.len(), 12);
+    let mesh = mesh::trimesh(&a.vertices, &a.triangles, Some(Free::Outside)).expect("solid");
+    for p in &pts {
+        assert_eq!(p.generation, 3);
+        assert_eq!(a.branches[p.branch].generation, 3);
+        assert_eq!(
+            branch_of(&a, &p.point).map(|k| a.branches[k].generation),
+            Some(3)
+        );
+        // parry's pseudo-normal side test agrees with the ray parity.
+        let q = PVec::new(p.point.x, p.point.y, p.point.z);
+        assert!(mesh.project_local_point(q, false).is_inside);
+    }
+    // A point far outside is outside by both tests; the port is inside the trachea.
+    let far = Vector3::new(1.0, 1.0, 1.0);
+    assert!(!inside_mesh(&a.vertices, &a.triangles, &far));
+    let (port, axis) = entrance(&a, 0.01);
+    assert!(inside_mesh(&a.vertices, &a.triangles, &port));
+    assert!(axis.z > 0.99);
+    assert!(lumen_points(&a, 9, 3, 1).is_empty());
+}

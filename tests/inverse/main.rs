@@ -12,3 +12,4 @@ mod reach;
 mod reach_body;
 mod reach_port;
 mod reach_random;
+mod reach_tension;

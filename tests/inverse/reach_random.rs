@@ -6,7 +6,7 @@
 //! says reached and its answer, solved forward, puts the tip within 1e-6 m of the target.
 
 #[path = "../../examples/common/reach_measure.rs"]
-mod reach_measure;
+pub(crate) mod reach_measure;
 
 /// At least 29 of the first 30 admissible robots are reached (measured: 30 of 30; 39 of the
 /// first 40), both kinds of target among them, and every miss ends with the closest answer,

@@ -29,5 +29,7 @@ mod port_sweep;
 mod registry;
 mod registry_ranges;
 mod rod_body;
+mod shear;
 mod stiffening;
 mod typed_inputs;
+mod unique;

@@ -46,6 +46,11 @@ enum Command {
         /// Solve N times and report the median time.
         #[arg(long, default_value_t = 1)]
         repeat: usize,
+        /// `unique`: solve the input again along other paths (a ramp from zero, an overshoot,
+        /// each cable leading, the other model's answer) and say whether this answer is the
+        /// only equilibrium found (a few extra solves; their count and time are printed).
+        #[arg(long, value_enum)]
+        check: Option<Check>,
     },
     /// Compare methods on one model: a table of tips and times, pairwise distances, and a
     /// flag where two methods driven by the same input disagree.
@@ -65,6 +70,10 @@ enum Command {
         /// Write the solved shapes overlaid in three views (.svg or .png).
         #[arg(long)]
         plot: Option<PathBuf>,
+        /// Write the comparison as JSON (rows, pairs, each pair's `disagree` flag and
+        /// `any_disagreement`) to this path (`-` for standard output, the table then not printed).
+        #[arg(long)]
+        json: Option<String>,
     },
     /// List the available methods, their inputs, obstacle and load support, and settings.
     Methods,
@@ -91,6 +100,13 @@ enum Command {
     Predict(predict::PredictArgs),
     /// Fit a model's hardware parameters to measured tips (Levenberg–Marquardt).
     Calibrate(calibrate::CalibrateArgs),
+}
+
+/// A check of the answer after a solve.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum Check {
+    /// Is it the only equilibrium found along other paths?
+    Unique,
 }
 
 #[derive(Subcommand)]
@@ -287,12 +303,14 @@ fn run() -> Result<()> {
             scene,
             tolerance,
             plot: plot_path,
+            json,
         } => compare(
             &file,
             &methods,
             scene.as_ref(),
             tolerance,
             plot_path.as_ref(),
+            json.as_deref(),
         ),
         Command::Methods => {
             print_methods();
@@ -336,6 +354,7 @@ fn run() -> Result<()> {
             json,
             plot: plot_path,
             repeat,
+            check,
         } => {
             if let Some(p) = &plot_path {
                 plot::check_path(p)?;
@@ -350,7 +369,9 @@ fn run() -> Result<()> {
                     ("--plot file", plot_path.as_deref()),
                 ],
             )?;
-            let request = solve.request(repeat)?;
+            let request = solve
+                .request(repeat)?
+                .with_unique_check(matches!(check, Some(Check::Unique)));
             let model = Model::from_file(&file)?;
             let bar = progress::spinner(&format!("solving with {}", solve.method));
             let solved = request.run(&model);
@@ -434,6 +455,7 @@ fn compare(
     scene: Option<&PathBuf>,
     tolerance: f64,
     plot_path: Option<&PathBuf>,
+    json: Option<&str>,
 ) -> Result<()> {
     if let Some(p) = plot_path {
         plot::check_path(p)?;
@@ -443,7 +465,10 @@ fn compare(
             ("model file", Some(file)),
             ("--scene file", scene.map(|p| p.as_path())),
         ],
-        &[("--plot file", plot_path.map(|p| p.as_path()))],
+        &[
+            ("--plot file", plot_path.map(|p| p.as_path())),
+            ("--json file", json.filter(|j| *j != "-").map(Path::new)),
+        ],
     )?;
     let default = [
         "geometric",
@@ -468,7 +493,16 @@ fn compare(
         .collect::<Result<Vec<_>>>()?;
     let model = Model::from_file(file)?;
     let cmp = study::compare(&model, &requests, tolerance)?;
-    print!("{cmp}");
+    match json {
+        Some("-") => println!("{}", serde_json::to_string_pretty(&cmp.to_json())?),
+        Some(path) => {
+            print!("{cmp}");
+            let text = serde_json::to_string_pretty(&cmp.to_json())?;
+            write_out(Path::new(path), &text)?;
+            eprintln!("wrote {path}");
+        }
+        None => print!("{cmp}"),
+    }
     if let Some(p) = plot_path {
         let mut all = model.scene.clone();
         if let Some(x) = extra {
@@ -536,15 +570,21 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
             c.obstacle, p[0], p[1], p[2], c.distance, c.multiplier
         );
     }
+    // Each cable's tension and path-length change, whatever drove the solve (the
+    // shortening of a tension-driven solve drives the same shape back).
     for c in &shape.cables {
-        if let Some(t) = c.tension {
-            println!(
-                "cable {}: tension {:.4} N{}",
-                c.name,
-                t,
-                if c.slack { " (slack)" } else { "" }
-            );
-        }
+        let t = c
+            .tension
+            .map_or_else(|| "tension —".to_string(), |t| format!("tension {t:.4} N"));
+        let u = c.shortening.map_or_else(
+            || "shortening —".to_string(),
+            |u| format!("shortening {:.6} mm", u * 1e3),
+        );
+        println!(
+            "cable {}: {t}, {u}{}",
+            c.name,
+            if c.slack { " (slack)" } else { "" }
+        );
     }
     println!(
         "residual {:.2e}, iterations {}, time {:.1} µs (median of {repeat})",
@@ -566,6 +606,64 @@ fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: usize) {
     if let Some(e) = &shape.report.error_estimate {
         println!("{}", error_line(e));
     }
+    if let Some(u) = &shape.report.unique {
+        print!("{}", unique_lines(u));
+    }
+}
+
+/// The lines of a uniqueness check: the verdict, each path tried, the other model.
+fn unique_lines(u: &ccrkit::method::unique::UniqueReport) -> String {
+    let stable = |s: Option<bool>| match s {
+        Some(true) => "stable",
+        Some(false) => "UNSTABLE",
+        None => "stability unknown",
+    };
+    let mut s = if u.only {
+        format!(
+            "unique  the only equilibrium found ({} of {} paths converged; {} solves, {:.1} ms)\n",
+            u.converged_tries,
+            u.tries.len(),
+            u.solves,
+            u.time_s * 1e3
+        )
+    } else if u.converged_tries == 0 {
+        format!(
+            "unique  NOT CHECKED: no other path converged ({} solves, {:.1} ms)\n",
+            u.solves,
+            u.time_s * 1e3
+        )
+    } else {
+        format!(
+            "unique  NO: {} equilibria found for this input ({} solves, {:.1} ms)\n",
+            u.equilibria,
+            u.solves,
+            u.time_s * 1e3
+        )
+    };
+    for t in &u.tries {
+        let what = match (t.tip_distance_m, &t.error) {
+            (Some(d), _) => format!(
+                "tip {:.3} mm away, {}{}",
+                d * 1e3,
+                stable(t.stable),
+                if t.distinct {
+                    "  ANOTHER EQUILIBRIUM"
+                } else {
+                    ""
+                }
+            ),
+            (None, Some(e)) => format!("failed: {e}"),
+            (None, None) => "failed".to_string(),
+        };
+        s += &format!("        {}: {what}\n", t.start);
+    }
+    if let Some(o) = &u.other_model {
+        let d = o.tip_distance_m.map_or_else(String::new, |d| {
+            format!("tip {:.3} mm away, {}: ", d * 1e3, stable(o.stable))
+        });
+        s += &format!("        other model {}: {d}{}\n", o.method, o.verdict);
+    }
+    s
 }
 
 /// One line of an error estimate: the bound and its parts, in mm.

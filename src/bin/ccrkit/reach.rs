@@ -166,8 +166,13 @@ pub(crate) fn run(a: ReachArgs) -> Result<()> {
             println!("clearance {:.3} mm", c * 1e3);
         }
         println!(
-            "effort {:.4e} m², {} iterations, {} starts, {} solves ({} sensitivities)",
-            r.effort_m2, r.iterations, r.starts, r.solves, r.sensitivities
+            "effort {:.4e} {}, {} iterations, {} starts, {} solves ({} sensitivities)",
+            r.effort_m2,
+            if r.by_tension { "N²" } else { "m²" },
+            r.iterations,
+            r.starts,
+            r.solves,
+            r.sensitivities
         );
     }
     r.require_reached()?;

@@ -283,6 +283,7 @@ impl Cosserat {
                 jacobian: None,
                 error_estimate: None,
                 auto: None,
+                unique: None,
                 warm: None,
             },
         }

@@ -1,7 +1,7 @@
 //! The shape of a converged energy solve: disk frames and backbone samples from the strains,
 //! cable paths (slack sections marked), tensions, contacts and the typed warm start.
 
-use super::kinematics::sub_arc_exp;
+use super::kinematics::sheared_exp;
 use super::newton::Solution;
 use super::problem::{Problem, Target};
 use super::Energy;
@@ -45,11 +45,12 @@ impl Energy {
         let mut backbone = vec![pos];
         for j in 0..prob.nsub {
             let x = &xi[4 * j..4 * j + 4];
+            let g = prob.shear_at(j);
             for q in 1..ns {
-                let (_, p) = sub_arc_exp(x, prob.ell[j] * q as f64 / ns as f64);
+                let (_, p) = sheared_exp(x, g, prob.ell[j] * q as f64 / ns as f64);
                 backbone.push(pos + rot * p);
             }
-            let (r, p) = sub_arc_exp(x, prob.ell[j]);
+            let (r, p) = sheared_exp(x, g, prob.ell[j]);
             pos += rot * p;
             rot *= r;
             backbone.push(pos);
@@ -92,7 +93,9 @@ impl Energy {
             length: self.cable_length,
             strains: xi.to_vec(),
             multipliers: lam.to_vec(),
-            hessian: sol.hessian,
+            // Blocks at a shear a warm start could not tell from its own: none with shear.
+            hessian: if self.shear { None } else { sol.hessian },
+            shear: prob.shear.borrow().clone(),
         });
         Shape {
             method: self.name().into(),
@@ -113,6 +116,7 @@ impl Energy {
                 jacobian: sol.sensitivity.jacobian,
                 error_estimate: None,
                 auto: None,
+                unique: None,
                 warm: Some(state),
             },
         }

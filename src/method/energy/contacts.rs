@@ -43,7 +43,7 @@
 //! contact; it enters the Lagrangian Hessian in the block semiseparable form of
 //! `energy/curvature.rs` (derivation of `∇²d` in `energy/contact_curvature.rs`).
 
-use super::kinematics::{sub_arc_exp, GL_NODES, GL_W, GL_X};
+use super::kinematics::{sheared_exp, GL_NODES, GL_W, GL_X};
 use crate::contact::features::{self, Touching};
 use crate::contact::parry::SEPARATION_SHIFT;
 use crate::contact::primitives::{self, Convex};
@@ -104,9 +104,22 @@ pub(super) struct Kin {
     pub n_int: Vec<[Vector3<f64>; 3]>,
 }
 
-/// Forward kinematics of the strains `xi` (sub-arc lengths `ell`); with `integrals`, also
-/// `M_j`, `N_j` for the gradients.
+/// Forward kinematics of the strains `xi` (sub-arc lengths `ell`, no shear); with
+/// `integrals`, also `M_j`, `N_j` for the gradients.
+#[cfg(test)]
 pub(super) fn kinematics(xi: &[f64], ell: &[f64], integrals: bool) -> Kin {
+    sheared_kinematics(xi, &[], ell, integrals)
+}
+
+/// [`kinematics`] with the shear strains `shear[j]` of every sub-arc (empty: none;
+/// `energy/shear.rs`). The derivatives above hold unchanged: `p` integrates `R v` whatever
+/// `v` is, and `∂x/∂v_a = M_j e_a` for each axis `a`.
+pub(super) fn sheared_kinematics(
+    xi: &[f64],
+    shear: &[[f64; 2]],
+    ell: &[f64],
+    integrals: bool,
+) -> Kin {
     let nsub = ell.len();
     let mut kin = Kin {
         rot: Vec::with_capacity(nsub + 1),
@@ -119,12 +132,13 @@ pub(super) fn kinematics(xi: &[f64], ell: &[f64], integrals: bool) -> Kin {
     kin.pos.push(p);
     for j in 0..nsub {
         let x = &xi[4 * j..4 * j + 4];
+        let g = shear.get(j).copied().unwrap_or_default();
         if integrals {
             let mut mi = Matrix3::zeros();
             let mut ni = [Vector3::zeros(); 3];
             for q in 0..GL_NODES {
                 let w = 0.5 * ell[j] * GL_W[q];
-                let (rl, pl) = sub_arc_exp(x, 0.5 * ell[j] * (1.0 + GL_X[q]));
+                let (rl, pl) = sheared_exp(x, g, 0.5 * ell[j] * (1.0 + GL_X[q]));
                 let rs = r * rl;
                 let ps = p + r * pl;
                 mi += rs * w;
@@ -135,7 +149,7 @@ pub(super) fn kinematics(xi: &[f64], ell: &[f64], integrals: bool) -> Kin {
             kin.m_int.push(mi);
             kin.n_int.push(ni);
         }
-        let (rl, pl) = sub_arc_exp(x, ell[j]);
+        let (rl, pl) = sheared_exp(x, g, ell[j]);
         p += r * pl;
         r *= rl;
         kin.rot.push(r);

@@ -26,14 +26,20 @@ pub(super) const GL_W: [f64; GL_NODES] = [
     0.236_926_885_056_189_08,
 ];
 
-/// The sub-arc transform `exp(ℓ ξ̂)` in f64: rotation and translation.
+/// The sub-arc transform `exp(ℓ ξ̂)` in f64: rotation and translation (no shear).
 pub(super) fn sub_arc_exp(xi: &[f64], ell: f64) -> (Matrix3<f64>, Vector3<f64>) {
+    sheared_exp(xi, [0.0; 2], ell)
+}
+
+/// The sub-arc transform with the shear strains `shear = (v_x, v_y)`: `v = (v_x, v_y, 1 + ε)`
+/// (`energy/shear.rs`).
+pub(super) fn sheared_exp(xi: &[f64], shear: [f64; 2], ell: f64) -> (Matrix3<f64>, Vector3<f64>) {
     let w = Vector3::new(xi[0], xi[1], xi[2]) * ell;
     let (a, b, c) = abc(w.norm_squared());
     let wh = hat(&w);
     let wh2 = wh * wh;
     let rot = Matrix3::identity() + wh * a + wh2 * b;
-    let v = Vector3::new(0.0, 0.0, ell * (1.0 + xi[3]));
+    let v = Vector3::new(shear[0], shear[1], 1.0 + xi[3]) * ell;
     let p = v + wh * v * b + wh2 * v * c;
     (rot, p)
 }
@@ -48,17 +54,23 @@ fn cross<T: Real>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
 }
 
 /// The action of one sub-arc on `P` points at once (the exponential's coefficients shared):
-/// `exp_act(xi, ell, q)` for each `q` in `qs`.
+/// `exp_act(xi, ell, q)` for each `q` in `qs`, with the constant shear strains `shear`
+/// (`v = (v_x, v_y, 1 + ε)`, `energy/shear.rs`).
 pub(super) fn exp_act_all<T: Real, const P: usize>(
     xi: &[T],
+    shear: [f64; 2],
     ell: f64,
     qs: &[[T; 3]; P],
 ) -> [[T; 3]; P] {
     let w = [xi[0] * ell, xi[1] * ell, xi[2] * ell];
     let x = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
     let (a, b, c) = abc_series(x);
-    let vz = (xi[3] + 1.0) * ell;
-    let wv = [w[1] * vz, -(w[0] * vz), T::cst(0.0)];
+    let v = [
+        T::cst(shear[0] * ell),
+        T::cst(shear[1] * ell),
+        (xi[3] + 1.0) * ell,
+    ];
+    let wv = cross(&w, &v);
     let wwv = cross(&w, &wv);
     std::array::from_fn(|p| {
         let q = &qs[p];
@@ -66,8 +78,7 @@ pub(super) fn exp_act_all<T: Real, const P: usize>(
         let wwq = cross(&w, &wq);
         let mut out = [T::cst(0.0); 3];
         for k in 0..3 {
-            let vk = if k == 2 { vz } else { T::cst(0.0) };
-            out[k] = q[k] + a * wq[k] + b * wwq[k] + vk + b * wv[k] + c * wwv[k];
+            out[k] = q[k] + a * wq[k] + b * wwq[k] + v[k] + b * wv[k] + c * wwv[k];
         }
         out
     })

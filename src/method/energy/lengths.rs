@@ -48,7 +48,7 @@ impl Problem<'_> {
                     for j in 0..cable.ends_at * self.m {
                         let x = &xi[4 * j..4 * j + 4];
                         for nd in &self.nodes[c][j] {
-                            total += nd[4] * path_w(nd, x).norm();
+                            total += nd[4] * path_w(nd, x, self.shear_at(j)).norm();
                         }
                     }
                 }
@@ -89,10 +89,11 @@ impl Problem<'_> {
                 LengthMeasure::Path => {
                     for j in 0..cable.ends_at * self.m {
                         let x = &xi[4 * j..4 * j + 4];
+                        let sh = self.shear_at(j);
                         let mut gj = [0.0; 4];
                         for nd in &self.nodes[c][j] {
                             let (rx, ry, ds) = (nd[0], nd[1], nd[4]);
-                            let wv = path_w(nd, x);
+                            let wv = path_w(nd, x, sh);
                             let n = wv.norm();
                             total += ds * n;
                             let f = ds / n;
@@ -211,10 +212,11 @@ impl Problem<'_> {
             }
             for j in 0..cable.ends_at * self.m {
                 let x = &xi[4 * j..4 * j + 4];
+                let sh = self.shear_at(j);
                 let mut h = [0.0; 10];
                 for nd in &self.nodes[c][j] {
                     let (rx, ry, ds) = (nd[0], nd[1], nd[4]);
-                    let wv = path_w(nd, x);
+                    let wv = path_w(nd, x, sh);
                     let n = wv.norm();
                     let e = wv / n;
                     let bt = [e.z * ry, -e.z * rx, e.y * rx - e.x * ry, e.z];
@@ -269,11 +271,11 @@ impl Problem<'_> {
 
 /// Body-frame cable tangent `w = v + u × r + r'` at one Gauss node.
 #[inline]
-pub(super) fn path_w(nd: &Node, x: &[f64]) -> Vector3<f64> {
+pub(super) fn path_w(nd: &Node, x: &[f64], shear: [f64; 2]) -> Vector3<f64> {
     let (rx, ry, dx, dy) = (nd[0], nd[1], nd[2], nd[3]);
     Vector3::new(
-        dx - x[2] * ry,
-        dy + x[2] * rx,
+        shear[0] + dx - x[2] * ry,
+        shear[1] + dy + x[2] * rx,
         1.0 + x[3] + x[0] * ry - x[1] * rx,
     )
 }
@@ -309,7 +311,8 @@ mod tests {
                     let s = s0 + p as f64 * h + 0.5 * h * (GL_X[q] + 1.0);
                     let rp = route.eval(s, sec - 1);
                     let nd = [rp.r.x, rp.r.y, rp.dr.x, rp.dr.y, 0.0];
-                    total += 0.5 * h * GL_W[q] * path_w(&nd, &xi[4 * j..4 * j + 4]).norm();
+                    total +=
+                        0.5 * h * GL_W[q] * path_w(&nd, &xi[4 * j..4 * j + 4], [0.0; 2]).norm();
                 }
             }
         }

@@ -7,7 +7,9 @@
 //! Each section `i` (disks `i−1` → `i`, length `l_i`) is cut into [`Energy::sub_arcs`] sub-arcs
 //! of equal undeformed length `ℓ = l_i / sub_arcs`. On sub-arc `j` the strains are constant:
 //! body twist `u_j = (κx, κy, τ)` (bending about the body x and y axes, twist about the
-//! backbone) and `v_j = (0, 0, 1 + ε)` (axial strain ε, no shear). The body frame follows
+//! backbone) and `v_j = (0, 0, 1 + ε)` (axial strain ε; with [`Energy::shear`] also the
+//! shear, `v_j = (γx, γy, 1 + ε)`, condensed from its equilibrium: `energy/shear.rs`). The
+//! body frame follows
 //! `p' = R v`, `R' = R û` (Rucker & Webster 2011, eq. 1), so across the sub-arc it moves by the
 //! SE(3) exponential `g_j = exp(ℓ [û_j v_j; 0 0])`, in closed form (Rodrigues, ω = ℓu, θ = |ω|):
 //!
@@ -155,6 +157,7 @@ mod lengths;
 mod newton;
 mod problem;
 mod sensitivity;
+mod shear;
 mod step_guard;
 #[cfg(test)]
 mod test_fixture;
@@ -201,6 +204,10 @@ pub struct Energy {
     /// reports neither (a note says so) and skips their KKT solves, e.g. `ccrkit predict`,
     /// which reads only the tip.
     pub sensitivity: bool,
+    /// Model the backbone's shear (`v = (γx, γy, 1 + ε)`, `GA |γ|²` in the energy, the
+    /// Cosserat rod's continuum): the shear condensed from its equilibrium between Newton
+    /// solves (`energy/shear.rs`). Path measure only, without obstacles or capstan friction.
+    pub shear: bool,
 }
 
 impl Default for Energy {
@@ -216,6 +223,7 @@ impl Default for Energy {
             samples_per_sub_arc: 1,
             contact_sensitivity: false,
             sensitivity: true,
+            shear: false,
         }
     }
 }
@@ -254,6 +262,7 @@ impl Configure for Energy {
                 self.contact_sensitivity = range.pick(name, value, common::ON_OFF)?
             }
             "sensitivity" => self.sensitivity = range.pick(name, value, common::ON_OFF)?,
+            "shear" => self.shear = range.pick(name, value, common::ON_OFF)?,
             _ => return Err(self.kind().unapplied(name)),
         }
         Ok(())
@@ -340,6 +349,8 @@ impl ReadyEnergy<'_> {
             Cow::Borrowed(&self.part.nodes),
             &self.part.len0,
         )?;
+        let capstan = friction::coefficients(act);
+        set.check_shear(&prob, capstan.is_some())?;
         let mut notes = vec![format!(
             "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
             set.sub_arcs, set.cable_length, set.routing
@@ -375,7 +386,14 @@ impl ReadyEnergy<'_> {
         if !set.sensitivity {
             notes.push("stable and jacobian not computed (`sensitivity = off`)".into());
         }
-        if let Some(a) = friction::coefficients(act) {
+        if set.shear {
+            notes.push(
+                "shear: GA |γ|² in the energy, the shear condensed from its equilibrium \
+                 (`energy/shear.rs`); the jacobian at fixed shear"
+                    .into(),
+            );
+        }
+        if let Some(a) = capstan {
             notes.push(
                 "capstan friction along the cables (lagged weights, `energy/friction.rs`); the \
                  jacobian from the non-symmetric linearization, stable not computed"

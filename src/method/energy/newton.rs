@@ -117,6 +117,7 @@ impl Energy {
         prob: &Problem,
         warm: Option<&Shape>,
     ) -> Result<Solution, SolveError> {
+        self.start_shear(prob, warm);
         self.newton_from(prob, self.start_point(prob, warm), warm)
     }
 
@@ -129,10 +130,17 @@ impl Energy {
         warm: Option<&Shape>,
     ) -> Result<Solution, SolveError> {
         let mut sqp = Sqp::new(prob, start);
-        sqp.warm_hessian = warm_hessian(warm, &sqp.xi);
+        sqp.warm_hessian = warm_hessian(warm, &sqp.xi).filter(|_| !self.shear);
         let tol = self.tolerance;
         let mut resid = f64::INFINITY;
         for it in 0..=self.max_iterations {
+            // The shear's Newton step on its own equilibrium at the iterate (`energy/shear.rs`),
+            // then the SQP's linearization at fixed shear.
+            let shear_move = if self.shear {
+                prob.condense_shear(&sqp.xi, &sqp.lam)
+            } else {
+                0.0
+            };
             sqp.linearize();
             let r = sqp.residuals();
             // Chords: Gauss–Newton while it contracts fast, the exact Hessian once it slows.
@@ -145,7 +153,7 @@ impl Energy {
                 sqp.exact = true;
                 prob.evaluate(&sqp.xi, &sqp.wgt, &mut sqp.w, true);
             }
-            resid = r.feas.max(r.stat).max(r.gap);
+            resid = r.feas.max(r.stat).max(r.gap).max(shear_move);
             sqp.history.push(resid);
             if !resid.is_finite() {
                 break;
@@ -164,7 +172,7 @@ impl Energy {
                 tol
             };
             let settled = in_contact && sqp.last_move <= CONTACT_STEP;
-            if r.feas <= tol && r.gap <= ctol && (r.stat <= tol || settled) {
+            if r.feas <= tol && r.gap <= ctol && (r.stat <= tol || settled) && shear_move <= tol {
                 self.check_stretch(prob, &sqp.xi, &sqp.lam)?;
                 return Ok(sqp.solution(it, resid));
             }

@@ -18,6 +18,7 @@ use crate::numeric::so3::log_so3;
 use crate::shape::DiskFrame;
 use nalgebra::Vector3;
 use std::borrow::Cow;
+use std::cell::RefCell;
 
 /// Routing samples of one cable, `[j][q]` (sub-arc, Gauss node).
 pub(super) type NodeRow = Vec<[Node; GL_NODES]>;
@@ -76,6 +77,12 @@ pub(super) struct Problem<'a> {
     /// Dead loads at the sub-arc ends (frame `f` = end of sub-arc `f − 1`; empty: none):
     /// backbone weight lumped half to each end of its sub-arc, disk weights, the tip force.
     pub(super) frame_forces: Vec<Vector3<f64>>,
+    /// Shear strains `(γx, γy)` of every sub-arc: the one part of the problem an iteration
+    /// changes, condensed from the equilibrium of the shear force at every Newton iterate
+    /// (`energy/shear.rs`); empty: the unshearable model (`shear = off`).
+    pub(super) shear: RefCell<Vec<[f64; 2]>>,
+    /// Shear stiffness `GA` of the backbone \[N\] (the Cosserat rod's, [`crate::model::robot::Backbone::ga`]).
+    pub(super) ga: f64,
     /// Compute the stability and tip Jacobian at the solution ([`Energy::sensitivity`]; off in
     /// the passes of a solve with capstan friction, `energy/friction.rs`).
     pub(super) want_sensitivity: bool,
@@ -94,6 +101,18 @@ impl Problem<'_> {
 
     pub(super) fn nvar(&self) -> usize {
         4 * self.nsub
+    }
+
+    /// The shear strains of sub-arc `j` (zero without shear).
+    #[inline]
+    pub(super) fn shear_at(&self, j: usize) -> [f64; 2] {
+        self.shear.borrow().get(j).copied().unwrap_or_default()
+    }
+
+    /// Frames at the sub-arc ends of the strains `xi` with this problem's shear; with
+    /// `integrals`, also `M_j`, `N_j` (`energy/contacts.rs`).
+    pub(super) fn kin(&self, xi: &[f64], integrals: bool) -> Kin {
+        super::contacts::sheared_kinematics(xi, &self.shear.borrow(), &self.ell, integrals)
     }
 
     /// Section (1-based) of sub-arc `j`.
@@ -194,7 +213,8 @@ impl Problem<'_> {
     /// pure moment `M` is stationary at `∂/∂κ (½ EI κ² (1 + β κ²)) = EI κ (1 + 2 β κ²) = M`
     /// (`tests/methods/stiffening.rs` checks that closed form).
     pub(super) fn energy(&self, xi: &[f64]) -> f64 {
-        let quad = 0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>();
+        let quad =
+            0.5 * xi.iter().zip(&self.k).map(|(x, k)| k * x * x).sum::<f64>() + self.shear_energy();
         if self.stiffening == 0.0 {
             return quad;
         }
@@ -395,6 +415,8 @@ impl Energy {
             stat_scale: rbar / (ei * lmin),
             world: None,
             frame_forces: vec![],
+            shear: RefCell::new(vec![]),
+            ga: bb.ga(),
             want_sensitivity: self.sensitivity,
         }
     }

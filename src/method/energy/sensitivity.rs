@@ -42,7 +42,7 @@
 //! feature type, a unit test against central differences of the exact distance gradient);
 //! here they are added densely to the Hessian blocks.
 
-use super::contacts::{self, Kin, Pair};
+use super::contacts::{Kin, Pair};
 use super::curvature::dense;
 use super::kinematics::exp_act_all;
 use super::lengths::Work;
@@ -186,7 +186,7 @@ impl Problem<'_> {
         let kin = match kin.filter(|k| k.m_int.len() == self.nsub) {
             Some(k) => k,
             None => {
-                owned = contacts::kinematics(xi, &self.ell, true);
+                owned = self.kin(xi, true);
                 &owned
             }
         };
@@ -293,10 +293,10 @@ impl Problem<'_> {
         for chunk in dxis.chunks(4) {
             let refs: Vec<&Vec<f64>> = chunk.iter().collect();
             tips.extend(match refs.len() {
-                1 => tip_directional::<1>(xi, &self.ell, &refs),
-                2 => tip_directional::<2>(xi, &self.ell, &refs),
-                3 => tip_directional::<3>(xi, &self.ell, &refs),
-                _ => tip_directional::<4>(xi, &self.ell, &refs),
+                1 => tip_directional::<1>(xi, &self.shear.borrow(), &self.ell, &refs),
+                2 => tip_directional::<2>(xi, &self.shear.borrow(), &self.ell, &refs),
+                3 => tip_directional::<3>(xi, &self.shear.borrow(), &self.ell, &refs),
+                _ => tip_directional::<4>(xi, &self.shear.borrow(), &self.ell, &refs),
             });
         }
         for (&(cable, input), (dp, dt)) in which.iter().zip(tips) {
@@ -320,6 +320,7 @@ impl Problem<'_> {
 /// tip back to the base (as the chord lengths are formed).
 fn tip_directional<const K: usize>(
     xi: &[f64],
+    shear: &[[f64; 2]],
     ell: &[f64],
     dxis: &[&Vec<f64>],
 ) -> Vec<(Vector3<f64>, Vector3<f64>)> {
@@ -331,7 +332,7 @@ fn tip_directional<const K: usize>(
             g: std::array::from_fn(|c| dxis.get(c).map_or(0.0, |d| d[4 * j + a])),
             h: [],
         });
-        qs = exp_act_all(&v, ell[j], &qs);
+        qs = exp_act_all(&v, shear.get(j).copied().unwrap_or_default(), ell[j], &qs);
     }
     (0..dxis.len())
         .map(|c| {

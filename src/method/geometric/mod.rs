@@ -268,6 +268,7 @@ impl Method for Geometric {
                 jacobian: None,
                 error_estimate: None,
                 auto: None,
+                unique: None,
                 warm: None,
             },
         })

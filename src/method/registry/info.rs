@@ -64,6 +64,13 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
         default: "on",
         help: "stable and jacobian at all (off: skip their KKT solves; `predict` turns it off)",
     },
+    SettingInfo {
+        name: "shear",
+        values: common::SWITCH,
+        default: "off",
+        help: "the backbone's shear (GA, the Cosserat rod's continuum; path length, no \
+               obstacles or friction): for soft rods",
+    },
 ];
 
 const ROD_SETTINGS: &[SettingInfo] = &[

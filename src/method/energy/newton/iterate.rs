@@ -6,7 +6,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::{Residuals, Solution, Sqp};
-use crate::method::energy::contacts::{self, Pair};
+use crate::method::energy::contacts::Pair;
 use crate::method::energy::lengths::Work;
 use crate::method::energy::problem::{Problem, Target};
 use crate::method::energy::sensitivity::Sensitivity;
@@ -56,9 +56,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let nc = prob.robot.cables.len();
         self.wgt = (0..nc).map(|c| prob.cable_weight(c, self.lam[c])).collect();
         prob.evaluate(&self.xi, &self.wgt, &mut self.w, self.exact);
-        self.kin = prob
-            .needs_frames()
-            .then(|| contacts::kinematics(&self.xi, &prob.ell, true));
+        self.kin = prob.needs_frames().then(|| prob.kin(&self.xi, true));
         self.clear = f64::INFINITY;
         if let (Some(wd), Some(k)) = (self.world, &self.kin) {
             (self.pairs, self.clear) = match self.next_pairs.take() {

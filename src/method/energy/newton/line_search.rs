@@ -80,9 +80,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 alpha *= 0.5;
                 continue;
             }
-            let kin_trial = prob
-                .needs_frames()
-                .then(|| contacts::kinematics(&self.trial, &prob.ell, false));
+            let kin_trial = prob.needs_frames().then(|| prob.kin(&self.trial, false));
             // The lengths and the smooth part of the merit, once asked for.
             let smooth: OnceCell<f64> = OnceCell::new();
             let merit = |ps: &[Pair]| {
