@@ -2,7 +2,8 @@
 //! a slightly different actuation (tensions 2 % lower; under displacement control,
 //! shortenings 2 % lower), at the default settings (3 RK4 steps
 //! per section, more where a route bends: the resolution that keeps the tip within 0.01 mm of
-//! the converged rod). `CCRKIT_BENCH_STEPS=N` sets the base steps per section instead.
+//! the converged rod). `CCRKIT_BENCH_STEPS=N` sets the base steps per section instead. `lung`:
+//! the 24-section soft lung rod, unloaded path against shooting.
 
 use ccrkit::actuation::{Input, Shortening};
 use ccrkit::method::cosserat::Cosserat;
@@ -61,9 +62,31 @@ fn bench(c: &mut Criterion) {
     }
 }
 
+/// The soft lung rod at 24 stations, tension-driven and unloaded (`tests/support/src/soft.rs`):
+/// the unloaded path (`solver=auto`, the default) against shooting, both without the stability
+/// test (`stability=skip`) and with it.
+fn lung(c: &mut Criterion) {
+    let scene = Scene::empty();
+    let text = ccrkit_test_support::soft::lung_rod_toml(24, [1.5, 2.5, 0.7]);
+    let model = Model::from_toml_str(&text).expect("lung rod");
+    let (robot, act) = (&model.robot, &model.actuation);
+    for (name, unloaded) in [("unloaded", true), ("shooting", false)] {
+        for check in [false, true] {
+            let m = Cosserat {
+                check_stability: check,
+                ..Cosserat::full().with_unloaded(unloaded)
+            };
+            let tag = if check { "check" } else { "skip" };
+            c.bench_function(&format!("cosserat/lung24/{name}/stability-{tag}"), |b| {
+                b.iter(|| black_box(m.solve(robot, act, &scene, None).expect("solves")))
+            });
+        }
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(2));
-    targets = bench
+    targets = bench, lung
 }
 criterion_main!(benches);

@@ -140,7 +140,8 @@ fn chord_length(path: &[Vector3<f64>]) -> f64 {
 #[test]
 fn displacement_control_inverts_force_control() {
     let model = paper(3);
-    let force = tight(Cosserat::full());
+    // Both shoot: the inversion is checked within one discretization.
+    let force = tight(Cosserat::full().with_unloaded(false));
     let shape = solve(&force, &model);
     // Cable lengths as chords between holes, turned into shortenings.
     let mut act = Actuation::free(&model.robot);
@@ -164,7 +165,9 @@ fn displacement_control_inverts_force_control() {
 #[test]
 fn rk4_converges_at_fourth_order() {
     let model = paper(2);
-    let tip = |steps: usize| solve(&tight(Cosserat::kirchhoff().with_steps(steps)), &model).tip();
+    // Shooting's RK4 (the unloaded path's Magnus steps: `cosserat_unloaded.rs`).
+    let m = Cosserat::kirchhoff().with_unloaded(false);
+    let tip = |steps: usize| solve(&tight(m.clone().with_steps(steps)), &model).tip();
     let reference = tip(64);
     let e: Vec<f64> = [1, 2, 4]
         .iter()
@@ -417,7 +420,8 @@ fn forced_continuation_reaches_the_closed_form_arc_past_half_a_turn() {
     let model = one_cable(&format!("tension = {tau}"), "");
     let m = Cosserat {
         direct_start: false,
-        ..tight(Cosserat::kirchhoff().with_steps(40))
+        // Continuation is shooting's (the unloaded path needs none).
+        ..tight(Cosserat::kirchhoff().with_steps(40).with_unloaded(false))
     };
     let shape = solve(&m, &model);
     assert!(used_continuation(&shape));
@@ -435,9 +439,11 @@ fn forced_continuation_reaches_the_closed_form_arc_past_half_a_turn() {
 
 #[test]
 fn hopeless_load_is_not_converged_with_iterations_and_residual() {
-    // 1000 N on one tendon would coil the rod ~50 times: no shape at this resolution.
+    // 1000 N on one tendon would coil the rod ~50 times: shooting finds no shape at this
+    // resolution (the unloaded path integrates the constant-strain coil exactly: forced off).
     let model = one_cable("tension = 1000.0", "");
     for m in [Cosserat::full(), Cosserat::kirchhoff()] {
+        let m = m.with_unloaded(false);
         match m.solve(&model.robot, &model.actuation, &Scene::empty(), None) {
             Err(SolveError::NotConverged {
                 iterations,
@@ -465,7 +471,8 @@ fn warm_start_two_percent_away_needs_one_iteration() {
     // and the load-scaled discretization offset make one Newton step enough.
     for n in 1..=3 {
         let model = paper(n);
-        let m = Cosserat::full();
+        // Warm starts are shooting's (the unloaded path needs none).
+        let m = Cosserat::full().with_unloaded(false);
         let mut near = model.actuation.clone();
         for d in &mut near.cables {
             d.tension = d.tension.map(|t| 0.98 * t);

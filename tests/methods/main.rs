@@ -14,6 +14,7 @@ mod cosserat;
 mod cosserat_compliance;
 mod cosserat_refs;
 mod cosserat_stability;
+mod cosserat_unloaded;
 mod energy;
 mod energy_sensitivity;
 mod energy_warm;

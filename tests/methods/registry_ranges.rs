@@ -107,8 +107,8 @@ fn every_printed_range_is_what_its_parser_enforces() {
             walked += 1;
         }
     }
-    // 3 geometric settings twice, 11 energy, 9 for each rod, 1 constant-curvature.
-    assert_eq!(walked, 3 + 3 + 11 + 9 + 9 + 1);
+    // 3 geometric settings twice, 11 energy, 10 for each rod, 1 constant-curvature.
+    assert_eq!(walked, 3 + 3 + 11 + 10 + 10 + 1);
 }
 
 /// The printed ranges, pinned: the text `ccrkit methods` and Python's `methods()` show.

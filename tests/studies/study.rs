@@ -128,12 +128,19 @@ fn speed_accuracy_csv_has_columns_and_finite_values() {
             assert!(finite(&r[col(&h, c)]), "{c} in {r:?}");
         }
     }
-    // More RK4 steps, smaller error (against the 80-step full rod).
+    // More steps, smaller error (against the 80-step full rod) — or every row at rounding:
+    // case I's tendons are straight, and the unloaded rod integrates their arcs exactly.
     let k: Vec<_> = rows
         .iter()
         .filter(|r| r.method == "cosserat" && r.setting.starts_with("rk4"))
         .collect();
-    assert!(k.first().expect("rows").tip_error_m >= k.last().expect("rows").tip_error_m);
+    let (first, last) = (k.first().expect("rows"), k.last().expect("rows"));
+    assert!(
+        first.tip_error_m >= last.tip_error_m || first.tip_error_m <= 1e-12,
+        "{} → {}",
+        first.tip_error_m,
+        last.tip_error_m
+    );
 }
 
 /// The study's adaptive rows follow their tolerance (issue 11 #7): on paper case I each

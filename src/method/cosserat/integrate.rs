@@ -224,13 +224,11 @@ impl Problem<'_> {
             RodModel::Kirchhoff => E3,
         };
         let u = v3(y, 15);
+        self.advance_chords(k, &p, &r, chord, prev);
         for (c, cable) in robot.cables.iter().enumerate() {
             if cable.ends_at < k {
                 continue;
             }
-            let hole = p + r * cable.hole(k);
-            chord[c] += (hole - prev[c]).norm();
-            prev[c] = hole;
             let t = ld.tau[c];
             if cable.ends_at == k && t != 0.0 {
                 let rp = self.eval_route(c, robot.disk_s[k], k);
@@ -246,6 +244,25 @@ impl Problem<'_> {
             m -= self.tip_m * ld.lam;
         }
         (n, m)
+    }
+
+    /// Add each running cable's chord to disk `k` (at `p`, `R`) to `chord` and move its last
+    /// hole `prev` there.
+    pub(super) fn advance_chords(
+        &self,
+        k: usize,
+        p: &Vector3<f64>,
+        r: &Matrix3<f64>,
+        chord: &mut Buf,
+        prev: &mut [Vector3<f64>; MAX_CABLES],
+    ) {
+        for (c, cable) in self.robot.cables.iter().enumerate() {
+            if cable.ends_at >= k {
+                let hole = p + r * cable.hole(k);
+                chord[c] += (hole - prev[c]).norm();
+                prev[c] = hole;
+            }
+        }
     }
 
     /// Kink forces of cables passing inner disk `k` where the strains jump (a cable is tied

@@ -35,6 +35,8 @@ pub(super) struct Trace {
     /// Cable lengths in the chosen measure at the end of the pass (empty until it ends).
     pub(super) len: Vec<f64>,
     pub(super) key: Vec<f64>,
+    /// Integrated by the unloaded path (`unloaded.rs`), not by shooting.
+    pub(super) fast: bool,
 }
 
 impl Trace {
@@ -44,6 +46,7 @@ impl Trace {
         self.backbone.clear();
         self.len.clear();
         self.key.clear();
+        self.fast = false;
         self.key.extend(n0.iter().chain(m0.iter()).chain(&ld.tau));
         self.key.push(ld.lam);
     }
@@ -84,6 +87,8 @@ pub(super) struct Problem<'a> {
     /// Right-hand-side evaluations spent so far (a tangent direction counts as one more),
     /// against [`WORK_BUDGET`].
     pub(super) work: std::cell::Cell<usize>,
+    /// This solve takes the unloaded path (`unloaded.rs`): no external load, tensions given.
+    pub(super) fast: bool,
 }
 
 /// Right-hand-side evaluations one solve may spend (≈ 9 s for two cables on 3000 sections)
@@ -351,6 +356,7 @@ impl Cosserat {
             last: Default::default(),
             mesh: Default::default(),
             work: Default::default(),
+            fast: false,
         };
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.compliance[c] = cable.compliance();
@@ -358,6 +364,7 @@ impl Cosserat {
         }
         prob.nsteps = prob.steps_per_section();
         prob.cubic = prob.route_cubics();
+        prob.fast = prob.unloaded_applies();
         if self.adaptive.is_none() {
             let total: usize = prob.nsteps[1..].iter().sum();
             notes[0].push_str(&format!(
@@ -373,7 +380,7 @@ impl Cosserat {
         };
         if (0..nc).any(|c| matches!(prob.modes[c], Drive::Shorten { .. })) {
             prob.len0 = prob
-                .shoot(&Vector3::zeros(), &Vector3::zeros(), &zero, None, None)
+                .pass(&Vector3::zeros(), &Vector3::zeros(), &zero, None)
                 .len;
         }
 

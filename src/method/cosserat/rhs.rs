@@ -5,6 +5,7 @@
 
 use super::problem::{LoadCase, Problem};
 use super::{put3, rot_of, sym_inverse, v3, Buf, RodModel, State, E3, MAX_CABLES};
+use crate::model::routing::RoutePoint;
 use crate::numeric::so3::hat;
 use nalgebra::{Matrix3, Vector3};
 
@@ -18,6 +19,10 @@ pub(super) struct TendonSums {
     pub(super) hm: Matrix3<f64>,
     pub(super) a: Vector3<f64>,
     pub(super) b: Vector3<f64>,
+    /// `Σ τ_i t_i` (body frame): the tendons' pull, `−nb` of the unloaded rod (`unloaded.rs`).
+    pub(super) pull: Vector3<f64>,
+    /// `Σ τ_i r_i × t_i`: their moment, `−mb` of the unloaded rod.
+    pub(super) twist: Vector3<f64>,
 }
 
 /// Per-cable quantities at one point that the tangents reuse: `r_i`, `r_i'`, the unit
@@ -83,7 +88,14 @@ impl Problem<'_> {
     ) -> State {
         let pt = self.point(y);
         let mut cables = CablePoints::new();
-        let sums = self.tendon_sums::<false>(s, sec, &pt, ld, lr, &mut cables);
+        let sums = self.tendon_sums::<false>(
+            |c| self.eval_route(c, s, sec),
+            sec,
+            &pt,
+            ld,
+            lr,
+            &mut cables,
+        );
         match self.strain_rates(&pt, &sums, ld) {
             Some((dy, _)) => dy,
             None => State::from_element(f64::NAN),
@@ -106,14 +118,14 @@ impl Problem<'_> {
         }
     }
 
-    /// The tendon sums at `s` (section `sec`), written from vectors: with `t = ṗ/|ṗ|`,
+    /// The tendon sums at a point of section `sec` whose routes `route(c)` gives, written from vectors: with `t = ṗ/|ṗ|`,
     /// `α = τ/|ṗ|`, `A_i = α (I − t tᵀ)`, `A_i r̂ = α (r̂ − t wᵀ)`, `r̂ A_i r̂ = α (r̂² + w wᵀ)`,
     /// `w = t × r`. `lr[c]` receives `|ṗ_c|`; with `KEEP` the per-cable quantities go to
     /// `keep` for the tangents.
     #[inline(always)]
     pub(super) fn tendon_sums<const KEEP: bool>(
         &self,
-        s: f64,
+        route: impl Fn(usize) -> RoutePoint,
         sec: usize,
         pt: &Point,
         ld: &LoadCase,
@@ -126,11 +138,13 @@ impl Problem<'_> {
         let mut sh = [0.0; 6];
         let mut a = Vector3::zeros();
         let mut b = Vector3::zeros();
+        let mut pull = Vector3::zeros();
+        let mut twist = Vector3::zeros();
         for (c, cable) in self.robot.cables.iter().enumerate() {
             if cable.ends_at < sec {
                 continue;
             }
-            let rp = self.eval_route(c, s, sec);
+            let rp = route(c);
             let pd = u.cross(&rp.r) + rp.dr + v;
             let nrm = pd.norm();
             lr[c] = nrm;
@@ -151,6 +165,8 @@ impl Problem<'_> {
             }
             let al = tau * inv;
             let ww = tt.cross(&rp.r);
+            pull += pd * al;
+            twist -= ww * tau;
             let rr = rp.r;
             let (tx, ty, tz) = (tt.x, tt.y, tt.z);
             let (rx, ry, rz) = (rr.x, rr.y, rr.z);
@@ -196,6 +212,8 @@ impl Problem<'_> {
             ),
             a,
             b,
+            pull,
+            twist,
         }
     }
 
@@ -223,7 +241,9 @@ impl Problem<'_> {
         ld: &LoadCase,
     ) -> Option<(State, Factors)> {
         let Point { r, w, u, v } = *pt;
-        let TendonSums { am, gm, hm, a, b } = *sums;
+        let TendonSums {
+            am, gm, hm, a, b, ..
+        } = *sums;
         let bm = gm.transpose();
         let (f, fb) = self.body_force(&r, ld.lam);
         let mut dy = State::zeros();

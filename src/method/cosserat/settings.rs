@@ -51,6 +51,11 @@ pub struct Cosserat {
     /// `None` meaning *not checked* (a note says so), and a warm start from the shape reuses
     /// Newton's last Jacobian instead of the exact one that pass also gives.
     pub check_stability: bool,
+    /// Take the unloaded path where it applies (`solver = auto`, default): with no external
+    /// load and every tension given, the strains follow from the tendons' balance at each
+    /// point and one integration gives the shape (`unloaded.rs`). `false` (`solver =
+    /// shooting`) always shoots.
+    pub unloaded: bool,
 }
 
 impl Default for Cosserat {
@@ -67,6 +72,7 @@ impl Default for Cosserat {
             tolerance: 1e-9,
             direct_start: true,
             check_stability: true,
+            unloaded: true,
         }
     }
 }
@@ -103,6 +109,11 @@ impl Cosserat {
         self.steps_per_section = steps;
         self
     }
+    /// Builder: always shoot (`false`), or take the unloaded path where it applies (`true`).
+    pub fn with_unloaded(mut self, unloaded: bool) -> Self {
+        self.unloaded = unloaded;
+        self
+    }
     /// Builder: adaptive RK45 tolerance (`None`: fixed RK4).
     pub fn with_adaptive(mut self, tol: Option<f64>) -> Self {
         self.adaptive = tol;
@@ -123,6 +134,7 @@ impl Configure for Cosserat {
             "max-iterations" => self.max_iterations = range.count(name, value)?,
             "tolerance" => self.tolerance = range.real(name, value)?,
             "stability" => self.check_stability = range.pick(name, value, common::ON_OFF)?,
+            "solver" => self.unloaded = range.pick(name, value, common::ON_OFF)?,
             _ => return Err(self.kind().unapplied(name)),
         }
         Ok(())

@@ -76,15 +76,17 @@ impl Method for Cosserat {
             } else {
                 None
             };
-            let (sol, load_steps) =
-                prob.solve_with_continuation(&x0, &setup, jac0)
-                    .map_err(|e| SolveError::NotConverged {
-                        method: name.clone(),
-                        section: None,
-                        iterations: total_it + e.iterations,
-                        residual: e.residual,
-                        detail: e.detail,
-                    })?;
+            let solved = match prob.fast {
+                true => prob.solve_unloaded(&mut notes),
+                false => prob.solve_with_continuation(&x0, &setup, jac0),
+            };
+            let (sol, load_steps) = solved.map_err(|e| SolveError::NotConverged {
+                method: name.clone(),
+                section: None,
+                iterations: total_it + e.iterations,
+                residual: e.residual,
+                detail: e.detail,
+            })?;
             if load_steps > 0 {
                 notes.push(format!("continuation: {load_steps} load steps"));
             }
@@ -160,7 +162,7 @@ impl Cosserat {
         } else if setup.slack.iter().any(|&b| b) {
             let n0 = Vector3::new(x[0], x[1], x[2]);
             let m0 = Vector3::new(x[3], x[4], x[5]) * prob.len_l;
-            let shot = prob.shoot(&n0, &m0, &LoadCase { tau, lam: 1.0 }, None, None);
+            let shot = prob.pass(&n0, &m0, &LoadCase { tau, lam: 1.0 }, None);
             for &c in length_cables {
                 let tol_len = 10.0 * self.tolerance / prob.kl[c];
                 if setup.slack[c] && shot.len[c] > prob.target(c, 1.0) + tol_len {
@@ -199,8 +201,9 @@ impl Cosserat {
         let mut trace = prob.last.take();
         let mut probe = Trace::default();
         probe.start(&n0, &m0, &ld);
-        if trace.key != probe.key || trace.disks.len() != robot.sections() + 1 {
-            prob.shoot(&n0, &m0, &ld, Some(&mut probe), None);
+        let same = trace.key == probe.key && trace.fast == prob.fast;
+        if !same || trace.disks.len() != robot.sections() + 1 {
+            prob.pass(&n0, &m0, &ld, Some(&mut probe));
             trace = probe;
         }
         // Undeformed lengths, for the shortenings reported: computed by the solve when a
@@ -215,12 +218,11 @@ impl Cosserat {
                 lam: 0.0,
             };
             let mut unloaded = Trace::default();
-            prob.shoot(
+            prob.pass(
                 &Vector3::zeros(),
                 &Vector3::zeros(),
                 &zero,
                 Some(&mut unloaded),
-                None,
             )
             .len
         };

@@ -81,7 +81,7 @@ const ROD_SETTINGS: &[SettingInfo] = &[
         name: "rk4-steps",
         values: Range::whole(1, 1000),
         default: "3",
-        help: "RK4 steps per section before bend refinement",
+        help: "steps per section before bend refinement (RK4 when shooting, Magnus unloaded)",
     },
     SettingInfo {
         name: "adaptive",
@@ -111,6 +111,13 @@ const ROD_SETTINGS: &[SettingInfo] = &[
         default: "check",
         help: "focal-point stability test of the answer; skip: report.stable is None (not \
                checked), one variational pass saved",
+    },
+    SettingInfo {
+        name: "solver",
+        values: Range::Choice(&[("auto", 0), ("shooting", 1)]),
+        default: "auto",
+        help: "auto: with no external load and tensions given, strains from the tendons' \
+               balance and one Magnus integration (no shooting); shooting: always shoot",
     },
 ];
 

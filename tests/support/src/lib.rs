@@ -5,3 +5,4 @@
 pub mod port_robots;
 pub mod rng;
 pub mod scenes;
+pub mod soft;
