@@ -25,6 +25,7 @@ pub(crate) mod contact;
 pub mod counts;
 pub mod error;
 pub mod export;
+pub mod fingerprint;
 pub mod method;
 pub mod model;
 pub mod output;

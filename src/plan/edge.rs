@@ -146,7 +146,7 @@ impl<'a> Checker<'a> {
 
     /// The kept samples strictly inside the edge from `a` to `b` (checked clear before, in
     /// either direction), as (parameter from `a` in (0, 1), node), in order from `a`; empty when
-    /// none were kept (a trusted roadmap edge, or samples not kept).
+    /// none were kept.
     pub fn samples_along(&self, a: &[f64], b: &[f64]) -> Vec<(f64, &Node)> {
         let key = edge_key(a, b);
         let Some(list) = self.samples.as_ref().and_then(|m| m.get(&key)) else {
@@ -159,12 +159,6 @@ impl<'a> Checker<'a> {
             .collect();
         out.sort_by(|x, y| x.0.total_cmp(&y.0));
         out
-    }
-
-    /// Record the outcome of a check of the edge `a`–`b` made earlier under the same space
-    /// and margin (a roadmap's validated edges), so [`Checker::edge`] returns it unchecked.
-    pub fn trust_edge(&mut self, a: &[f64], b: &[f64], check: EdgeCheck) {
-        self.memo.insert(edge_key(a, b), check);
     }
 
     /// Solve and check `u` (warm-started from `warm`); `None` when it is not admissible.

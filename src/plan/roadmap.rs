@@ -5,14 +5,15 @@
 //! in actuation space lengthened near obstacles), and hands the path to the same shortcut and output stage as the
 //! single-query planner.
 //!
-//! A roadmap remembers the robot's cable names and limits, the method and its settings, the
+//! A roadmap remembers the robot it was built for (a fingerprint of every field that shapes it,
+//! [`crate::fingerprint::robot`]), the cable names and limits, the method and its settings, the
 //! margin and a fingerprint of the obstacles (names, poses, bounds, clearance). A query with
-//! different cables, limits or method is refused by name; with a changed scene (or margin) it
-//! is *repaired lazily*: the nodes and edges of each candidate path are checked again, those
-//! that fail are dropped and the search repeated ([`super::PlanStats::edges_repaired`]).
-//! With an unchanged scene and margin the stored edges are trusted: their certified and
-//! measured clearances (stored with them) are handed to the query's checker, which then does
-//! not validate them again.
+//! another robot (a hole radius of 4.0 mm instead of 4.5), cables, limits or method is refused
+//! by name. Nothing in the file is believed about safety: the nodes and edges of each
+//! candidate path are solved and checked again under the query's scene and margin, those that
+//! fail are dropped and the search repeated ([`super::PlanStats::edges_repaired`]), so every
+//! clearance a plan reports is measured in this run (a node's clearance edited to 0.5 m once
+//! came back as "≥ 228 mm certified"). The stored clearances only weight the search.
 //!
 //! # Sampling biased to the free space
 //!
@@ -51,7 +52,7 @@ use std::collections::{BTreeSet, BinaryHeap};
 use std::time::Instant;
 
 /// Format tag of roadmap files.
-pub const FORMAT: &str = "ccrkit-roadmap-1";
+pub const FORMAT: &str = "ccrkit-roadmap-2";
 
 /// How to build a roadmap.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,6 +102,8 @@ pub struct Roadmap {
     pub format: String,
     /// Robot name.
     pub robot: String,
+    /// The robot's fingerprint ([`crate::fingerprint::robot`]).
+    pub robot_fingerprint: String,
     /// Cable names.
     pub cables: Vec<String>,
     /// Lower limits \[m\].
@@ -121,9 +124,9 @@ pub struct Roadmap {
     pub nodes: Vec<RoadmapNode>,
     /// Validated edges (node indices).
     pub edges: Vec<(usize, usize)>,
-    /// Per edge: its certified and its smallest measured clearance \[m\] (infinite without
-    /// obstacles, written as `null`); absent in older files (the edges are then validated
-    /// again when used).
+    /// Per edge: its certified and its smallest measured clearance \[m\] when built (infinite
+    /// without obstacles, written as `null`); a record only: a query validates every edge it
+    /// uses again.
     #[serde(default)]
     pub edge_clearance: Vec<[Option<f64>; 2]>,
     /// Build statistics: solves, build time \[s\].
@@ -132,18 +135,10 @@ pub struct Roadmap {
     pub build_time_s: f64,
 }
 
-/// A fingerprint of the obstacles: names, poses, bounds and the clearance (FNV-1a, 64 bit).
+/// A fingerprint of the obstacles: names, poses, bounds and the clearance
+/// ([`crate::fingerprint::scene`]).
 pub fn scene_fingerprint(scene: &Scene) -> String {
-    let mut text = format!("{:e};", scene.clearance);
-    for o in &scene.obstacles {
-        text.push_str(&format!("{}|{:?}|{:?};", o.name, o.pose, o.aabb));
-    }
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in text.bytes() {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    format!("{h:016x}")
+    crate::fingerprint::scene(scene)
 }
 
 fn settings_of(request: &SolveRequest) -> Vec<String> {
@@ -210,6 +205,7 @@ pub fn build(
     Ok(Roadmap {
         format: FORMAT.into(),
         robot: model.robot.name.clone(),
+        robot_fingerprint: crate::fingerprint::robot(&space.robot),
         cables: space.cable_names(),
         lo: space.lo.clone(),
         hi: space.hi.clone(),
@@ -350,7 +346,11 @@ impl Roadmap {
         if r.format != FORMAT {
             return Err(ModelError::invalid(
                 "format",
-                format!("`{p}` is `{}`, expected `{FORMAT}`", r.format),
+                format!(
+                    "`{p}` is `{}`, expected `{FORMAT}` (older roadmaps name no robot \
+                     fingerprint: build it again)",
+                    r.format
+                ),
             ));
         }
         let n = r.nodes.len();
@@ -383,6 +383,18 @@ impl Roadmap {
                 reason,
             })
         };
+        let robot = crate::fingerprint::robot(&space.robot);
+        if self.robot_fingerprint != robot {
+            return Err(SolveError::InvalidInput {
+                field: "roadmap.robot_fingerprint".into(),
+                reason: format!(
+                    "the roadmap was built for robot `{}` with fingerprint {}; this model's robot \
+                     `{}` has {} (a hole, a disk, the backbone or a cable's routing differs): \
+                     build a roadmap for this robot",
+                    self.robot, self.robot_fingerprint, space.robot.name, robot
+                ),
+            });
+        }
         if self.cables != space.cable_names() || self.lo != space.lo || self.hi != space.hi {
             return bad(format!(
                 "built for cables {:?} with limits {:?} … {:?}; this model has {:?}, {:?} … {:?}",
@@ -416,7 +428,6 @@ impl Roadmap {
         opts: &PlanOptions,
         t0: Instant,
     ) -> Result<Plan, SolveError> {
-        let trusted = ck.margin == self.margin && scene_fingerprint(&ck.space.scene) == self.scene;
         let mut stats = PlanStats {
             planner: "roadmap",
             ..PlanStats::default()
@@ -448,16 +459,6 @@ impl Roadmap {
         for &(a, b) in &self.edges {
             link(&mut adj, a, b);
         }
-        if trusted && self.edge_clearance.len() == self.edges.len() {
-            for (&(a, b), c) in self.edges.iter().zip(&self.edge_clearance) {
-                let check = EdgeCheck::Clear {
-                    certified: c[0].unwrap_or(f64::INFINITY),
-                    measured: c[1].unwrap_or(f64::INFINITY),
-                    pieces: 1,
-                };
-                ck.trust_edge(&self.nodes[a].u, &self.nodes[b].u, check);
-            }
-        }
         // Solved roadmap nodes (lazily), `None` once refused.
         let mut solved: Vec<Option<Option<Node>>> = vec![None; n];
         // Each end is linked to its nearest node with a clear edge; only when the roadmap then
@@ -470,7 +471,7 @@ impl Roadmap {
                 None if want < 3 => {
                     want = if want == 0 { 1 } else { 3 };
                     for (e, (end, idx)) in [(&s, si), (&g, gi)].into_iter().enumerate() {
-                        for j in self.links(ck, &mut solved, end, want, &linked[e], trusted) {
+                        for j in self.links(ck, &mut solved, end, want, &linked[e]) {
                             link(&mut adj, idx, j);
                             linked[e].push(j);
                         }
@@ -485,7 +486,7 @@ impl Roadmap {
                 }
             };
             stats.tree_nodes = ids.len();
-            // Solve the path's nodes in order; with a changed scene, check its edges too.
+            // Solve and check the path's nodes in order, and its edges.
             let mut path = vec![s.clone()];
             let mut broken: Option<(usize, usize)> = None;
             for w in ids.windows(2) {
@@ -494,7 +495,7 @@ impl Roadmap {
                     g.clone()
                 } else {
                     let warm = path[path.len() - 1].shape.clone();
-                    match self.solve_node(ck, &mut solved, b, &warm, trusted) {
+                    match self.solve_node(ck, &mut solved, b, &warm) {
                         Some(x) => x,
                         None => {
                             broken = Some((w[0], b));
@@ -502,7 +503,7 @@ impl Roadmap {
                         }
                     }
                 };
-                if !trusted && ck.edge(&path[path.len() - 1], &node) == EdgeCheck::Blocked {
+                if ck.edge(&path[path.len() - 1], &node) == EdgeCheck::Blocked {
                     broken = Some((w[0], b));
                     break;
                 }
@@ -528,7 +529,6 @@ impl Roadmap {
         end: &Node,
         want: usize,
         have: &[usize],
-        trusted: bool,
     ) -> Vec<usize> {
         let mut out = Vec::new();
         for j in nearest(&ck.metric, &self.nodes, &end.u, 4 * 3) {
@@ -538,7 +538,7 @@ impl Roadmap {
             if have.contains(&j) {
                 continue;
             }
-            let Some(nj) = self.solve_node(ck, solved, j, &end.shape, trusted) else {
+            let Some(nj) = self.solve_node(ck, solved, j, &end.shape) else {
                 continue;
             };
             if let EdgeCheck::Clear { .. } = ck.edge(end, &nj) {
@@ -556,30 +556,19 @@ impl Roadmap {
         }
     }
 
-    /// Roadmap node `j` solved (warm from `warm`); with a trusted scene it is not checked
-    /// again (it was admissible when built).
+    /// Roadmap node `j` solved (warm from `warm`) and checked: its clearance measured here,
+    /// never taken from the file.
     fn solve_node(
         &self,
         ck: &mut Checker,
         solved: &mut [Option<Option<Node>>],
         j: usize,
         warm: &crate::shape::Shape,
-        trusted: bool,
     ) -> Option<Node> {
         if let Some(x) = &solved[j] {
             return x.clone();
         }
-        let u = &self.nodes[j].u;
-        let out = if trusted {
-            ck.stats.solves += 1;
-            ck.space.solve(u, Some(warm)).ok().map(|shape| Node {
-                u: u.clone(),
-                clearance: self.nodes[j].clearance.unwrap_or(f64::INFINITY),
-                shape,
-            })
-        } else {
-            ck.node(u, Some(warm))
-        };
+        let out = ck.node(&self.nodes[j].u, Some(warm));
         solved[j] = Some(out.clone());
         out
     }

@@ -142,3 +142,119 @@ fn roadmap_nodes_of_the_wrong_length_or_outside_the_limits_are_refused() {
         }
     }
 }
+
+/// Paper case 1 with a ball in the way of the straight path from A-only to B-only shortening
+/// (as in `tests/inverse/plan.rs`), its holes at `radius` \[m\].
+fn ball_model(radius: f64) -> Model {
+    let text = std::fs::read_to_string(root().join("models/paper/case1.toml")).expect("case 1");
+    let text = text.replace("radius = 0.008", &format!("radius = {radius}"));
+    let ball = "[[obstacles]]\nname = \"ball\"\nshape = \"sphere\"\n\
+                position = [0.064, 0.111, 0.104]\nradius = 0.012\n";
+    Model::from_toml_str(&format!("clearance = 0.0005\n{text}\n{ball}")).expect("ball model")
+}
+
+fn ball_roadmap(model: &Model) -> ccrkit::plan::roadmap::Roadmap {
+    use ccrkit::plan::roadmap::{build, BuildOptions};
+    let opts = BuildOptions {
+        samples: 60,
+        expand: 60,
+        ..BuildOptions::default()
+    };
+    build(model, &energy(), &opts).expect("a roadmap")
+}
+
+fn energy() -> ccrkit::method::run::SolveRequest {
+    ccrkit::method::run::SolveRequest::new(ccrkit::method::MethodKind::Energy)
+}
+
+fn ball_query(
+    model: &Model,
+    rm: &ccrkit::plan::roadmap::Roadmap,
+) -> Result<ccrkit::plan::Plan, ccrkit::SolveError> {
+    use ccrkit::plan::{plan, Goal, PlanOptions};
+    plan(
+        model,
+        &energy(),
+        Some(vec![0.014, 0.0]),
+        &Goal::Actuation(vec![0.0, 0.014]),
+        &PlanOptions::default(),
+        Some(rm),
+    )
+}
+
+/// A roadmap built for another robot — the same cable names and limits, the holes at 4.0 mm
+/// from the backbone instead of 4.5 — is refused by name (it was accepted, and its plan
+/// reported clearances of the other robot's shapes).
+#[test]
+fn a_roadmap_built_for_another_robot_is_refused_by_name() {
+    let built_for = ball_model(0.0040);
+    let used_with = ball_model(0.0045);
+    let rm = ball_roadmap(&built_for);
+    ball_query(&built_for, &rm).expect("its own robot plans");
+    match ball_query(&used_with, &rm) {
+        Err(ccrkit::SolveError::InvalidInput { field, reason }) => {
+            assert_eq!(field, "roadmap.robot_fingerprint", "{reason}");
+            assert!(
+                reason.contains("build a roadmap for this robot"),
+                "{reason}"
+            );
+        }
+        other => panic!("expected a named refusal, got {:?}", other.map(|p| p.stats)),
+    }
+    // Through the file, too: the fingerprint is written and read back.
+    let path = scratch("lies").join("ball_roadmap.json");
+    rm.save(&path).expect("saves");
+    let back = ccrkit::plan::roadmap::Roadmap::load(&path).expect("loads");
+    assert_eq!(back.robot_fingerprint, rm.robot_fingerprint);
+    assert!(ball_query(&used_with, &back).is_err());
+    // A roadmap of the older format names no robot: refused when read, saying why.
+    let text = std::fs::read_to_string(&path).expect("reads");
+    let old = text.replace("ccrkit-roadmap-2", "ccrkit-roadmap-1");
+    std::fs::write(&path, old).expect("writes");
+    match ccrkit::plan::roadmap::Roadmap::load(&path) {
+        Err(ModelError::Invalid { field, reason }) => {
+            assert_eq!(field, "format");
+            assert!(reason.contains("build it again"), "{reason}");
+        }
+        other => panic!("expected the old format refused, got {other:?}"),
+    }
+}
+
+/// Node and edge clearances edited to 0.5 m in a roadmap do not come back: every clearance a
+/// plan reports is measured in the query (the edited file once gave "≥ 228 mm certified").
+#[test]
+fn clearances_in_a_roadmap_file_are_measured_again_never_believed() {
+    let model = ball_model(0.008);
+    let rm = ball_roadmap(&model);
+    let honest = ball_query(&model, &rm).expect("plans");
+    let mut lying = rm.clone();
+    for n in &mut lying.nodes {
+        n.clearance = Some(0.5);
+    }
+    for c in &mut lying.edge_clearance {
+        *c = [Some(0.5), Some(0.5)];
+    }
+    let p = ball_query(&model, &lying).expect("plans");
+    assert!(
+        p.certified_clearance_m < 0.05 && p.min_clearance_m < 0.05,
+        "certified {} m, measured {} m: taken from the file",
+        p.certified_clearance_m,
+        p.min_clearance_m
+    );
+    assert!(p.certified_clearance_m <= p.min_clearance_m);
+    assert!(p.certified_clearance_m >= model.scene.clearance);
+    // Each waypoint's clearance is the one its actuation's shape has, solved here afresh.
+    let space = ccrkit::reach::Space::new(&model, &energy(), false).expect("space");
+    let mut ck = ccrkit::plan::Checker::new(&space, 0.0);
+    for w in &p.waypoints {
+        let fresh = ck.node(&w.u, Some(&w.shape)).expect("admissible");
+        assert!(
+            (fresh.clearance - w.clearance).abs() < 1e-6,
+            "a waypoint's clearance {} m, its shape's {} m",
+            w.clearance,
+            fresh.clearance
+        );
+    }
+    // The honest roadmap's plan measures the same kind of numbers.
+    assert!(honest.min_clearance_m < 0.05);
+}
