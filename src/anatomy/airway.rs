@@ -70,7 +70,7 @@ pub struct Branch {
     pub generation: u32,
     /// Index of the parent branch (`None` for the trachea).
     pub parent: Option<usize>,
-    /// Centreline points from the start (the parent's end) to the end [m].
+    /// Centreline points from the start (the parent's end) to the end \[m\].
     pub centreline: Vec<Vector3<f64>>,
     /// Inner radius of the lumen \[m\].
     pub radius: f64,
@@ -82,11 +82,11 @@ impl Branch {
         let n = self.centreline.len();
         (self.centreline[n - 1] - self.centreline[n - 2]).normalize()
     }
-    /// The centreline's end [m].
+    /// The centreline's end \[m\].
     pub fn end(&self) -> Vector3<f64> {
         self.centreline[self.centreline.len() - 1]
     }
-    /// Distance from `p` to the centreline polyline [m].
+    /// Distance from `p` to the centreline polyline \[m\].
     pub fn axis_distance(&self, p: &Vector3<f64>) -> f64 {
         self.centreline
             .windows(2)

@@ -33,8 +33,8 @@
 //!
 //! Nodes are points `[u, d, ψ]` (shortenings, insertion \[m\], rotation \[rad\]), nearest
 //! neighbours and path lengths are measured in the planners' metric ([`super::metric`]), every
-//! [`super::insert::ALONG_EVERY`]-th uniform sample slides the last admissible node along its
-//! insertion, and a query tries the staged insert-first paths ([`super::insert`]) before the
+//! `insert::ALONG_EVERY`-th uniform sample slides the last admissible node along its
+//! insertion, and a query tries the staged insert-first paths (`insert`) before the
 //! graph.
 
 use super::edge::{Checker, EdgeCheck, Node};

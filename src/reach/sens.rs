@@ -23,7 +23,7 @@ use crate::shape::Shape;
 use nalgebra::{DMatrix, Vector3};
 
 /// Central-difference step of an unknown: shortening \[m\], insertion \[m\], rotation \[rad\]
-/// (a tension's is [`FD_STEP_TENSION`]).
+/// (a tension's is `FD_STEP_TENSION`).
 pub const FD_STEP: f64 = 1e-6;
 /// Central-difference step of a tension \[N\].
 pub const FD_STEP_TENSION: f64 = 1e-4;
