@@ -278,25 +278,16 @@ impl SolveRequest {
             }
             None => None,
         };
-        let mut times = Vec::with_capacity(self.repeat);
-        let mut shape = None;
         // Readied for the robot once; every repeat pays its share of that time.
         let t = Instant::now();
         let prepared = solver.prepare(&model.robot)?;
         let setup = t.elapsed().as_secs_f64() / self.repeat as f64;
-        for _ in 0..self.repeat {
-            let t = Instant::now();
-            // Checked once below, outside the timed repeats.
-            let s = prepared.solve_unchecked(&model.actuation, &scene, warm.as_ref())?;
-            times.push(t.elapsed().as_secs_f64() + setup);
-            shape = Some(s);
-        }
-        times.sort_by(f64::total_cmp);
-        let median_time_s = times[times.len() / 2];
-        let mut shape = shape.ok_or_else(|| SolveError::InvalidInput {
-            field: "repeat".into(),
-            reason: "no solve ran".into(),
-        })?;
+        // Checked once below, outside the timed repeats.
+        let (times, last) = timed(self.repeat, || {
+            prepared.solve_unchecked(&model.actuation, &scene, warm.as_ref())
+        });
+        let mut shape = last?;
+        let median_time_s = times[times.len() / 2] + setup;
         shape.report.solve_time_s = median_time_s;
         // Exact duplicates within reach were merged by the broad phase: say so.
         let merged_duplicates = if scene.obstacles.len() > 1 {
@@ -333,26 +324,17 @@ impl SolveRequest {
     /// as one (the median of `repeat` runs).
     fn run_auto(&self, model: &Model, tolerance: f64) -> Result<Solved, SolveError> {
         let scene = self.scene_for(model);
-        let mut times = Vec::with_capacity(self.repeat.max(1));
-        let mut shape = None;
-        for _ in 0..self.repeat.clamp(1, MAX_REPEAT) {
-            let t = Instant::now();
-            let s = super::auto::choose(
+        let (times, last) = timed(self.repeat.clamp(1, MAX_REPEAT), || {
+            super::auto::choose(
                 &model.robot,
                 &model.actuation,
                 &scene,
                 tolerance,
                 &self.settings,
-            )?;
-            times.push(t.elapsed().as_secs_f64());
-            shape = Some(s);
-        }
-        times.sort_by(f64::total_cmp);
+            )
+        });
+        let mut shape = last?;
         let median_time_s = times[times.len() / 2];
-        let mut shape = shape.ok_or_else(|| SolveError::InvalidInput {
-            field: "repeat".into(),
-            reason: "no solve ran".into(),
-        })?;
         shape.report.solve_time_s = median_time_s;
         crate::check::output(&model.robot, &shape)?;
         Ok(Solved {
@@ -361,5 +343,23 @@ impl SolveRequest {
             median_time_s,
             merged_duplicates: 0,
         })
+    }
+}
+
+/// Run `solve` `repeats` times (at least once), stopping at the first failure: the wall times
+/// of the runs, sorted (never empty), and the last answer.
+pub(crate) fn timed<T>(
+    repeats: usize,
+    solve: impl Fn() -> Result<T, SolveError>,
+) -> (Vec<f64>, Result<T, SolveError>) {
+    let mut times = Vec::with_capacity(repeats.max(1));
+    loop {
+        let t = Instant::now();
+        let r = solve();
+        times.push(t.elapsed().as_secs_f64());
+        if r.is_err() || times.len() >= repeats.max(1) {
+            times.sort_by(f64::total_cmp);
+            return (times, r);
+        }
     }
 }

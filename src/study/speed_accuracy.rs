@@ -6,13 +6,12 @@ use super::{
     resolution_settings, Input, Status, StudyError,
 };
 use crate::error::SolveError;
-use crate::method::run::SolveRequest;
+use crate::method::run::{timed, SolveRequest};
 use crate::method::{MethodKind, Settings, Solver};
 use crate::model::scene::Scene;
 use crate::model::Model;
 use crate::progress::ProgressHandle;
 use crate::shape::Shape;
-use std::time::Instant;
 
 /// One method at one resolution setting.
 pub struct Variant {
@@ -187,24 +186,6 @@ pub const AUTO: &str = "auto";
 
 /// The tolerances \[m\] at which `auto` is studied: 1 mm, 0.1 mm, 0.01 mm.
 pub const AUTO_TOLERANCES: [f64; 3] = [1e-3, 1e-4, 1e-5];
-
-/// Run `solve` `repeats` times (≥ 1; stops at the first failure): the sorted wall times and
-/// the last answer.
-fn timed(
-    repeats: usize,
-    solve: impl Fn() -> Result<Shape, SolveError>,
-) -> (Vec<f64>, Result<Shape, SolveError>) {
-    let mut times = vec![];
-    loop {
-        let t = Instant::now();
-        let r = solve();
-        times.push(t.elapsed().as_secs_f64());
-        if r.is_err() || times.len() >= repeats.max(1) {
-            times.sort_by(f64::total_cmp);
-            return (times, r);
-        }
-    }
-}
 
 /// One row: the answer checked, its errors against the rod driven by the same input.
 fn row(
