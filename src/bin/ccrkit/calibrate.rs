@@ -45,14 +45,7 @@ pub struct CalibrateArgs {
 
 /// Run `ccrkit calibrate`.
 pub fn run(a: CalibrateArgs) -> Result<()> {
-    crate::check_files(
-        &[
-            ("model file", Some(&a.file)),
-            ("--data file", Some(&a.data.data)),
-            ("--scene file", a.data.solve.scene.as_deref()),
-        ],
-        &[("--out file", Some(&a.out))],
-    )?;
+    a.data.check_files(&a.file, &a.out)?;
     let text = ccrkit::model::read::read_text(&a.file, "model file")?;
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;

@@ -7,7 +7,7 @@ use ccrkit::calibrate::predict::{predict, write_csv, PredictOptions, DEFAULT_CHU
 use ccrkit::calibrate::{aligned_errors, ErrorStats};
 use ccrkit::Model;
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// What `predict` and `calibrate` share: the data, its columns and unit, the chunking and the
@@ -32,6 +32,19 @@ pub struct DataArgs {
 }
 
 impl DataArgs {
+    /// The files of a `predict` or `calibrate` run checked before any work
+    /// ([`crate::check_files`]): the model, the data and the scene are inputs, `out` the output.
+    pub fn check_files(&self, model: &Path, out: &Path) -> Result<()> {
+        crate::check_files(
+            &[
+                ("model file", Some(model)),
+                ("--data file", Some(&self.data)),
+                ("--scene file", self.solve.scene.as_deref()),
+            ],
+            &[("--out file", Some(out))],
+        )
+    }
+
     /// The data (read and checked) and the unit's size in metres.
     pub fn dataset(&self) -> Result<(Dataset, f64)> {
         let unit = unit_scale(&self.unit)?;
@@ -68,14 +81,7 @@ pub struct PredictArgs {
 
 /// Run `ccrkit predict`.
 pub fn run(a: PredictArgs) -> Result<()> {
-    crate::check_files(
-        &[
-            ("model file", Some(&a.file)),
-            ("--data file", Some(&a.data.data)),
-            ("--scene file", a.data.solve.scene.as_deref()),
-        ],
-        &[("--out file", Some(&a.out))],
-    )?;
+    a.data.check_files(&a.file, &a.out)?;
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;
     let opts = a.data.predict_options(&model)?;
