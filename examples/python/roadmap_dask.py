@@ -18,7 +18,14 @@ from pathlib import Path
 
 import ccrkit
 
-from workspace_dask import local_cluster
+
+def local_cluster(workers: int):
+    """A local cluster of `workers` worker processes on loopback, one thread each."""
+    from dask.distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                           host="127.0.0.1", dashboard_address=None)
+    return cluster, Client(cluster)
 
 
 def build_shard(model: ccrkit.Model, k: int, n: int, options: dict) -> str:

@@ -38,9 +38,6 @@ def test_dask_sweep_equals_single_process(case1):
 
 
 def roadmap_example():
-    import sys
-
-    sys.path.insert(0, str(ROOT / "examples" / "python"))
     path = ROOT / "examples" / "python" / "roadmap_dask.py"
     spec = importlib.util.spec_from_file_location("roadmap_dask", path)
     mod = importlib.util.module_from_spec(spec)

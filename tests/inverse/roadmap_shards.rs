@@ -146,3 +146,66 @@ fn shards_of_different_builds_are_refused_by_name() {
     assert!(err(vec![]).contains("no roadmap shard"));
     merge(vec![b, a]).unwrap();
 }
+
+/// The command line: two shards built and merged equal one build; a shard that cannot be
+/// (`2/2`) and a plan on a shard are refused by name.
+#[test]
+fn command_line_shards_and_merge() {
+    use crate::common::cli::{ccrkit_in, root, scratch};
+    let dir = scratch("roadmap-shards-cli");
+    let scene = dir.join("wall.toml");
+    std::fs::copy(root().join("models/scenes/wall.toml"), &scene).unwrap();
+    let model = root().join("models/paper/case1.toml");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "roadmap".to_string(),
+            "build".into(),
+            model.display().to_string(),
+            "--scene".into(),
+            scene.display().to_string(),
+            "--samples".into(),
+            "12".into(),
+            "--expand".into(),
+            "12".into(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        ccrkit_in(&dir, &args)
+    };
+    for (out, shard) in [
+        ("whole.json", None),
+        ("a.json", Some("0/2")),
+        ("b.json", Some("1/2")),
+    ] {
+        let mut extra = vec!["--out", out];
+        if let Some(s) = shard {
+            extra.extend(["--shard", s]);
+        }
+        let o = run(&extra);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let bad = run(&["--out", "c.json", "--shard", "2/2"]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("shard `2/2`"));
+    let o = ccrkit_in(
+        &dir,
+        &["roadmap", "merge", "b.json", "a.json", "--out", "m.json"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let read = |f: &str| Roadmap::load(&dir.join(f)).unwrap();
+    same(&read("whole.json"), &read("m.json"));
+    let o = ccrkit_in(
+        &dir,
+        &[
+            "plan",
+            &model.display().to_string(),
+            "--scene",
+            "wall.toml",
+            "--to-tip",
+            "0.03,0,0.19",
+            "--roadmap",
+            "a.json",
+        ],
+    );
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("merge the shards"));
+}
