@@ -84,6 +84,9 @@ pub enum ObstacleKind {
     },
 }
 
+/// A solid's grid and how it came.
+pub(crate) type PreparedField = (Arc<SolidField>, FieldOrigin);
+
 /// One obstacle.
 #[derive(Clone)]
 pub struct Obstacle {
@@ -101,7 +104,7 @@ pub struct Obstacle {
     pub aabb: (Vector3<f64>, Vector3<f64>),
     /// A solid mesh's signed-distance grid, built (or read from the cache) on first use and
     /// shared by every copy of the obstacle (`contact/field.rs`), with how it came.
-    pub(crate) field: Arc<OnceLock<Option<(Arc<SolidField>, FieldOrigin)>>>,
+    pub(crate) field: Arc<OnceLock<Option<PreparedField>>>,
     /// Where that grid is cached (`contact/field_cache.rs`).
     pub(crate) field_cache: FieldCache,
 }
