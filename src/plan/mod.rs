@@ -29,8 +29,8 @@ mod rrt;
 pub use edge::{Checker, EdgeCheck, Node, Stats};
 
 use crate::error::{ModelError, SolveError};
-use crate::fingerprint::MadeFor;
 use crate::export::{export_urdf, ExportError, UrdfMode, UrdfOptions};
+use crate::fingerprint::MadeFor;
 use crate::method::run::SolveRequest;
 use crate::model::actuation::Actuation;
 use crate::model::Model;

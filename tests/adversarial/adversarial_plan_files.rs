@@ -38,7 +38,10 @@ fn refused_as(r: Result<Vec<ccrkit::Shape>, ExportError>, want: &str, says: &str
             assert_eq!(field, want, "{reason}");
             assert!(reason.contains(says), "{reason}");
         }
-        other => panic!("expected `{want}` refused, got {:?}", other.map(|s| s.len())),
+        other => panic!(
+            "expected `{want}` refused, got {:?}",
+            other.map(|s| s.len())
+        ),
     }
 }
 
@@ -85,15 +88,24 @@ fn view_refuses_a_plan_made_for_another_robot_or_scene() {
     std::fs::write(dir.join("M4.toml"), model_text(0.0040)).expect("write");
     std::fs::write(dir.join("far.toml"), FAR).expect("write");
     std::fs::write(dir.join("p.json"), plan_text(&model)).expect("write");
-    let ok = ccrkit_in(&dir, &["view", "M.toml", "--plan", "p.json", "--out", "v.html"]);
-    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let ok = ccrkit_in(
+        &dir,
+        &["view", "M.toml", "--plan", "p.json", "--out", "v.html"],
+    );
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
     for (args, field) in [
         (
             vec!["view", "M4.toml", "--plan", "p.json", "--out", "v4.html"],
             "plan.made_for.robot_fingerprint",
         ),
         (
-            vec!["view", "M.toml", "--plan", "p.json", "--scene", "far.toml", "--out", "w.html"],
+            vec![
+                "view", "M.toml", "--plan", "p.json", "--scene", "far.toml", "--out", "w.html",
+            ],
             "plan.made_for.scene_fingerprint",
         ),
     ] {

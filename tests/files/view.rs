@@ -302,7 +302,9 @@ fn bad_inputs_are_named() {
     assert!(e.contains("disks"), "{e}");
     let e = view.add_path("x", &[]).unwrap_err().to_string();
     assert!(e.contains("no shape"), "{e}");
-    let e = read_plan("{\"waypoints\": []}", &model.robot, &Scene::empty()).unwrap_err().to_string();
+    let e = read_plan("{\"waypoints\": []}", &model.robot, &Scene::empty())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("plan.waypoints"), "{e}");
     let e = read_plan("{\"waypoints\": [{\"shape\": {\"method\": \"x\", \"disks\": [], \"backbone\": [], \"cables\": [], \"contacts\": [], \"report\": {\"converged\": true, \"iterations\": 0, \"residual\": 0, \"solve_time_s\": 0}}}]}", &model.robot, &Scene::empty())
         .unwrap_err()

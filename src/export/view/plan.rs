@@ -13,8 +13,8 @@
 
 use super::ExportError;
 use crate::fingerprint::MadeFor;
-use crate::model::scene::Scene;
 use crate::model::robot::Robot;
+use crate::model::scene::Scene;
 use crate::shape::{Shape, ShapeJson};
 use serde::Deserialize;
 
