@@ -179,7 +179,11 @@ impl Setup {
             .collect();
         let mut u: Vec<f64> = (0..k)
             .map(|c| {
-                let (_, theta, phi) = bends.iter().find(|b| b.0 == ends[c]).copied().unwrap_or_default();
+                let (_, theta, phi) = bends
+                    .iter()
+                    .find(|b| b.0 == ends[c])
+                    .copied()
+                    .unwrap_or_default();
                 let hole = robot.cables[c].hole(0);
                 let (r, angle) = (hole.x.hypot(hole.y), hole.y.atan2(hole.x));
                 (r * theta * (angle - phi).cos()).clamp(space.lo[c], space.hi[c])
@@ -195,12 +199,10 @@ impl Setup {
 /// wall, `-∞` when the first sample beyond the port is outside the mesh.
 pub fn dense_clearance(setup: &Setup, shape: &Shape) -> f64 {
     let r = setup.model.robot.body_radius();
-    let port = shape.port.as_ref().map(|p| {
-        (
-            p.pose.translation.vector,
-            p.pose.rotation * Vector3::z(),
-        )
-    });
+    let port = shape
+        .port
+        .as_ref()
+        .map(|p| (p.pose.translation.vector, p.pose.rotation * Vector3::z()));
     let beyond = |x: &Vector3<f64>| port.is_none_or(|(o, a)| a.dot(&(x - o)) > 0.0);
     let mut worst = f64::INFINITY;
     let mut first = true;

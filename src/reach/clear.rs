@@ -273,7 +273,9 @@ fn pair(f: &Feature, scene: &Scene, k: usize, bound: f64) -> Option<f64> {
                 // near the feature instead of over the whole mesh (the same closest triangle).
                 let corner = far_corner(scene, k, &f.centre) + (f.hi - f.lo).norm();
                 let near = o.field().map_or(f64::INFINITY, |fd| {
-                    let c = o.parry_pose.inverse_transform_point(crate::contact::pvec(&f.centre));
+                    let c = o
+                        .parry_pose
+                        .inverse_transform_point(crate::contact::pvec(&f.centre));
                     let (lo, _) = fd.point_bounds([c.x, c.y, c.z]);
                     lo.abs() * (1.0 + 1e-9) + 1e-12
                 });
