@@ -298,7 +298,9 @@ pub fn measure(seed: u64, generations: u32, targets: usize, dir: &Path) -> Resul
         let (reached, reach_dense) = match r {
             Ok(r) => {
                 let again = space.solve_as_cli(&setup.model, &r.u);
-                let dense = again.as_ref().map_or(f64::NEG_INFINITY, |s| dense_clearance(&setup, s));
+                let dense = again
+                    .as_ref()
+                    .map_or(f64::NEG_INFINITY, |s| dense_clearance(&setup, s));
                 let close = again.is_ok_and(|s| (s.tip() - task.tip).norm() <= 1e-6);
                 if !r.reached {
                     reason.push(format!("reach: {}", r.reason));
