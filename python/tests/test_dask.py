@@ -10,9 +10,9 @@ import ccrkit
 from conftest import ROOT
 
 
-def example():
-    path = ROOT / "examples" / "python" / "workspace_dask.py"
-    spec = importlib.util.spec_from_file_location("workspace_dask", path)
+def example(name="workspace_dask"):
+    path = ROOT / "examples" / "python" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
@@ -37,19 +37,11 @@ def test_dask_sweep_equals_single_process(case1):
     assert list(got.status) == list(want.status) and got.errors == want.errors
 
 
-def roadmap_example():
-    path = ROOT / "examples" / "python" / "roadmap_dask.py"
-    spec = importlib.util.spec_from_file_location("roadmap_dask", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
 def test_dask_roadmap_shards_equal_one_build(case1, tmp_path):
     pytest.importorskip("dask.distributed")
     import json
 
-    rd = roadmap_example()
+    rd = example("roadmap_dask")
     ball = tmp_path / "ball.toml"
     ball.write_text(
         'clearance = 0.0005\n[[obstacles]]\nname = "ball"\nshape = "sphere"\n'
