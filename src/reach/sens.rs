@@ -188,7 +188,10 @@ fn insertion_column(
         return None;
     }
     let (u0, v0) = base_strains(shape)?;
-    let rb = port.base_frame(state.rotation).rotation.to_rotation_matrix();
+    let rb = port
+        .base_frame(state.rotation)
+        .rotation
+        .to_rotation_matrix();
     let turn = rb * u0;
     let mut dp = rb * v0 + turn.cross(&(shape.tip() - port.origin()));
     let mut dt = turn.cross(&tangent(shape));

@@ -68,14 +68,20 @@ fn gaps(space: &Space, x: &[f64]) -> Option<(f64, f64)> {
     let (k, len) = (space.cables(), space.robot.length());
     let shape = space.solve(x, None).ok()?;
     let s = sensitivity(space, x, &shape, false).unwrap();
-    assert!(s.exact_insertion, "the insertion's column should be the formula here");
+    assert!(
+        s.exact_insertion,
+        "the insertion's column should be the formula here"
+    );
     let (p, t) = (s.position.column(k), s.tangent.column(k));
     let col = DVector::from_iterator(6, p.iter().copied().chain(t.iter().map(|v| v * len)));
     let fd = central(space, x, &shape, 1e-5)?;
     let fd2 = central(space, x, &shape, 2e-5)?;
     let fd = DVector::from_column_slice(fd.as_slice());
     let fd2 = DVector::from_column_slice(fd2.as_slice());
-    Some(((&col - &fd).norm() / fd.norm(), (&fd - &fd2).norm() / fd.norm()))
+    Some((
+        (&col - &fd).norm() / fd.norm(),
+        (&fd - &fd2).norm() / fd.norm(),
+    ))
 }
 
 fn point(space: &Space, rng: &mut Rng) -> Vec<f64> {
@@ -119,7 +125,10 @@ fn insertion_column_matches_central_differences() {
                 assert!(e4 < 1e-6 && e16 < 1e-6, "{at}: differences off by {e4:.1e}");
                 assert!(g4 < 2e-2, "{at}: the column is {g4:.2e} off");
                 if g4 > 1e3 * e4.max(1e-9) {
-                    assert!(g16 < g4 / 12.0, "{at}: {g4:.2e} at 4 sub-arcs, {g16:.2e} at 16");
+                    assert!(
+                        g16 < g4 / 12.0,
+                        "{at}: {g4:.2e} at 4 sub-arcs, {g16:.2e} at 16"
+                    );
                 }
             }
         }

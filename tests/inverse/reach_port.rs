@@ -64,7 +64,10 @@ fn port_columns_match_central_differences() {
         let shape = space.solve(&x, None).unwrap();
         let s = sensitivity(&space, &x, &shape, false).unwrap();
         assert!(s.exact, "the cable columns should be the method's");
-        assert!(s.exact_insertion, "the insertion's column should be the formula");
+        assert!(
+            s.exact_insertion,
+            "the insertion's column should be the formula"
+        );
         for (j, h) in [(0, 1e-6), (1, 1e-6), (2, 1e-6), (3, 1e-5), (4, 1e-5)] {
             let at = |v: f64| {
                 let mut y = x.clone();
