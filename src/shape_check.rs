@@ -73,7 +73,7 @@ pub(super) fn contact(c: &Contact, field: &str) -> Result<(), ModelError> {
     point(&c.point_obstacle, || format!("{field}.point_obstacle"))?;
     let n = &c.normal;
     let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    if !(len <= 1.0 + 1e-6) {
+    if !len.is_finite() || len > 1.0 + 1e-6 {
         return Err(ModelError::invalid(
             format!("{field}.normal"),
             format!("has length {len}; a normal is a unit vector"),
