@@ -11,4 +11,5 @@ mod dense_scenes;
 mod energy_contact_convergence;
 mod geometric_contact;
 mod obstacles;
+mod rod_contact;
 mod solid_mesh;
