@@ -336,7 +336,7 @@ impl Model {
     /// model's obstacles, or touching them with `allow_contact`; `ccrkit reach`. Raises
     /// `Unreachable` (closest tip, distance, and the closest answer as `result`) when not
     /// reached, unless `require=False`. Other keywords are the method's settings.
-    #[pyo3(signature = (tip, tangent=None, *, method=None, margin=None, allow_contact=false, tolerance=1e-7, starts=8, max_iterations=60, require=true, **settings))]
+    #[pyo3(signature = (tip, tangent=None, *, method=None, margin=None, allow_contact=false, tolerance=1e-7, starts=16, max_iterations=60, require=true, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn reach(
         &self,
@@ -400,6 +400,55 @@ impl Model {
             opts,
         };
         crate::inverse::plan(py, &self.inner, request, args)
+    }
+
+    /// A roadmap for repeated `plan(roadmap=…)` queries, as `ccrkit roadmap build`: its JSON
+    /// text, also written to `out` when given. `shard=(k, N)` builds only shard `k` of `N`
+    /// (every shard samples the same nodes; `ccrkit.merge_roadmaps` joins them into the
+    /// roadmap one build gives — e.g. one shard per Dask worker). Other keywords are the
+    /// method's settings. Releases the GIL.
+    #[pyo3(signature = (out=None, *, method=None, samples=400, expand=400, spread=0.1, neighbours=8, seed=1, margin=None, shard=None, **settings))]
+    #[allow(clippy::too_many_arguments)]
+    fn build_roadmap(
+        &self,
+        py: Python<'_>,
+        out: Option<PathBuf>,
+        method: Option<&str>,
+        samples: usize,
+        expand: usize,
+        spread: f64,
+        neighbours: usize,
+        seed: u64,
+        margin: Option<f64>,
+        shard: Option<(usize, usize)>,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<String> {
+        let request =
+            SolveRequest::new(method_kind(py, method)?).with_settings(settings_from(settings)?);
+        let shard = match shard {
+            Some((index, count)) if index < count => {
+                Some(ccrkit::plan::roadmap::Shard { index, count })
+            }
+            Some((k, n)) => {
+                return Err(invalid(
+                    py,
+                    "shard",
+                    format!("expected (k, N) with 0 <= k < N, got ({k}, {n})"),
+                ))
+            }
+            None => None,
+        };
+        let opts = ccrkit::plan::roadmap::BuildOptions {
+            samples,
+            expand,
+            spread,
+            neighbours,
+            seed,
+            margin,
+            shard,
+            ..Default::default()
+        };
+        crate::inverse::build_roadmap(py, &self.inner, request, opts, out)
     }
 
     /// Pickling: the TOML text, its base directory, the source file and the added scenes.

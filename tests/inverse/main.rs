@@ -7,6 +7,7 @@
 mod common;
 
 mod airway_plan;
+mod insertion_column;
 mod plan;
 mod plan_port;
 mod reach;
@@ -14,3 +15,4 @@ mod reach_body;
 mod reach_port;
 mod reach_random;
 mod reach_tension;
+mod roadmap_shards;
