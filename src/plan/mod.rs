@@ -24,6 +24,7 @@ pub mod metric;
 pub mod motion;
 pub mod roadmap;
 mod roadmap_nodes;
+pub mod roadmap_shard;
 mod rrt;
 
 pub use edge::{Checker, EdgeCheck, Node, Stats};
