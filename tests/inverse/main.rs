@@ -8,6 +8,7 @@ mod common;
 
 mod plan;
 mod plan_port;
+mod plan_tension;
 mod reach;
 mod reach_body;
 mod reach_port;
