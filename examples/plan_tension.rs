@@ -31,8 +31,13 @@ fn main() {
             .filter(|o| o.plan.as_ref().is_ok_and(|p| p.stats.planner == name))
             .count()
     };
+    let detours = out
+        .iter()
+        .filter(|o| o.plan.as_ref().is_ok_and(|p| p.stats.checks.edges_rejected > 0))
+        .count();
     println!(
-        "{ok} of {count} pairs planned ({} by RRT-Connect); median {:.1} ms, worst {:.1} ms",
+        "{ok} of {count} pairs planned ({} by RRT-Connect, {detours} round a refused edge); \
+         median {:.1} ms, worst {:.1} ms",
         planners("rrt-connect"),
         times[times.len() / 2] * 1e3,
         times[times.len() - 1] * 1e3

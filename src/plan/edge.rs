@@ -212,6 +212,22 @@ impl<'a> Checker<'a> {
         })
     }
 
+    /// Why `u` (solved warm from `warm`) is not admissible: the solve's error, the clearance
+    /// below the margin, or the tension limit it breaks (`None` when it is admissible).
+    pub fn why_not(&self, u: &[f64], warm: Option<&Shape>) -> Option<String> {
+        let shape = match self.space.solve(u, warm) {
+            Ok(s) => s,
+            Err(e) => return Some(e.to_string()),
+        };
+        if let Some(c) = self.space.clearance(&shape).filter(|c| c.distance < self.margin) {
+            return Some(format!(
+                "{} is {:.3e} m from `{}`, closer than the margin {} m",
+                c.feature, c.distance, c.obstacle, self.margin
+            ));
+        }
+        self.space.tension_violation(&shape)
+    }
+
     /// Check the straight edge from `a` to `b` (see the module docs); an edge checked before
     /// (either direction) is not checked again.
     pub fn edge(&mut self, a: &Node, b: &Node) -> EdgeCheck {

@@ -386,10 +386,13 @@ fn fill(
         let f = k as f64 / pieces as f64;
         let u: Vec<f64> = from.iter().zip(to).map(|(a, b)| a + f * (b - a)).collect();
         let prev = out[out.len() - 1].shape.clone();
-        let n = ck.node(&u, Some(&prev)).ok_or_else(|| SolveError::NoPath {
-            samples,
-            reason: "a point of a validated edge is not admissible".into(),
-        })?;
+        let Some(n) = ck.node(&u, Some(&prev)) else {
+            let why = ck.why_not(&u, Some(&prev)).unwrap_or_default();
+            return Err(SolveError::NoPath {
+                samples,
+                reason: format!("the point {u:?} of a validated edge is not admissible: {why}"),
+            });
+        };
         out.push(n);
     }
     Ok(())
