@@ -33,7 +33,11 @@ fn main() {
     };
     let detours = out
         .iter()
-        .filter(|o| o.plan.as_ref().is_ok_and(|p| p.stats.checks.edges_rejected > 0))
+        .filter(|o| {
+            o.plan
+                .as_ref()
+                .is_ok_and(|p| p.stats.checks.edges_rejected > 0)
+        })
         .count();
     println!(
         "{ok} of {count} pairs planned ({} by RRT-Connect, {detours} round a refused edge); \

@@ -312,5 +312,6 @@ def _solve_batch(
     steps: int = 1,
     insertion: Optional[npt.ArrayLike] = None,
     rotation: Optional[npt.ArrayLike] = None,
+    estimate: bool = False,
     **settings: _Setting,
 ) -> Dict[str, Any]: ...

@@ -219,7 +219,11 @@ impl<'a> Checker<'a> {
             Ok(s) => s,
             Err(e) => return Some(e.to_string()),
         };
-        if let Some(c) = self.space.clearance(&shape).filter(|c| c.distance < self.margin) {
+        if let Some(c) = self
+            .space
+            .clearance(&shape)
+            .filter(|c| c.distance < self.margin)
+        {
             return Some(format!(
                 "{} is {:.3e} m from `{}`, closer than the margin {} m",
                 c.feature, c.distance, c.obstacle, self.margin

@@ -44,6 +44,7 @@ pub use actuation_file::{actuation_of, actuation_of_in, read_actuation, read_act
 pub use edge::{Checker, EdgeCheck, Node, Stats};
 
 use crate::error::SolveError;
+use crate::fingerprint::MadeFor;
 use crate::method::run::SolveRequest;
 use crate::model::actuation::Input;
 use crate::model::Model;
@@ -142,6 +143,9 @@ pub struct Plan {
     pub seed: u64,
     /// Statistics.
     pub stats: PlanStats,
+    /// The robot, obstacles, margin and method it was planned for, checked where a plan file
+    /// is read back (`view --plan`).
+    pub made_for: MadeFor,
 }
 
 /// One waypoint in JSON.
@@ -187,6 +191,8 @@ pub struct PlanJson {
     pub seed: u64,
     /// Statistics.
     pub statistics: PlanStats,
+    /// What it was planned for (robot and obstacle fingerprints, margin, method).
+    pub made_for: MadeFor,
 }
 
 pub(crate) fn finite(x: f64) -> Option<f64> {
@@ -223,6 +229,7 @@ impl Plan {
                          factor 2)",
             seed: self.seed,
             statistics: self.stats.clone(),
+            made_for: self.made_for.clone(),
         }
     }
 }
@@ -473,5 +480,11 @@ pub(crate) fn finish(
         certified_clearance_m: certified,
         seed: opts.seed,
         stats,
+        made_for: MadeFor::new(
+            &ck.space.robot,
+            &ck.space.scene,
+            ck.margin,
+            &ck.space.request,
+        ),
     })
 }
