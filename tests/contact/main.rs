@@ -9,6 +9,7 @@ mod common;
 mod airway;
 mod dense_scenes;
 mod energy_contact_convergence;
+mod field_cache;
 mod geometric_contact;
 mod obstacles;
 mod solid_mesh;
