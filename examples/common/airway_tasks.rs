@@ -27,7 +27,8 @@ use ccrkit::anatomy::tasks::{branch_of, entrance, inside_mesh};
 use ccrkit::anatomy::{generate, Airway, AirwayOptions};
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::MethodKind;
-use ccrkit::reach::Space;
+use ccrkit::plan::{plan, Goal, PlanOptions};
+use ccrkit::reach::{reach_in, ReachOptions, Space, Target};
 use ccrkit::{Model, Scene, Shape};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d::math::Vector as PVec;
@@ -235,4 +236,121 @@ pub fn quantile(v: &mut [f64], q: f64) -> f64 {
     }
     v.sort_by(f64::total_cmp);
     v[((v.len() - 1) as f64 * q).round() as usize]
+}
+
+/// CPU time of the calling thread \[s\] (Linux: `/proc/thread-self/schedstat`, in ns), or
+/// the wall clock since `wall` where that is not available: on a shared machine the CPU time
+/// is what the computation cost, the wall clock also counts the other programs' turns.
+pub fn cpu_seconds(wall: std::time::Instant) -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or_else(|| wall.elapsed().as_secs_f64(), |ns| ns * 1e-9)
+}
+
+/// One target's outcome in [`measure`].
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The target's generation.
+    pub generation: u32,
+    /// `reach` said reached, its answer solved again puts the tip within 1e-6 m of the
+    /// target, and the answer is clear by the dense check.
+    pub reached: bool,
+    /// Wall time of the reach \[s\].
+    pub reach_s: f64,
+    /// CPU time of the reach \[s\] ([`cpu_seconds`]).
+    pub reach_cpu_s: f64,
+    /// Dense clearance of the reach's answer \[m\] (`-∞` when none).
+    pub reach_dense: f64,
+    /// `plan` found a path from the retracted catheter to the target's actuation, every
+    /// waypoint clear by the dense check.
+    pub planned: bool,
+    /// Wall time of the plan, found or not \[s\] (cold: a new RRT-Connect search).
+    pub plan_s: f64,
+    /// CPU time of the plan \[s\] ([`cpu_seconds`]).
+    pub plan_cpu_s: f64,
+    /// Waypoints of the plan.
+    pub waypoints: usize,
+    /// Smallest dense clearance over the plan's waypoints \[m\] (`-∞` when none).
+    pub plan_dense: f64,
+    /// Why a reach or a plan failed (empty when both succeeded).
+    pub reason: String,
+}
+
+/// Reach and plan `targets` targets beyond the trachea (generation ≥ 1) in the airway of
+/// `seed` (files written in `dir`).
+pub fn measure(seed: u64, generations: u32, targets: usize, dir: &Path) -> Result<Vec<Outcome>> {
+    let setup = Setup::new(seed, generations, dir)?;
+    let space = setup.space()?;
+    let tasks = setup.tasks(&space, seed, targets, 1, 200 * targets);
+    let mut out = Vec::new();
+    for task in tasks {
+        let mut reason = Vec::new();
+        let t0 = std::time::Instant::now();
+        let c0 = cpu_seconds(t0);
+        let target = Target {
+            tip: task.tip,
+            tangent: None,
+        };
+        let r = reach_in(&space, &setup.model, &target, &ReachOptions::default());
+        let reach_s = t0.elapsed().as_secs_f64();
+        let reach_cpu_s = cpu_seconds(t0) - c0;
+        let (reached, reach_dense) = match r {
+            Ok(r) => {
+                let again = space.solve_as_cli(&setup.model, &r.u);
+                let dense = again
+                    .as_ref()
+                    .map_or(f64::NEG_INFINITY, |s| dense_clearance(&setup, s));
+                let close = again.is_ok_and(|s| (s.tip() - task.tip).norm() <= 1e-6);
+                if !r.reached {
+                    reason.push(format!("reach: {}", r.reason));
+                }
+                (r.reached && close && dense >= 0.0, dense)
+            }
+            Err(e) => {
+                reason.push(format!("reach: {e}"));
+                (false, f64::NEG_INFINITY)
+            }
+        };
+        let t1 = std::time::Instant::now();
+        let c1 = cpu_seconds(t1);
+        let p = plan(
+            &setup.model,
+            &setup.request,
+            Some(setup.retracted(&space)),
+            &Goal::Actuation(task.u.clone()),
+            &PlanOptions::default(),
+            None,
+        );
+        let plan_s = t1.elapsed().as_secs_f64();
+        let plan_cpu_s = cpu_seconds(t1) - c1;
+        let (planned, waypoints, plan_dense) = match p {
+            Ok(p) => {
+                let dense = p
+                    .waypoints
+                    .iter()
+                    .map(|w| dense_clearance(&setup, &w.shape))
+                    .fold(f64::INFINITY, f64::min);
+                (dense >= 0.0, p.waypoints.len(), dense)
+            }
+            Err(e) => {
+                reason.push(format!("plan: {e}"));
+                (false, 0, f64::NEG_INFINITY)
+            }
+        };
+        out.push(Outcome {
+            generation: task.generation,
+            reached,
+            reach_s,
+            reach_cpu_s,
+            reach_dense,
+            planned,
+            plan_s,
+            plan_cpu_s,
+            waypoints,
+            plan_dense,
+            reason: reason.join("; "),
+        });
+    }
+    Ok(out)
 }

@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod airway_plan;
 mod plan;
 mod plan_port;
 mod plan_tension;
