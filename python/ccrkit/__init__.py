@@ -34,6 +34,7 @@ from ._native import (
     SolveError,
     Unreachable,
     Unsupported,
+    merge_roadmaps,
     methods,
 )
 from ._native import _solve_batch
@@ -58,6 +59,7 @@ __all__ = [
     "SolveError",
     "Unreachable",
     "Unsupported",
+    "merge_roadmaps",
     "methods",
     "solve_batch",
 ]

@@ -228,6 +228,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<inverse::Plan>()?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(_solve_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(inverse::merge_roadmaps, m)?)?;
     // The method used when none is named (the core's `MethodKind::DEFAULT`).
     m.add("DEFAULT_METHOD", ccrkit::method::MethodKind::DEFAULT.name())?;
     // Every outcome of a solve (the core's `Status`): what a batch row's `status` holds.

@@ -37,6 +37,7 @@ pub mod metric;
 pub mod motion;
 pub mod roadmap;
 mod roadmap_nodes;
+pub mod roadmap_shard;
 mod rrt;
 mod trajectory;
 

@@ -15,3 +15,4 @@ mod reach_body;
 mod reach_port;
 mod reach_random;
 mod reach_tension;
+mod roadmap_shards;
