@@ -8,8 +8,11 @@
 //! which is why the safety numbers such files hold (clearances, certificates) are recomputed
 //! where they are read, never taken from the file.
 
+use crate::error::ModelError;
+use crate::method::run::SolveRequest;
 use crate::model::scene::Scene;
 use crate::robot::Robot;
+use serde::{Deserialize, Serialize};
 use std::fmt::{Debug, Write};
 
 /// FNV-1a (64 bit) over the text written into it.
@@ -49,6 +52,74 @@ pub fn scene(scene: &Scene) -> String {
         let _ = write!(h, "{}|{:?}|{:?};", o.name, o.pose, o.aabb);
     }
     format!("{:016x}", h.0)
+}
+
+/// What a written file was made for (a plan's `made_for`): the robot (name and fingerprint),
+/// the obstacles' fingerprint, the margin kept, the method and its settings. Where the file is
+/// read back with a model, [`MadeFor::check`] refuses it by name when the robot or the
+/// obstacles differ.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MadeFor {
+    /// Robot name.
+    pub robot: String,
+    /// The robot's fingerprint ([`robot`]).
+    pub robot_fingerprint: String,
+    /// The obstacles' fingerprint ([`scene`]): the model's and the request's, merged.
+    pub scene_fingerprint: String,
+    /// Margin kept from the obstacles \[m\].
+    pub margin_m: f64,
+    /// Method name.
+    pub method: String,
+    /// Its settings, `NAME=VALUE`.
+    pub settings: Vec<String>,
+}
+
+impl MadeFor {
+    /// What a file made by `request` for `robot` among `scene` keeping `margin` \[m\] is for.
+    pub fn new(robot: &Robot, scene: &Scene, margin: f64, request: &SolveRequest) -> MadeFor {
+        MadeFor {
+            robot: robot.name.clone(),
+            robot_fingerprint: self::robot(robot),
+            scene_fingerprint: self::scene(scene),
+            margin_m: margin,
+            method: request.method.name().into(),
+            settings: request
+                .settings
+                .iter()
+                .map(|(k, v)| format!("{k}={v}"))
+                .collect(),
+        }
+    }
+
+    /// Refused, with `field` (e.g. `plan.made_for`) and the fingerprints in the reason, when
+    /// `robot` or `scene` is not what the file was made for.
+    pub fn check(&self, field: &str, robot: &Robot, scene: &Scene) -> Result<(), ModelError> {
+        let r = self::robot(robot);
+        if self.robot_fingerprint != r {
+            return Err(ModelError::invalid(
+                format!("{field}.robot_fingerprint"),
+                format!(
+                    "made for robot `{}` with fingerprint {}; this model's robot `{}` has {r} \
+                     (a hole, a disk, the backbone or a cable's routing differs): make it again \
+                     for this robot",
+                    self.robot, self.robot_fingerprint, robot.name
+                ),
+            ));
+        }
+        let s = self::scene(scene);
+        if self.scene_fingerprint != s {
+            return Err(ModelError::invalid(
+                format!("{field}.scene_fingerprint"),
+                format!(
+                    "made among obstacles with fingerprint {}; these obstacles have {s} (an \
+                     obstacle, its pose, or the clearance differs): make it again with this \
+                     scene",
+                    self.scene_fingerprint
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]

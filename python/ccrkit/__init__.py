@@ -34,6 +34,7 @@ from ._native import (
     SolveError,
     Unreachable,
     Unsupported,
+    merge_roadmaps,
     methods,
 )
 from ._native import _solve_batch
@@ -58,6 +59,7 @@ __all__ = [
     "SolveError",
     "Unreachable",
     "Unsupported",
+    "merge_roadmaps",
     "methods",
     "solve_batch",
 ]
@@ -78,6 +80,7 @@ def solve_batch(
     steps=1,
     insertion=None,
     rotation=None,
+    estimate=False,
     **settings,
 ):
     """Solve many actuations of one model, in parallel, without the GIL.
@@ -97,8 +100,10 @@ def solve_batch(
     call that cannot run at all (unknown method or setting, wrong array shape) raises.
 
     ``method=None`` is ``DEFAULT_METHOD`` (the core's default, ``energy``). ``full=True``
-    also keeps every row's disk frames. Other keywords are the method's settings by name, as
-    in ``Model.solve``.
+    also keeps every row's disk frames. ``estimate=True`` adds each row's estimated tip
+    distance from the converged reference rod [m] (``Batch.error_estimate``; one extra solve
+    per row, as ``Model.solve(estimate=True)``). Other keywords are the method's settings by
+    name, as in ``Model.solve``.
     """
     raw = _solve_batch(
         model,
@@ -112,6 +117,7 @@ def solve_batch(
         steps=steps,
         insertion=insertion,
         rotation=rotation,
+        estimate=estimate,
         **settings,
     )
     return Batch._from_native(raw, list(model.cables))

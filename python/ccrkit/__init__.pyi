@@ -18,6 +18,7 @@ from ._native import (
     SolveError as SolveError,
     Unreachable as Unreachable,
     Unsupported as Unsupported,
+    merge_roadmaps as merge_roadmaps,
     methods as methods,
     DEFAULT_METHOD as DEFAULT_METHOD,
     STATUSES as STATUSES,
@@ -39,5 +40,6 @@ def solve_batch(
     steps: int = 1,
     insertion: Optional[npt.ArrayLike] = None,
     rotation: Optional[npt.ArrayLike] = None,
+    estimate: bool = False,
     **settings: object,
 ) -> Batch: ...

@@ -209,6 +209,23 @@ class Model:
         of the ``roadmap`` file). Through a port an actuation may end with the insertion [m]
         and rotation [rad] (default: the file's), and the plan gives them per waypoint. Raises
         ``NoPath`` when none is found."""
+    def build_roadmap(
+        self,
+        out: Optional[_Path] = None,
+        *,
+        method: Optional[str] = None,
+        samples: int = 400,
+        expand: int = 400,
+        spread: float = 0.1,
+        neighbours: int = 8,
+        seed: int = 1,
+        margin: Optional[float] = None,
+        shard: Optional[Tuple[int, int]] = None,
+        **settings: _Setting,
+    ) -> str:
+        """A roadmap for ``plan(roadmap=…)``, as ``ccrkit roadmap build``: its JSON text, also
+        written to ``out`` when given. ``shard=(k, N)`` builds only shard ``k`` of ``N``
+        (``merge_roadmaps`` joins them into the roadmap one build gives). Releases the GIL."""
 
 class Reach:
     """The answer of ``Model.reach`` (or the closest one, ``reached == False``)."""
@@ -295,6 +312,10 @@ class Plan:
         """The command line's ``ccrkit plan --trajectory`` text."""
 
 def methods() -> List[Dict[str, Any]]: ...
+def merge_roadmaps(parts: List[str], out: Optional[_Path] = None) -> str:
+    """The roadmap the shards ``parts`` (JSON texts of ``Model.build_roadmap(shard=(k, N))``,
+    all N, any order) make together, edge for edge the roadmap one build gives; written to
+    ``out`` when given (``ccrkit roadmap merge``)."""
 
 #: The method used when none is named (the core's default).
 DEFAULT_METHOD: str
@@ -312,5 +333,6 @@ def _solve_batch(
     steps: int = 1,
     insertion: Optional[npt.ArrayLike] = None,
     rotation: Optional[npt.ArrayLike] = None,
+    estimate: bool = False,
     **settings: _Setting,
 ) -> Dict[str, Any]: ...

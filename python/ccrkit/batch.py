@@ -24,6 +24,8 @@ class Batch:
             insertion where the row gave none), NaN for a model without a port.
         rotation: (N,) rotation about the port axis [rad] (0 where the row gave none), NaN
             for a model without a port.
+        error_estimate: (N,) estimated tip distance from the converged reference rod [m]
+            with ``estimate=True``; NaN where not asked, failed, or the model part is unknown.
     """
 
     __slots__ = (
@@ -40,11 +42,12 @@ class Batch:
         "disk_rotations",
         "insertion",
         "rotation",
+        "error_estimate",
     )
 
     def __init__(self, method, cables, tips, status, errors, iterations, residual,
                  converged, tensions, disk_positions=None, disk_rotations=None,
-                 insertion=None, rotation=None):
+                 insertion=None, rotation=None, error_estimate=None):
         import numpy as np
 
         self.method = method
@@ -61,6 +64,9 @@ class Batch:
         n = len(self.status)
         self.insertion = np.full(n, np.nan) if insertion is None else np.asarray(insertion, dtype=float)
         self.rotation = np.full(n, np.nan) if rotation is None else np.asarray(rotation, dtype=float)
+        self.error_estimate = (
+            np.full(n, np.nan) if error_estimate is None else np.asarray(error_estimate, dtype=float)
+        )
 
     @classmethod
     def _from_native(cls, raw, cables):
@@ -78,6 +84,7 @@ class Batch:
             raw.get("disk_rotations"),
             raw.get("insertion"),
             raw.get("rotation"),
+            raw.get("error_estimate"),
         )
 
     def __len__(self):
@@ -119,6 +126,7 @@ class Batch:
             np.concatenate([b.disk_rotations for b in batches]) if full else None,
             np.concatenate([b.insertion for b in batches]),
             np.concatenate([b.rotation for b in batches]),
+            np.concatenate([b.error_estimate for b in batches]),
         )
 
     def __getstate__(self):
@@ -126,13 +134,13 @@ class Batch:
 
     def __setstate__(self, state):
         for k in self.__slots__:
-            # A batch pickled before insertion and rotation were kept has neither: NaN.
             setattr(self, k, state.get(k))
-        if self.insertion is None or self.rotation is None:
-            import numpy as np
+        # A batch pickled before insertion, rotation or estimates were kept lacks them: NaN.
+        import numpy as np
 
-            self.insertion = np.full(len(self.status), np.nan)
-            self.rotation = np.full(len(self.status), np.nan)
+        for k in ("insertion", "rotation", "error_estimate"):
+            if getattr(self, k) is None:
+                setattr(self, k, np.full(len(self.status), np.nan))
 
     def __repr__(self):
         return f"Batch(method={self.method!r}, rows={len(self)}, status={self.counts()})"

@@ -399,3 +399,46 @@ pub fn plan(
         json,
     })
 }
+
+/// `Model.build_roadmap`: the roadmap (or one shard of it) as JSON text, also written to
+/// `out` when given; see the stub.
+pub fn build_roadmap(
+    py: Python<'_>,
+    model: &ccrkit::Model,
+    request: SolveRequest,
+    opts: ccrkit::plan::roadmap::BuildOptions,
+    out: Option<PathBuf>,
+) -> PyResult<String> {
+    let r = py
+        .detach(|| ccrkit::plan::roadmap::build(model, &request, &opts))
+        .map_err(|e| solve_error(py, &e))?;
+    save_text(py, &r, out)
+}
+
+/// The roadmap's JSON text, written to `out` (atomically) when given.
+fn save_text(py: Python<'_>, r: &Roadmap, out: Option<PathBuf>) -> PyResult<String> {
+    if let Some(p) = &out {
+        r.save(p).map_err(|e| model_error(py, &e))?;
+    }
+    r.to_json("roadmap").map_err(|e| model_error(py, &e))
+}
+
+/// The roadmap the shards `parts` (JSON texts of `Model.build_roadmap(shard=(k, N))`, all N
+/// of them, any order) make together: the roadmap one build gives, edge for edge
+/// (`ccrkit roadmap merge`). Written to `out` when given; returns its JSON text.
+#[pyfunction]
+#[pyo3(signature = (parts, out=None))]
+pub fn merge_roadmaps(
+    py: Python<'_>,
+    parts: Vec<String>,
+    out: Option<PathBuf>,
+) -> PyResult<String> {
+    let loaded = parts
+        .iter()
+        .enumerate()
+        .map(|(k, t)| Roadmap::from_json(t, &format!("parts[{k}]")))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| model_error(py, &e))?;
+    let r = ccrkit::plan::roadmap_shard::merge(loaded).map_err(|e| model_error(py, &e))?;
+    save_text(py, &r, out)
+}

@@ -78,7 +78,7 @@ fn rows_of(
 /// The native batch: rows solved by `ccrkit::batch::solve_batch` with the GIL released.
 /// Returns a dict of arrays; `ccrkit.solve_batch` wraps it in a `Batch`.
 #[pyfunction]
-#[pyo3(signature = (model, shorten=None, tension=None, method=None, threads=None, warm_start=true, chunk=64, full=false, steps=1, insertion=None, rotation=None, **settings))]
+#[pyo3(signature = (model, shorten=None, tension=None, method=None, threads=None, warm_start=true, chunk=64, full=false, steps=1, insertion=None, rotation=None, estimate=false, **settings))]
 #[allow(clippy::too_many_arguments)]
 fn _solve_batch<'py>(
     py: Python<'py>,
@@ -93,6 +93,7 @@ fn _solve_batch<'py>(
     steps: usize,
     insertion: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
     rotation: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+    estimate: bool,
     settings: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let k = model.inner.robot.cables.len();
@@ -115,6 +116,7 @@ fn _solve_batch<'py>(
         .map_err(|e| errors::solve_error(py, &e))?;
     let request = SolveRequest {
         steps,
+        estimate,
         ..SolveRequest::new(method_kind(py, method)?).with_settings(settings_from(settings)?)
     };
     let opts = BatchOptions {
@@ -184,6 +186,14 @@ fn batch_dict<'py>(
     )?;
     let tensions = PyArray1::from_vec(py, flat(&|r| r.tensions.clone())).reshape([n, k])?;
     d.set_item("tensions", tensions)?;
+    let estimates = b
+        .rows
+        .iter()
+        .map(|r| r.error_estimate_m.unwrap_or(f64::NAN));
+    d.set_item(
+        "error_estimate",
+        PyArray1::from_vec(py, estimates.collect()),
+    )?;
     if full {
         let mut pos = vec![f64::NAN; n * disks * 3];
         let mut rot = vec![f64::NAN; n * disks * 9];
@@ -218,6 +228,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<inverse::Plan>()?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(_solve_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(inverse::merge_roadmaps, m)?)?;
     // The method used when none is named (the core's `MethodKind::DEFAULT`).
     m.add("DEFAULT_METHOD", ccrkit::method::MethodKind::DEFAULT.name())?;
     // Every outcome of a solve (the core's `Status`): what a batch row's `status` holds.

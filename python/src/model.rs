@@ -402,6 +402,55 @@ impl Model {
         crate::inverse::plan(py, &self.inner, request, args)
     }
 
+    /// A roadmap for repeated `plan(roadmap=…)` queries, as `ccrkit roadmap build`: its JSON
+    /// text, also written to `out` when given. `shard=(k, N)` builds only shard `k` of `N`
+    /// (every shard samples the same nodes; `ccrkit.merge_roadmaps` joins them into the
+    /// roadmap one build gives — e.g. one shard per Dask worker). Other keywords are the
+    /// method's settings. Releases the GIL.
+    #[pyo3(signature = (out=None, *, method=None, samples=400, expand=400, spread=0.1, neighbours=8, seed=1, margin=None, shard=None, **settings))]
+    #[allow(clippy::too_many_arguments)]
+    fn build_roadmap(
+        &self,
+        py: Python<'_>,
+        out: Option<PathBuf>,
+        method: Option<&str>,
+        samples: usize,
+        expand: usize,
+        spread: f64,
+        neighbours: usize,
+        seed: u64,
+        margin: Option<f64>,
+        shard: Option<(usize, usize)>,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<String> {
+        let request =
+            SolveRequest::new(method_kind(py, method)?).with_settings(settings_from(settings)?);
+        let shard = match shard {
+            Some((index, count)) if index < count => {
+                Some(ccrkit::plan::roadmap::Shard { index, count })
+            }
+            Some((k, n)) => {
+                return Err(invalid(
+                    py,
+                    "shard",
+                    format!("expected (k, N) with 0 <= k < N, got ({k}, {n})"),
+                ))
+            }
+            None => None,
+        };
+        let opts = ccrkit::plan::roadmap::BuildOptions {
+            samples,
+            expand,
+            spread,
+            neighbours,
+            seed,
+            margin,
+            shard,
+            ..Default::default()
+        };
+        crate::inverse::build_roadmap(py, &self.inner, request, opts, out)
+    }
+
     /// Pickling: the TOML text, its base directory, the source file and the added scenes.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
         let restore = py.get_type::<Model>().getattr("_restore")?;

@@ -104,3 +104,20 @@ def test_batches_pickle_and_concatenate(case1):
     for k in ("tips", "iterations", "residual", "tensions", "disk_positions", "disk_rotations"):
         assert np.array_equal(getattr(whole, k), getattr(joined, k)), k
     assert list(whole.status) == list(joined.status) and len(joined) == 20
+
+
+def test_rows_carry_the_single_solves_estimate_when_asked(case1):
+    s = rows(case1, 4)
+    plain = ccrkit.solve_batch(case1, shorten=s, warm_start=False)
+    assert np.isnan(plain.error_estimate).all()
+    b = ccrkit.solve_batch(case1, shorten=s, warm_start=False, estimate=True)
+    assert b.ok.all()
+    for r in range(4):
+        one = case1.solve("energy", shorten=s[r], estimate=True)
+        assert one.error_estimate is not None and one.error_estimate > 0.0
+        assert b.error_estimate[r] == one.error_estimate
+    both = ccrkit.Batch.concat([plain, b])
+    assert np.isnan(both.error_estimate[:4]).all()
+    assert np.array_equal(both.error_estimate[4:], b.error_estimate)
+    back = pickle.loads(pickle.dumps(b))
+    assert np.array_equal(back.error_estimate, b.error_estimate)

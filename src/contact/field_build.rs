@@ -9,20 +9,23 @@ use parry3d::query::PointQueryWithLocation;
 use parry3d::shape::TriMesh;
 use rayon::prelude::*;
 
-/// `f32` at or below `x`.
-fn down(x: f64) -> f32 {
-    let f = x as f32;
-    if f64::from(f) > x {
-        f.next_down()
-    } else {
-        f
-    }
+/// Where a mesh's grid lies: what [`SolidField::build`] derives from the mesh and the node
+/// budget alone, before any distance (a cached grid must match it to the bit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Grid {
+    /// The first node (mesh frame) \[m\].
+    pub origin: [f64; 3],
+    /// Node spacing \[m\].
+    pub h: f64,
+    /// Nodes along each axis.
+    pub n: [usize; 3],
+    /// The mesh's bounds: min, max \[m\].
+    pub bounds: [[f64; 3]; 2],
 }
 
-impl SolidField {
-    /// The grid of the solid `mesh` (parry's oriented mesh: its inside is the obstacle region)
-    /// with about `nodes` nodes.
-    pub fn build(mesh: &TriMesh, nodes: usize) -> SolidField {
+impl Grid {
+    /// The grid of `mesh` with about `nodes` nodes: its bounds padded by two cells.
+    pub fn of(mesh: &TriMesh, nodes: usize) -> Grid {
         let b = mesh.local_aabb();
         let (lo, hi) = (
             [b.mins.x, b.mins.y, b.mins.z],
@@ -37,6 +40,40 @@ impl SolidField {
         }
         let n = [0, 1, 2].map(|a| ((ext[a] + 4.0 * h) / h).ceil() as usize + 1);
         let origin = [0, 1, 2].map(|a| lo[a] - 2.0 * h);
+        Grid {
+            origin,
+            h,
+            n,
+            bounds: [lo, hi],
+        }
+    }
+
+    /// The number of nodes.
+    pub fn total(&self) -> usize {
+        self.n[0] * self.n[1] * self.n[2]
+    }
+}
+
+/// `f32` at or below `x`.
+pub(crate) fn down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x {
+        f.next_down()
+    } else {
+        f
+    }
+}
+
+impl SolidField {
+    /// The grid of the solid `mesh` (parry's oriented mesh: its inside is the obstacle region)
+    /// with about `nodes` nodes.
+    pub fn build(mesh: &TriMesh, nodes: usize) -> SolidField {
+        let Grid {
+            origin,
+            h,
+            n,
+            bounds: [lo, hi],
+        } = Grid::of(mesh, nodes);
         let total = n[0] * n[1] * n[2];
         let node = |k: usize| {
             let (x, y, z) = (k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1]));

@@ -11,25 +11,7 @@ use parry3d::shape::{Ball, Capsule};
 
 /// The box `[-h, h]³` as 12 outward triangles.
 fn cube(h: f64) -> (Vec<Vector3<f64>>, Vec<[u32; 3]>) {
-    let v = (0..8)
-        .map(|i| {
-            Vector3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0 * h
-                - Vector3::repeat(h)
-        })
-        .collect();
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let t = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-        .collect();
-    (v, t)
+    crate::model::mesh_check::test_box(-h, h)
 }
 
 /// The signed distance from `p` to the box `[-h, h]³` (negative inside), in closed form.

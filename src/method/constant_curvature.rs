@@ -209,15 +209,8 @@ impl Method for ConstantCurvature {
                 iterations: 1,
                 residual,
                 solve_time_s: 0.0, // filled in by `Method::solve`
-                sections: vec![],
-                base_wrench: None,
                 notes,
-                stable: None,
-                jacobian: None,
-                error_estimate: None,
-                auto: None,
-                unique: None,
-                warm: None,
+                ..SolveReport::default()
             },
         })
     }

@@ -16,7 +16,7 @@ use crate::error::SolveError;
 use crate::model::actuation::{Actuation, CableDrive, Shortening};
 use crate::model::port::{self, Beyond, Port};
 use crate::model::robot::Robot;
-use crate::shape::{CablePath, DiskFrame, PortState, Shape, SolveReport};
+use crate::shape::{CablePath, Contact, DiskFrame, PortState, Shape, SolveReport};
 use nalgebra::{Isometry3, Matrix3, Point3, Translation3, Vector3};
 
 /// The port's part of one solve: the robot beyond, its actuation and the frames.
@@ -237,6 +237,25 @@ fn warm_in(robot: &Robot, w: &Shape, cut: &Cut, b: &Beyond, sub: &Robot) -> Opti
     })
 }
 
+impl Cut {
+    /// A point of the beyond-robot's frame in the scene frame.
+    fn at_base(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        (self.base * Point3::from(*p)).coords
+    }
+
+    /// The point at material coordinate `s` (behind the port), offset by `local` in the
+    /// cross-section, in the scene frame.
+    fn in_port(&self, s: f64, local: Vector3<f64>) -> Vector3<f64> {
+        let p = local + Vector3::new(0.0, 0.0, s - self.s_port);
+        (self.straight * Point3::from(p)).coords
+    }
+
+    /// The base frame's rotation (beyond-robot frame → scene frame).
+    fn r_base(&self) -> Matrix3<f64> {
+        self.base.rotation.to_rotation_matrix().into_inner()
+    }
+}
+
 /// The whole robot in the scene frame: the straight part behind the port, and the solved
 /// robot beyond it placed by `cut.base` (module docs).
 fn place(
@@ -246,34 +265,24 @@ fn place(
     solved: Option<(&Beyond, Shape)>,
     behind: &[Option<Held>],
 ) -> Shape {
-    let at = |iso: &Isometry3<f64>, p: &Vector3<f64>| (iso * Point3::from(*p)).coords;
     let r_s = cut.straight.rotation.to_rotation_matrix().into_inner();
-    let r_b = cut.base.rotation.to_rotation_matrix().into_inner();
-    let in_port = |s: f64, local: Vector3<f64>| {
-        at(
-            &cut.straight,
-            &(local + Vector3::new(0.0, 0.0, s - cut.s_port)),
-        )
-    };
+    let r_b = cut.r_base();
     let first = cut.state.first_disk;
-    let (b, sub) = match &solved {
-        Some((b, s)) => (Some(*b), Some(s)),
-        None => (None, None),
-    };
-    let offset = b.map_or(0, |b| b.offset);
+    let solved = solved.as_ref().map(|(b, s)| (*b, s));
+    let offset = solved.map_or(0, |(b, _)| b.offset);
     let disks: Vec<DiskFrame> = (0..robot.disk_s.len())
-        .map(|k| match sub {
-            Some(s) if k >= first => {
+        .map(|k| match solved {
+            Some((_, s)) if k >= first => {
                 let f = &s.disks[k - offset];
                 DiskFrame {
                     s: robot.disk_s[k],
-                    position: at(&cut.base, &f.position),
+                    position: cut.at_base(&f.position),
                     rotation: r_b * f.rotation,
                 }
             }
             _ => DiskFrame {
                 s: robot.disk_s[k],
-                position: in_port(robot.disk_s[k], Vector3::zeros()),
+                position: cut.in_port(robot.disk_s[k], Vector3::zeros()),
                 rotation: r_s,
             },
         })
@@ -285,41 +294,59 @@ fn place(
             backbone.push(p);
         }
     };
-    push(in_port(cut.s_port, Vector3::zeros()));
-    match sub {
-        Some(s) => s.backbone.iter().for_each(|p| push(at(&cut.base, p))),
-        None => push(in_port(robot.length(), Vector3::zeros())),
+    push(cut.in_port(cut.s_port, Vector3::zeros()));
+    match solved {
+        Some((_, s)) => s.backbone.iter().for_each(|p| push(cut.at_base(p))),
+        None => push(cut.in_port(robot.length(), Vector3::zeros())),
     }
-    let cables = robot
+    let cables = place_cables(robot, cut, solved, behind);
+    let (contacts, report) = place_answer(cut, solved);
+    Shape {
+        method: solved.map_or_else(|| kind.name().to_string(), |(_, s)| s.method.clone()),
+        disks,
+        backbone,
+        cables,
+        contacts,
+        report,
+        port: Some(cut.state.clone()),
+    }
+}
+
+/// Every cable's path in the scene frame: holes behind the port on the straight part, the
+/// solved path beyond it; a cable that ends behind the port keeps its held state.
+fn place_cables(
+    robot: &Robot,
+    cut: &Cut,
+    solved: Option<(&Beyond, &Shape)>,
+    behind: &[Option<Held>],
+) -> Vec<CablePath> {
+    let first = cut.state.first_disk;
+    let offset = solved.map_or(0, |(b, _)| b.offset);
+    robot
         .cables
         .iter()
         .enumerate()
         .map(|(c, cable)| {
-            let hole = |k: usize| in_port(robot.disk_s[k], cable.hole(k));
-            let j = b.and_then(|b| b.cables[c]);
-            match (j, sub) {
-                (Some(j), Some(s)) => {
-                    let p = &s.cables[j];
-                    let points = (0..=cable.ends_at)
+            let hole = |k: usize| cut.in_port(robot.disk_s[k], cable.hole(k));
+            match solved.and_then(|(b, s)| b.cables[c].map(|j| &s.cables[j])) {
+                Some(p) => CablePath {
+                    name: cable.name.clone(),
+                    points: (0..=cable.ends_at)
                         .map(|k| {
                             if k >= first {
-                                at(&cut.base, &p.points[k - offset])
+                                cut.at_base(&p.points[k - offset])
                             } else {
                                 hole(k)
                             }
                         })
-                        .collect();
-                    CablePath {
-                        name: cable.name.clone(),
-                        points,
-                        slack: p.slack,
-                        slack_sections: p.slack_sections.iter().map(|i| i + offset).collect(),
-                        tension: p.tension,
-                        // The straight part behind the port does not change length.
-                        shortening: p.shortening,
-                    }
-                }
-                _ => {
+                        .collect(),
+                    slack: p.slack,
+                    slack_sections: p.slack_sections.iter().map(|i| i + offset).collect(),
+                    tension: p.tension,
+                    // The straight part behind the port does not change length.
+                    shortening: p.shortening,
+                },
+                None => {
                     let (tension, slack, shortening) = behind[c].unwrap_or((None, false, 0.0));
                     CablePath {
                         name: cable.name.clone(),
@@ -336,64 +363,57 @@ fn place(
                 }
             }
         })
-        .collect();
+        .collect()
+}
+
+/// The contacts and the report in the scene frame: points placed, normals, the base wrench
+/// and the Jacobian's columns turned, disk and section numbers shifted past the port; with
+/// nothing beyond the port, a converged report that says so.
+fn place_answer(cut: &Cut, solved: Option<(&Beyond, &Shape)>) -> (Vec<Contact>, SolveReport) {
     let note = format!(
         "port: insertion {:.6} m, rotation {:.6} rad; disks 0..{} lie straight behind the port",
-        cut.state.insertion, cut.state.rotation, first
+        cut.state.insertion, cut.state.rotation, cut.state.first_disk
     );
-    let (contacts, report) = match sub {
-        Some(s) => {
-            let turn = |v: &[f64; 3]| arr(r_b * Vector3::from(*v));
-            let contacts = s
-                .contacts
-                .iter()
-                .map(|c| {
-                    let mut c = c.clone();
-                    c.point_robot = arr(at(&cut.base, &Vector3::from(c.point_robot)));
-                    c.point_obstacle = arr(at(&cut.base, &Vector3::from(c.point_obstacle)));
-                    c.normal = turn(&c.normal);
-                    c.disk = c.disk.and_then(|j| b.and_then(|b| b.disk(j)));
-                    c.section = c.section.map(|i| i + offset);
-                    c
-                })
-                .collect();
-            let mut r = s.report.clone();
-            for sec in &mut r.sections {
-                sec.section += offset;
-            }
-            r.base_wrench = r.base_wrench.map(|w| {
-                let (f, m) = (turn(&[w[0], w[1], w[2]]), turn(&[w[3], w[4], w[5]]));
-                [f[0], f[1], f[2], m[0], m[1], m[2]]
-            });
-            if let Some(j) = &mut r.jacobian {
-                j.position.iter_mut().for_each(|v| *v = turn(v));
-                j.tangent.iter_mut().for_each(|v| *v = turn(v));
-            }
-            r.notes.push(note);
-            (contacts, r)
-        }
-        None => (
-            vec![],
-            SolveReport {
-                converged: true,
-                notes: vec![
-                    note,
-                    "nothing beyond the port bends: the robot lies straight along the port axis"
-                        .into(),
-                ],
-                ..SolveReport::default()
-            },
-        ),
+    let Some((b, s)) = solved else {
+        let report = SolveReport {
+            converged: true,
+            notes: vec![
+                note,
+                "nothing beyond the port bends: the robot lies straight along the port axis".into(),
+            ],
+            ..SolveReport::default()
+        };
+        return (vec![], report);
     };
-    Shape {
-        method: sub.map_or_else(|| kind.name().to_string(), |s| s.method.clone()),
-        disks,
-        backbone,
-        cables,
-        contacts,
-        report,
-        port: Some(cut.state.clone()),
+    let r_b = cut.r_base();
+    let turn = |v: &[f64; 3]| arr(r_b * Vector3::from(*v));
+    let contacts = s
+        .contacts
+        .iter()
+        .map(|c| {
+            let mut c = c.clone();
+            c.point_robot = arr(cut.at_base(&Vector3::from(c.point_robot)));
+            c.point_obstacle = arr(cut.at_base(&Vector3::from(c.point_obstacle)));
+            c.normal = turn(&c.normal);
+            c.disk = c.disk.and_then(|j| b.disk(j));
+            c.section = c.section.map(|i| i + b.offset);
+            c
+        })
+        .collect();
+    let mut r = s.report.clone();
+    for sec in &mut r.sections {
+        sec.section += b.offset;
     }
+    r.base_wrench = r.base_wrench.map(|w| {
+        let (f, m) = (turn(&[w[0], w[1], w[2]]), turn(&[w[3], w[4], w[5]]));
+        [f[0], f[1], f[2], m[0], m[1], m[2]]
+    });
+    if let Some(j) = &mut r.jacobian {
+        j.position.iter_mut().for_each(|v| *v = turn(v));
+        j.tangent.iter_mut().for_each(|v| *v = turn(v));
+    }
+    r.notes.push(note);
+    (contacts, r)
 }
 
 fn arr(v: Vector3<f64>) -> [f64; 3] {

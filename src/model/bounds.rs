@@ -105,6 +105,17 @@ pub const CLEARANCE: Range = range(0.0, 1.0, "m");
 /// Most cables in one model (each method may refuse fewer, by name).
 pub const MAX_CABLES: usize = 256;
 
+/// A robot's cable count within [`MAX_CABLES`], or the error that names `cables`.
+pub fn check_cable_count(n: usize) -> Result<(), ModelError> {
+    if n > MAX_CABLES {
+        return Err(ModelError::invalid(
+            "cables",
+            format!("at most {MAX_CABLES} cables, got {n}"),
+        ));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

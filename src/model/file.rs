@@ -126,16 +126,7 @@ impl FileModel {
             ));
         }
         let n = r.sections as usize;
-        if self.cables.len() > bounds::MAX_CABLES {
-            return Err(ModelError::invalid(
-                "cables",
-                format!(
-                    "at most {} cables, got {}",
-                    bounds::MAX_CABLES,
-                    self.cables.len()
-                ),
-            ));
-        }
+        bounds::check_cable_count(self.cables.len())?;
         let (lengths, disk_s) = r.stations(n)?;
         let body = r.body()?;
         let backbone = r.backbone.validate()?;

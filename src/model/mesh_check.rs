@@ -229,28 +229,38 @@ pub fn enclosed_volume(vertices: &[Vector3<f64>], triangles: &[[u32; 3]]) -> f64
         / 6.0
 }
 
+/// The box `[lo, hi]³` as its 8 corners and 12 outward triangles: the closed mesh the tests
+/// of meshes, solids and fields start from.
+#[cfg(test)]
+pub(crate) fn test_box(lo: f64, hi: f64) -> (Vec<Vector3<f64>>, Vec<[u32; 3]>) {
+    let v = (0..8)
+        .map(|i| {
+            let bit = |b: usize| if (i >> b) & 1 == 1 { hi } else { lo };
+            Vector3::new(bit(0), bit(1), bit(2))
+        })
+        .collect();
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let t = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    (v, t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The unit cube's 8 corners and 12 outward triangles.
+    /// The unit cube `[0, 1]³`.
     pub(crate) fn cube() -> (Vec<Vector3<f64>>, Vec<[u32; 3]>) {
-        let v = (0..8)
-            .map(|i| Vector3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
-            .collect();
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let t = quads
-            .iter()
-            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-            .collect();
-        (v, t)
+        test_box(0.0, 1.0)
     }
 
     #[test]

@@ -4,22 +4,7 @@ use super::*;
 
 /// The cube `[0, 1]³` as 12 outward triangles: corners and triangles.
 fn cube() -> MeshData {
-    let v: Vec<Vector3<f64>> = (0..8)
-        .map(|i| Vector3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
-        .collect();
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let t = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-        .collect();
-    (v, t)
+    super::mesh_check::test_box(0.0, 1.0)
 }
 
 /// The triangles of a mesh as corner coordinates (what two readers must agree on, whatever

@@ -30,6 +30,8 @@
 
 pub mod actuation;
 pub mod bounds;
+/// A solid mesh's signed-distance grid cached on disk, keyed by the mesh's content.
+pub use crate::contact::field_cache;
 mod file;
 mod file_cable;
 pub mod hardware;

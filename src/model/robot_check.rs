@@ -79,16 +79,7 @@ impl Robot {
         };
         self.backbone.check(room)?;
         self.loads.check()?;
-        if self.cables.len() > bounds::MAX_CABLES {
-            return Err(ModelError::invalid(
-                "cables",
-                format!(
-                    "at most {} cables, got {}",
-                    bounds::MAX_CABLES,
-                    self.cables.len()
-                ),
-            ));
-        }
+        bounds::check_cable_count(self.cables.len())?;
         for (ci, c) in self.cables.iter().enumerate() {
             if self.cables[..ci].iter().any(|o| o.name == c.name) {
                 return Err(ModelError::invalid(

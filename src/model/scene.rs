@@ -36,6 +36,7 @@
 //! what a scene is and the broad-phase queries on it.
 
 use crate::contact::field::{nodes_for, SolidField};
+pub use crate::contact::field_cache::{FieldCache, FieldOrigin};
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Vector3};
 use parry3d::math::Pose;
 use parry3d::shape::SharedShape;
@@ -83,6 +84,9 @@ pub enum ObstacleKind {
     },
 }
 
+/// A solid's grid and how it came.
+pub(crate) type PreparedField = (Arc<SolidField>, FieldOrigin);
+
 /// One obstacle.
 #[derive(Clone)]
 pub struct Obstacle {
@@ -98,9 +102,11 @@ pub struct Obstacle {
     pub parry_pose: Pose,
     /// Axis-aligned bounds in the base frame: (min, max).
     pub aabb: (Vector3<f64>, Vector3<f64>),
-    /// A solid mesh's signed-distance grid, built on first use and shared by every copy of the
-    /// obstacle (`contact/field.rs`).
-    pub(crate) field: Arc<OnceLock<Option<Arc<SolidField>>>>,
+    /// A solid mesh's signed-distance grid, built (or read from the cache) on first use and
+    /// shared by every copy of the obstacle (`contact/field.rs`), with how it came.
+    pub(crate) field: Arc<OnceLock<Option<PreparedField>>>,
+    /// Where that grid is cached (`contact/field_cache.rs`).
+    pub(crate) field_cache: FieldCache,
 }
 
 impl std::fmt::Debug for Obstacle {
@@ -139,6 +145,19 @@ impl Scene {
         Scene {
             clearance: self.clearance,
             obstacles: self.obstacles.iter().map(|o| o.transformed(iso)).collect(),
+        }
+    }
+
+    /// The same scene with every obstacle's grid cached in `cache`
+    /// ([`Obstacle::with_field_cache`]).
+    pub fn with_field_cache(&self, cache: &FieldCache) -> Scene {
+        Scene {
+            clearance: self.clearance,
+            obstacles: self
+                .obstacles
+                .iter()
+                .map(|o| o.with_field_cache(cache.clone()))
+                .collect(),
         }
     }
 
@@ -259,21 +278,59 @@ pub(crate) fn aabb_gap(
 }
 
 impl Obstacle {
-    /// The signed-distance grid of a solid mesh (built on the first call, then shared);
-    /// `None` for any other shape.
+    /// The signed-distance grid of a solid mesh (built or read from the cache on the first
+    /// call, then shared); `None` for any other shape. A solid of at least
+    /// [`MIN_CACHED_TRIANGLES`](crate::contact::field_cache::MIN_CACHED_TRIANGLES) triangles
+    /// is cached in [`Obstacle::field_cache`]'s folder; a refused or unwritable cache file is
+    /// noted for the front end (`contact::field_cache::take_notes`).
     pub fn field(&self) -> Option<&SolidField> {
         self.field
             .get_or_init(|| {
-                crate::contact::solid::solid(&*self.shape)
-                    .map(|m| Arc::new(SolidField::build(m, nodes_for(m.num_triangles()))))
+                let mesh = crate::contact::solid::solid(&*self.shape)?;
+                let tris = mesh.num_triangles();
+                let dir = match &self.field_cache {
+                    FieldCache::Dir(d)
+                        if tris >= crate::contact::field_cache::MIN_CACHED_TRIANGLES =>
+                    {
+                        Some(d.as_path())
+                    }
+                    _ => None,
+                };
+                let (f, origin) =
+                    crate::contact::field_cache::load_or_build(mesh, nodes_for(tris), dir);
+                crate::contact::field_cache::note(&origin, &self.name);
+                Some((Arc::new(f), origin))
             })
-            .as_deref()
+            .as_ref()
+            .map(|(f, _)| &**f)
+    }
+
+    /// How [`Obstacle::field`]'s grid came (built, read from the cache, ...); `None` before
+    /// its first use and for any shape but a solid mesh.
+    pub fn field_origin(&self) -> Option<&FieldOrigin> {
+        self.field.get()?.as_ref().map(|(_, o)| o)
+    }
+
+    /// Where this obstacle's grid is cached (from the environment when the scene was read:
+    /// [`FieldCache::from_env`]).
+    pub fn field_cache(&self) -> &FieldCache {
+        &self.field_cache
+    }
+
+    /// The same obstacle with its grid cached in `cache`, its grid not yet made: the copy
+    /// prepares its own on first use.
+    pub fn with_field_cache(&self, cache: FieldCache) -> Obstacle {
+        Obstacle {
+            field: Default::default(),
+            field_cache: cache,
+            ..self.clone()
+        }
     }
 
     /// [`Obstacle::field`], shared.
     pub(crate) fn field_shared(&self) -> Option<Arc<SolidField>> {
         self.field();
-        self.field.get().cloned().flatten()
+        self.field.get()?.as_ref().map(|(f, _)| f.clone())
     }
 
     /// Polylines on the obstacle's surface in the base frame, for drawing.

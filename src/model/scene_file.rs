@@ -5,6 +5,7 @@
 
 use super::mesh::Free;
 use super::scene::{Obstacle, ObstacleKind, Scene};
+use crate::contact::field_cache::FieldCache;
 use crate::error::ModelError;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d::math::{Pose, Vector as PVec};
@@ -243,6 +244,7 @@ impl FileObstacle {
             parry_pose,
             aabb,
             field: Default::default(),
+            field_cache: FieldCache::from_env(),
         })
     }
 

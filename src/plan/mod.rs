@@ -24,12 +24,14 @@ pub mod metric;
 pub mod motion;
 pub mod roadmap;
 mod roadmap_nodes;
+pub mod roadmap_shard;
 mod rrt;
 
 pub use edge::{Checker, EdgeCheck, Node, Stats};
 
 use crate::error::{ModelError, SolveError};
 use crate::export::{export_urdf, ExportError, UrdfMode, UrdfOptions};
+use crate::fingerprint::MadeFor;
 use crate::method::run::SolveRequest;
 use crate::model::actuation::Actuation;
 use crate::model::Model;
@@ -126,6 +128,9 @@ pub struct Plan {
     pub seed: u64,
     /// Statistics.
     pub stats: PlanStats,
+    /// The robot, obstacles, margin and method it was planned for, checked where a plan file
+    /// is read back (`view --plan`).
+    pub made_for: MadeFor,
 }
 
 /// One waypoint in JSON.
@@ -167,6 +172,8 @@ pub struct PlanJson {
     pub seed: u64,
     /// Statistics.
     pub statistics: PlanStats,
+    /// What it was planned for (robot and obstacle fingerprints, margin, method).
+    pub made_for: MadeFor,
 }
 
 pub(crate) fn finite(x: f64) -> Option<f64> {
@@ -202,6 +209,7 @@ impl Plan {
                          factor 2)",
             seed: self.seed,
             statistics: self.stats.clone(),
+            made_for: self.made_for.clone(),
         }
     }
 
@@ -577,5 +585,11 @@ pub(crate) fn finish(
         certified_clearance_m: certified,
         seed: opts.seed,
         stats,
+        made_for: MadeFor::new(
+            &ck.space.robot,
+            &ck.space.scene,
+            ck.margin,
+            &ck.space.request,
+        ),
     })
 }

@@ -44,7 +44,9 @@ use crate::error::{ModelError, SolveError};
 use crate::method::run::SolveRequest;
 use crate::model::scene::Scene;
 use crate::model::Model;
+use crate::progress::ProgressHandle;
 use crate::reach::Space;
+pub use crate::study::Shard;
 use rand_core::SeedableRng;
 use rand_xorshift::XorShiftRng;
 use serde::{Deserialize, Serialize};
@@ -55,7 +57,7 @@ use std::time::Instant;
 pub const FORMAT: &str = "ccrkit-roadmap-2";
 
 /// How to build a roadmap.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct BuildOptions {
     /// Samples drawn (inadmissible ones are dropped).
     pub samples: usize,
@@ -69,6 +71,11 @@ pub struct BuildOptions {
     pub expand: usize,
     /// Standard deviation of an expansion step, as a fraction of each cable's range.
     pub spread: f64,
+    /// Build only this shard's edges (`None`: all); merge the shards with
+    /// [`super::roadmap_shard::merge`] ([`super::roadmap_shard`]).
+    pub shard: Option<Shard>,
+    /// Where the build reports its progress (nodes, then edges).
+    pub progress: ProgressHandle,
 }
 
 impl Default for BuildOptions {
@@ -80,6 +87,8 @@ impl Default for BuildOptions {
             margin: None,
             expand: 400,
             spread: 0.1,
+            shard: None,
+            progress: ProgressHandle::none(),
         }
     }
 }
@@ -129,7 +138,12 @@ pub struct Roadmap {
     /// uses again.
     #[serde(default)]
     pub edge_clearance: Vec<[Option<f64>; 2]>,
-    /// Build statistics: solves, build time \[s\].
+    /// The shard of the edges this file holds (`None`: a whole roadmap); a shard is only
+    /// input to [`super::roadmap_shard::merge`], never to a query.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<Shard>,
+    /// Build statistics: solves (of a merged roadmap: all shards', each of which samples the
+    /// nodes again), build time \[s\] (of a merged roadmap: the shards' sum).
     pub build_solves: usize,
     /// Build time \[s\].
     pub build_time_s: f64,
@@ -180,28 +194,25 @@ pub fn build(
     let margin = opts.margin.unwrap_or(space.margin);
     let mut ck = Checker::new(&space, margin);
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);
+    let progress = &opts.progress;
+    progress.start("roadmap nodes", Some((opts.samples + opts.expand) as u64));
     let nodes = sample_nodes(model, &mut ck, opts, &mut rng);
+    progress.finish();
     let plain: Vec<RoadmapNode> = nodes.iter().map(plain_node).collect();
-    let mut tried = BTreeSet::new();
-    let mut edges = Vec::new();
-    let mut edge_clearance = Vec::new();
-    for i in 0..nodes.len() {
-        for j in nearest(&ck.metric, &plain, &nodes[i].u, opts.neighbours + 1) {
-            let key = (i.min(j), i.max(j));
-            if i == j || !tried.insert(key) {
-                continue;
-            }
-            if let EdgeCheck::Clear {
-                certified,
-                measured,
-                ..
-            } = ck.edge(&nodes[key.0], &nodes[key.1])
-            {
-                edges.push(key);
-                edge_clearance.push([super::finite(certified), super::finite(measured)]);
-            }
-        }
-    }
+    let candidates = candidate_edges(&ck.metric, &plain, opts.neighbours);
+    let mine: Vec<(usize, usize)> = match opts.shard {
+        Some(s) => candidates
+            .into_iter()
+            .enumerate()
+            .filter(|(c, _)| c % s.count == s.index)
+            .map(|(_, e)| e)
+            .collect(),
+        None => candidates,
+    };
+    progress.start("roadmap edges", Some(mine.len() as u64));
+    let (checked, edge_solves) = check_edges(&space, margin, &nodes, &mine, progress);
+    progress.finish();
+    let (edges, edge_clearance) = checked.into_iter().flatten().unzip();
     Ok(Roadmap {
         format: FORMAT.into(),
         robot: model.robot.name.clone(),
@@ -217,9 +228,66 @@ pub fn build(
         nodes: plain,
         edges,
         edge_clearance,
-        build_solves: ck.stats.solves,
+        shard: opts.shard,
+        build_solves: ck.stats.solves + edge_solves,
         build_time_s: t0.elapsed().as_secs_f64(),
     })
+}
+
+/// The pairs a build tries: each node with its `neighbours` nearest (by the planners'
+/// metric), each pair once, in increasing order — the same list in every shard, so shard `k`
+/// of `N` takes every `N`-th from the `k`-th and the shards together check each pair once.
+fn candidate_edges(
+    metric: &Metric,
+    nodes: &[RoadmapNode],
+    neighbours: usize,
+) -> Vec<(usize, usize)> {
+    let mut pairs = BTreeSet::new();
+    for (i, n) in nodes.iter().enumerate() {
+        for j in nearest(metric, nodes, &n.u, neighbours + 1) {
+            if i != j {
+                pairs.insert((i.min(j), i.max(j)));
+            }
+        }
+    }
+    pairs.into_iter().collect()
+}
+
+/// Validated edge of a build: its nodes and its certified and measured clearances.
+type Checked = Option<((usize, usize), [Option<f64>; 2])>;
+
+/// Check `pairs` in parallel (one [`Checker`] per worker; an edge's check depends on its two
+/// nodes only, so the answers do not depend on the threads): each pair's validated edge or
+/// `None`, in the order of `pairs`, and the solves the checks took.
+fn check_edges(
+    space: &Space,
+    margin: f64,
+    nodes: &[Node],
+    pairs: &[(usize, usize)],
+    progress: &ProgressHandle,
+) -> (Vec<Checked>, usize) {
+    use rayon::prelude::*;
+    let out: Vec<(Checked, usize)> = pairs
+        .par_iter()
+        .map_init(
+            || Checker::new(space, margin),
+            |ck, &(a, b)| {
+                let before = ck.stats.solves;
+                let edge = match ck.edge(&nodes[a], &nodes[b]) {
+                    EdgeCheck::Clear {
+                        certified,
+                        measured,
+                        ..
+                    } => Some(((a, b), [super::finite(certified), super::finite(measured)])),
+                    EdgeCheck::Blocked => None,
+                };
+                progress.advance(1);
+                (edge, ck.stats.solves - before)
+            },
+        )
+        .collect();
+    let solves = out.iter().map(|x| x.1).sum();
+    (out.into_iter().map(|x| x.0).collect(), solves)
 }
 
 /// The admissible nodes of a build: uniform samples and the model's actuation, then the
@@ -238,6 +306,7 @@ fn sample_nodes(
         nodes.extend(ck.node(&own, None));
     }
     for i in 1..=opts.samples {
+        opts.progress.advance(1);
         // Through a port every few samples slide the last admissible node along its
         // insertion (`insert.rs`), warm from it.
         if space.has_port() && i % super::insert::ALONG_EVERY == 0 && !nodes.is_empty() {
@@ -255,6 +324,7 @@ fn sample_nodes(
         nodes.extend(ck.node(&u, None));
     }
     for _ in 0..opts.expand {
+        opts.progress.advance(1);
         if nodes.is_empty() {
             break;
         }
@@ -337,10 +407,16 @@ fn shortest(adj: &[Vec<(usize, f64)>], s: usize, g: usize) -> Option<Vec<usize>>
 impl Roadmap {
     /// Read a roadmap file.
     pub fn load(path: &std::path::Path) -> Result<Roadmap, ModelError> {
-        let p = path.display().to_string();
         let text = crate::model::read::read_text(path, "roadmap")?;
-        let r: Roadmap = serde_json::from_str(&text).map_err(|e| ModelError::Parse {
-            path: p.clone(),
+        Roadmap::from_json(&text, &path.display().to_string())
+    }
+
+    /// A roadmap from its JSON text (`name` says where it came from in errors), with the
+    /// checks [`Roadmap::load`] makes.
+    pub fn from_json(text: &str, name: &str) -> Result<Roadmap, ModelError> {
+        let p = name;
+        let r: Roadmap = serde_json::from_str(text).map_err(|e| ModelError::Parse {
+            path: p.to_string(),
             reason: e.to_string(),
         })?;
         if r.format != FORMAT {
@@ -350,6 +426,15 @@ impl Roadmap {
                     "`{p}` is `{}`, expected `{FORMAT}` (older roadmaps name no robot \
                      fingerprint: build it again)",
                     r.format
+                ),
+            ));
+        }
+        if let Some(s) = r.shard.filter(|s| s.count == 0 || s.index >= s.count) {
+            return Err(ModelError::invalid(
+                "shard",
+                format!(
+                    "`{p}` says shard {}/{}: expected k/N with 0 <= k < N",
+                    s.index, s.count
                 ),
             ));
         }
@@ -365,11 +450,16 @@ impl Roadmap {
 
     /// Write the roadmap as JSON, atomically ([`crate::output`]).
     pub fn save(&self, path: &std::path::Path) -> Result<(), ModelError> {
-        let text = serde_json::to_string(self).map_err(|e| ModelError::Parse {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
+        let text = self.to_json(&path.display().to_string())?;
         Ok(crate::output::write_file(path, text.as_bytes())?)
+    }
+
+    /// The roadmap's JSON text (what [`Roadmap::save`] writes; `name` for errors).
+    pub fn to_json(&self, name: &str) -> Result<String, ModelError> {
+        serde_json::to_string(self).map_err(|e| ModelError::Parse {
+            path: name.to_string(),
+            reason: e.to_string(),
+        })
     }
 
     pub(super) fn check_fits(
@@ -383,6 +473,12 @@ impl Roadmap {
                 reason,
             })
         };
+        if let Some(s) = self.shard {
+            return bad(format!(
+                "is shard {}/{} of a roadmap: merge the shards first (`ccrkit roadmap merge`)",
+                s.index, s.count
+            ));
+        }
         let robot = crate::fingerprint::robot(&space.robot);
         if self.robot_fingerprint != robot {
             return Err(SolveError::InvalidInput {

@@ -268,8 +268,18 @@ fn pair(f: &Feature, scene: &Scene, k: usize, bound: f64) -> Option<f64> {
             {
                 // Finite (parry loosens boxes by it): no point of the feature is farther from
                 // the surface than the far corner of its bounds from the feature's centre plus
-                // the feature's size.
-                query(far_corner(scene, k, &f.centre) + (f.hi - f.lo).norm()).map(|c| c.dist)
+                // the feature's size. The centre (a point of the feature) is within |φ(c)| of
+                // the surface, at most the grid's −lo there: a bound that keeps the tree walk
+                // near the feature instead of over the whole mesh (the same closest triangle).
+                let corner = far_corner(scene, k, &f.centre) + (f.hi - f.lo).norm();
+                let near = o.field().map_or(f64::INFINITY, |fd| {
+                    let c = o
+                        .parry_pose
+                        .inverse_transform_point(crate::contact::pvec(&f.centre));
+                    let (lo, _) = fd.point_bounds([c.x, c.y, c.z]);
+                    lo.abs() * (1.0 + 1e-9) + 1e-12
+                });
+                query(corner.min(near)).map(|c| c.dist)
             }
             None => None,
         };

@@ -15,7 +15,7 @@ use std::time::Instant;
 /// A share of a sweep: blocks of [`WorkspaceOptions::chunk`] consecutive samples, block `j`
 /// belonging to shard `j % count`. Every block is solved the same way in every sharding, so
 /// merged shards equal the unsharded run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Shard {
     /// This shard (0-based).
     pub index: usize,

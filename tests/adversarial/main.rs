@@ -12,6 +12,7 @@ mod adversarial_counts;
 mod adversarial_files;
 mod adversarial_lies;
 mod adversarial_outputs;
+mod adversarial_plan_files;
 mod adversarial_robots;
 mod adversarial_self_contact;
 mod adversarial_settings;

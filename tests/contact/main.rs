@@ -9,6 +9,8 @@ mod common;
 mod airway;
 mod dense_scenes;
 mod energy_contact_convergence;
+mod field_cache;
+mod generated_scenes;
 mod geometric_contact;
 mod obstacles;
 mod solid_mesh;

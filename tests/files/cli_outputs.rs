@@ -57,7 +57,17 @@ fn view_writes_pages_for_methods_plans_and_sweeps() {
     std::fs::create_dir_all(&dir).unwrap();
     let p = |n: &str| dir.join(n).display().to_string();
     let shape = solve_json("geometric");
-    let plan = serde_json::json!({ "waypoints": [{ "shape": shape }, { "shape": shape }] });
+    // Made for case 1 among the wall (the view's model and `--scene`).
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let model = ccrkit::Model::from_file(root.join("models/paper/case1.toml")).unwrap();
+    let mut scene = model.scene.clone();
+    scene.merge(ccrkit::Scene::from_file(root.join("models/scenes/wall.toml")).unwrap());
+    let request = ccrkit::method::run::SolveRequest::new(ccrkit::method::MethodKind::Geometric);
+    let made_for = ccrkit::fingerprint::MadeFor::new(&model.robot, &scene, 0.0, &request);
+    let plan = serde_json::json!({
+        "waypoints": [{ "shape": shape }, { "shape": shape }],
+        "made_for": made_for,
+    });
     std::fs::write(p("plan.json"), plan.to_string()).unwrap();
     std::fs::write(
         p("ws.csv"),

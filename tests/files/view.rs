@@ -240,9 +240,20 @@ fn a_thousand_waypoint_plan_reads_back_and_stays_interactive() {
             serde_json::json!({ "actuation": {}, "shape": s.to_json() })
         })
         .collect();
-    let text = serde_json::json!({ "waypoints": waypoints, "min_clearance_m": 0.0 }).to_string();
+    let made_for = ccrkit::fingerprint::MadeFor::new(
+        &model.robot,
+        &Scene::empty(),
+        0.0,
+        &SolveRequest::new(kind),
+    );
+    let text = serde_json::json!({
+        "waypoints": waypoints,
+        "min_clearance_m": 0.0,
+        "made_for": made_for,
+    })
+    .to_string();
     eprintln!("{n} solves: {:.1} s", t.elapsed().as_secs_f64());
-    let shapes = read_plan(&text).unwrap();
+    let shapes = read_plan(&text, &model.robot, &Scene::empty()).unwrap();
     assert_eq!(shapes.len(), n);
     let mut view = View::new("plan", &model.robot, &Scene::empty());
     view.add_path("plan", &shapes).unwrap();
@@ -291,9 +302,11 @@ fn bad_inputs_are_named() {
     assert!(e.contains("disks"), "{e}");
     let e = view.add_path("x", &[]).unwrap_err().to_string();
     assert!(e.contains("no shape"), "{e}");
-    let e = read_plan("{\"waypoints\": []}").unwrap_err().to_string();
+    let e = read_plan("{\"waypoints\": []}", &model.robot, &Scene::empty())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("plan.waypoints"), "{e}");
-    let e = read_plan("{\"waypoints\": [{\"shape\": {\"method\": \"x\", \"disks\": [], \"backbone\": [], \"cables\": [], \"contacts\": [], \"report\": {\"converged\": true, \"iterations\": 0, \"residual\": 0, \"solve_time_s\": 0}}}]}")
+    let e = read_plan("{\"waypoints\": [{\"shape\": {\"method\": \"x\", \"disks\": [], \"backbone\": [], \"cables\": [], \"contacts\": [], \"report\": {\"converged\": true, \"iterations\": 0, \"residual\": 0, \"solve_time_s\": 0}}}]}", &model.robot, &Scene::empty())
         .unwrap_err()
         .to_string();
     assert!(e.contains("waypoints[0].shape.disks"), "{e}");

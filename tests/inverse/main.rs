@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod airway_plan;
 mod plan;
 mod plan_port;
 mod reach;
@@ -13,3 +14,4 @@ mod reach_body;
 mod reach_port;
 mod reach_random;
 mod reach_tension;
+mod roadmap_shards;

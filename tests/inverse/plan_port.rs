@@ -92,7 +92,7 @@ fn plan_behind_a_block() {
     assert_eq!(w["insertion"].as_f64(), Some(0.06));
     assert_eq!(w["rotation"].as_f64(), Some(0.0));
     let text = serde_json::to_string(&json).unwrap();
-    let shapes = ccrkit::export::view::read_plan(&text).unwrap();
+    let shapes = ccrkit::export::view::read_plan(&text, &model.robot, &model.scene).unwrap();
     assert_eq!(shapes.len(), p.waypoints.len());
     // The trajectory's base joints are the waypoints' insertion and rotation.
     let csv = p.trajectory_csv(&model).unwrap();
@@ -131,7 +131,7 @@ fn read_plan_checks_the_base_values() {
         let mut j = json.clone();
         j["waypoints"][1][key] = serde_json::json!(value);
         let text = serde_json::to_string(&j).unwrap();
-        let e = ccrkit::export::view::read_plan(&text).unwrap_err();
+        let e = ccrkit::export::view::read_plan(&text, &model.robot, &model.scene).unwrap_err();
         let e = format!("{e:?}");
         assert!(
             e.contains(&format!("waypoints[1].{key}")) && e.contains("differs"),

@@ -266,7 +266,12 @@ impl SolveArgs {
 
 fn main() {
     restore_sigpipe();
-    if let Err(e) = run() {
+    let result = run();
+    // The grid cache's warnings (a refused cache file, one that could not be written).
+    for note in ccrkit::model::field_cache::take_notes() {
+        eprintln!("warning: {note}");
+    }
+    if let Err(e) = result {
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }

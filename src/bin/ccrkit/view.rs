@@ -78,10 +78,6 @@ pub fn run(a: ViewArgs) -> Result<()> {
             Ok((e.clone(), r))
         })
         .collect::<Result<Vec<_>>>()?;
-    let plan = match &a.plan {
-        Some(p) => Some(read_plan(&read(p)?).with_context(|| format!("reading {}", p.display()))?),
-        None => None,
-    };
     let sweep = match &a.sweep {
         Some(p) => Some(read_sweep(&read(p)?).with_context(|| format!("reading {}", p.display()))?),
         None => None,
@@ -91,6 +87,13 @@ pub fn run(a: ViewArgs) -> Result<()> {
     if let Some(x) = &extra {
         scene.merge(x.clone());
     }
+    let plan = match &a.plan {
+        Some(p) => Some(
+            read_plan(&read(p)?, &model.robot, &scene)
+                .with_context(|| format!("reading {}", p.display()))?,
+        ),
+        None => None,
+    };
     let stem = a
         .file
         .file_stem()

@@ -5,14 +5,24 @@
 //! must be finite and be the shape's own (a hand-edited plan whose base values and shapes
 //! disagree is refused by waypoint); the view then checks each shape against the robot
 //! (disks, cables, port pose, insertion within `[0, L]`).
+//!
+//! A plan names what it was made for (`made_for`, [`MadeFor`]): a plan read with another
+//! robot (a hole radius of 4.0 mm instead of 4.5) or other obstacles is refused by name
+//! (`plan.made_for.robot_fingerprint`, `….scene_fingerprint`), and so is a plan that names
+//! nothing. No clearance is read from the file: the view draws shapes and obstacles only.
 
 use super::ExportError;
+use crate::fingerprint::MadeFor;
+use crate::model::robot::Robot;
+use crate::model::scene::Scene;
 use crate::shape::{Shape, ShapeJson};
 use serde::Deserialize;
 
 #[derive(Deserialize)]
 struct PlanFile {
     waypoints: Vec<Waypoint>,
+    #[serde(default)]
+    made_for: Option<MadeFor>,
 }
 
 #[derive(Deserialize)]
@@ -49,8 +59,9 @@ fn base_mismatch(k: usize, given: [Option<f64>; 2], shape: &Shape) -> Option<Exp
         })
 }
 
-/// The waypoint shapes of a plan, in order.
-pub fn read_plan(text: &str) -> Result<Vec<Shape>, ExportError> {
+/// The waypoint shapes of a plan, in order, once its `made_for` names `robot` and `scene`
+/// (the model's obstacles and any added ones, merged as `plan` merges them).
+pub fn read_plan(text: &str, robot: &Robot, scene: &Scene) -> Result<Vec<Shape>, ExportError> {
     let plan: PlanFile = serde_json::from_str(text).map_err(|e| ExportError::Input {
         field: "plan".into(),
         reason: e.to_string(),
@@ -61,7 +72,8 @@ pub fn read_plan(text: &str) -> Result<Vec<Shape>, ExportError> {
             reason: "no waypoint".into(),
         });
     }
-    plan.waypoints
+    let shapes = plan
+        .waypoints
         .into_iter()
         .enumerate()
         .map(|(k, w)| {
@@ -78,5 +90,21 @@ pub fn read_plan(text: &str) -> Result<Vec<Shape>, ExportError> {
                 None => Ok(shape),
             }
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()?;
+    let made_for = plan.made_for.ok_or_else(|| ExportError::Input {
+        field: "plan.made_for".into(),
+        reason: "the plan does not name the robot and obstacles it was made for (a plan \
+                 written before fingerprints, or edited): plan again"
+            .into(),
+    })?;
+    made_for
+        .check("plan.made_for", robot, scene)
+        .map_err(|e| ExportError::Input {
+            field: e.field().unwrap_or("plan.made_for").to_string(),
+            reason: match e {
+                crate::error::ModelError::Invalid { reason, .. } => reason,
+                other => other.to_string(),
+            },
+        })?;
+    Ok(shapes)
 }

@@ -278,15 +278,9 @@ impl Cosserat {
                 iterations,
                 residual,
                 solve_time_s: 0.0, // filled in by `Method::solve`
-                sections: vec![],
                 base_wrench: Some([n0.x, n0.y, n0.z, m0.x, m0.y, m0.z]),
                 notes,
-                stable: None,
-                jacobian: None,
-                error_estimate: None,
-                auto: None,
-                unique: None,
-                warm: None,
+                ..SolveReport::default()
             },
         }
     }

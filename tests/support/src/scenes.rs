@@ -1,5 +1,7 @@
-//! A generator of large obstacle scenes, shared by the contact and file tests
-//! (`obstacles`, `scene_json`), the TOML scene reader's unit tests and `benches/scene.rs`.
+//! Generators of obstacle scenes: large scenes shared by the contact and file tests
+//! (`obstacles`, `scene_json`), the TOML scene reader's unit tests and `benches/scene.rs`;
+//! scenes beside a robot's path that it presses on ([`near_path`]), for the speed measurement
+//! on scenes nobody tuned for (`examples/scene_speed.rs`).
 
 /// One generated obstacle: its shape's `(key, value)` lines, position and roll–pitch–yaw.
 struct Item {
@@ -92,4 +94,159 @@ pub fn scene_json(n: usize, seed: u64) -> String {
         "{{\"clearance\": 0.0, \"obstacles\": [\n{}\n]}}\n",
         lines.join(",\n")
     )
+}
+
+/// One obstacle [`near_path`] placed.
+#[derive(Debug, Clone, Copy)]
+pub struct Placed {
+    /// `wall`, `pillar` or `box`.
+    pub kind: &'static str,
+    /// The index of the path point it is placed beside.
+    pub anchor: usize,
+    /// Its distance from that point \[m\].
+    pub gap: f64,
+}
+
+/// The kinds of obstacle [`near_path`] places.
+const NEAR_KINDS: [&str; 3] = ["wall", "pillar", "box"];
+
+/// The rotation `Rz(yaw) Ry(pitch) Rx(roll)` of a roll–pitch–yaw triple (the scene file's
+/// convention), as rows.
+fn rpy_matrix(r: [f64; 3]) -> [[f64; 3]; 3] {
+    let (sr, cr) = r[0].sin_cos();
+    let (sp, cp) = r[1].sin_cos();
+    let (sy, cy) = r[2].sin_cos();
+    [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ]
+}
+
+/// Roll–pitch–yaw of a rotation given by its rows (the inverse of [`rpy_matrix`] for a pitch
+/// inside ±π/2).
+fn matrix_rpy(m: [[f64; 3]; 3]) -> [f64; 3] {
+    [
+        m[2][1].atan2(m[2][2]),
+        (-m[2][0]).clamp(-1.0, 1.0).asin(),
+        m[1][0].atan2(m[0][0]),
+    ]
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn unit(a: [f64; 3]) -> [f64; 3] {
+    let l = dot(a, a).sqrt();
+    [a[0] / l, a[1] / l, a[2] / l]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// A scene of one to three obstacles — walls (large thin boxes), pillars (cylinders) and small
+/// boxes — near a robot's path: the polyline `path` of its backbone points (base first) in its
+/// free shape. Each obstacle is placed beside a point `p` of the path's upper half (the tip
+/// included), in a random direction `d` across the path, with its point nearest to `p` at a
+/// gap of 4–18 mm from it, so that a robot whose body reaches ~12 mm from its backbone presses
+/// on it where it would pass freely:
+///
+/// * a wall turns a face to `p` (its thin axis along `d`, turned about it at random), the foot
+///   of the perpendicular from `p` inside the face;
+/// * a box or a pillar is turned at random and moved so that its support point in `−d` (a
+///   corner, an edge or a rim point) is `p + gap·d`: it lies beyond the plane through that
+///   point across `d`, so that point is its nearest to `p`.
+///
+/// Deterministic in `seed` (xorshift64). Returns the TOML text and what was placed, in the
+/// file's order.
+pub fn near_path(path: &[[f64; 3]], seed: u64) -> (String, Vec<Placed>) {
+    let mut rng = crate::rng::Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
+    for _ in 0..4 {
+        rng.next();
+    }
+    let n = 1 + (rng.next() * 3.0) as usize;
+    let mut text = String::from("clearance = 0.0\n");
+    let mut placed = vec![];
+    for k in 0..n {
+        let kind = NEAR_KINDS[(rng.next() * 3.0) as usize % 3];
+        let half = path.len() / 2;
+        let i = (half + (rng.next() * (path.len() - half) as f64) as usize).min(path.len() - 1);
+        let p = path[i];
+        let t = unit(sub(p, path[i - 1]));
+        // A random direction across the path at `p`.
+        let mut d = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)];
+        let along = dot(d, t);
+        d = unit([d[0] - along * t[0], d[1] - along * t[1], d[2] - along * t[2]]);
+        let gap = rng.range(0.004, 0.018);
+        let (sizes, rows, centre) = match kind {
+            "wall" => {
+                let e = [
+                    rng.range(0.003, 0.006),
+                    rng.range(0.04, 0.12),
+                    rng.range(0.04, 0.12),
+                ];
+                // Columns d, y, z: y a random direction across d.
+                let spin = rng.range(0.0, std::f64::consts::TAU);
+                let (sn, cs) = spin.sin_cos();
+                let y = unit([
+                    t[0] * cs + cross(d, t)[0] * sn,
+                    t[1] * cs + cross(d, t)[1] * sn,
+                    t[2] * cs + cross(d, t)[2] * sn,
+                ]);
+                let z = cross(d, y);
+                let rows = [0, 1, 2].map(|r| [d[r], y[r], z[r]]);
+                let (u, v) = (rng.range(-0.6, 0.6) * e[1], rng.range(-0.6, 0.6) * e[2]);
+                let c = [0, 1, 2].map(|j| p[j] + d[j] * (gap + e[0]) + y[j] * u + z[j] * v);
+                (format!("shape = \"box\"\nhalf_extents = {e:?}\n"), rows, c)
+            }
+            _ => {
+                let rpy = [
+                    rng.range(-3.2, 3.2),
+                    rng.range(-1.5, 1.5),
+                    rng.range(-3.2, 3.2),
+                ];
+                let rows = rpy_matrix(rpy);
+                // `−d` in the obstacle's frame (Rᵀ(−d)) and the support point there.
+                let w = [0, 1, 2].map(|c| -(0..3).map(|r| rows[r][c] * d[r]).sum::<f64>());
+                let (sizes, s) = if kind == "box" {
+                    let e = [0; 3].map(|_| rng.range(0.004, 0.02));
+                    (
+                        format!("shape = \"box\"\nhalf_extents = {e:?}\n"),
+                        [0, 1, 2].map(|j| e[j] * w[j].signum()),
+                    )
+                } else {
+                    let (r, h) = (rng.range(0.004, 0.015), rng.range(0.02, 0.06));
+                    let wxy = w[0].hypot(w[1]);
+                    (
+                        format!("shape = \"cylinder\"\nradius = {r:?}\nhalf_height = {h:?}\n"),
+                        [r * w[0] / wxy, r * w[1] / wxy, h * w[2].signum()],
+                    )
+                };
+                let rs = [0, 1, 2].map(|r| dot(rows[r], s));
+                let c = [0, 1, 2].map(|j| p[j] + d[j] * gap - rs[j]);
+                (sizes, rows, c)
+            }
+        };
+        let rpy = matrix_rpy(rows);
+        text += &format!(
+            "[[obstacles]]\nname = \"{kind}{k}\"\n{sizes}position = [{:?}, {:?}, {:?}]\nrotation = {{ rpy = [{:?}, {:?}, {:?}] }}\n",
+            centre[0], centre[1], centre[2], rpy[0], rpy[1], rpy[2]
+        );
+        placed.push(Placed {
+            kind,
+            anchor: i,
+            gap,
+        });
+    }
+    (text, placed)
 }

@@ -1,0 +1,57 @@
+//! The generated scenes beside a robot's path (`ccrkit_test_support::scenes::near_path`, the
+//! set `examples/scene_speed.rs` measures speed on): each obstacle is where the generator says,
+//! its distance from the path point it was placed beside measured by parry's point projection
+//! on the obstacle as the scene file reads it (an independent check of the generator's
+//! rotations and support extents); and the set holds every kind, pressed on.
+
+use crate::common::scenes::near_path;
+use ccrkit::model::scene::Scene;
+use ccrkit::prelude::*;
+use parry3d::math::Vector as PVec;
+
+#[test]
+fn generated_obstacles_lie_at_their_placed_gap_from_the_path() {
+    let model = Model::from_file(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/models/paper/case1.toml"
+    ))
+    .unwrap();
+    let free = SolveRequest::new(MethodKind::Geometric)
+        .solver()
+        .unwrap()
+        .solve(&model.robot, &model.actuation, &Scene::empty(), None)
+        .unwrap();
+    let path: Vec<[f64; 3]> = free.disks.iter().map(|d| d.position.into()).collect();
+    let dir = std::env::temp_dir().join(format!("ccrkit-generated-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (mut kinds, mut worst) = (std::collections::BTreeMap::new(), 0.0f64);
+    for seed in 0..200 {
+        let (text, placed) = near_path(&path, seed);
+        let file = dir.join(format!("gen_{seed}.toml"));
+        std::fs::write(&file, &text).unwrap();
+        let scene = Scene::from_file(&file).unwrap();
+        assert_eq!(scene.obstacles.len(), placed.len());
+        assert!((1..=3).contains(&placed.len()));
+        for (o, p) in scene.obstacles.iter().zip(&placed) {
+            assert!(o.name.starts_with(p.kind), "{} {}", o.name, p.kind);
+            assert!(p.anchor >= path.len() / 2 && p.anchor < path.len());
+            let a = path[p.anchor];
+            let proj = o
+                .shape
+                .project_point(&o.parry_pose, PVec::new(a[0], a[1], a[2]), true);
+            assert!(!proj.is_inside, "seed {seed}: {} holds its anchor", o.name);
+            let q = proj.point;
+            let d = ((q.x - a[0]).powi(2) + (q.y - a[1]).powi(2) + (q.z - a[2]).powi(2)).sqrt();
+            worst = worst.max((d - p.gap).abs());
+            assert!((0.004..=0.018).contains(&p.gap));
+            *kinds.entry(p.kind).or_insert(0) += 1;
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    eprintln!("kinds {kinds:?}, |distance − placed gap| ≤ {worst:.1e} m");
+    assert!(worst < 1e-12, "{worst}");
+    assert!(
+        kinds.len() == 3 && kinds.values().all(|&n| n > 50),
+        "{kinds:?}"
+    );
+}
