@@ -21,7 +21,7 @@
 //!
 //! The rungs are solved without the output check; the answer handed out passes it once.
 //! The answer says what was chosen, its estimate and the cost of everything solved
-//! ([`AutoReport`] in `report.auto`). Next to obstacles the rod has no counterpart, so only
+//! ([`AutoReport`] in `report.auto`). Next to obstacles the model part is not estimated, so only
 //! the discretization part is held to the tolerance (the report's note says so). When no
 //! rung meets the tolerance, the answer with the smallest estimate is returned with
 //! `met = false`.

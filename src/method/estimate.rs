@@ -371,7 +371,7 @@ pub(crate) fn model_estimate(
 ) -> (Option<f64>, String) {
     let mut note = String::new();
     let unmodelled = if !scene.is_empty() {
-        Some("the rod has no obstacles: the model part next to obstacles is unknown")
+        Some("the model part next to obstacles is not estimated (the rod with contact is its reference: `ccrkit compare`, guide obstacles)")
     } else if robot.backbone.stiffening > 0.0 {
         Some("the rod has no curvature stiffening: the model part is unknown")
     } else if act.cables.iter().any(|d| d.capstan != 0.0) {

@@ -7,6 +7,7 @@
 mod common;
 
 mod airway_plan;
+mod insertion_column;
 mod plan;
 mod plan_port;
 mod reach;

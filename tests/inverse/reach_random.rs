@@ -28,6 +28,11 @@ fn random_robots_through_a_port_are_reached() {
     assert!(out.iter().any(|o| o.cables == 2) && out.iter().any(|o| o.cables >= 5));
     for o in &out {
         assert!(o.seconds > 0.0);
+        assert!(
+            !o.ok || o.solves > 0,
+            "robot {}: reached without a solve",
+            o.seed
+        );
         if !o.ok {
             // A miss still ends with the closest answer, its distance and a reason.
             assert!(
