@@ -80,7 +80,10 @@ pub struct ReachOptions {
     pub tolerance: f64,
     /// SQP iterations per start.
     pub max_iterations: usize,
-    /// Starts tried before giving up (≥ 1).
+    /// Starts tried before giving up (≥ 1; default 16: through a port, insertion and
+    /// rotation add local minima — on seeded random port robots 8 starts missed 4 of 200
+    /// forward-solved targets, 16 miss 2; a target reached stops the search, so only misses
+    /// pay for them).
     pub starts: usize,
     /// Distance kept from the obstacles \[m\] (default: the scene's `clearance`).
     pub margin: Option<f64>,
@@ -92,7 +95,7 @@ impl Default for ReachOptions {
             allow_contact: false,
             tolerance: 1e-7,
             max_iterations: 60,
-            starts: 8,
+            starts: 16,
             margin: None,
         }
     }
