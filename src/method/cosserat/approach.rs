@@ -18,6 +18,7 @@
 use super::contact::Touch;
 use super::problem::{Problem, Trace};
 use super::shooting::{Fail, Setup};
+use crate::error::SolveError;
 use nalgebra::{DVector, Matrix3, Vector3};
 
 /// The deepest a disk may enter an obstacle in one load step \[m\] (module docs).
@@ -33,6 +34,8 @@ type Frames = Vec<(Vector3<f64>, Matrix3<f64>)>;
 /// and Newton iterations it took.
 pub(super) struct Approach {
     pub(super) x: DVector<f64>,
+    /// The unknowns' layout at `x`.
+    pub(super) setup: Setup,
     pub(super) contacts: Vec<Touch>,
     pub(super) steps: usize,
     pub(super) iterations: usize,
@@ -83,10 +86,37 @@ impl Problem<'_> {
         }
         Ok(Approach {
             x,
+            setup: setup_of(&active),
             contacts: active,
             steps,
             iterations,
         })
+    }
+
+    /// [`Problem::approach`] as the start of the solve: its failure the named
+    /// `NotConverged` of method `name`, a note in `notes`.
+    pub(super) fn approach_start(
+        &self,
+        unknown: Vec<usize>,
+        slack: &[bool],
+        name: &str,
+        notes: &mut Vec<String>,
+    ) -> Result<Approach, SolveError> {
+        let a = self
+            .approach(&unknown, slack)
+            .map_err(|e| SolveError::NotConverged {
+                method: name.to_string(),
+                section: None,
+                iterations: e.iterations,
+                residual: e.residual,
+                detail: e.detail,
+            })?;
+        notes.push(format!(
+            "approach to the obstacles: {} load steps, {} contacts",
+            a.steps,
+            a.contacts.len()
+        ));
+        Ok(a)
     }
 
     /// The contacts settled at load factor `lam` from the accepted state `(x, active)` with

@@ -70,33 +70,11 @@ impl Method for Cosserat {
         // Cold next to obstacles: raise the loads in steps no disk can cross an obstacle in
         // (`approach.rs`); a warm shape is trusted to start clear of them.
         if prob.world.is_some() && input.warm.is_none() {
-            let unknown: Vec<usize> = length_cables
-                .iter()
-                .copied()
-                .filter(|&c| !slack[c])
-                .collect();
-            let a = prob
-                .approach(&unknown, &slack)
-                .map_err(|e| SolveError::NotConverged {
-                    method: name.clone(),
-                    section: None,
-                    iterations: e.iterations,
-                    residual: e.residual,
-                    detail: e.detail,
-                })?;
+            let unknown = length_cables.iter().copied().filter(|&c| !slack[c]);
+            let a = prob.approach_start(unknown.collect(), &slack, &name, &mut notes)?;
             total_it += a.iterations;
-            notes.push(format!(
-                "approach to the obstacles: {} load steps, {} contacts",
-                a.steps,
-                a.contacts.len()
-            ));
             active.clone_from(&a.contacts);
-            let setup = Setup {
-                unknown,
-                slack: slack.clone(),
-                contacts: a.contacts,
-            };
-            prev = Some((a.x, setup));
+            prev = Some((a.x, a.setup));
         }
         for _round in 0..max_rounds {
             let unknown: Vec<usize> = length_cables
@@ -186,19 +164,30 @@ impl Method for Cosserat {
                     });
             return Ok(shape);
         }
-        Err(SolveError::NotConverged {
-            method: name,
-            section: None,
-            iterations: total_it,
-            residual: last_res,
-            detail: match prob.world {
-                Some(_) => format!(
-                    "the active sets of slack cables and contacts did not settle in \
-                     {max_rounds} rounds"
-                ),
-                None => "slack active set did not settle".into(),
-            },
-        })
+        let contacts = prob.world.is_some();
+        Err(unsettled(name, total_it, last_res, max_rounds, contacts))
+    }
+}
+
+/// The `NotConverged` of active sets that did not settle in `rounds` rounds.
+fn unsettled(
+    method: String,
+    iterations: usize,
+    residual: f64,
+    rounds: usize,
+    contacts: bool,
+) -> SolveError {
+    SolveError::NotConverged {
+        method,
+        section: None,
+        iterations,
+        residual,
+        detail: match contacts {
+            true => format!(
+                "the active sets of slack cables and contacts did not settle in {rounds} rounds"
+            ),
+            false => "slack active set did not settle".into(),
+        },
     }
 }
 
