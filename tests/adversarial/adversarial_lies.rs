@@ -235,7 +235,7 @@ fn a_roadmap_built_for_another_robot_is_refused_by_name() {
     assert!(ball_query(&used_with, &back).is_err());
     // A roadmap of the older format names no robot: refused when read, saying why.
     let text = std::fs::read_to_string(&path).expect("reads");
-    let old = text.replace("ccrkit-roadmap-2", "ccrkit-roadmap-1");
+    let old = text.replace(ccrkit::plan::roadmap::FORMAT, "ccrkit-roadmap-2");
     std::fs::write(&path, old).expect("writes");
     match ccrkit::plan::roadmap::Roadmap::load(&path) {
         Err(ModelError::Invalid { field, reason }) => {
