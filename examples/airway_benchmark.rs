@@ -1,12 +1,13 @@
 //! The planning benchmark in generated airways (`examples/common/airway_tasks.rs`): for each
-//! airway seed, targets beyond the trachea labelled reachable by a clear forward solve; each
+//! airway seed, targets beyond the trachea (at a chosen depth) labelled reachable by a clear forward solve; each
 //! is reached (`reach`, forward-checked to 1e-6 m), and its own actuation is planned to cold
 //! from the retracted catheter (`plan`, RRT-Connect); every answer and every waypoint goes through the
 //! independent dense check against the exact triangles. Prints the success rates over the
 //! reachable targets, the median and worst times, and the smallest dense clearance.
 //!
-//! `cargo run --release --example airway_benchmark [FIRST_SEED] [SEEDS] [TARGETS]` (default
-//! seeds 11–12, 4 targets each)
+//! `cargo run --release --example airway_benchmark [FIRST_SEED] [SEEDS] [TARGETS] [DEPTH]`
+//! (default seeds 11–12, 4 targets each, in generation 1 or deeper; `DEPTH` 2: two
+//! generations below the trachea or deeper, fewer when the draws find fewer)
 
 #[path = "common/airway_tasks.rs"]
 mod airway_tasks;
@@ -18,10 +19,17 @@ fn main() -> anyhow::Result<()> {
     let first: u64 = args.next().map_or(Ok(11), |s| s.parse())?;
     let seeds: u64 = args.next().map_or(Ok(2), |s| s.parse())?;
     let targets: usize = args.next().map_or(Ok(4), |s| s.parse())?;
+    let depth: u32 = args.next().map_or(Ok(1), |s| s.parse())?;
     let dir = std::env::temp_dir().join(format!("ccrkit-airway-benchmark-{}", std::process::id()));
     let mut all = Vec::new();
     for seed in first..first + seeds {
-        let m = measure(seed, GENERATIONS, targets, &dir.join(seed.to_string()))?;
+        let m = measure(
+            seed,
+            GENERATIONS,
+            targets,
+            depth,
+            &dir.join(seed.to_string()),
+        )?;
         for o in &m {
             println!(
                 "seed {seed} generation {}: reach {} {:.2} s CPU ({:.2} s wall; dense {:.2} mm), plan {} {:.2} s CPU ({:.2} s wall; {} waypoints, dense {:.2} mm){}",

@@ -50,6 +50,14 @@ fn main() {
     let mut t: Vec<f64> = out.iter().map(|o| o.seconds * 1e3).collect();
     t.sort_by(f64::total_cmp);
     let tension = out.iter().filter(|o| o.tension_driven).count();
+    let mut solves: Vec<usize> = out.iter().map(|o| o.solves).collect();
+    solves.sort_unstable();
+    let mean = solves.iter().sum::<usize>() as f64 / solves.len() as f64;
+    println!(
+        "forward solves per reach: median {}, mean {mean:.1}, worst {}",
+        solves[solves.len() / 2],
+        solves[solves.len() - 1]
+    );
     println!(
         "{ok} of {} reached ({:.1} %; {tension} with tension-made targets), reach time median {:.1} ms, \
          90th percentile {:.1} ms, worst {:.1} ms",

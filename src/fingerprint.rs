@@ -44,6 +44,18 @@ pub fn robot(robot: &Robot) -> String {
     of_parts(&[robot])
 }
 
+/// An actuation space's fingerprint: what its unknowns are (shortenings or tensions), the
+/// cables' names, the limits of every unknown and the effort's scales.
+pub fn space(space: &crate::reach::Space) -> String {
+    of_parts(&[
+        &space.input.name(),
+        &space.cable_names(),
+        &space.lo,
+        &space.hi,
+        &space.weights,
+    ])
+}
+
 /// The obstacles' fingerprint: names, poses, bounds and the clearance.
 pub fn scene(scene: &Scene) -> String {
     let mut h = Fnv(0xcbf2_9ce4_8422_2325);

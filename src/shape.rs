@@ -4,6 +4,10 @@
 
 use crate::error::ModelError;
 use crate::method::warm::WarmState;
+
+#[path = "shape_check.rs"]
+mod check;
+pub use check::MAX_EXTENT;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -235,12 +239,8 @@ impl PortJson {
         let m = Matrix3::new(
             o[0][0], o[0][1], o[0][2], o[1][0], o[1][1], o[1][2], o[2][0], o[2][1], o[2][2],
         );
-        if (m.transpose() * m - Matrix3::identity()).norm() > 1e-6 || m.determinant() <= 0.0 {
-            return Err(ModelError::invalid(
-                format!("{field}.port.orientation"),
-                "must be a rotation matrix (orthonormal, determinant +1)",
-            ));
-        }
+        check::rotation(&m, || format!("{field}.port.orientation"))?;
+        check::point(&self.position, || format!("{field}.port.position"))?;
         let q = nalgebra::UnitQuaternion::from_matrix(&m);
         let t = nalgebra::Translation3::from(Vector3::from(self.position));
         Ok(PortState {
@@ -330,8 +330,10 @@ impl Shape {
 
 impl ShapeJson {
     /// The shape this JSON describes (the reader of [`Shape::to_json`]'s output; warm-start
-    /// state is not carried). Refused when there is no disk or a number is not finite; `field`
-    /// prefixes the field names in errors (e.g. `waypoints[3].shape`).
+    /// state is not carried). Refused when there is no disk, a number is not finite, a point
+    /// lies beyond [`MAX_EXTENT`], a rotation is not one, or a cable's holes or slack sections
+    /// do not fit the disks (`src/shape_check.rs`); `field` prefixes the field names in errors
+    /// (e.g. `waypoints[3].shape`).
     pub fn into_shape(self, field: &str) -> Result<Shape, ModelError> {
         if self.disks.is_empty() {
             return Err(ModelError::invalid(
@@ -365,23 +367,31 @@ impl ShapeJson {
                 r[2][2],
             ];
             finite(&flat, format!("{field}.disks[{k}]"))?;
+            check::point(&d.position, || format!("{field}.disks[{k}].position"))?;
+            let rotation = Matrix3::new(
+                r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
+            );
+            check::rotation(&rotation, || format!("{field}.disks[{k}].rotation"))?;
             disks.push(DiskFrame {
                 s: d.s,
                 position: Vector3::from(d.position),
-                rotation: Matrix3::new(
-                    r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
-                ),
+                rotation,
             });
         }
         let mut backbone = Vec::with_capacity(self.backbone.len());
         for (i, p) in self.backbone.iter().enumerate() {
-            finite(p, format!("{field}.backbone[{i}]"))?;
+            check::point(p, || format!("{field}.backbone[{i}]"))?;
             backbone.push(Vector3::from(*p));
+        }
+        for (i, c) in self.contacts.iter().enumerate() {
+            check::contact(c, &format!("{field}.contacts[{i}]"))?;
         }
         let mut cables = Vec::with_capacity(self.cables.len());
         for (c, cj) in self.cables.into_iter().enumerate() {
+            let at = format!("{field}.cables[{c}]");
+            check::cable(cj.points.len(), &cj.slack_sections, disks.len(), &at)?;
             for (i, p) in cj.points.iter().enumerate() {
-                finite(p, format!("{field}.cables[{c}].points[{i}]"))?;
+                check::point(p, || format!("{at}.points[{i}]"))?;
             }
             cables.push(CablePath {
                 name: cj.name,

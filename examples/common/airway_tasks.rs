@@ -277,12 +277,21 @@ pub struct Outcome {
     pub reason: String,
 }
 
-/// Reach and plan `targets` targets beyond the trachea (generation ≥ 1) in the airway of
-/// `seed` (files written in `dir`).
-pub fn measure(seed: u64, generations: u32, targets: usize, dir: &Path) -> Result<Vec<Outcome>> {
+/// Reach and plan `targets` targets at generation `depth` or deeper (at least 1: beyond the
+/// trachea) in the airway of `seed` (files written in `dir`; at most `200 · targets` draws
+/// per generation below the trachea asked for, squared).
+pub fn measure(
+    seed: u64,
+    generations: u32,
+    targets: usize,
+    depth: u32,
+    dir: &Path,
+) -> Result<Vec<Outcome>> {
     let setup = Setup::new(seed, generations, dir)?;
     let space = setup.space()?;
-    let tasks = setup.tasks(&space, seed, targets, 1, 200 * targets);
+    let depth = depth.max(1);
+    let tries = 200 * targets * (depth * depth) as usize;
+    let tasks = setup.tasks(&space, seed, targets, depth, tries);
     let mut out = Vec::new();
     for task in tasks {
         let mut reason = Vec::new();

@@ -36,6 +36,8 @@ pub struct Outcome {
     pub ok: bool,
     /// Wall time of the reach \[s\].
     pub seconds: f64,
+    /// Forward solves the reach took (0 when it failed with an error).
+    pub solves: usize,
     /// The answer's distance from the target \[m\] and its reason when not reached.
     pub distance: f64,
     pub reason: String,
@@ -127,13 +129,13 @@ fn run(
         &ReachOptions::default(),
     );
     let seconds = t0.elapsed().as_secs_f64();
-    let (ok, distance, reason) = match r {
+    let (ok, distance, reason, solves) = match r {
         Ok(r) => {
             let again = space.solve_as_cli(model, &r.u).map(|s| s.tip());
             let d = again.map_or(f64::INFINITY, |a| (a - tip).norm());
-            (r.reached && d <= 1e-6, d, r.reason)
+            (r.reached && d <= 1e-6, d, r.reason, r.solves)
         }
-        Err(e) => (false, f64::INFINITY, e.to_string()),
+        Err(e) => (false, f64::INFINITY, e.to_string(), 0),
     };
     Some(Outcome {
         seed,
@@ -141,6 +143,7 @@ fn run(
         tension_driven,
         ok,
         seconds,
+        solves,
         distance,
         reason,
     })

@@ -182,7 +182,7 @@ class Model:
         margin: Optional[float] = None,
         allow_contact: bool = False,
         tolerance: float = 1e-7,
-        starts: int = 8,
+        starts: int = 16,
         max_iterations: int = 60,
         require: bool = True,
         **settings: _Setting,

@@ -336,7 +336,7 @@ impl Model {
     /// model's obstacles, or touching them with `allow_contact`; `ccrkit reach`. Raises
     /// `Unreachable` (closest tip, distance, and the closest answer as `result`) when not
     /// reached, unless `require=False`. Other keywords are the method's settings.
-    #[pyo3(signature = (tip, tangent=None, *, method=None, margin=None, allow_contact=false, tolerance=1e-7, starts=8, max_iterations=60, require=true, **settings))]
+    #[pyo3(signature = (tip, tangent=None, *, method=None, margin=None, allow_contact=false, tolerance=1e-7, starts=16, max_iterations=60, require=true, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn reach(
         &self,

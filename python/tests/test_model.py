@@ -124,8 +124,8 @@ def test_errors_are_named_exceptions(case1, tmp_path):
         case1.solve("energy", length="chord", max_iterations=1)
     assert e.value.iterations >= 1 and e.value.residual > 0 and e.value.method == "energy"
     with pytest.raises(ccrkit.Unsupported) as e:
-        case1.with_scene(MODELS / "scenes" / "wall.toml").solve("cosserat")
-    assert e.value.method == "cosserat" and "obstacles" in e.value.reason
+        case1.with_scene(MODELS / "scenes" / "wall.toml").solve("constant-curvature")
+    assert e.value.method == "constant-curvature" and "obstacles" in e.value.reason
     with pytest.raises(ccrkit.InvalidInput) as e:
         case1.solve("energy", shorten=[0.001, 0.001, 0.001])
     assert e.value.field == "shorten"

@@ -2,7 +2,8 @@
 //! tip and a pattern label (the OpenCR FTDCR files: `timestamp, pattern_label, servo_<id>_mm ×9,
 //! tip_x, tip_y, tip_z`).
 //!
-//! Columns are found by name in the header. The cable columns are, unless named
+//! The file is RFC 4180 CSV, read by the `csv` crate: a quoted field (`"rep1_all3, same"`) is
+//! one field. Columns are found by name in the header, each named once. The cable columns are, unless named
 //! ([`DataOptions::columns`]), every column whose name starts with `servo_`, in file order,
 //! mapped to the model's cables in robot order (the FTDCR files list them seg-major, the
 //! order of the model files in `models/hardware/`). Displacements and tips are in
@@ -98,13 +99,21 @@ impl Dataset {
                 format!("must be > 0, got {}", opts.unit),
             ));
         }
-        let mut lines = text.lines().filter(|l| !l.trim().is_empty());
-        let header: Vec<&str> = lines
-            .next()
-            .ok_or_else(|| ModelError::invalid(name, "is empty: no header line"))?
-            .split(',')
-            .map(str::trim)
-            .collect();
+        // RFC 4180 by the `csv` crate: quoted fields (with commas, quotes, line breaks) are
+        // one field; blank lines are skipped; every field trimmed.
+        let mut rd = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .flexible(true)
+            .trim(csv::Trim::All)
+            .from_reader(text.as_bytes());
+        let head = rd
+            .headers()
+            .map_err(|e| ModelError::invalid(format!("{name}: header"), e.to_string()))?
+            .clone();
+        let header: Vec<&str> = head.iter().collect();
+        if header.iter().all(|h| h.is_empty()) {
+            return Err(ModelError::invalid(name, "is empty: no header line"));
+        }
         check_header(&header, name)?;
         let find = |c: &str| header.iter().position(|h| *h == c);
         let cols: Vec<usize> = if opts.columns.is_empty() {
@@ -144,14 +153,16 @@ impl Dataset {
             labels: label_col.map(|_| Vec::new()),
             ..Dataset::default()
         };
-        for (r, line) in lines.enumerate() {
+        for (r, record) in rd.records().enumerate() {
             if r >= MAX_ROWS {
                 return Err(ModelError::invalid(
                     name,
                     format!("has more than {MAX_ROWS} rows"),
                 ));
             }
-            let f: Vec<&str> = line.split(',').map(str::trim).collect();
+            let record = record
+                .map_err(|e| ModelError::invalid(format!("{name} row {}", r + 1), e.to_string()))?;
+            let f: Vec<&str> = record.iter().collect();
             if f.len() != header.len() {
                 return Err(ModelError::invalid(
                     format!("{name} row {}", r + 1),

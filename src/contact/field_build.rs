@@ -1,7 +1,7 @@
 //! Building a [`SolidField`] (the argument is in `field.rs`): the nodes near the surface
 //! projected on the mesh by parry in parallel, a separable Euclidean distance transform
 //! (Felzenszwalb and Huttenlocher, 2012) from those within a cell of the surface, the sign
-//! spread from the projected nodes to the rest.
+//! of the rest filled row by row from the projected nodes.
 
 use super::field::{SolidField, LOOSE};
 use parry3d::math::Vector as PVec;
@@ -104,8 +104,15 @@ impl SolidField {
                 }
             }
         }
-        let marked: Vec<usize> = (0..total)
-            .filter(|&k| near[k / 64] >> (k % 64) & 1 == 1)
+        let marked: Vec<usize> = near
+            .iter()
+            .enumerate()
+            .filter(|(_, w)| **w != 0)
+            .flat_map(|(i, &w)| {
+                (0..64)
+                    .filter(move |b| w >> b & 1 == 1)
+                    .map(move |b| 64 * i + b)
+            })
             .collect();
         // Projected within 2h (a bounded search of parry's tree); a node farther is left to
         // the transform like any node not marked.
@@ -130,14 +137,31 @@ impl SolidField {
             }
         }
         let dist = distance_transform(&source, n);
-        spread_sign(&mut value, n);
-        let mut loose = vec![0u64; total.div_ceil(64)];
+        // The side beyond the mesh's bounds, from the grid's first node (two cells beyond).
+        let far = if mesh
+            .project_local_point_and_get_location(node(0), false)
+            .0
+            .is_inside
+        {
+            -1.0
+        } else {
+            1.0
+        };
+        spread_sign(&mut value, n, far);
+        // Every node not projected within 2h is loose (the last word's spare bits clear).
+        let mut loose: Vec<u64> = near.iter().map(|w| !w).collect();
+        if total % 64 != 0 {
+            if let Some(last) = loose.last_mut() {
+                *last &= (1u64 << (total % 64)) - 1;
+            }
+        }
         let lo_v: Vec<f32> = (0..total)
+            .into_par_iter()
+            .with_min_len(4096)
             .map(|k| {
                 if near[k / 64] >> (k % 64) & 1 == 1 {
                     return down(value[k]);
                 }
-                loose[k / 64] |= 1 << (k % 64);
                 let d = dist[k].sqrt() * h;
                 // Lower bound max(h, D − h√3/2) on the free side; −(D + h) on the other.
                 if value[k] > 0.0 {
@@ -147,7 +171,7 @@ impl SolidField {
                 }
             })
             .collect();
-        let corner = value[0] > 0.0;
+        let corner = far > 0.0;
         SolidField {
             origin,
             h,
@@ -190,17 +214,18 @@ fn distance_transform(source: &[bool], n: [usize; 3]) -> Vec<f64> {
     d.par_chunks_mut(plane).for_each(|p| {
         let mut line = vec![0.0; n[0].max(n[1])];
         let mut out = vec![0.0; n[0].max(n[1])];
+        let (mut v, mut z) = (Vec::new(), Vec::new());
         for y in 0..n[1] {
             let row = &mut p[y * n[0]..(y + 1) * n[0]];
             line[..n[0]].copy_from_slice(row);
-            lower_envelope(&line[..n[0]], &mut out[..n[0]]);
+            lower_envelope(&line[..n[0]], &mut out[..n[0]], &mut v, &mut z);
             row.copy_from_slice(&out[..n[0]]);
         }
         for x in 0..n[0] {
             for y in 0..n[1] {
                 line[y] = p[x + y * n[0]];
             }
-            lower_envelope(&line[..n[1]], &mut out[..n[1]]);
+            lower_envelope(&line[..n[1]], &mut out[..n[1]], &mut v, &mut z);
             for y in 0..n[1] {
                 p[x + y * n[0]] = out[y];
             }
@@ -211,10 +236,11 @@ fn distance_transform(source: &[bool], n: [usize; 3]) -> Vec<f64> {
 
 /// One line of the separable transform: `out[q] = min_p f[p] + (q − p)²` by the lower
 /// envelope of parabolas (values of `1e18` and above count as none).
-fn lower_envelope(f: &[f64], out: &mut [f64]) {
+/// `v` and `z` are scratch (the envelope's parabolas and their bounds).
+fn lower_envelope(f: &[f64], out: &mut [f64], v: &mut Vec<usize>, z: &mut Vec<f64>) {
     let n = f.len();
-    let mut v = Vec::with_capacity(n);
-    let mut z: Vec<f64> = Vec::with_capacity(n + 1);
+    v.clear();
+    z.clear();
     for q in 0..n {
         if f[q] >= 1e18 {
             continue;
@@ -252,41 +278,69 @@ fn lower_envelope(f: &[f64], out: &mut [f64]) {
     }
 }
 
-/// The sign of every node not projected (`NaN`) from a projected neighbour's, breadth first;
-/// a node gets the side as a magnitude-free `±1`.
-fn spread_sign(value: &mut [f64], n: [usize; 3]) {
-    let mut queue: Vec<usize> = (0..value.len())
-        .filter(|&k| !value[k].is_nan() && value[k] != 0.0)
-        .collect();
-    let mut head = 0;
-    while head < queue.len() {
-        let k = queue[head];
-        head += 1;
-        let s = value[k].signum();
-        let (x, y, z) = (k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1]));
-        let mut visit = |j: usize| {
-            if value[j].is_nan() {
-                value[j] = s;
-                queue.push(j);
+/// The side of every node not projected (`NaN`), as a magnitude-free `±1`. A node not
+/// projected is farther than `h` from the surface, so no surface crosses an edge from it: it
+/// has the side of any projected neighbour, and a run of them along a row has the side of the
+/// projected node at either end; a row with none has the side of its ends, which are beyond
+/// the mesh's bounds: `far`. Rows in parallel; a run between two nodes on the surface itself
+/// (value 0, no side) takes a side from its other neighbours afterwards.
+fn spread_sign(value: &mut [f64], n: [usize; 3], far: f64) {
+    value.par_chunks_mut(n[0]).with_min_len(64).for_each(|row| {
+        let len = row.len();
+        let mut start = None;
+        for x in 0..=len {
+            if x < len && row[x].is_nan() {
+                start.get_or_insert(x);
+                continue;
             }
-        };
-        if x > 0 {
-            visit(k - 1);
+            let Some(s) = start.take() else {
+                continue;
+            };
+            let left = if s > 0 { row[s - 1] } else { 0.0 };
+            let right = if x < len { row[x] } else { 0.0 };
+            let side = if s == 0 && x == len {
+                far
+            } else if left != 0.0 {
+                left.signum()
+            } else if right != 0.0 {
+                right.signum()
+            } else {
+                continue;
+            };
+            row[s..x].fill(side);
         }
-        if x + 1 < n[0] {
-            visit(k + 1);
-        }
-        if y > 0 {
-            visit(k - n[0]);
-        }
-        if y + 1 < n[1] {
-            visit(k + n[0]);
-        }
-        if z > 0 {
-            visit(k - n[0] * n[1]);
-        }
-        if z + 1 < n[2] {
-            visit(k + n[0] * n[1]);
+    });
+    let mut left: Vec<usize> = (0..value.len()).filter(|&k| value[k].is_nan()).collect();
+    while !left.is_empty() {
+        let before = left.len();
+        left.retain(|&k| {
+            let (x, y, z) = (k % n[0], (k / n[0]) % n[1], k / (n[0] * n[1]));
+            let (sy, sz) = (n[0], n[0] * n[1]);
+            let near = [
+                (x > 0).then(|| k - 1),
+                (x + 1 < n[0]).then(|| k + 1),
+                (y > 0).then(|| k - sy),
+                (y + 1 < n[1]).then(|| k + sy),
+                (z > 0).then(|| k - sz),
+                (z + 1 < n[2]).then(|| k + sz),
+            ];
+            let side = near
+                .into_iter()
+                .flatten()
+                .map(|j| value[j])
+                .find(|v| !v.is_nan() && *v != 0.0);
+            match side {
+                Some(v) => {
+                    value[k] = v.signum();
+                    false
+                }
+                None => true,
+            }
+        });
+        if left.len() == before {
+            // Nothing next to them has a side (nodes walled in by nodes on the surface).
+            left.iter().for_each(|&k| value[k] = far);
+            break;
         }
     }
 }

@@ -2,22 +2,26 @@
 //! this robot, input and scene is within a tolerance.
 //!
 //! The candidates are the registry's resolution ladders, cheapest first: `energy`'s sub-arcs
-//! (2, 3, 4, 6, 8, 12, 16); where its model part, the shear it leaves out, exceeds the
+//! (1, 2, 3, 4, 6, 8, 12, 16); where its model part, the shear it leaves out, exceeds the
 //! tolerance, the same ladder with `shear = on` (the rod's continuum, model part 0,
 //! `energy/shear.rs`: dearer per solve); then the Cosserat rod's fixed RK4 steps (2 … 20 per
 //! section) where `energy` cannot meet the tolerance or cannot solve the problem (a tip
 //! moment, or obstacles with shear). On a ladder:
 //!
-//! 1. the coarsest rung is solved and estimated (one extra solve one rung up or down, without
-//!    stability or Jacobian: `estimate::quiet`); within the tolerance, it is the answer;
+//! 1. the coarsest rung is solved and estimated: `energy`'s discretization part read from the
+//!    answer alone where it can be ([`estimate::a_priori_discretization`]: no further solve),
+//!    else one extra solve one rung up or down, without stability or Jacobian
+//!    (`estimate::quiet`); within the tolerance, it is the answer;
 //! 2. otherwise the method's order predicts the discretization part of every finer rung from
 //!    the last one measured, `e(n) = e(m) (m/n)^p`, and the first rung predicted within 70 % of
 //!    what the model part leaves of the tolerance is solved, warm-started from the last
-//!    answer; its estimate is Richardson against that answer (no further solve);
+//!    answer; its estimate is the a-priori one again, or Richardson against that answer (no
+//!    further solve);
 //! 3. repeat until a rung's estimate is within the tolerance or the ladder ends.
 //!
+//! The rungs are solved without the output check; the answer handed out passes it once.
 //! The answer says what was chosen, its estimate and the cost of everything solved
-//! ([`AutoReport`] in `report.auto`). Next to obstacles the rod has no counterpart, so only
+//! ([`AutoReport`] in `report.auto`). Next to obstacles the model part is not estimated, so only
 //! the discretization part is held to the tolerance (the report's note says so). When no
 //! rung meets the tolerance, the answer with the smallest estimate is returned with
 //! `met = false`.
@@ -32,6 +36,10 @@ use crate::model::scene::Scene;
 use crate::shape::Shape;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
+
+/// What an estimate read from the answer alone was measured against (`report.error_estimate
+/// .against`).
+pub const A_PRIORI: &str = "the answer's own strains";
 
 /// What `auto` chose and what it cost.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -68,10 +76,9 @@ impl Rung {
     }
 }
 
-/// The fixed-step rungs of `kind` from the registry's ladder, coarse to fine. `energy` starts
-/// at 2 sub-arcs: one sub-arc per section takes more Newton steps and is slower than two
-/// (`ccrkit study auto` measures both), and is 2's companion. `shear`: `energy`'s rungs with
-/// `shear = on`.
+/// The fixed-step rungs of `kind` from the registry's ladder, coarse to fine (`energy` from
+/// one sub-arc per section: the cheapest in hindsight on 9 of 10 random robots, `ccrkit study
+/// auto`). `shear`: `energy`'s rungs with `shear = on`.
 fn ladder(kind: MethodKind, shear: bool) -> Vec<Rung> {
     let (name, order) = match kind {
         MethodKind::Energy => ("sub-arcs", estimate::SUB_ARC_ORDER),
@@ -90,7 +97,6 @@ fn ladder(kind: MethodKind, shear: bool) -> Vec<Rung> {
                 shear,
             })
         })
-        .filter(|r| !(kind == MethodKind::Energy && r.n < 2))
         .collect()
 }
 
@@ -131,7 +137,7 @@ impl Search<'_> {
         SolveRequest::new(rung.kind)
             .with_settings(rung_settings(rung, self.base, &self.control))
             .solver()?
-            .solve(self.robot, self.act, self.scene, warm)
+            .solve_unchecked(self.robot, self.act, self.scene, warm)
     }
 
     /// Keep `shape` if its estimate is the smallest yet; true when it meets the tolerance.
@@ -148,15 +154,54 @@ impl Search<'_> {
         met
     }
 
+    /// The estimate of `shape`, solved at `rung`: the discretization part read from the
+    /// answer alone where it can be (`energy`, [`estimate::a_priori_discretization`]), else
+    /// Richardson against `against` (the previous rung's answer, no further solve) or, without
+    /// one, against one extra solve ([`estimate::estimate`]).
+    fn estimate(
+        &mut self,
+        rung: &Rung,
+        shape: &Shape,
+        against: Option<(&Rung, &Shape)>,
+    ) -> Result<ErrorEstimate, SolveError> {
+        let settings = rung_settings(rung, self.base, &self.control);
+        let local = estimate::a_priori_discretization(rung.kind, &settings, self.robot, shape);
+        let (disc, from) = match (local, against) {
+            (Some(d), _) => (d, A_PRIORI.to_string()),
+            (None, Some((from, last))) => {
+                let ratio = rung.n as f64 / from.n as f64;
+                let d = shape.tip_distance(last);
+                let e = SAFETY * estimate::richardson(d, ratio, rung.order, true);
+                (e, from.describe())
+            }
+            (None, None) => {
+                self.solves += 1;
+                return estimate::estimate(
+                    rung.kind, &settings, self.robot, self.act, self.scene, shape,
+                );
+            }
+        };
+        let (m, note) = estimate::model_estimate(
+            rung.kind, &settings, self.robot, self.act, self.scene, shape, None,
+        );
+        Ok(ErrorEstimate {
+            bound_m: m.map(|m| m + disc),
+            discretization_m: disc,
+            model_m: m,
+            against: from,
+            order: rung.order,
+            cost_s: 0.0,
+            note,
+        })
+    }
+
     /// Walk one method's ladder; true when a rung met the tolerance.
     fn walk(&mut self, rungs: &[Rung]) -> Result<bool, SolveError> {
         let Some(first) = rungs.first() else {
             return Ok(false);
         };
         let a0 = self.solve(first, None)?;
-        let settings = rung_settings(first, self.base, &self.control);
-        let e0 = estimate::estimate(first.kind, &settings, self.robot, self.act, self.scene, &a0)?;
-        self.solves += 1;
+        let e0 = self.estimate(first, &a0, None)?;
         let model = e0.model_m.unwrap_or(0.0);
         let mut disc = e0.discretization_m;
         if self.offer(first, a0.clone(), e0, model) {
@@ -174,23 +219,9 @@ impl Search<'_> {
                 .unwrap_or(rungs.len() - 1);
             let rung = &rungs[next];
             let shape = self.solve(rung, Some(&last))?;
-            let ratio = rung.n as f64 / from.n as f64;
-            disc =
-                SAFETY * estimate::richardson(shape.tip_distance(&last), ratio, rung.order, true);
-            let settings = rung_settings(rung, self.base, &self.control);
-            let (m, note) = estimate::model_estimate(
-                rung.kind, &settings, self.robot, self.act, self.scene, &shape, None,
-            );
-            let model = m.unwrap_or(0.0);
-            let est = ErrorEstimate {
-                bound_m: m.map(|m| m + disc),
-                discretization_m: disc,
-                model_m: m,
-                against: from.describe(),
-                order: rung.order,
-                cost_s: 0.0,
-                note,
-            };
+            let est = self.estimate(rung, &shape, Some((from, &last)))?;
+            let model = est.model_m.unwrap_or(0.0);
+            disc = est.discretization_m;
             if self.offer(rung, shape.clone(), est, model) {
                 return Ok(true);
             }
@@ -263,6 +294,8 @@ pub fn choose(
             reason: "auto found no method for this robot and scene".into(),
         }));
     };
+    // The rungs were solved without the output check: the answer handed out passes it.
+    crate::check::output(robot, &shape)?;
     let cost = t0.elapsed().as_secs_f64();
     est.cost_s = cost;
     let bound = est.discretization_m + est.model_m.unwrap_or(0.0);

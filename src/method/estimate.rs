@@ -25,6 +25,10 @@
 //!   mechanical model, and with obstacles, capstan friction or curvature stiffening the rod
 //!   has no counterpart: the model part is then unknown (`None`), and so is the bound.
 //!
+//! `energy`'s discretization part can also be read from the answer alone, without the extra
+//! solve ([`a_priori_discretization`], `energy/local_error.rs`: the strain each constant-strain
+//! sub-arc leaves out, from the cables' pull and the loads along it); `auto` uses it.
+//!
 //! Each part is multiplied by a safety factor calibrated on seeded random robots against the
 //! converged rod ([`SAFETY`]; the calibration and how often the bound held are in
 //! `docs/guide/methods.md`). The estimate costs one extra solve (about half the answer's own
@@ -61,7 +65,8 @@ pub struct ErrorEstimate {
     pub discretization_m: f64,
     /// The model part \[m\]; `None` when the rod has no counterpart (see the note).
     pub model_m: Option<f64>,
-    /// The extra solve the discretization part was measured against (`sub-arcs=2`), or empty.
+    /// The extra solve the discretization part was measured against (`sub-arcs=2`), `the
+    /// answer's own strains` (`energy`'s a-priori part, [`a_priori_discretization`]), or empty.
     pub against: String,
     /// The order of convergence used (0 without an extra solve).
     pub order: f64,
@@ -172,6 +177,36 @@ pub fn richardson(d: f64, ratio: f64, order: f64, coarser: bool) -> f64 {
     } else {
         d * g / (g - 1.0)
     }
+}
+
+/// Calibration factor of `energy`'s a-priori discretization part
+/// ([`a_priori_discretization`]), before [`SAFETY`]: the true discretization error (against 32
+/// sub-arcs) over the leading term of `energy/local_error.rs` was at most 0.998 on 800
+/// answers (random robots 0–199 at 1–4 sub-arcs), 0.994 on 800 more (seeds 1000–1199), median
+/// 0.50 (`tests/methods/estimate/a_priori.rs`).
+pub const LOCAL_FACTOR: f64 = 1.0;
+
+/// The discretization part of an `energy` answer read from the answer alone \[m\] (safety
+/// factor included): the strain each constant-strain sub-arc leaves out, from the cables'
+/// pull and the loads along it (`energy/local_error.rs`), times [`LOCAL_FACTOR`]. `None`
+/// where it does not apply (another method, a port, contacts, chord lengths, a tip moment):
+/// Richardson's extra solve then measures it.
+pub fn a_priori_discretization(
+    kind: MethodKind,
+    settings: &Settings,
+    robot: &Robot,
+    shape: &Shape,
+) -> Option<f64> {
+    if kind != MethodKind::Energy {
+        return None;
+    }
+    let routing = match settings.get("routing").map(str::trim) {
+        None | Some("spline") => crate::model::routing::RoutingFit::Spline,
+        Some("fourier8") => crate::model::routing::RoutingFit::Fourier8,
+        Some(_) => return None,
+    };
+    super::energy::local_error::local_error(robot, shape, routing)
+        .map(|e| SAFETY * LOCAL_FACTOR * e)
 }
 
 /// How the model part of `kind` is estimated.
@@ -336,7 +371,7 @@ pub(crate) fn model_estimate(
 ) -> (Option<f64>, String) {
     let mut note = String::new();
     let unmodelled = if !scene.is_empty() {
-        Some("the rod has no obstacles: the model part next to obstacles is unknown")
+        Some("the model part next to obstacles is not estimated (the rod with contact is its reference: `ccrkit compare`, guide obstacles)")
     } else if robot.backbone.stiffening > 0.0 {
         Some("the rod has no curvature stiffening: the model part is unknown")
     } else if act.cables.iter().any(|d| d.capstan != 0.0) {

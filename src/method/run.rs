@@ -335,8 +335,8 @@ impl SolveRequest {
         });
         let mut shape = last?;
         let median_time_s = times[times.len() / 2];
+        // `choose` hands out its answer through the output check already.
         shape.report.solve_time_s = median_time_s;
-        crate::check::output(&model.robot, &shape)?;
         Ok(Solved {
             shape,
             scene,

@@ -78,6 +78,24 @@ pub fn abc(theta2: f64) -> (f64, f64, f64) {
     }
 }
 
+/// Largest deviation from orthonormality (`|RᵀR − I|`, largest entry) a rotation read from a
+/// file or handed to an export may have: files hold rotations to ~1e-15.
+pub const ROTATION_TOL: f64 = 1e-6;
+
+/// Why `r` is not a proper rotation, or `None` when it is one: not finite, `|RᵀR − I|`
+/// (largest entry) above [`ROTATION_TOL`], or a determinant ≤ 0 (a reflection). `5·I` and a
+/// mirror (det −1) are both refused.
+pub fn rotation_defect(r: &Matrix3<f64>) -> Option<String> {
+    if r.iter().any(|x| !x.is_finite()) {
+        return Some("has a number that is not finite".into());
+    }
+    let err = (r.transpose() * r - Matrix3::identity()).amax();
+    let det = r.determinant();
+    (err > ROTATION_TOL || det <= 0.0).then(|| {
+        format!("is not a rotation (|RᵀR − I| = {err:.1e}, det = {det:.3}; a rotation has 0 and 1)")
+    })
+}
+
 /// Re-orthonormalize a nearly orthonormal matrix (polar projection via SVD).
 pub fn orthonormalize(r: &Matrix3<f64>) -> Matrix3<f64> {
     Rotation3::from_matrix(r).into_inner()
@@ -99,4 +117,22 @@ pub fn gram_schmidt(r: &Matrix3<f64>) -> Matrix3<f64> {
     let y = (r.column(1) - x * x.dot(&r.column(1))).normalize();
     let z = x.cross(&y);
     Matrix3::from_columns(&[x, y, z])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotations_pass_and_scalings_mirrors_and_nans_do_not() {
+        let r = exp_so3(&Vector3::new(0.3, -1.2, 2.0));
+        assert_eq!(rotation_defect(&r), None);
+        assert!(rotation_defect(&(r * 5.0)).is_some());
+        let mirror = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0)) * r;
+        let why = rotation_defect(&mirror).expect("refused");
+        assert!(why.contains("det = -1"), "{why}");
+        let mut nan = r;
+        nan[(1, 2)] = f64::NAN;
+        assert!(rotation_defect(&nan).is_some());
+    }
 }

@@ -1,14 +1,18 @@
-//! The entries of an actuation file (`"actuation": [{"cable": NAME, "shorten": METRES}, …]`),
-//! checked before any is used: each an object naming a cable of the model, no cable twice. A
-//! name the model does not have (a typo, or a file written for another robot) is refused by
-//! name rather than ignored.
+//! Actuation files (`"actuation": [{"cable": NAME, "shorten": METRES, "tension": NEWTONS}, …]`,
+//! what `ccrkit reach --json` writes), read into a point of the actuation space, and a model's
+//! own actuation as such a point. The entries are checked before any is used: each an object
+//! naming a cable of the model, no cable twice. A name the model does not have (a typo, or a
+//! file written for another robot) is refused by name rather than ignored. In tension space
+//! each cable's value is its entry's `tension` \[N\], else its `shorten` \[m\]; a file that
+//! names its `space` (a plan's JSON does) must name the one planned in.
 
 use crate::error::ModelError;
+use crate::model::actuation::{Actuation, Input};
 use crate::model::Model;
 use serde_json::Value;
 
 /// Every entry of `list` names a distinct cable of `model` (`path` for the message).
-pub(super) fn entries(list: &[Value], model: &Model, path: &str) -> Result<(), ModelError> {
+fn entries(list: &[Value], model: &Model, path: &str) -> Result<(), ModelError> {
     let cables = &model.robot.cables;
     let mut seen = vec![false; cables.len()];
     for (k, e) in list.iter().enumerate() {
@@ -36,4 +40,123 @@ pub(super) fn entries(list: &[Value], model: &Model, path: &str) -> Result<(), M
         }
     }
     Ok(())
+}
+
+/// The point of the shortening space of a model's actuation ([`actuation_of_in`]).
+pub fn actuation_of(model: &Model, act: &Actuation) -> Vec<f64> {
+    actuation_of_in(model, act, Input::Shortening)
+}
+
+/// The point of the actuation space ([`crate::reach::Space`]) driven by `input` of a model's
+/// actuation: each cable's `shorten` \[m\] (its `tension` \[N\] in tension space; 0 where it has
+/// none), then, with a port, its insertion and rotation (default: all out, unturned).
+pub fn actuation_of_in(model: &Model, act: &Actuation, input: Input) -> Vec<f64> {
+    let mut x: Vec<f64> = (0..model.robot.cables.len())
+        .map(|c| match input {
+            Input::Shortening => act.shortening_length(&model.robot, c),
+            Input::Tension => act.cables.get(c).and_then(|d| d.tension),
+        })
+        .map(|v| v.unwrap_or(0.0))
+        .collect();
+    if model.robot.port.is_some() {
+        x.push(act.insertion.unwrap_or(model.robot.length()));
+        x.push(act.rotation.unwrap_or(0.0));
+    }
+    x
+}
+
+/// Read an actuation file of shortenings ([`read_actuation_in`]).
+pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>, ModelError> {
+    read_actuation_in(path, model, Input::Shortening)
+}
+
+/// Read an actuation file into a point of the space driven by `input`: JSON with
+/// `"actuation": [{"cable": NAME, "shorten": METRES}, …]` (in tension space
+/// `{"cable": NAME, "tension": NEWTONS}`) naming every cable of the model, and, for a robot
+/// with a port, `"insertion"` \[m\] and `"rotation"` \[rad\] (default: the model's) — what
+/// `ccrkit reach --json` and each waypoint of `ccrkit plan --json` write. The limits are
+/// checked where the point is used (the plan's start and goal, by name).
+pub fn read_actuation_in(
+    path: &std::path::Path,
+    model: &Model,
+    input: Input,
+) -> Result<Vec<f64>, ModelError> {
+    let p = path.display().to_string();
+    let text = crate::model::read::read_text_capped(
+        path,
+        crate::model::read::MAX_ACTUATION_BYTES,
+        "actuation file",
+    )?;
+    let v: Value = serde_json::from_str(&text).map_err(|e| ModelError::Parse {
+        path: p.clone(),
+        reason: e.to_string(),
+    })?;
+    if let Some(space) = v.get("space") {
+        if space.as_str() != Some(input.name()) {
+            return Err(ModelError::invalid(
+                "space",
+                format!(
+                    "`{p}` was written in {} space; this request searches {}s ({})",
+                    space.as_str().unwrap_or("another"),
+                    input.name(),
+                    unit(input)
+                ),
+            ));
+        }
+    }
+    let list = v
+        .get("actuation")
+        .and_then(|a| a.as_array())
+        .ok_or_else(|| {
+            ModelError::invalid("actuation", format!("`{p}` has no `actuation` list"))
+        })?;
+    entries(list, model, &p)?;
+    let key = match input {
+        Input::Shortening => "shorten",
+        Input::Tension => "tension",
+    };
+    let mut x = model
+        .robot
+        .cables
+        .iter()
+        .map(|c| {
+            list.iter()
+                .find(|e| e.get("cable").and_then(|n| n.as_str()) == Some(c.name.as_str()))
+                .and_then(|e| e.get(key).and_then(|s| s.as_f64()))
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    ModelError::invalid(
+                        format!("actuation[{}].{key}", c.name),
+                        format!(
+                            "`{p}` gives no finite {} for cable `{}` ({})",
+                            input.name(),
+                            c.name,
+                            unit(input)
+                        ),
+                    )
+                })
+        })
+        .collect::<Result<Vec<f64>, ModelError>>()?;
+    // With a port: the insertion and rotation beside the cables (default: the model's).
+    if model.robot.port.is_some() {
+        let here = actuation_of(model, &model.actuation);
+        let k = model.robot.cables.len();
+        for (i, key) in ["insertion", "rotation"].into_iter().enumerate() {
+            let x_i = match v.get(key) {
+                None => here[k + i],
+                Some(val) => val.as_f64().filter(|x| x.is_finite()).ok_or_else(|| {
+                    ModelError::invalid(key, format!("`{p}` gives `{key}` {val}, not a number"))
+                })?,
+            };
+            x.push(x_i);
+        }
+    }
+    Ok(x)
+}
+
+fn unit(input: Input) -> &'static str {
+    match input {
+        Input::Shortening => "m",
+        Input::Tension => "N",
+    }
 }

@@ -28,9 +28,32 @@
 //! (backbone matched by arc, as inserting resamples it), and a sub-interval whose insertion
 //! change would let the backbone turn by more than [`super::motion::MAX_TURN`] is bisected
 //! whatever its clearances — the condition under which `κ = 2` covers a point sliding out of
-//! the port along the bent robot (derived there). κ = [`KAPPA`] = 2: at the resolutions reached here the features
+//! the port along the bent robot (derived there). A sub-interval whose insertion changes is
+//! also held to its deeper end's clearance less the whole motion: the material crossing the
+//! port was not measured at the shallower end ([`super::motion`], "Material crossing the
+//! port"). κ = [`KAPPA`] = 2: at the resolutions reached here the features
 //! move along nearly straight lines, so their path is far shorter than twice the chord; the
 //! tests re-check every planned path on 8× finer interpolations with parry3d.
+//!
+//! # In tension space
+//!
+//! The check is the same when the cables' unknowns are tensions \[N\]: nothing in it is
+//! measured in the inputs. `D` is a distance between two *solved shapes* \[m\] (the motion
+//! bound takes their disks, backbones and cable chords, not their inputs), the clearances are
+//! measured on them, and `(c₀ + c₁ − κ D)/2` follows from the distance to an obstacle being
+//! 1-Lipschitz in a feature's position, whatever moved the feature. The inputs enter only
+//! through the premise that no feature travels more than `κ D` inside a sub-interval, and the
+//! bisection makes that local: a sub-interval is halved until its own end shapes are that
+//! close, so where a newton bends the robot far (a soft rod) the certified sub-intervals are
+//! short in newtons, and where it barely moves it (near the tension limits of a stiff rod)
+//! they are long. A jump of the equilibrium along the edge (a snap under force control) keeps
+//! `D` of the sub-interval across it from shrinking: it is certified only if the jump itself
+//! fits inside the clearances, else bisected to [`MIN_STEP`] and refused. The shortest
+//! sub-interval is measured in the planners' metric, metres of cable either way
+//! ([`super::metric`], "In tension space": on the lung rod `MIN_STEP` = 1e-6 m of cable is
+//! 2.9e-4 N). `plan_tension::the_premise_holds_along_tension_edges` measures the premise on
+//! the soft lung rod's edges (the features' largest detour against `κ D`, with 32 independent
+//! solves per sub-interval) and the planned paths are re-checked 8× finer with parry3d.
 
 use super::metric::Metric;
 use crate::reach::{ClosestPair, Space};
@@ -187,6 +210,26 @@ impl<'a> Checker<'a> {
             shape,
             clearance,
         })
+    }
+
+    /// Why `u` (solved warm from `warm`) is not admissible: the solve's error, the clearance
+    /// below the margin, or the tension limit it breaks (`None` when it is admissible).
+    pub fn why_not(&self, u: &[f64], warm: Option<&Shape>) -> Option<String> {
+        let shape = match self.space.solve(u, warm) {
+            Ok(s) => s,
+            Err(e) => return Some(e.to_string()),
+        };
+        if let Some(c) = self
+            .space
+            .clearance(&shape)
+            .filter(|c| c.distance < self.margin)
+        {
+            return Some(format!(
+                "{} is {:.3e} m from `{}`, closer than the margin {} m",
+                c.feature, c.distance, c.obstacle, self.margin
+            ));
+        }
+        self.space.tension_violation(&shape)
     }
 
     /// Check the straight edge from `a` to `b` (see the module docs); an edge checked before

@@ -16,6 +16,19 @@
 //! The goal is an actuation or a tip position; a tip goes through [`crate::reach::reach`]
 //! (keeping the same margin) first. Shapes are solved without obstacles and checked against
 //! them (the robot keeps clear, so the obstacle-aware solve is the same shape).
+//!
+//! # Tension space
+//!
+//! Planned in the space `reach` searches ([`Space`]): the cables' shortenings \[m\], or, when
+//! the request's method is driven by tension (`energy` with `control = force`, `cosserat`),
+//! their tensions \[N\] within their tension limits — the same `--method`/`--set` choose it for
+//! `reach`, `plan` and `roadmap`. The planners are generic over the space: distances in metres
+//! of cable either way ([`metric`], "In tension space"), and the edge check bounds the motion
+//! between *solved shapes* \[m\] whatever input moved them ([`edge`], "In tension space").
+//! A plan's waypoints, its JSON (`"space": "tension"`, each cable's `tension` \[N\] beside the
+//! `shorten` it made), the trajectory CSV (a `<cable>_tension_n` column per cable) and the
+//! actuation files it reads (each entry's `tension`) carry tensions; roadmaps record their
+//! space ([`roadmap::Roadmap::space`]) and are refused by name in the other.
 
 mod actuation_file;
 pub mod edge;
@@ -26,14 +39,15 @@ pub mod roadmap;
 mod roadmap_nodes;
 pub mod roadmap_shard;
 mod rrt;
+mod trajectory;
 
+pub use actuation_file::{actuation_of, actuation_of_in, read_actuation, read_actuation_in};
 pub use edge::{Checker, EdgeCheck, Node, Stats};
 
-use crate::error::{ModelError, SolveError};
-use crate::export::{export_urdf, ExportError, UrdfMode, UrdfOptions};
+use crate::error::SolveError;
 use crate::fingerprint::MadeFor;
 use crate::method::run::SolveRequest;
-use crate::model::actuation::Actuation;
+use crate::model::actuation::Input;
 use crate::model::Model;
 use crate::reach::{reach_in, CableActuation, ReachOptions, Space, Target};
 use crate::shape::ShapeJson;
@@ -47,8 +61,8 @@ use std::time::Instant;
 /// Where to go.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Goal {
-    /// Shortenings \[m\], one per cable, then with a port the insertion \[m\] and the
-    /// rotation \[rad\].
+    /// Shortenings \[m\] (tensions \[N\] in tension space), one per cable, then with a port
+    /// the insertion \[m\] and the rotation \[rad\].
     Actuation(Vec<f64>),
     /// A tip position \[m\] (reached first by least-effort [`crate::reach::reach`]).
     Tip(Vector3<f64>),
@@ -118,6 +132,8 @@ pub struct Plan {
     pub waypoints: Vec<Node>,
     /// Cable names.
     pub cables: Vec<String>,
+    /// What the cables' values of the waypoints are: shortenings \[m\] or tensions \[N\].
+    pub input: Input,
     /// Margin kept \[m\].
     pub margin_m: f64,
     /// Smallest clearance measured on any solved shape along the path \[m\].
@@ -136,7 +152,8 @@ pub struct Plan {
 /// One waypoint in JSON.
 #[derive(Debug, Clone, Serialize)]
 pub struct WaypointJson {
-    /// Per-cable shortenings.
+    /// Per-cable inputs: shortenings with the tensions they made, or in tension space
+    /// tensions with the shortenings they made.
     pub actuation: Vec<CableActuation>,
     /// Insertion \[m\] (robots with a port).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -156,6 +173,9 @@ pub struct WaypointJson {
 /// JSON form of a [`Plan`].
 #[derive(Debug, Clone, Serialize)]
 pub struct PlanJson {
+    /// The space planned in: `shortening` (cables' `shorten` \[m\] are the inputs) or
+    /// `tension` (their `tension` \[N\]).
+    pub space: &'static str,
     /// Waypoints.
     pub waypoints: Vec<WaypointJson>,
     /// See [`Plan::min_clearance_m`] (absent without obstacles).
@@ -184,6 +204,7 @@ impl Plan {
     /// JSON form.
     pub fn to_json(&self) -> PlanJson {
         PlanJson {
+            space: self.input.name(),
             waypoints: self
                 .waypoints
                 .iter()
@@ -192,7 +213,7 @@ impl Plan {
                     let port = (n.u.len() == self.cables.len() + 2)
                         .then(|| (n.u[self.cables.len()], n.u[self.cables.len() + 1]));
                     WaypointJson {
-                        actuation: actuation_json(&self.cables, &n.u, &n.shape),
+                        actuation: CableActuation::of(&self.cables, self.input, &n.u, &n.shape),
                         insertion: port.map(|p| p.0),
                         rotation: port.map(|p| p.1),
                         tip: [t.x, t.y, t.z],
@@ -212,132 +233,6 @@ impl Plan {
             made_for: self.made_for.clone(),
         }
     }
-
-    /// The path as joint values of the articulated URDF export (`ccrkit export urdf`, same
-    /// joint names), one CSV row per waypoint: `waypoint,<joint>,…`. Through a port the
-    /// base joints come first: `port_insertion` (the insertion `d` \[m\]) and
-    /// `port_rotation` (the rotation `ψ` \[rad\]), so a URDF client replays them.
-    pub fn trajectory_csv(&self, model: &Model) -> Result<String, ExportError> {
-        let opts = UrdfOptions {
-            mode: UrdfMode::Articulated,
-            cables: false,
-            name: None,
-        };
-        let mut out = String::new();
-        let mut names: Vec<String> = Vec::new();
-        for (k, n) in self.waypoints.iter().enumerate() {
-            let e = export_urdf(&n.shape, &model.robot, &opts)?;
-            let these: Vec<String> = e.joint_values.iter().map(|j| j.name.clone()).collect();
-            if k == 0 {
-                out.push_str("waypoint");
-                for j in &these {
-                    out.push(',');
-                    out.push_str(j);
-                }
-                out.push('\n');
-                names = these;
-            } else if these != names {
-                // A row must fill the header's columns (a port on some waypoints only).
-                return Err(ExportError::Input {
-                    field: format!("waypoints[{k}]"),
-                    reason: format!("exports joints {these:?}, the first waypoint {names:?}"),
-                });
-            }
-            out.push_str(&k.to_string());
-            for j in &e.joint_values {
-                out.push_str(&format!(",{:?}", j.value));
-            }
-            out.push('\n');
-        }
-        Ok(out)
-    }
-}
-
-fn actuation_json(
-    cables: &[String],
-    u: &[f64],
-    shape: &crate::shape::Shape,
-) -> Vec<CableActuation> {
-    cables
-        .iter()
-        .zip(u)
-        .enumerate()
-        .map(|(c, (name, x))| CableActuation {
-            cable: name.clone(),
-            shorten: *x,
-            tension: shape.cables.get(c).and_then(|p| p.tension),
-        })
-        .collect()
-}
-
-/// The point of the actuation space ([`Space`]) of a model's actuation: each cable's `shorten`
-/// (0 where it has none), then, with a port, its insertion and rotation (default: all out,
-/// unturned).
-pub fn actuation_of(model: &Model, act: &Actuation) -> Vec<f64> {
-    let mut x: Vec<f64> = (0..model.robot.cables.len())
-        .map(|c| act.shortening_length(&model.robot, c).unwrap_or(0.0))
-        .collect();
-    if model.robot.port.is_some() {
-        x.push(act.insertion.unwrap_or(model.robot.length()));
-        x.push(act.rotation.unwrap_or(0.0));
-    }
-    x
-}
-
-/// Read an actuation file: JSON with `"actuation": [{"cable": NAME, "shorten": METRES}, …]`
-/// naming every cable of the model, and, for a robot with a port, `"insertion"` \[m\] and
-/// `"rotation"` \[rad\] (default: the model's) — what `ccrkit reach --json` and each waypoint
-/// of `ccrkit plan --json` write.
-pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>, ModelError> {
-    let p = path.display().to_string();
-    let text = crate::model::read::read_text_capped(
-        path,
-        crate::model::read::MAX_ACTUATION_BYTES,
-        "actuation file",
-    )?;
-    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| ModelError::Parse {
-        path: p.clone(),
-        reason: e.to_string(),
-    })?;
-    let list = v
-        .get("actuation")
-        .and_then(|a| a.as_array())
-        .ok_or_else(|| {
-            ModelError::invalid("actuation", format!("`{p}` has no `actuation` list"))
-        })?;
-    actuation_file::entries(list, model, &p)?;
-    let mut x = model
-        .robot
-        .cables
-        .iter()
-        .map(|c| {
-            list.iter()
-                .find(|e| e.get("cable").and_then(|n| n.as_str()) == Some(c.name.as_str()))
-                .and_then(|e| e.get("shorten").and_then(|s| s.as_f64()))
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| {
-                    ModelError::invalid(
-                        format!("actuation[{}].shorten", c.name),
-                        format!("`{p}` gives no finite shortening for cable `{}`", c.name),
-                    )
-                })
-        })
-        .collect::<Result<Vec<f64>, ModelError>>()?;
-    // With a port: the insertion and rotation beside the cables (default: the model's).
-    if model.robot.port.is_some() {
-        let here = actuation_of(model, &model.actuation);
-        let k = model.robot.cables.len();
-        for (i, key) in ["insertion", "rotation"].into_iter().enumerate() {
-            let x_i = match v.get(key) {
-                None => here[k + i],
-                Some(val) => val.as_f64().filter(|x| x.is_finite()).ok_or_else(|| {
-                    ModelError::invalid(key, format!("`{p}` gives `{key}` {val}, not a number"))
-                })?,
-            };
-            x.push(x_i);
-        }
-    }
-    Ok(x)
 }
 
 /// A start or goal, solved and checked (named `field` in errors).
@@ -349,7 +244,7 @@ pub(crate) fn endpoints(
     start: Option<Vec<f64>>,
     goal: &Goal,
 ) -> Result<(Node, Node), SolveError> {
-    let start = start.unwrap_or_else(|| actuation_of(model, &model.actuation));
+    let start = start.unwrap_or_else(|| actuation_of_in(model, &model.actuation, ck.space.input));
     let goal_u = goal_actuation(ck.space, model, goal, ck.margin)?;
     let s = endpoint(ck, &start, "start")?;
     let g = endpoint(ck, &goal_u, "goal")?;
@@ -358,13 +253,10 @@ pub(crate) fn endpoints(
 
 pub(crate) fn endpoint(ck: &mut Checker, u: &[f64], field: &str) -> Result<Node, SolveError> {
     let space = ck.space;
-    if !space.contains(u) {
+    if let Some(reason) = space.outside(u) {
         return Err(SolveError::InvalidInput {
             field: field.into(),
-            reason: format!(
-                "{u:?} m lies outside the shortening limits {:?} … {:?} m",
-                space.lo, space.hi
-            ),
+            reason,
         });
     }
     let shape = space.solve(u, None)?;
@@ -459,7 +351,7 @@ pub fn plan(
 ) -> Result<Plan, SolveError> {
     check_options(opts)?;
     let t0 = Instant::now();
-    let space = Space::new(model, request, false)?.only_shortenings("plan")?;
+    let space = Space::new(model, request, false)?;
     if let Some(rm) = roadmap {
         rm.check_fits(&space, request)?;
     }
@@ -502,10 +394,13 @@ fn fill(
         let f = k as f64 / pieces as f64;
         let u: Vec<f64> = from.iter().zip(to).map(|(a, b)| a + f * (b - a)).collect();
         let prev = out[out.len() - 1].shape.clone();
-        let n = ck.node(&u, Some(&prev)).ok_or_else(|| SolveError::NoPath {
-            samples,
-            reason: "a point of a validated edge is not admissible".into(),
-        })?;
+        let Some(n) = ck.node(&u, Some(&prev)) else {
+            let why = ck.why_not(&u, Some(&prev)).unwrap_or_default();
+            return Err(SolveError::NoPath {
+                samples,
+                reason: format!("the point {u:?} of a validated edge is not admissible: {why}"),
+            });
+        };
         out.push(n);
     }
     Ok(())
@@ -580,6 +475,7 @@ pub(crate) fn finish(
     Ok(Plan {
         waypoints: out,
         cables: ck.space.cable_names(),
+        input: ck.space.input,
         margin_m: ck.margin,
         min_clearance_m: measured,
         certified_clearance_m: certified,

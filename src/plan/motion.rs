@@ -59,6 +59,25 @@
 //!
 //! `k_max` is measured from consecutive disks, `θ_k / (s_{k+1} − s_k)` with `θ_k` the angle
 //! between their frames.
+//!
+//! # Material crossing the port: a one-sided bound
+//!
+//! A clearance counts only what lies beyond the port (what is inside it meets nothing,
+//! [`crate::reach::clearance`]). When the insertion changes along a sub-interval, the material
+//! that crosses the port lies beyond it at the deeper end only, so its distance at the
+//! shallower end was never measured: the two-sided `max(c_a − δ_a, c_b − δ_b)` has only the
+//! deeper end's term, and with `δ_a + δ_b ≤ κ D_q + R |Δψ|` each of `δ_a`, `δ_b` is at most
+//! that sum. A sub-interval whose insertion changes is therefore certified by
+//!
+//! ```text
+//! min((c_a + c_b − κ D_q − R |Δψ|)/2, c_deep − κ D_q − R |Δψ|)
+//! ```
+//!
+//! with `c_deep` the clearance of the end inserted further ([`Motion::certified`]). Without
+//! this, an end with the whole robot inside the port (clearance `+∞`: nothing beyond) certified
+//! any edge out of it: a soft rod retracted fully while bending was certified 6.6 mm clear on
+//! an edge along which independent solves measure 6.46 mm
+//! (`plan_tension::an_edge_out_of_the_port_is_certified_by_its_deeper_end`).
 
 use crate::model::robot::Robot;
 use crate::shape::Shape;
@@ -77,17 +96,27 @@ pub struct Motion {
     pub exact: f64,
     /// False when the sub-interval inserts further than [`MAX_TURN`] allows.
     pub certifiable: bool,
+    /// The insertion of the second end less the first's \[m\] (0 without a port): material
+    /// crosses the port when it is not 0 (module docs, "Material crossing the port").
+    pub insertion_change: f64,
 }
 
 impl Motion {
     /// The clearance certified between ends of clearance `c0`, `c1` with Lipschitz factor
-    /// `kappa` (`−∞` when not [`Motion::certifiable`]).
+    /// `kappa` (`−∞` when not [`Motion::certifiable`]); when the insertion changes, also at
+    /// most the deeper end's clearance less the whole motion (module docs, "Material crossing
+    /// the port").
     pub fn certified(&self, c0: f64, c1: f64, kappa: f64) -> f64 {
-        if self.certifiable {
-            0.5 * (c0 + c1 - kappa * self.estimated - self.exact)
-        } else {
-            f64::NEG_INFINITY
+        if !self.certifiable {
+            return f64::NEG_INFINITY;
         }
+        let travel = kappa * self.estimated + self.exact;
+        let both = 0.5 * (c0 + c1 - travel);
+        if self.insertion_change == 0.0 {
+            return both;
+        }
+        let deep = if self.insertion_change > 0.0 { c1 } else { c0 };
+        both.min(deep - travel)
     }
 }
 
@@ -99,6 +128,7 @@ pub fn motion(robot: &Robot, a: &Shape, b: &Shape) -> Motion {
             estimated: crate::reach::motion_bound(robot, a, b),
             exact: 0.0,
             certifiable: true,
+            insertion_change: 0.0,
         };
     };
     let rho = robot.disk_radius.hypot(robot.disk_thickness / 2.0);
@@ -138,6 +168,7 @@ pub fn motion(robot: &Robot, a: &Shape, b: &Shape) -> Motion {
         estimated,
         exact: r * (pb.rotation - pa.rotation).abs(),
         certifiable: k_max * (pb.insertion - pa.insertion).abs() <= MAX_TURN,
+        insertion_change: pb.insertion - pa.insertion,
     }
 }
 
@@ -217,6 +248,27 @@ fn by_arc(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Inserting, the deeper end's clearance bounds the certificate: an end with nothing
+    /// beyond the port (`+∞`) certifies nothing by itself; without an insertion change the
+    /// two-sided mean.
+    #[test]
+    fn crossing_material_is_bounded_by_the_deeper_end() {
+        let m = |dd: f64| Motion {
+            estimated: 0.001,
+            exact: 0.0005,
+            certifiable: true,
+            insertion_change: dd,
+        };
+        let inf = f64::INFINITY;
+        let travel = 2.0 * 0.001 + 0.0005;
+        let close = |a: f64, b: f64| assert!((a - b).abs() < 1e-15, "{a} vs {b}");
+        close(m(0.0).certified(0.010, 0.020, 2.0), 0.5 * (0.030 - travel));
+        close(m(-0.1).certified(0.010, inf, 2.0), 0.010 - travel);
+        close(m(0.1).certified(inf, 0.010, 2.0), 0.010 - travel);
+        close(m(0.1).certified(0.010, 0.020, 2.0), 0.5 * (0.030 - travel));
+        assert_eq!(m(-0.1).certified(inf, 0.010, 2.0), inf);
+    }
 
     #[test]
     fn by_arc_is_the_largest_distance_over_a_fine_grid() {

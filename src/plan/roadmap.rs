@@ -7,9 +7,11 @@
 //!
 //! A roadmap remembers the robot it was built for (a fingerprint of every field that shapes it,
 //! [`crate::fingerprint::robot`]), the cable names and limits, the method and its settings, the
-//! margin and a fingerprint of the obstacles (names, poses, bounds, clearance). A query with
-//! another robot (a hole radius of 4.0 mm instead of 4.5), cables, limits or method is refused
-//! by name. Nothing in the file is believed about safety: the nodes and edges of each
+//! margin, a fingerprint of the obstacles (names, poses, bounds, clearance) and its space:
+//! shortenings or tensions ([`Roadmap::space`], with a fingerprint of the space's unknowns,
+//! limits and scales, [`crate::fingerprint::space`]). A query with another robot (a hole
+//! radius of 4.0 mm instead of 4.5), cables, limits, method or space (a roadmap of tensions
+//! asked for shortenings) is refused by name. Nothing in the file is believed about safety: the nodes and edges of each
 //! candidate path are solved and checked again under the query's scene and margin, those that
 //! fail are dropped and the search repeated ([`super::PlanStats::edges_repaired`]), so every
 //! clearance a plan reports is measured in this run (a node's clearance edited to 0.5 m once
@@ -54,7 +56,7 @@ use std::collections::{BTreeSet, BinaryHeap};
 use std::time::Instant;
 
 /// Format tag of roadmap files.
-pub const FORMAT: &str = "ccrkit-roadmap-2";
+pub const FORMAT: &str = "ccrkit-roadmap-3";
 
 /// How to build a roadmap.
 #[derive(Debug, Clone)]
@@ -96,7 +98,8 @@ impl Default for BuildOptions {
 /// One roadmap node.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RoadmapNode {
-    /// Shortenings \[m\], then with a port the insertion \[m\] and the rotation \[rad\].
+    /// Shortenings \[m\] (tensions \[N\] in tension space), then with a port the insertion
+    /// \[m\] and the rotation \[rad\].
     pub u: Vec<f64>,
     /// Tip \[m\].
     pub tip: [f64; 3],
@@ -113,11 +116,18 @@ pub struct Roadmap {
     pub robot: String,
     /// The robot's fingerprint ([`crate::fingerprint::robot`]).
     pub robot_fingerprint: String,
+    /// The space its nodes are points of: `shortening` (cables' values in m) or `tension`
+    /// (in N); absent in older files.
+    #[serde(default)]
+    pub space: String,
+    /// The space's fingerprint ([`crate::fingerprint::space`]).
+    #[serde(default)]
+    pub space_fingerprint: String,
     /// Cable names.
     pub cables: Vec<String>,
-    /// Lower limits \[m\].
+    /// Lower limit of each unknown (\[m\] or \[N\] per cable, then \[m\], \[rad\]).
     pub lo: Vec<f64>,
-    /// Upper limits \[m\].
+    /// Upper limit of each unknown (as `lo`).
     pub hi: Vec<f64>,
     /// Method name and settings.
     pub method: String,
@@ -190,7 +200,7 @@ pub fn build(
         });
     }
     let t0 = Instant::now();
-    let space = Space::new(model, request, false)?.only_shortenings("roadmap")?;
+    let space = Space::new(model, request, false)?;
     let margin = opts.margin.unwrap_or(space.margin);
     let mut ck = Checker::new(&space, margin);
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);
@@ -217,6 +227,8 @@ pub fn build(
         format: FORMAT.into(),
         robot: model.robot.name.clone(),
         robot_fingerprint: crate::fingerprint::robot(&space.robot),
+        space: space.input.name().into(),
+        space_fingerprint: crate::fingerprint::space(&space),
         cables: space.cable_names(),
         lo: space.lo.clone(),
         hi: space.hi.clone(),
@@ -301,7 +313,7 @@ fn sample_nodes(
     let space = ck.space;
     let unit = super::rrt::unit;
     let mut nodes: Vec<Node> = Vec::new();
-    let own = super::actuation_of(model, &model.actuation);
+    let own = super::actuation_of_in(model, &model.actuation, space.input);
     if space.contains(&own) {
         nodes.extend(ck.node(&own, None));
     }
@@ -424,7 +436,7 @@ impl Roadmap {
                 "format",
                 format!(
                     "`{p}` is `{}`, expected `{FORMAT}` (older roadmaps name no robot \
-                     fingerprint: build it again)",
+                     fingerprint or space: build it again)",
                     r.format
                 ),
             ));
@@ -491,6 +503,18 @@ impl Roadmap {
                 ),
             });
         }
+        if self.space != space.input.name() {
+            return Err(SolveError::InvalidInput {
+                field: "roadmap.space".into(),
+                reason: format!(
+                    "the roadmap was built in {} space; `{}` with these settings drives cables \
+                     by {}: build a roadmap with the same --method and --set",
+                    self.space,
+                    request.method.name(),
+                    space.input.name()
+                ),
+            });
+        }
         if self.cables != space.cable_names() || self.lo != space.lo || self.hi != space.hi {
             return bad(format!(
                 "built for cables {:?} with limits {:?} … {:?}; this model has {:?}, {:?} … {:?}",
@@ -510,6 +534,18 @@ impl Roadmap {
                 request.method.name(),
                 settings_of(request)
             ));
+        }
+        if self.space_fingerprint != crate::fingerprint::space(space) {
+            return Err(SolveError::InvalidInput {
+                field: "roadmap.space_fingerprint".into(),
+                reason: format!(
+                    "the roadmap's {} space (fingerprint {}) differs from this model's ({}): \
+                     its cables, limits or scales changed",
+                    self.space,
+                    self.space_fingerprint,
+                    crate::fingerprint::space(space)
+                ),
+            });
         }
         super::roadmap_nodes::check(self, space)
     }

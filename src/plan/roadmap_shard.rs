@@ -95,6 +95,8 @@ fn same_build(a: &Roadmap, b: &Roadmap) -> bool {
     a.format == b.format
         && a.robot == b.robot
         && a.robot_fingerprint == b.robot_fingerprint
+        && a.space == b.space
+        && a.space_fingerprint == b.space_fingerprint
         && a.cables == b.cables
         && a.lo == b.lo
         && a.hi == b.hi

@@ -3,6 +3,7 @@
 
 use super::solve::Target;
 use crate::error::SolveError;
+use crate::model::actuation::Input;
 use crate::shape::{Shape, ShapeJson};
 use nalgebra::Vector3;
 use serde::Serialize;
@@ -17,6 +18,34 @@ pub struct CableActuation {
     /// Tension of the solved shape \[N\], where the method computes one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tension: Option<f64>,
+}
+
+impl CableActuation {
+    /// Each cable's entry at the point `u` of a space driven by `input` (`cables` its names,
+    /// `shape` solved at `u`): shortenings with the tensions they made, or tensions with the
+    /// shortenings — each cable's path-length change — they made.
+    pub fn of(cables: &[String], input: Input, u: &[f64], shape: &Shape) -> Vec<CableActuation> {
+        cables
+            .iter()
+            .zip(u)
+            .enumerate()
+            .map(|(c, (name, &x))| {
+                let path = shape.cables.get(c);
+                match input {
+                    Input::Tension => CableActuation {
+                        cable: name.clone(),
+                        shorten: path.and_then(|p| p.shortening).unwrap_or(f64::NAN),
+                        tension: Some(x),
+                    },
+                    Input::Shortening => CableActuation {
+                        cable: name.clone(),
+                        shorten: x,
+                        tension: path.and_then(|p| p.tension),
+                    },
+                }
+            })
+            .collect()
+    }
 }
 
 /// The answer of [`super::reach`]: reached or the closest found.

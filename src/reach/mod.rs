@@ -194,25 +194,54 @@ impl Space {
         })
     }
 
-    /// This space, when it is one of shortenings; for a command that searches shortenings
-    /// only (`command` names it), tension space is refused by name.
-    pub fn only_shortenings(self, command: &str) -> Result<Space, SolveError> {
-        if self.by_tension() {
-            return Err(SolveError::InvalidInput {
-                field: "method".into(),
-                reason: format!(
-                    "{command} drives cables by shortening; `{}` with these settings is driven \
-                     by tension",
-                    self.request.method.name()
-                ),
-            });
-        }
-        Ok(self)
-    }
-
     /// True in tension space: the cables' unknowns are tensions \[N\].
     pub fn by_tension(&self) -> bool {
         self.input == Input::Tension
+    }
+
+    /// Newtons of tension worth one metre of cable (module docs, "Effort"): `T̄ / (0.1 L)`
+    /// \[N/m\] in tension space, 1 for shortenings. The planners' distance divides by it, so
+    /// it is in metres of cable in either space ([`crate::plan::metric`]).
+    pub fn per_metre(&self) -> f64 {
+        self.effort_scale.sqrt()
+    }
+
+    /// The name and unit of unknown `i`: `cable `A`` with `m` (`N` in tension space), `the
+    /// insertion` (`m`), `the rotation` (`rad`).
+    pub fn unknown(&self, i: usize) -> (String, &'static str) {
+        match self.robot.cables.get(i) {
+            Some(c) if self.by_tension() => (format!("cable `{}` tension", c.name), "N"),
+            Some(c) => (format!("cable `{}` shortening", c.name), "m"),
+            None if i == self.cables() => ("the insertion".into(), "m"),
+            None => ("the rotation".into(), "rad"),
+        }
+    }
+
+    /// Why `u` is not a point of this space, naming the first unknown outside its limits
+    /// (`None` when [`Space::contains`] it).
+    pub fn outside(&self, u: &[f64]) -> Option<String> {
+        if u.len() != self.dim() {
+            return Some(format!(
+                "{} values for the {} unknowns of this {} space",
+                u.len(),
+                self.dim(),
+                self.input.name()
+            ));
+        }
+        u.iter().enumerate().find_map(|(i, x)| {
+            let (lo, hi) = (self.lo[i], self.hi[i]);
+            (!(x.is_finite() && *x >= lo && *x <= hi)).then(|| {
+                let (name, unit) = self.unknown(i);
+                format!("{name} {x} {unit} lies outside its limits [{lo}, {hi}] {unit}")
+            })
+        })
+    }
+
+    /// Each cable's input at `u` with what the other input was on `shape` (solved at `u`):
+    /// shortenings with the tensions they made, or, in tension space, tensions with the
+    /// shortenings (path-length changes) they made — what reach's and plan's JSON carry.
+    pub fn cable_actuation(&self, u: &[f64], shape: &Shape) -> Vec<CableActuation> {
+        CableActuation::of(&self.cable_names(), self.input, u, shape)
     }
 
     /// Number of unknowns (cables, then insertion and rotation with a port).

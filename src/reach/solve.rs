@@ -46,7 +46,7 @@
 //! random port robots). `tip_error_m`, the clearance and the tensions are measured on *that*
 //! shape: a reported actuation reproduces the reported tip.
 
-use super::answer::{CableActuation, Reach};
+use super::answer::Reach;
 use super::descend::{residual, Attempt, Ctx};
 use super::sens::tip_tangent;
 use super::Space;
@@ -80,7 +80,10 @@ pub struct ReachOptions {
     pub tolerance: f64,
     /// SQP iterations per start.
     pub max_iterations: usize,
-    /// Starts tried before giving up (≥ 1).
+    /// Starts tried before giving up (≥ 1; default 16: through a port, insertion and
+    /// rotation add local minima — on seeded random port robots 8 starts missed 4 of 200
+    /// forward-solved targets, 16 miss 2; a target reached stops the search, so only misses
+    /// pay for them).
     pub starts: usize,
     /// Distance kept from the obstacles \[m\] (default: the scene's `clearance`).
     pub margin: Option<f64>,
@@ -92,7 +95,7 @@ impl Default for ReachOptions {
             allow_contact: false,
             tolerance: 1e-7,
             max_iterations: 60,
-            starts: 8,
+            starts: 16,
             margin: None,
         }
     }
@@ -379,29 +382,7 @@ fn finish(
     if let Some(v) = space.tension_violation(&shape) {
         reasons.push(v);
     }
-    let actuation = space
-        .robot
-        .cables
-        .iter()
-        .enumerate()
-        .map(|(c, cable)| {
-            let path = shape.cables.get(c);
-            if space.by_tension() {
-                // Tension space: the tension is the input, the shortening what it made.
-                CableActuation {
-                    cable: cable.name.clone(),
-                    shorten: path.and_then(|p| p.shortening).unwrap_or(f64::NAN),
-                    tension: Some(best.u[c]),
-                }
-            } else {
-                CableActuation {
-                    cable: cable.name.clone(),
-                    shorten: best.u[c],
-                    tension: path.and_then(|p| p.tension),
-                }
-            }
-        })
-        .collect();
+    let actuation = space.cable_actuation(&best.u, &shape);
     Ok(Reach {
         reached: reasons.is_empty(),
         target: *target,

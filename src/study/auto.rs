@@ -54,6 +54,8 @@ pub struct AutoStudyRow {
     pub true_error: f64,
     /// Its estimate \[m\] (discretization + model, the model part 0 where unknown).
     pub estimate: f64,
+    /// Solves `auto` ran (answers and estimates; 0 when it failed).
+    pub solves: usize,
     /// Median wall time of `auto` (every solve it ran) \[s\].
     pub cost_s: f64,
     /// The cheapest rung whose answer was within the tolerance in truth, or empty.
@@ -143,6 +145,7 @@ pub fn auto_study(opts: &AutoStudyOptions) -> Result<Vec<AutoStudyRow>, StudyErr
                         chosen: a
                             .as_ref()
                             .map_or_else(String::new, |a| format!("{} {}", a.method, a.setting)),
+                        solves: a.as_ref().map_or(0, |a| a.solves),
                         met: a.is_some_and(|a| a.met),
                         true_error: s.shape.tip_distance(&truth.shape),
                         estimate: e
@@ -157,6 +160,7 @@ pub fn auto_study(opts: &AutoStudyOptions) -> Result<Vec<AutoStudyRow>, StudyErr
                     tolerance: t,
                     chosen: format!("error: {}", e.kind()),
                     met: false,
+                    solves: 0,
                     true_error: f64::NAN,
                     estimate: f64::NAN,
                     cost_s: cost,
@@ -219,22 +223,32 @@ pub fn summarize(rows: &[AutoStudyRow]) -> Vec<AutoSummary> {
 }
 
 /// CSV of the rows:
-/// `seed,tolerance_m,chosen,met,true_error_m,estimate_m,cost_s,hindsight,hindsight_cost_s`.
+/// `seed,tolerance_m,chosen,met,solves,true_error_m,estimate_m,cost_s,hindsight,hindsight_cost_s`
+/// (a choice with a comma, `energy sub-arcs=4, shear=on`, in quotes).
 pub fn auto_study_csv(rows: &[AutoStudyRow]) -> String {
     let mut s = String::from(
-        "seed,tolerance_m,chosen,met,true_error_m,estimate_m,cost_s,hindsight,hindsight_cost_s\n",
+        "seed,tolerance_m,chosen,met,solves,true_error_m,estimate_m,cost_s,hindsight,\
+         hindsight_cost_s\n",
     );
+    let quoted = |t: &str| {
+        if t.contains(',') {
+            format!("\"{t}\"")
+        } else {
+            t.to_string()
+        }
+    };
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{}\n",
             r.seed,
             num(r.tolerance),
-            r.chosen,
+            quoted(&r.chosen),
             r.met,
+            r.solves,
             num(r.true_error),
             num(r.estimate),
             num(r.cost_s),
-            r.hindsight,
+            quoted(&r.hindsight),
             num(r.hindsight_cost_s)
         );
     }

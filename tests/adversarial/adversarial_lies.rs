@@ -90,6 +90,32 @@ fn a_data_csv_naming_a_column_twice_or_part_of_the_tip_is_refused_by_name() {
     assert_eq!(ds.tips.map(|t| t.len()), Some(1));
 }
 
+/// RFC 4180 quoting: a quoted label holding a comma and doubled quotes, a quoted number, are
+/// one field each (they were split at the comma and the row refused as ragged); a column named
+/// twice is still refused when one of the two is quoted.
+#[test]
+fn a_data_csv_with_quoted_fields_reads_and_a_quoted_duplicate_is_refused() {
+    let text = "pattern_label,servo_1,servo_2,tip_x,tip_y,tip_z\n\
+                \"rep1_all3, \"\"same\"\"\",1,\"2.5\",3,4,5\n\
+                \n\
+                plain,0,0,3,4,5\n";
+    let ds = Dataset::from_csv_str(text, "d.csv", &DataOptions::default()).expect("parses");
+    assert_eq!(
+        ds.labels.as_deref(),
+        Some(&["rep1_all3, \"same\"".to_string(), "plain".to_string()][..])
+    );
+    assert_eq!(ds.commands[0], vec![1.0 * 1e-3, 2.5 * 1e-3]);
+    assert_eq!(ds.len(), 2, "the blank line is no row");
+    let twice = "servo_1,\"tip_x\",tip_x,tip_z\n1,2,3,4\n";
+    match Dataset::from_csv_str(twice, "d.csv", &DataOptions::default()) {
+        Err(ModelError::Invalid { field, reason }) => {
+            assert_eq!(field, "d.csv: header", "{reason}");
+            assert!(reason.contains("`tip_x` twice"), "{reason}");
+        }
+        other => panic!("expected a named refusal, got {other:?}"),
+    }
+}
+
 /// Roadmap nodes edited by hand — actuations of 3, 0 or 7 values for 6 cables, or outside the
 /// limits, a non-finite clearance — are refused by the node's index before the roadmap is
 /// used.
@@ -209,7 +235,7 @@ fn a_roadmap_built_for_another_robot_is_refused_by_name() {
     assert!(ball_query(&used_with, &back).is_err());
     // A roadmap of the older format names no robot: refused when read, saying why.
     let text = std::fs::read_to_string(&path).expect("reads");
-    let old = text.replace("ccrkit-roadmap-2", "ccrkit-roadmap-1");
+    let old = text.replace(ccrkit::plan::roadmap::FORMAT, "ccrkit-roadmap-2");
     std::fs::write(&path, old).expect("writes");
     match ccrkit::plan::roadmap::Roadmap::load(&path) {
         Err(ModelError::Invalid { field, reason }) => {

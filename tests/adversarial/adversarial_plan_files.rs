@@ -115,3 +115,108 @@ fn view_refuses_a_plan_made_for_another_robot_or_scene() {
         assert!(err.contains(field), "{args:?}: {err}");
     }
 }
+
+/// A plan whose waypoint was edited — a rotation of `5·I`, a mirror (det −1), a disk at
+/// 1e300 m, a backbone point or a cable hole there, a cable with more holes than disks or
+/// slack in a section the shape does not have — is refused by the waypoint's field and the
+/// reason (each was drawn); a NaN cannot be written in JSON and is refused as the parse error,
+/// and by field where a shape is built in memory.
+#[test]
+fn a_plan_with_rotations_that_are_not_rotations_or_points_far_away_is_refused_by_field() {
+    let model = Model::from_toml_str(&model_text(0.0045)).expect("model");
+    let text = plan_text(&model);
+    let plan: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let five = serde_json::json!([[5.0, 0.0, 0.0], [0.0, 5.0, 0.0], [0.0, 0.0, 5.0]]);
+    let mirror = serde_json::json!([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]);
+    let far = serde_json::json!([1e300, 0.0, 0.0]);
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let edits: Vec<(Edit, &str, &str)> = vec![
+        (
+            Box::new(move |s| s["disks"][2]["rotation"] = five.clone()),
+            "disks[2].rotation",
+            "det = 125",
+        ),
+        (
+            Box::new(move |s| s["disks"][2]["rotation"] = mirror.clone()),
+            "disks[2].rotation",
+            "det = -1",
+        ),
+        (
+            Box::new({
+                let far = far.clone();
+                move |s| s["disks"][3]["position"] = far.clone()
+            }),
+            "disks[3].position",
+            "a coordinate of 1e300 m",
+        ),
+        (
+            Box::new({
+                let far = far.clone();
+                move |s| s["backbone"][0] = far.clone()
+            }),
+            "backbone[0]",
+            "within ±2100 m",
+        ),
+        (
+            Box::new(move |s| s["cables"][0]["points"][1] = far.clone()),
+            "cables[0].points[1]",
+            "within ±2100 m",
+        ),
+        (
+            Box::new(|s| {
+                let p = s["cables"][1]["points"][0].clone();
+                let pts = s["cables"][1]["points"].as_array_mut().expect("points");
+                pts.extend(std::iter::repeat_n(p, 40));
+            }),
+            "cables[1].points",
+            "a cable passes 1 to",
+        ),
+        (
+            Box::new(|s| s["cables"][0]["slack_sections"] = serde_json::json!([99])),
+            "cables[0].slack_sections",
+            "section 99",
+        ),
+    ];
+    for (edit, field, says) in &edits {
+        let mut p = plan.clone();
+        edit(&mut p["waypoints"][1]["shape"]);
+        refused_as(
+            read_plan(&p.to_string(), &model.robot, &model.scene),
+            &format!("waypoints[1].shape.{field}"),
+            says,
+        );
+    }
+    // NaN: JSON cannot hold it (the parse refuses), a shape built in memory names the field.
+    let nan = text.replacen("\"rotation\":[[1.0", "\"rotation\":[[NaN", 1);
+    assert_ne!(nan, text);
+    refused_as(
+        read_plan(&nan, &model.robot, &model.scene),
+        "plan",
+        "expected",
+    );
+    let mut s: ccrkit::shape::ShapeJson =
+        serde_json::from_value(plan["waypoints"][1]["shape"].clone()).expect("shape");
+    s.disks[2].rotation[0][0] = f64::NAN;
+    let e = s.into_shape("shape").expect_err("refused");
+    assert_eq!(e.field(), Some("shape.disks[2]"), "{e}");
+}
+
+/// A waypoint whose cable passes fewer disks than the robot's cable is refused by the view
+/// (the robot's count, by name), not drawn short.
+#[test]
+fn a_waypoint_cable_with_fewer_holes_than_the_robots_is_refused_by_the_view() {
+    let model = Model::from_toml_str(&model_text(0.0045)).expect("model");
+    let mut plan: serde_json::Value = serde_json::from_str(&plan_text(&model)).expect("JSON");
+    let pts = plan["waypoints"][1]["shape"]["cables"][0]["points"]
+        .as_array_mut()
+        .expect("points");
+    pts.truncate(pts.len() - 1);
+    let shapes = read_plan(&plan.to_string(), &model.robot, &model.scene).expect("reads");
+    let mut view = ccrkit::export::view::View::new("t", &model.robot, &model.scene);
+    let e = view
+        .add_path("plan", &shapes)
+        .expect_err("refused")
+        .to_string();
+    assert!(e.contains("cable `A` has") && e.contains("passes"), "{e}");
+    assert!(e.contains("waypoint 1:"), "{e}");
+}

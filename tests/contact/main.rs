@@ -13,4 +13,5 @@ mod field_cache;
 mod generated_scenes;
 mod geometric_contact;
 mod obstacles;
+mod rod_contact;
 mod solid_mesh;

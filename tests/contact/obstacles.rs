@@ -104,7 +104,7 @@ fn min_distance(model: &Model, shape: &Shape, scene: &Scene) -> (f64, String) {
 }
 
 /// No penetration, and every contact's points lie on the obstacle and on the robot.
-fn assert_valid(model: &Model, shape: &Shape, scene: &Scene) {
+pub(super) fn assert_valid(model: &Model, shape: &Shape, scene: &Scene) {
     let (d, where_) = min_distance(model, shape, scene);
     assert!(d >= -PENETRATION_TOL, "penetration {d:.3e} m at {where_}");
     let feats = features(model, shape);

@@ -16,7 +16,7 @@ use airway_tasks::{measure, GENERATIONS};
 #[test]
 fn a_catheter_reaches_and_plans_in_a_generated_airway() {
     let dir = std::env::temp_dir().join(format!("ccrkit-airway-plan-{}", std::process::id()));
-    let out = measure(31, GENERATIONS, 3, &dir).expect("the airway and the catheter load");
+    let out = measure(31, GENERATIONS, 3, 1, &dir).expect("the airway and the catheter load");
     std::fs::remove_dir_all(&dir).ok();
     assert_eq!(out.len(), 3, "3 reachable targets drawn");
     for o in &out {

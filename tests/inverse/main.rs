@@ -7,8 +7,10 @@
 mod common;
 
 mod airway_plan;
+mod insertion_column;
 mod plan;
 mod plan_port;
+mod plan_tension;
 mod reach;
 mod reach_body;
 mod reach_port;

@@ -49,10 +49,10 @@ fn the_space_has_insertion_and_rotation() {
     assert!((e - want).abs() < 1e-18, "{e} vs {want}");
 }
 
-/// The rotation's column (exact: a rigid turn about the port axis) and the cable columns (the
-/// method's, mapped through the port) agree with central differences of full solves; the
-/// insertion's column (central differences, one-sided at a limit) with differences of
-/// another step.
+/// The rotation's column (exact: a rigid turn about the port axis), the insertion's (the rod's
+/// kinematics, `src/reach/sens.rs`; here straight cables) and the cable columns (the method's,
+/// mapped through the port) agree with central differences of full solves (one-sided at a
+/// limit).
 #[test]
 fn port_columns_match_central_differences() {
     let model = ported();
@@ -64,6 +64,10 @@ fn port_columns_match_central_differences() {
         let shape = space.solve(&x, None).unwrap();
         let s = sensitivity(&space, &x, &shape, false).unwrap();
         assert!(s.exact, "the cable columns should be the method's");
+        assert!(
+            s.exact_insertion,
+            "the insertion's column should be the formula"
+        );
         for (j, h) in [(0, 1e-6), (1, 1e-6), (2, 1e-6), (3, 1e-5), (4, 1e-5)] {
             let at = |v: f64| {
                 let mut y = x.clone();

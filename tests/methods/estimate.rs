@@ -2,6 +2,7 @@
 //! measured on robots, and how often its bound holds against the converged rod on seeded
 //! random robots ([`ccrkit::study::random`]).
 
+mod a_priori;
 mod calibration;
 mod orders;
 

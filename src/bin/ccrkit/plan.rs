@@ -4,7 +4,7 @@
 use super::reach::{vec3, write_json, InverseArgs};
 use anyhow::{bail, Result};
 use ccrkit::plan::roadmap::Roadmap;
-use ccrkit::plan::{plan, read_actuation, Goal, Plan, PlanOptions};
+use ccrkit::plan::{plan, read_actuation_in, Goal, Plan, PlanOptions};
 use ccrkit::Model;
 use std::path::PathBuf;
 
@@ -19,10 +19,11 @@ pub(crate) struct PlanArgs {
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     to_tip: Vec<f64>,
     /// Goal: an actuation file (`"actuation": [{"cable", "shorten"}]`, as `reach --json`
-    /// writes).
+    /// writes; each entry's `tension` \[N\] when the method is driven by tension).
     #[arg(long)]
     to_actuation: Option<PathBuf>,
-    /// Start: an actuation file (default: the model file's shortenings, 0 where none).
+    /// Start: an actuation file (default: the model file's shortenings, or its tensions when
+    /// the method is driven by tension; 0 where none).
     #[arg(long)]
     from_actuation: Option<PathBuf>,
     /// Answer from this roadmap (`ccrkit roadmap build`) instead of a new search.
@@ -58,15 +59,17 @@ pub(crate) fn run(a: PlanArgs) -> Result<()> {
     )?;
     let model = Model::from_file(&a.file)?;
     let request = a.inverse.request(&model)?;
+    let input = request.method.input_with(&request.settings);
+    let read_actuation = |p: &std::path::Path| read_actuation_in(p, &model, input);
     let goal = match (a.to_tip.is_empty(), &a.to_actuation) {
         (false, None) => Goal::Tip(vec3("to-tip", &a.to_tip)?),
-        (true, Some(p)) => Goal::Actuation(read_actuation(p, &model)?),
+        (true, Some(p)) => Goal::Actuation(read_actuation(p)?),
         _ => bail!("give exactly one goal: --to-tip X,Y,Z or --to-actuation FILE"),
     };
     let start = a
         .from_actuation
         .as_ref()
-        .map(|p| read_actuation(p, &model))
+        .map(|p| read_actuation(p))
         .transpose()?;
     let opts = PlanOptions {
         seed: a.seed,

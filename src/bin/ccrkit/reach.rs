@@ -13,8 +13,10 @@ use std::path::PathBuf;
 /// What the inverse commands solve with: method, settings, obstacles, contact.
 #[derive(clap::Args, Clone)]
 pub(crate) struct InverseArgs {
-    /// Method driven by shortenings (see `ccrkit methods`), or `auto` (chosen once for the
-    /// model's own actuation at `--model-tolerance`).
+    /// Method (see `ccrkit methods`), or `auto` (chosen once for the model's own actuation at
+    /// `--model-tolerance`). A method driven by tension (`cosserat`, or `energy` with `--set
+    /// control=force`) makes `reach`, `plan` and `roadmap` search the cables' tensions \[N\]
+    /// within their tension limits instead of shortenings.
     #[arg(long, default_value_t = MethodArg::Named(MethodKind::DEFAULT), value_parser = super::parse_method_arg)]
     pub method: MethodArg,
     /// The tolerance of `--method auto` \[m\] (default 1e-4).

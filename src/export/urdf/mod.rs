@@ -104,8 +104,6 @@ pub const GROUP_NAME: &str = "backbone";
 pub(super) const CABLE_DIAMETER_FRACTION: f64 = 0.25;
 /// …but at least this diameter \[m\].
 pub(super) const CABLE_MIN_DIAMETER: f64 = 2e-4;
-/// Largest accepted deviation of a disk rotation from orthonormality (‖RᵀR − I‖∞).
-const ORTHONORMAL_TOL: f64 = 1e-6;
 /// Cylinders shorter than this are not drawn \[m\].
 pub(super) const MIN_CYLINDER_LENGTH: f64 = 1e-12;
 
@@ -553,14 +551,10 @@ fn check(shape: &Shape, robot: &Robot) -> Result<(), ExportError> {
                 reason: "non-finite position or rotation".into(),
             });
         }
-        let err = (d.rotation.transpose() * d.rotation - Matrix3::identity()).amax();
-        if err > ORTHONORMAL_TOL || d.rotation.determinant() <= 0.0 {
+        if let Some(why) = crate::numeric::so3::rotation_defect(&d.rotation) {
             return Err(ExportError::BadDiskFrame {
                 disk: k,
-                reason: format!(
-                    "rotation is not a proper rotation (|RᵀR − I| = {err:.1e}, det = {:.3})",
-                    d.rotation.determinant()
-                ),
+                reason: format!("rotation {why}"),
             });
         }
     }

@@ -61,7 +61,7 @@ pub struct View {
     #[serde(skip_serializing_if = "Option::is_none")]
     cloud: Option<sweep::CloudDoc>,
     #[serde(skip)]
-    cables: usize,
+    cables: Vec<(String, usize)>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -233,7 +233,11 @@ impl View {
             obstacles: scene.obstacles.iter().map(obstacle_doc).collect(),
             layers: Vec::new(),
             cloud: None,
-            cables: robot.cables.len(),
+            cables: robot
+                .cables
+                .iter()
+                .map(|c| (c.name.clone(), c.ends_at.min(n - 1) + 1))
+                .collect(),
         }
     }
 
@@ -283,12 +287,21 @@ impl View {
                 self.robot.holes.len()
             )));
         }
-        if s.cables.len() != self.cables {
+        if s.cables.len() != self.cables.len() {
             return Err(mismatch(format!(
                 "the shape has {} cables, the robot {}",
                 s.cables.len(),
-                self.cables
+                self.cables.len()
             )));
+        }
+        for (c, (name, holes)) in s.cables.iter().zip(&self.cables) {
+            if c.name != *name || c.points.len() != *holes {
+                return Err(mismatch(format!(
+                    "cable `{}` has {} holes; the robot's cable `{name}` passes {holes} disks",
+                    c.name,
+                    c.points.len()
+                )));
+            }
         }
         self.check_port(s).map_err(mismatch)?;
         let disks = s

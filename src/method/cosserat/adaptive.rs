@@ -64,7 +64,11 @@ impl Problem<'_> {
         let nsec = self.robot.sections();
         let point_load = self.disk_weight.norm() * ld.lam > 0.0;
         (k..nsec)
-            .find(|&j| point_load || self.robot.cables.iter().any(|c| c.ends_at == j))
+            .find(|&j| {
+                point_load
+                    || self.robot.cables.iter().any(|c| c.ends_at == j)
+                    || ld.push.iter().any(|q| q.touch.disk == j)
+            })
             .unwrap_or(nsec)
     }
 

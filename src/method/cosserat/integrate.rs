@@ -114,11 +114,8 @@ impl Problem<'_> {
         }
         let mut h_adapt = self.len_l / (robot.sections() as f64 * 4.0);
         let nsec = robot.sections();
-        let bad = Shot {
-            resid: Vector6::from_element(f64::NAN),
-            len: [f64::NAN; MAX_CABLES],
-            tip: Vector3::from_element(f64::NAN),
-        };
+        let bad = Shot::failed();
+        let mut touch = Vec::with_capacity(ld.push.len());
         {
             let mut mesh = self.mesh.borrow_mut();
             mesh.cursor = 0;
@@ -171,13 +168,18 @@ impl Problem<'_> {
                 t.disks.push((p, r));
             }
             let (mut n, mut m) = self.disk_loads(k, &y, ld, &mut chord, &mut prev);
+            // Contact forces at this disk (`contact.rs`).
+            let Some(pushed) = self.contact_loads(k, (&p, &r), ld, (&mut n, &mut m), &mut touch)
+            else {
+                return bad;
+            };
             let tied_here = robot
                 .cables
                 .iter()
                 .enumerate()
                 .any(|(c, cable)| cable.ends_at == k && ld.tau[c] != 0.0);
             let point_load = self.disk_weight.norm() * ld.lam > 0.0;
-            if k < nsec && (tied_here || point_load) {
+            if k < nsec && (tied_here || point_load || pushed) {
                 // The variational pass is only run where no such jump occurs (`var_ok`).
                 debug_assert!(var.is_none());
                 match self.kink_forces(k, &y, ld, n, m) {
@@ -196,7 +198,12 @@ impl Problem<'_> {
                 if let Some(t) = trace.as_deref_mut() {
                     t.len.extend_from_slice(&len[..robot.cables.len()]);
                 }
-                return Shot { resid, len, tip: p };
+                return Shot {
+                    resid,
+                    len,
+                    tip: p,
+                    touch,
+                };
             }
             k += 1;
         }

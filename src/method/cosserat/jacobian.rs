@@ -152,8 +152,8 @@ impl Problem<'_> {
         } else if self.set.adaptive.is_some() {
             "the focal-point test needs fixed RK4 steps, not `--adaptive`"
         } else {
-            "no variational pass here (point loads at inner disks, or a tensioned cable ending \
-             before the tip)"
+            "no variational pass here (point loads at inner disks: a contact, a disk weight or a \
+             tensioned cable ending before the tip)"
         };
         format!("stability not decided: {why}")
     }
@@ -189,7 +189,7 @@ impl Problem<'_> {
         }
         let n0 = Vector3::new(x[0], x[1], x[2]);
         let m0 = Vector3::new(x[3], x[4], x[5]) * self.len_l;
-        let ld = LoadCase { tau, lam };
+        let ld = LoadCase::new(tau, lam);
         let shot = self.shoot(&n0, &m0, &ld, None, Some(&mut var));
         let mut f = DVector::zeros(k);
         let mut jac = DMatrix::zeros(k, k);
@@ -265,6 +265,7 @@ fn cold_start(prob: &Problem<'_>, robot: &Robot, tension_guess: f64) -> (Setup, 
     let setup = Setup {
         slack: vec![false; robot.cables.len()],
         unknown,
+        contacts: vec![],
     };
     let mut x = DVector::zeros(6 + setup.unknown.len());
     for j in 0..setup.unknown.len() {

@@ -156,6 +156,14 @@
 //! `inextensible.rs`): such shortenings are reported [`SolveError::Infeasible`](crate::SolveError::Infeasible) with the proof,
 //! and one cable of each such group starts slack (all taut is singular at the straight rod).
 //!
+//! # Contact
+//!
+//! Next to obstacles the rod touches the world with its disks: frictionless point forces,
+//! complementary to the disks' gaps, their magnitudes extra unknowns of the shooting problem
+//! and the gaps extra residuals; an outer active set; a cold start by load steps that no disk
+//! can cross an obstacle in (`contact.rs`, `approach.rs`, with the formulation and its
+//! references).
+//!
 //! # Numbers (paper cases, force control, full model, spline routing)
 //!
 //! `ccrkit compare models/paper/caseN.toml` (default resolution), RMS of the disk
@@ -184,10 +192,14 @@
 //! `shooting` (Newton with Broyden updates, load continuation) · `warm` (the start from a
 //! previous shape) · `inextensible` (balanced cable groups of the Kirchhoff rod under
 //! displacement control: proven infeasible shortenings, the slack start) · `unloaded` (the
-//! path without shooting: strains from the tendons' balance, Magnus steps) · `solve` (the
-//! `Method` entry: slack active set, shape assembly).
+//! path without shooting: strains from the tendons' balance, Magnus steps) · `contact`
+//! (point contacts at the disks: witnesses, active set, the crossing check) · `approach`
+//! (the cold start next to obstacles) · `solve` (the `Method` entry: active sets of slack
+//! cables and contacts, shape assembly).
 
 mod adaptive;
+mod approach;
+mod contact;
 mod inextensible;
 mod integrate;
 mod jacobian;

@@ -2,8 +2,10 @@
 //! for the spline fit), external loads, step counts, undeformed cable lengths; the load case
 //! of one pass; and the global static balance that gives the base wrench without integrating.
 
+use super::contact::{Push, RodWorld};
 use super::shooting::Setup;
 use super::{Buf, Cosserat, RodModel, E3, MAX_CABLES};
+use crate::contact::Witness;
 use crate::error::SolveError;
 use crate::method::Method;
 use crate::model::actuation::{Actuation, Drive, Input};
@@ -15,6 +17,20 @@ use nalgebra::{DVector, Matrix3, Vector3, Vector6};
 pub(super) struct LoadCase {
     pub(super) tau: Buf,
     pub(super) lam: f64,
+    /// Contact forces at disks (`contact.rs`; empty without obstacles). Not scaled by `lam`:
+    /// they are unknowns of the solve, not given loads.
+    pub(super) push: Vec<Push>,
+}
+
+impl LoadCase {
+    /// Tensions `tau` at load factor `lam`, no contact force.
+    pub(super) fn new(tau: Buf, lam: f64) -> Self {
+        LoadCase {
+            tau,
+            lam,
+            push: Vec::new(),
+        }
+    }
 }
 
 /// Result of one shooting pass.
@@ -25,6 +41,20 @@ pub(super) struct Shot {
     pub(super) len: Buf,
     /// Tip position.
     pub(super) tip: Vector3<f64>,
+    /// The witness of every contact of the load case, in its order (`contact.rs`).
+    pub(super) touch: Vec<Witness>,
+}
+
+impl Shot {
+    /// The shot of a pass that failed: every number NaN.
+    pub(super) fn failed() -> Self {
+        Shot {
+            resid: Vector6::from_element(f64::NAN),
+            len: [f64::NAN; MAX_CABLES],
+            tip: Vector3::from_element(f64::NAN),
+            touch: Vec::new(),
+        }
+    }
 }
 
 /// Recorded geometry of a pass, with the inputs it was shot from.
@@ -49,6 +79,10 @@ impl Trace {
         self.fast = false;
         self.key.extend(n0.iter().chain(m0.iter()).chain(&ld.tau));
         self.key.push(ld.lam);
+        for p in &ld.push {
+            self.key
+                .extend([p.touch.disk as f64, p.touch.obstacle as f64, p.force]);
+        }
     }
 }
 
@@ -89,6 +123,8 @@ pub(super) struct Problem<'a> {
     pub(super) work: std::cell::Cell<usize>,
     /// This solve takes the unloaded path (`unloaded.rs`): no external load, tensions given.
     pub(super) fast: bool,
+    /// The obstacles within reach and the contact feature (`contact.rs`); `None` without.
+    pub(super) world: Option<RodWorld<'a>>,
 }
 
 /// Right-hand-side evaluations one solve may spend (≈ 9 s for two cables on 3000 sections)
@@ -357,6 +393,7 @@ impl Cosserat {
             mesh: Default::default(),
             work: Default::default(),
             fast: false,
+            world: None,
         };
         for (c, cable) in robot.cables.iter().enumerate() {
             prob.compliance[c] = cable.compliance();
@@ -374,10 +411,7 @@ impl Cosserat {
         }
         // Undeformed lengths in the chosen measure: the unloaded, straight rod (exact at
         // zero load), integrated with the same quadrature as the loaded one.
-        let zero = LoadCase {
-            tau: [0.0; MAX_CABLES],
-            lam: 0.0,
-        };
+        let zero = LoadCase::new([0.0; MAX_CABLES], 0.0);
         if (0..nc).any(|c| matches!(prob.modes[c], Drive::Shorten { .. })) {
             prob.len0 = prob
                 .pass(&Vector3::zeros(), &Vector3::zeros(), &zero, None)

@@ -3,6 +3,7 @@
 //! with a backtracking line search and Broyden updates, and load continuation (module docs,
 //! "Shooting", "Continuation").
 
+use super::contact::{Push, Touch};
 use super::problem::{LoadCase, Problem};
 use super::Buf;
 use crate::model::actuation::Drive;
@@ -15,6 +16,16 @@ pub(super) struct Setup {
     pub(super) unknown: Vec<usize>,
     /// Length-controlled cables currently slack (tension 0).
     pub(super) slack: Vec<bool>,
+    /// The active contacts (`contact.rs`), ordered by disk: their forces are the last
+    /// unknowns, their gaps the last residual rows.
+    pub(super) contacts: Vec<Touch>,
+}
+
+impl Setup {
+    /// Index of the first contact force in the unknowns.
+    pub(super) fn first_contact(&self) -> usize {
+        6 + self.unknown.len()
+    }
 }
 
 /// A converged Newton run: solution, iterations, residual, last Jacobian (for warm starts).
@@ -69,10 +80,7 @@ impl Problem<'_> {
     ) -> (DVector<f64>, Vector3<f64>) {
         let n0 = Vector3::new(x[0], x[1], x[2]);
         let m0 = Vector3::new(x[3], x[4], x[5]) * self.len_l;
-        let ld = LoadCase {
-            tau: self.tensions(x, setup, lam),
-            lam,
-        };
+        let ld = self.load_case(x, setup, lam);
         let shot = self.shoot(&n0, &m0, &ld, None, None);
         let mut f = DVector::zeros(x.len());
         for i in 0..6 {
@@ -80,6 +88,15 @@ impl Problem<'_> {
         }
         for (j, &c) in setup.unknown.iter().enumerate() {
             f[6 + j] = self.length_row(c, shot.len[c], x[6 + j], lam);
+        }
+        let c0 = setup.first_contact();
+        if shot.touch.len() == setup.contacts.len() {
+            let (kg, clearance) = (self.gap_scale(), self.clearance());
+            for (i, w) in shot.touch.iter().enumerate() {
+                f[c0 + i] = kg * (w.dist - clearance);
+            }
+        } else if !setup.contacts.is_empty() {
+            f.fill(f64::NAN);
         }
         if f.iter().any(|v| !v.is_finite()) {
             f.fill(f64::NAN);
@@ -108,11 +125,36 @@ impl Problem<'_> {
         self.kl[c] * (len - self.target(c, lam) - tau * self.compliance[c])
     }
 
+    /// The loads of a pass at `x`: the tensions ([`Problem::tensions`]) and the forces of
+    /// the active contacts.
+    pub(super) fn load_case(&self, x: &DVector<f64>, setup: &Setup, lam: f64) -> LoadCase {
+        let c0 = setup.first_contact();
+        let mut ld = LoadCase::new(self.tensions(x, setup, lam), lam);
+        ld.push = setup
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(i, &touch)| Push {
+                touch,
+                force: x[c0 + i],
+            })
+            .collect();
+        ld
+    }
+
+    /// The scene's clearance (0 without obstacles) \[m\].
+    pub(super) fn clearance(&self) -> f64 {
+        self.world.as_ref().map_or(0.0, |w| w.clearance())
+    }
+
     /// True when the variational equations give the exact Jacobian of this shooting pass:
     /// fixed RK4 steps and no point load at an inner disk (a cable tied there, or disk
     /// weights: their kink forces come from a fixed point that is not differentiated).
     pub(super) fn var_ok(&self, setup: &Setup, tau: &Buf, lam: f64) -> bool {
-        if self.set.adaptive.is_some() || self.disk_weight.norm() * lam > 0.0 {
+        if self.set.adaptive.is_some()
+            || self.disk_weight.norm() * lam > 0.0
+            || !setup.contacts.is_empty()
+        {
             return false;
         }
         let nsec = self.robot.sections();
@@ -149,7 +191,7 @@ impl Problem<'_> {
     ///
     /// `jac0`: a Jacobian to start from (a warm start's, kept current by Broyden); without it
     /// the residual and the exact variational Jacobian come from one pass.
-    fn newton(
+    pub(super) fn newton(
         &self,
         x0: &DVector<f64>,
         setup: &Setup,
@@ -197,7 +239,10 @@ impl Problem<'_> {
         // rigid transport Jacobian (no extra integrations), else from a difference Jacobian.
         let (mut jac, mut fresh) = if let Some(j) = var_jac {
             j
-        } else if setup.unknown.is_empty() && tip.iter().all(|v| v.is_finite()) {
+        } else if setup.unknown.is_empty()
+            && setup.contacts.is_empty()
+            && tip.iter().all(|v| v.is_finite())
+        {
             (self.transport_jacobian(&tip), false)
         } else {
             // (The variational pass already declined at `x`: this is the difference one.)

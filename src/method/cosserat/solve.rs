@@ -1,6 +1,7 @@
 //! The `Method` entry of the rod: the slack active set over length-controlled cables around
 //! the shooting solve, and the assembly of the shape from the converged pass.
 
+use super::contact::{RodWorld, Touch};
 use super::inextensible::{slack_start, Group};
 use super::problem::{LoadCase, Problem, Trace};
 use super::shooting::{Newton, Setup};
@@ -25,7 +26,23 @@ impl Method for Cosserat {
     fn solve_supported(&self, input: SolveInput<'_>) -> Result<Shape, SolveError> {
         let (robot, act, warm) = (input.robot, input.act, input.warm);
         let name = self.name().to_string();
-        let (prob, mut notes) = self.problem(robot, act)?;
+        let (mut prob, mut notes) = self.problem(robot, act)?;
+        // Obstacles within reach: contacts at the disks (`contact.rs`), always by shooting.
+        prob.world = RodWorld::new(robot, input.scene)?;
+        // A warm shape's contacts start the active set when its reactions are forces (a
+        // rod's or the energy model's; the geometric methods' are in rad/m).
+        let in_newtons = |w: &Shape| {
+            MethodKind::from_name(&w.method).is_some_and(|k| k.info().contact_unit == "N")
+        };
+        let mut pushes = match (&prob.world, warm) {
+            (Some(world), Some(w)) if in_newtons(w) => world.warm_contacts(&w.contacts),
+            _ => vec![],
+        };
+        if prob.world.is_some() {
+            prob.fast = false;
+        }
+        pushes.sort_by_key(|p| (p.touch.disk, p.touch.obstacle));
+        let mut active: Vec<Touch> = pushes.iter().map(|p| p.touch).collect();
         let nc = robot.cables.len();
         let length_cables: Vec<usize> = (0..nc)
             .filter(|&c| matches!(prob.modes[c], Drive::Shorten { .. }))
@@ -41,10 +58,24 @@ impl Method for Cosserat {
                 slack[slack_start(&prob, g)] = true;
             }
         }
-        // Active set over slack cables.
+        // Active sets over slack cables and contacts.
         let mut total_it = 0usize;
-        let max_rounds = 2 * nc + 3;
+        let contact_rounds = match prob.world {
+            Some(_) => 4 * robot.sections() + 4,
+            None => 0,
+        };
+        let max_rounds = 2 * nc + 3 + contact_rounds;
         let mut prev: Option<(DVector<f64>, Setup)> = None;
+        let mut last_res = f64::NAN;
+        // Cold next to obstacles: raise the loads in steps no disk can cross an obstacle in
+        // (`approach.rs`); a warm shape is trusted to start clear of them.
+        if prob.world.is_some() && input.warm.is_none() {
+            let unknown = length_cables.iter().copied().filter(|&c| !slack[c]);
+            let a = prob.approach_start(unknown.collect(), &slack, &name, &mut notes)?;
+            total_it += a.iterations;
+            active.clone_from(&a.contacts);
+            prev = Some((a.x, a.setup));
+        }
         for _round in 0..max_rounds {
             let unknown: Vec<usize> = length_cables
                 .iter()
@@ -54,21 +85,18 @@ impl Method for Cosserat {
             let setup = Setup {
                 unknown,
                 slack: slack.clone(),
+                contacts: active.clone(),
             };
-            let mut x0 = DVector::zeros(6 + setup.unknown.len());
+            let mut x0 = DVector::zeros(setup.first_contact() + setup.contacts.len());
             match &prev {
-                // Carry the base wrench and the tensions of cables still unknown.
-                Some((xp, ps)) => {
-                    for i in 0..6 {
-                        x0[i] = xp[i];
-                    }
-                    for (j, &c) in setup.unknown.iter().enumerate() {
-                        if let Some(pj) = ps.unknown.iter().position(|&q| q == c) {
-                            x0[6 + j] = xp[6 + pj].max(0.0);
-                        }
+                Some((xp, ps)) => carry(xp, ps, &setup, &mut x0),
+                None => {
+                    warm.start(&prob, &setup, &mut x0);
+                    let c0 = setup.first_contact();
+                    for (i, p) in pushes.iter().enumerate() {
+                        x0[c0 + i] = p.force;
                     }
                 }
-                None => warm.start(&prob, &setup, &mut x0),
             }
             // A predicted start (new shortenings) gets a fresh exact Jacobian there instead.
             let jac0 = if prev.is_none() && !warm.predicted {
@@ -85,7 +113,10 @@ impl Method for Cosserat {
                 section: None,
                 iterations: total_it + e.iterations,
                 residual: e.residual,
-                detail: e.detail,
+                detail: match setup.contacts.len() {
+                    0 => e.detail,
+                    n => format!("{} ({n} contacts active)", e.detail),
+                },
             })?;
             if load_steps > 0 {
                 notes.push(format!("continuation: {load_steps} load steps"));
@@ -97,39 +128,85 @@ impl Method for Cosserat {
                 jac,
             } = sol;
             total_it += it;
-            if !self.update_active_set(&prob, &x, &setup, &length_cables, &groups, &mut slack) {
-                // The focal-point pass also gives the exact Jacobian at the answer, a better
-                // warm start than Newton's last (Broyden-updated) one. Skipped on request
-                // (`stability = skip`): `stable` stays `None`, meaning not checked.
-                let (stable, jac) = if self.check_stability {
-                    let (stable, exact) = prob.focal_stable(&x, &setup);
-                    if stable.is_none() {
-                        notes.push(prob.undecided_stability(exact.is_some()));
-                    }
-                    (stable, exact.or(jac))
-                } else {
-                    notes.push("stability not checked (stability = skip)".into());
-                    (None, jac)
-                };
-                let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, notes);
-                shape.report.stable = stable;
-                let targets = setup.unknown.iter().map(|&c| prob.target(c, 1.0)).collect();
-                shape.report.warm = jac.map(|jacobian| WarmState::Rod {
-                    jacobian,
-                    unknown: setup.unknown.clone(),
-                    targets,
-                });
-                return Ok(shape);
+            last_res = res;
+            if self.update_active_set(&prob, &x, &setup, &length_cables, &groups, &mut slack)
+                || prob.update_contacts(&x, &setup, &mut active)
+            {
+                prev = Some((x, setup));
+                continue;
             }
-            prev = Some((x, setup));
+            // The focal-point pass also gives the exact Jacobian at the answer, a better
+            // warm start than Newton's last (Broyden-updated) one. Skipped on request
+            // (`stability = skip`): `stable` stays `None`, meaning not checked.
+            let (stable, jac) = if self.check_stability {
+                let (stable, exact) = prob.focal_stable(&x, &setup);
+                if stable.is_none() {
+                    notes.push(prob.undecided_stability(exact.is_some()));
+                }
+                (stable, exact.or(jac))
+            } else {
+                notes.push("stability not checked (stability = skip)".into());
+                (None, jac)
+            };
+            let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, notes);
+            shape.report.stable = stable;
+            if prob.world.is_some() {
+                prob.contacts_of(&x, &setup, &mut shape)?;
+            }
+            let targets = setup.unknown.iter().map(|&c| prob.target(c, 1.0)).collect();
+            // (A Jacobian with contact columns would not fit the next solve's start.)
+            shape.report.warm =
+                jac.filter(|_| setup.contacts.is_empty())
+                    .map(|jacobian| WarmState::Rod {
+                        jacobian,
+                        unknown: setup.unknown.clone(),
+                        targets,
+                    });
+            return Ok(shape);
         }
-        Err(SolveError::NotConverged {
-            method: name,
-            section: None,
-            iterations: total_it,
-            residual: f64::NAN,
-            detail: "slack active set did not settle".into(),
-        })
+        let contacts = prob.world.is_some();
+        Err(unsettled(name, total_it, last_res, max_rounds, contacts))
+    }
+}
+
+/// The `NotConverged` of active sets that did not settle in `rounds` rounds.
+fn unsettled(
+    method: String,
+    iterations: usize,
+    residual: f64,
+    rounds: usize,
+    contacts: bool,
+) -> SolveError {
+    SolveError::NotConverged {
+        method,
+        section: None,
+        iterations,
+        residual,
+        detail: match contacts {
+            true => format!(
+                "the active sets of slack cables and contacts did not settle in {rounds} rounds"
+            ),
+            false => "slack active set did not settle".into(),
+        },
+    }
+}
+
+/// The start of the next active-set round from the last one's answer `xp` (set `ps`): its
+/// base wrench, and the tensions and contact forces of cables and contacts still unknown.
+pub(super) fn carry(xp: &DVector<f64>, ps: &Setup, setup: &Setup, x0: &mut DVector<f64>) {
+    for i in 0..6 {
+        x0[i] = xp[i];
+    }
+    for (j, &c) in setup.unknown.iter().enumerate() {
+        if let Some(pj) = ps.unknown.iter().position(|&q| q == c) {
+            x0[6 + j] = xp[6 + pj].max(0.0);
+        }
+    }
+    let (c0, p0) = (setup.first_contact(), ps.first_contact());
+    for (j, t) in setup.contacts.iter().enumerate() {
+        if let Some(pj) = ps.contacts.iter().position(|q| q == t) {
+            x0[c0 + j] = xp[p0 + pj].max(0.0);
+        }
     }
 }
 
@@ -162,7 +239,7 @@ impl Cosserat {
         } else if setup.slack.iter().any(|&b| b) {
             let n0 = Vector3::new(x[0], x[1], x[2]);
             let m0 = Vector3::new(x[3], x[4], x[5]) * prob.len_l;
-            let shot = prob.pass(&n0, &m0, &LoadCase { tau, lam: 1.0 }, None);
+            let shot = prob.pass(&n0, &m0, &prob.load_case(x, setup, 1.0), None);
             for &c in length_cables {
                 let tol_len = 10.0 * self.tolerance / prob.kl[c];
                 if setup.slack[c] && shot.len[c] > prob.target(c, 1.0) + tol_len {
@@ -195,7 +272,7 @@ impl Cosserat {
         let n0 = Vector3::new(x[0], x[1], x[2]);
         let m0 = Vector3::new(x[3], x[4], x[5]) * prob.len_l;
         let tau = prob.tensions(x, setup, 1.0);
-        let ld = LoadCase { tau, lam: 1.0 };
+        let ld = prob.load_case(x, setup, 1.0);
         // The converged point was the last one integrated (Newton returns right after it):
         // reuse its geometry; integrate again only if it was another point.
         let mut trace = prob.last.take();
@@ -213,10 +290,7 @@ impl Cosserat {
         let len0 = if computed {
             prob.len0
         } else {
-            let zero = LoadCase {
-                tau: [0.0; MAX_CABLES],
-                lam: 0.0,
-            };
+            let zero = LoadCase::new([0.0; MAX_CABLES], 0.0);
             let mut unloaded = Trace::default();
             prob.pass(
                 &Vector3::zeros(),

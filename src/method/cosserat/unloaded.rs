@@ -112,11 +112,7 @@ impl Problem<'_> {
             if let Some(un) = self.unloaded_pass(ld, trace) {
                 return un.shot;
             }
-            return Shot {
-                resid: Vector6::from_element(f64::NAN),
-                len: [f64::NAN; MAX_CABLES],
-                tip: Vector3::from_element(f64::NAN),
-            };
+            return Shot::failed();
         }
         self.shoot(n0, m0, ld, trace, None)
     }
@@ -131,7 +127,7 @@ impl Problem<'_> {
                 tau[c] = *t;
             }
         }
-        let ld = LoadCase { tau, lam: 1.0 };
+        let ld = LoadCase::new(tau, 1.0);
         let Some(un) = self.unloaded_pass(&ld, None) else {
             return Err(Fail {
                 iterations: 0,
@@ -323,6 +319,7 @@ impl Problem<'_> {
                 resid: Vector6::zeros(),
                 len,
                 tip: p,
+                touch: Vec::new(),
             },
             n0,
             ms,

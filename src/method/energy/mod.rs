@@ -155,6 +155,7 @@ mod curvature;
 pub mod friction;
 mod kinematics;
 mod lengths;
+pub(crate) mod local_error;
 mod newton;
 mod problem;
 mod sensitivity;

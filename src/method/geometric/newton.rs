@@ -50,6 +50,56 @@ pub(super) const CONTACT_STAT_TOL: f64 = 1e-6;
 /// search ([`SectionData::former_search`]) keeps [`FORMER_MAX_SHORT_STEPS`].
 const MAX_SHORT_STEPS: usize = 2;
 
+/// Settled contact iterations (constraints and gaps met, a pressing contact, a step at most
+/// [`FORMER_CONTACT_STEP_TOL`]) after which a run whose steps rose [`NOISE_FLOOR_RISES`] times
+/// among them is at its noise floor (see [`NoiseFloor`]).
+const NOISE_FLOOR_RUN: usize = 4;
+
+/// Rises of the step within a settled run that tell noise from convergence (a converging
+/// Newton's steps only fall).
+const NOISE_FLOOR_RISES: usize = 2;
+
+/// Whether a contact run has reached the noise floor of its contact normals: settled, with
+/// steps no larger than [`FORMER_CONTACT_STEP_TOL`] that no longer fall but rise and fall.
+///
+/// Where a box edge or corner, or a cylinder's side, meets a disk's rim, the pair's normal
+/// comes from parry's GJK and its polish, good to ~1e-9 (`contact/parry.rs`): the step, which
+/// balances the contact force (~40 rad/m) against the bending, then chatters at 1e-8–1e-7 and
+/// never reaches [`CONTACT_STEP_TOL`]. Such a run used to spend its 40 iterations and fail; the
+/// section then searched every taut set twice more, the last time accepting steps of
+/// [`FORMER_CONTACT_STEP_TOL`] (`loose_contacts`) — 1115 and 1375 Newton iterations in two
+/// sections of one generated scene (`examples/scene_speed.rs`), 60× the committed wall's
+/// instructions. The run is now certified where the loose retry would accept it, as soon as its
+/// steps show noise instead of convergence; a run converging quadratically (the wall, the
+/// pillar: 1.7e-5 → 2.0e-10 → 1.3e-15) reaches the tight tolerance first, and one converging
+/// linearly never rises, so neither is changed.
+#[derive(Default)]
+struct NoiseFloor {
+    /// Settled iterations in a row.
+    run: usize,
+    /// Rises of the step among them.
+    rises: usize,
+    /// The last step's size.
+    last: f64,
+}
+
+impl NoiseFloor {
+    /// Record an iteration (`settled`: constraints and gaps met with a pressing contact) with
+    /// step size `dx`; true once the run is at its noise floor.
+    fn at(&mut self, settled: bool, dx: f64) -> bool {
+        if !settled || dx > FORMER_CONTACT_STEP_TOL {
+            *self = NoiseFloor::default();
+            return false;
+        }
+        if self.run > 0 && dx > self.last {
+            self.rises += 1;
+        }
+        self.run += 1;
+        self.last = dx;
+        self.run >= NOISE_FLOOR_RUN && self.rises >= NOISE_FLOOR_RISES
+    }
+}
+
 /// A line search that ends below this step length is short (see [`MAX_SHORT_STEPS`]).
 const SHORT_STEP: f64 = 1e-3;
 
@@ -113,6 +163,7 @@ impl Geometric {
         let mut lam = Vec::with_capacity(8);
         let mut pressed = Pressed::default();
         let mut pairs_at_hand = false;
+        let mut floor = NoiseFloor::default();
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
                 Err(Rejected {
@@ -162,7 +213,9 @@ impl Geometric {
             let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
             let in_contact = mu_max > 1e-10;
             let step_tol = self.step_tolerance(data, in_contact);
-            if res <= self.tolerance && worst_gap <= CONTACT_TOL && step.dx.amax() <= step_tol {
+            let settled = res <= self.tolerance && worst_gap <= CONTACT_TOL;
+            let at_floor = floor.at(settled && in_contact, step.dx.amax());
+            if settled && (step.dx.amax() <= step_tol || at_floor) {
                 let contacts: Vec<Contact> = (0..pairs.len())
                     .filter(|&j| mu.get(j).copied().unwrap_or(0.0) > 1e-10)
                     .map(|j| pairs[j].to_contact(world, data.section, mu[j]))
@@ -437,4 +490,38 @@ fn stationarity(
         kkt_res -= p.grad * *m;
     }
     kkt_res.amax()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::NoiseFloor;
+
+    /// Whether a run of settled steps is taken for its noise floor, and at which step.
+    fn first_floor(steps: &[f64]) -> Option<usize> {
+        let mut f = NoiseFloor::default();
+        steps.iter().position(|&dx| f.at(true, dx))
+    }
+
+    /// Converging runs are never at their floor — quadratic (the wall's last steps) or linear
+    /// with any rate — and a chattering run (section 7 of a generated scene: steps of
+    /// 1e-8–1e-7 that rise and fall) is, at its fourth settled step with two rises; a step
+    /// above the former tolerance or an unsettled iteration starts the count again.
+    #[test]
+    fn noise_floor_tells_chatter_from_convergence() {
+        assert_eq!(first_floor(&[1.7e-5, 2.0e-10, 1.3e-15]), None);
+        for rate in [0.9, 0.5, 0.1] {
+            let linear: Vec<f64> = (0..40).map(|k| 1e-7 * f64::powi(rate, k)).collect();
+            assert_eq!(first_floor(&linear), None, "{rate}");
+        }
+        let chatter = [8.3e-8, 6.5e-8, 2.5e-8, 6.6e-8, 1.8e-8, 3.9e-8, 2.7e-8];
+        assert_eq!(first_floor(&chatter), Some(5));
+        assert_eq!(
+            first_floor(&[6.6e-8, 1.8e-8, 3.9e-8, 2e-7, 2.7e-8, 4e-8, 1e-8]),
+            None
+        );
+        let mut f = NoiseFloor::default();
+        for dx in [5e-8, 1e-8, 4e-8, 1e-8] {
+            assert!(!f.at(false, dx));
+        }
+    }
 }

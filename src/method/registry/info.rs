@@ -261,7 +261,7 @@ const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> Met
         summary,
         inputs: BOTH,
         default_input: Input::Tension,
-        obstacles: false,
+        obstacles: true,
         loads: LoadSupport {
             gravity: true,
             tip_force: true,
@@ -272,7 +272,7 @@ const fn rod(kind: MethodKind, name: &'static str, summary: &'static str) -> Met
         bending_stiffening: false,
         tendons_inside: true,
         settings: ROD_SETTINGS,
-        contact_unit: "",
+        contact_unit: "N",
         resolutions: ROD_RESOLUTIONS,
     }
 }
