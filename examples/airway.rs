@@ -101,7 +101,7 @@ fn main() -> Result<()> {
         t3.elapsed().as_secs_f64(),
         branch.map_or("none".into(), |g| g.to_string())
     );
-    std::fs::write(
+    ccrkit::output::write_file(
         out.join("plan.json"),
         serde_json::to_string_pretty(&p.to_json())?,
     )?;

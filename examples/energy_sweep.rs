@@ -90,7 +90,7 @@ fn main() -> anyhow::Result<()> {
         }
     }
     let path = out.join("energy_sweep.csv");
-    std::fs::write(&path, csv)?;
+    ccrkit::output::write_file(&path, csv)?;
     println!("wrote {}", path.display());
     Ok(())
 }

@@ -27,7 +27,7 @@ fn main() -> Result<()> {
     ccrkit::mesh::write(&mesh, &airway.vertices, &airway.triangles)?;
     let made = t0.elapsed();
     let toml = dir.join("airway.toml");
-    std::fs::write(
+    ccrkit::output::write_file(
         &toml,
         format!(
             "[[obstacles]]\nname = \"airway\"\nshape = \"mesh\"\npath = \"{}\"\nfree = \"inside\"\n",

@@ -297,7 +297,7 @@ fn report(v: &str, label: &str, rep: &FitReport, text: &str, dir: &Path) -> Resu
         );
     }
     let fitted_path = dir.join(format!("ftdcr_{v}_{label}.toml"));
-    std::fs::write(
+    ccrkit::output::write_file(
         &fitted_path,
         fitted_toml(
             text,

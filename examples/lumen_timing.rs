@@ -21,9 +21,9 @@ fn main() -> Result<()> {
     let dir = root.join("target/lumen_timing");
     std::fs::create_dir_all(&dir)?;
     let (v, t) = capped_tube(0.11, 0.02, -0.1, 1.8, rings, segments);
-    std::fs::write(dir.join("lumen.obj"), to_obj(&v, &t))?;
+    ccrkit::output::write_file(dir.join("lumen.obj"), to_obj(&v, &t))?;
     for free in ["free = \"inside\"\n", ""] {
-        std::fs::write(
+        ccrkit::output::write_file(
             dir.join("lumen.toml"),
             format!("[[obstacles]]\nname = \"lumen\"\nshape = \"mesh\"\npath = \"lumen.obj\"\nrotation = {{ rpy = [0.0, 0.0, 0.964] }}\n{free}"),
         )?;

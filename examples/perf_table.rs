@@ -127,7 +127,8 @@ fn run() -> Result<(), String> {
         }
     }
     if !no_run {
-        std::fs::write(&note, &how).map_err(|e| format!("cannot write {}: {e}", note.display()))?;
+        ccrkit::output::write_file(&note, &how)
+            .map_err(|e| format!("cannot write {}: {e}", note.display()))?;
     }
     let results = read_results(&target.join("criterion"))?;
     let table = table(&ids, &results, &how, &commit(root))?;
@@ -141,7 +142,8 @@ fn run() -> Result<(), String> {
         .split_once(END)
         .ok_or(format!("{} has no {END}", path.display()))?;
     let out = format!("{head}{BEGIN}\n{table}{END}{tail}");
-    std::fs::write(&path, out).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    ccrkit::output::write_file(&path, out)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     println!("wrote {}", path.display());
     Ok(())
 }

@@ -70,11 +70,11 @@ fn main() -> anyhow::Result<()> {
         p.stats.checks.solves,
         p.stats.time_s * 1e3
     );
-    std::fs::write(
+    ccrkit::output::write_file(
         out.join("plan.json"),
         serde_json::to_string_pretty(&p.to_json())?,
     )?;
-    std::fs::write(out.join("trajectory.csv"), p.trajectory_csv(&model)?)?;
+    ccrkit::output::write_file(out.join("trajectory.csv"), p.trajectory_csv(&model)?)?;
     let rm = build(&model, &req, &BuildOptions::default())?;
     println!(
         "roadmap: {} nodes, {} edges, {:.2} s",

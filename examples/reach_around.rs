@@ -100,7 +100,7 @@ fn main() -> anyhow::Result<()> {
     ];
     plot_rows(&rows, &out.join("reach_around.svg"))?;
     plot_rows(&rows, &out.join("reach_around.png"))?;
-    std::fs::write(
+    ccrkit::output::write_file(
         out.join("reach_contact.json"),
         serde_json::to_string_pretty(&c.to_json())?,
     )?;

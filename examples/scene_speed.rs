@@ -62,7 +62,7 @@ fn main() -> Result<()> {
     for k in 0..n as u64 {
         let (text, _) = near_path(&path, seed.wrapping_add(k));
         let file = out.join(format!("gen_{}.toml", seed.wrapping_add(k)));
-        std::fs::write(&file, text)?;
+        ccrkit::output::write_file(&file, text)?;
         scenes.push((format!("gen_{}", seed.wrapping_add(k)), file));
     }
     println!(

@@ -200,10 +200,11 @@ fn lexical(path: &Path) -> PathBuf {
     out
 }
 
-/// Write `bytes` to `path` atomically, its folder created (see the module docs).
-pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
-    write_with(path, |tmp| {
-        std::fs::write(tmp, bytes).map_err(|e| e.to_string())
+/// Write `bytes` to `path` atomically, its folder created (see the module docs); the
+/// atomic twin of `std::fs::write`.
+pub fn write_file(path: impl AsRef<Path>, bytes: impl AsRef<[u8]>) -> Result<(), WriteError> {
+    write_with(path.as_ref(), |tmp| {
+        std::fs::write(tmp, bytes.as_ref()).map_err(|e| e.to_string())
     })
 }
 

@@ -80,7 +80,7 @@ impl Setup {
         let airway = generate(&opts)?;
         std::fs::create_dir_all(dir)?;
         ccrkit::mesh::write(&dir.join("airway.stl"), &airway.vertices, &airway.triangles)?;
-        std::fs::write(
+        ccrkit::output::write_file(
             dir.join("scene.toml"),
             "# The generated airway as a lumen: the robot keeps 0.5 mm inside it.\n\
              clearance = 0.0005\n\n[[obstacles]]\nname = \"airway\"\nshape = \"mesh\"\n\

@@ -377,7 +377,7 @@ pub fn load_or_build(
         Err(e) => Some(e.to_string()),
     };
     let f = SolidField::build(mesh, nodes);
-    let origin = match crate::output::write_file(&path, &encode(&f, key)) {
+    let origin = match crate::output::write_file(&path, encode(&f, key)) {
         Err(e) => FieldOrigin::NotWritten {
             path,
             reason: e.to_string(),
