@@ -36,6 +36,7 @@ mod insert;
 pub mod metric;
 pub mod motion;
 pub mod roadmap;
+mod roadmap_build;
 mod roadmap_nodes;
 pub mod roadmap_shard;
 mod rrt;

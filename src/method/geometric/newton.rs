@@ -230,11 +230,6 @@ impl Geometric {
                     step.lambda
                 };
                 let stat = stationarity(&g, &rows, &lambda, &pairs, &mu);
-                let stat_tol = if in_contact {
-                    CONTACT_STAT_TOL * (1.0 + mu_max)
-                } else {
-                    1e-7
-                };
                 return self.certify(
                     data,
                     pose,
@@ -242,7 +237,7 @@ impl Geometric {
                     active,
                     squared,
                     &lambda,
-                    (stat, stat_tol),
+                    (stat, stationarity_tolerance(in_contact, mu_max)),
                     step.min_reduced_eigenvalue,
                     res,
                     it,
@@ -271,11 +266,11 @@ impl Geometric {
                 w.penetration(trial, &mut trial_pairs, &rejects)
                     .map_or(f64::NAN, |pen| merit(ft, &trial_cons, pen))
             });
-            if alpha < SHORT_STEP {
-                short_steps += 1;
+            short_steps = if alpha < SHORT_STEP {
+                short_steps + 1
             } else {
-                short_steps = 0;
-            }
+                0
+            };
             match next {
                 Some(p) if short_steps < max_short => {
                     pose = p;
@@ -490,6 +485,16 @@ fn stationarity(
         kkt_res -= p.grad * *m;
     }
     kkt_res.amax()
+}
+
+/// The stationarity a converged run must meet: 1e-7, or with active contacts
+/// [`CONTACT_STAT_TOL`] relative to the largest contact multiplier `mu_max`.
+fn stationarity_tolerance(in_contact: bool, mu_max: f64) -> f64 {
+    if in_contact {
+        CONTACT_STAT_TOL * (1.0 + mu_max)
+    } else {
+        1e-7
+    }
 }
 
 #[cfg(test)]
