@@ -1,5 +1,6 @@
 //! Inverse problems: reach on the paper robot (energy) without obstacles
-//! and next to the wall; a cold RRT-Connect plan and a roadmap query around a ball blocking
+//! and next to the wall, through a port (insertion, rotation and cables: the `port_reach`
+//! example's target behind the block; the soft lung rod in tension space); a cold RRT-Connect plan and a roadmap query around a ball blocking
 //! the straight path (case 1), and a cold plan and roadmap queries inside the vessel
 //! (two-segment robot), one of whose straight actuation path leaves the tube.
 //!
@@ -62,6 +63,39 @@ fn bench_reach(c: &mut Criterion) {
     c.bench_function("reach/case1_wall", |b| {
         b.iter(|| {
             let r = reach(&model, &req, black_box(&target), &opts).unwrap();
+            assert!(r.reached);
+        })
+    });
+    // Through a port: the `port_reach` example (inserted 160 mm, turned 2 rad, cable A at
+    // 7 mm makes the target behind the block), from the file's start.
+    let port = Model::from_file(format!("{ROOT}/models/port/behind_block.toml")).unwrap();
+    let space = Space::new(&port, &energy(), false).unwrap();
+    let target = Target {
+        tip: space.solve(&[0.007, 0.0, 0.16, 2.0], None).unwrap().tip(),
+        tangent: None,
+    };
+    let opts = ReachOptions::default();
+    c.bench_function("reach/port_behind_block", |b| {
+        b.iter(|| {
+            let r = reach(&port, &energy(), black_box(&target), &opts).unwrap();
+            assert!(r.reached);
+        })
+    });
+    // The soft lung rod in tension space: tensions (1, 2, 0.5) N at insertion 80 mm, turned
+    // 0.5 rad, as in `tests/inverse/reach_tension.rs`.
+    let lung = Model::from_file(format!("{ROOT}/models/soft/lung_rod.toml")).unwrap();
+    let force = energy().with_settings(ccrkit::method::Settings::new().with("control", "force"));
+    let space = Space::new(&lung, &force, false).unwrap();
+    let target = Target {
+        tip: space
+            .solve(&[1.0, 2.0, 0.5, 0.08, 0.5], None)
+            .unwrap()
+            .tip(),
+        tangent: None,
+    };
+    c.bench_function("reach/lung_rod_tension", |b| {
+        b.iter(|| {
+            let r = reach(&lung, &force, black_box(&target), &opts).unwrap();
             assert!(r.reached);
         })
     });

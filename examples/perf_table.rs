@@ -43,7 +43,7 @@ const BENCHES: &[(&str, &str)] = &[
     ),
     (
         "reach",
-        "`reach` on paper case I; `plan` around a ball and in the vessel",
+        "`reach` on paper case I, through a port (`port_behind_block`) and on the soft lung rod in tension space (`lung_rod_tension`); `plan` around a ball and in the vessel",
     ),
     (
         "predict",
