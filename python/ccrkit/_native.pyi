@@ -205,8 +205,9 @@ class Model:
         **settings: _Setting,
     ) -> Plan:
         """A clear path of actuations from ``from_actuation`` (default: the file's) to one
-        goal, ``to_tip`` [m] or ``to_actuation`` [m]; ``ccrkit plan`` (RRT-Connect, or a query
-        of the ``roadmap`` file). Through a port an actuation may end with the insertion [m]
+        goal, ``to_tip`` [m] or ``to_actuation`` [m] ([N] in tension space: a method driven
+        by tension, e.g. ``control="force"``); ``ccrkit plan`` (RRT-Connect, or a query of
+        the ``roadmap`` file). Through a port an actuation may end with the insertion [m]
         and rotation [rad] (default: the file's), and the plan gives them per waypoint. Raises
         ``NoPath`` when none is found."""
     def build_roadmap(
@@ -279,7 +280,16 @@ class Plan:
 
     @property
     def shorten(self) -> npt.NDArray[np.float64]:
-        """(waypoints, cables) shortenings [m]."""
+        """(waypoints, cables) shortenings [m]: the inputs, or in tension space the
+        path-length changes the tensions made."""
+    @property
+    def tensions(self) -> npt.NDArray[np.float64]:
+        """(waypoints, cables) tensions [N]: the inputs in tension space, else the tensions
+        the shortenings made (NaN where the method reports none)."""
+    @property
+    def space(self) -> str:
+        """``"shortening"`` or ``"tension"``: chosen by ``method`` and its ``control``
+        setting, as for ``reach``."""
     @property
     def insertion(self) -> Optional[npt.NDArray[np.float64]]:
         """(waypoints,) insertions [m] (None without a port)."""

@@ -250,13 +250,23 @@ pub struct Plan {
 
 #[pymethods]
 impl Plan {
-    /// (waypoints, cables) shortenings \[m\], in `cables` order.
+    /// (waypoints, cables) shortenings \[m\], in `cables` order: the inputs, or in tension
+    /// space the path-length changes the tensions made.
     #[getter]
     fn shorten<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let w = &self.inner.waypoints;
-        let k = self.inner.cables.len();
-        let flat: Vec<f64> = w.iter().flat_map(|n| n.u[..k].iter().copied()).collect();
-        PyArray1::from_vec(py, flat).reshape([w.len(), k])
+        self.per_cable(py, |a| a.shorten)
+    }
+    /// (waypoints, cables) tensions \[N\], in `cables` order: the inputs in tension space,
+    /// else the tensions the shortenings made (NaN where the method reports none).
+    #[getter]
+    fn tensions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.per_cable(py, |a| a.tension.unwrap_or(f64::NAN))
+    }
+    /// The space planned in: `"shortening"` or `"tension"` (chosen by the method and its
+    /// `control` setting, as for `reach`).
+    #[getter]
+    fn space(&self) -> &'static str {
+        self.inner.input.name()
     }
     /// (waypoints,) insertions \[m\] through the port (None without a port).
     #[getter]
@@ -345,6 +355,24 @@ impl Plan {
             self.inner.waypoints.len(),
             self.inner.min_clearance_m
         )
+    }
+}
+
+impl Plan {
+    /// One value per waypoint and cable of each waypoint's cable entries (the plan JSON's).
+    fn per_cable<'py>(
+        &self,
+        py: Python<'py>,
+        value: impl Fn(&ccrkit::reach::CableActuation) -> f64,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = &self.inner;
+        let flat: Vec<f64> = p
+            .waypoints
+            .iter()
+            .flat_map(|n| ccrkit::reach::CableActuation::of(&p.cables, p.input, &n.u, &n.shape))
+            .map(|a| value(&a))
+            .collect();
+        PyArray1::from_vec(py, flat).reshape([p.waypoints.len(), p.cables.len()])
     }
 }
 

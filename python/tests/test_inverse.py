@@ -168,3 +168,24 @@ def test_bad_arguments_are_named(case1, tmp_path, case1_path):
     assert e.value.field == "start"
     with pytest.raises(ccrkit.ModelError):
         model.plan(to_actuation=[0.0, 0.014], roadmap=tmp_path / "missing.json")
+
+
+def test_plan_in_tension_space_matches_the_cli(cli):
+    """The method's `control` chooses the space, as for `reach`: the soft rod planned by
+    tension round the nodule gives the CLI's plan, with tensions [N] as the inputs."""
+    rod = MODELS / "soft" / "lung_rod.toml"
+    nodule = MODELS / "soft" / "nodule.toml"
+    model = ccrkit.Model.load(rod).with_scene(nodule)
+    p = model.plan(to_actuation=[1.0, 1.0, 1.0], method="energy", control="force")
+    assert p.space == "tension"
+    out = cli(
+        "plan", rod, "--scene", nodule, "--set", "control=force",
+        "--to-actuation", MODELS / "soft" / "nodule_goal.json", "--json", "-",
+    )
+    theirs = untimed(out)
+    assert theirs["space"] == "tension"
+    assert untimed(p.to_json()) == theirs
+    w = theirs["waypoints"]
+    assert np.array_equal(p.tensions, [[a["tension"] for a in x["actuation"]] for x in w])
+    assert np.array_equal(p.shorten, [[a["shorten"] for a in x["actuation"]] for x in w])
+    assert p.tensions[0].tolist() == [0.0, 0.0, 0.0] and p.tensions[-1].tolist() == [1.0, 1.0, 1.0]
