@@ -51,7 +51,8 @@ fn every_toml_file_in_models_reads_as_toml_reads_it() {
             "plan/vessel.toml",
             "scenes/pillar.toml",
             "scenes/vessel.toml",
-            "scenes/wall.toml"
+            "scenes/wall.toml",
+            "soft/nodule.toml"
         ]
     );
 }
