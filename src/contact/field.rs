@@ -198,4 +198,4 @@ impl SolidField {
 
 #[cfg(test)]
 #[path = "field_tests.rs"]
-mod tests;
+pub(crate) mod tests;

@@ -1,6 +1,6 @@
 use super::*;
+use crate::contact::field::tests::points;
 use crate::model::mesh::{capped_tube, trimesh, Free};
-use crate::numeric::test_rng::Rng;
 
 const NODES: usize = 1 << 16;
 
@@ -14,20 +14,6 @@ fn dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("ccrkit-field-cache-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d
-}
-
-/// Random points in the mesh's bounds grown by 2 cm.
-fn points(m: &TriMesh, n: usize) -> Vec<[f64; 3]> {
-    let b = m.local_aabb();
-    let mut rng = Rng(0xCAC4E);
-    (0..n)
-        .map(|_| {
-            [0, 1, 2].map(|a| {
-                let (lo, hi) = (b.mins[a] - 0.02, b.maxs[a] + 0.02);
-                lo + (hi - lo) * rng.next()
-            })
-        })
-        .collect()
 }
 
 /// The checksum recomputed after a mutation, so that only the other checks can refuse it.
@@ -52,7 +38,7 @@ fn a_cached_grid_answers_as_the_cold_one_to_the_bit() {
             SolidField::build(&m, NODES),
             "the same grid as a build"
         );
-        for p in points(&m, 2000) {
+        for p in points(&m, 2000, 0xCAC4E) {
             let (a, b) = (cold.point_bounds(p), warm.point_bounds(p));
             assert_eq!(a.0.to_bits(), b.0.to_bits());
             assert_eq!(a.1.to_bits(), b.1.to_bits());

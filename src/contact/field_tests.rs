@@ -30,8 +30,8 @@ fn solid(free: Free) -> (TriMesh, Vec<Vector3<f64>>, Vec<[u32; 3]>) {
     (m, v, t)
 }
 
-/// Random points in the mesh's bounds grown by 2 cm.
-fn points(m: &TriMesh, n: usize, seed: u64) -> Vec<[f64; 3]> {
+/// Random points in the mesh's bounds grown by 2 cm (also the cache tests').
+pub(crate) fn points(m: &TriMesh, n: usize, seed: u64) -> Vec<[f64; 3]> {
     let b = m.local_aabb();
     let mut rng = Rng(0x5EED_0000 ^ seed);
     (0..n)
