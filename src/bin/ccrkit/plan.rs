@@ -44,7 +44,7 @@ pub(crate) struct PlanArgs {
 }
 
 pub(crate) fn run(a: PlanArgs) -> Result<()> {
-    super::check_files(
+    let mut run = super::check_files(
         &[
             ("model file", Some(&a.file)),
             ("--scene file", a.inverse.scene.as_deref()),
@@ -59,6 +59,7 @@ pub(crate) fn run(a: PlanArgs) -> Result<()> {
     )?;
     let model = Model::from_file(&a.file)?;
     let request = a.inverse.request(&model)?;
+    super::check_read(&mut run, &model, request.extra_scene.as_ref())?;
     let input = request.method.input_with(&request.settings);
     let read_actuation = |p: &std::path::Path| read_actuation_in(p, &model, input);
     let goal = match (a.to_tip.is_empty(), &a.to_actuation) {
