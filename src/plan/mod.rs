@@ -487,7 +487,7 @@ pub(crate) fn finish(
         stats,
         made_for: MadeFor {
             margin_m: ck.margin,
-            ..MadeFor::of_space(&ck.space)
+            ..MadeFor::of_space(ck.space)
         },
     })
 }
