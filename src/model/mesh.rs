@@ -11,10 +11,10 @@
 //! declares which side is free ([`Free`], [`mesh_check::solid`]).
 
 use super::mesh_check::{self, MeshError};
+use foldhash::fast::FixedState;
 use nalgebra::Vector3;
 use parry3d::math::Vector as PVec;
 use parry3d::shape::{TriMesh, TriMeshFlags};
-use foldhash::fast::FixedState;
 use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;

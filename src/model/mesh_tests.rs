@@ -196,7 +196,10 @@ fn edges_by_map(t: &[[u32; 3]]) -> Result<(), MeshError> {
     seen.sort_unstable();
     let mut boundary = (0, (0, 0));
     for &(a, b) in &seen {
-        let (ab, ba) = (directed[&(a, b)], directed.get(&(b, a)).copied().unwrap_or(0));
+        let (ab, ba) = (
+            directed[&(a, b)],
+            directed.get(&(b, a)).copied().unwrap_or(0),
+        );
         let edge = (a.min(b), a.max(b));
         if ab + ba > 2 {
             return Err(MeshError::NonManifold {
