@@ -339,23 +339,16 @@ fn port_joints(
     ));
     links.push(empty_link(PORT_LINK));
     let len = robot.length();
+    // Both joints turn or slide about the port's z axis.
+    let (z, prismatic, revolute) = (
+        [0.0, 0.0, 1.0],
+        urdf_rs::JointType::Prismatic,
+        urdf_rs::JointType::Revolute,
+    );
+    let (slide, turn) = (PORT_INSERTION_LINK, PORT_ROTATION_LINK);
     let specs = [
-        JointSpec::new(
-            "insertion",
-            PORT_INSERTION_LINK,
-            urdf_rs::JointType::Prismatic,
-            [0.0, 0.0, 1.0],
-            p.insertion,
-            (0.0, len),
-        ),
-        JointSpec::new(
-            "rotation",
-            PORT_ROTATION_LINK,
-            urdf_rs::JointType::Revolute,
-            [0.0, 0.0, 1.0],
-            p.rotation,
-            (-PI, PI),
-        ),
+        JointSpec::new("insertion", slide, prismatic, z, p.insertion, (0.0, len)),
+        JointSpec::new("rotation", turn, revolute, z, p.rotation, (-PI, PI)),
     ];
     // Disk 0 sits at (0, 0, −L) in both links' frames in every configuration (the rotation
     // is about that axis, and the disk is symmetric about it): each carries a share of it
