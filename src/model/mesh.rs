@@ -311,69 +311,81 @@ pub fn write(
     })
 }
 
-/// A bent tube (a section of a torus surface, open at both ends) as a triangle mesh: the
-/// centreline is the arc `c(θ) = (R (1 − cos θ), 0, R sin θ)` in the x–z plane, starting at the
-/// origin along +z and bending towards +x with radius `bend_radius` (R), for θ from `theta0` to
-/// `theta1` \[rad\]; the wall is the circle of radius `tube_radius` around it, with `rings`
-/// circles along the arc and `segments` vertices on each. Deterministic, so the file it writes
-/// through [`to_obj`] can be regenerated bit for bit.
-pub fn bent_tube(
-    bend_radius: f64,
-    tube_radius: f64,
-    theta0: f64,
-    theta1: f64,
-    rings: usize,
-    segments: usize,
-) -> MeshData {
-    let rings = rings.max(2);
-    let segments = segments.max(3);
-    let mut verts = Vec::with_capacity(rings * segments);
-    for k in 0..rings {
-        let th = theta0 + (theta1 - theta0) * k as f64 / (rings - 1) as f64;
-        let c = Vector3::new(bend_radius * (1.0 - th.cos()), 0.0, bend_radius * th.sin());
-        // In-plane normal (away from the bend centre) and the bend's binormal.
-        let e1 = Vector3::new(-th.cos(), 0.0, th.sin());
-        let e2 = Vector3::new(0.0, 1.0, 0.0);
-        for j in 0..segments {
-            let phi = j as f64 / segments as f64 * std::f64::consts::TAU;
-            verts.push(c + tube_radius * (phi.cos() * e1 + phi.sin() * e2));
-        }
-    }
-    let mut tris = Vec::with_capacity(2 * (rings - 1) * segments);
-    let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
-    for k in 0..rings - 1 {
-        for j in 0..segments {
-            tris.push([id(k, j), id(k + 1, j), id(k + 1, j + 1)]);
-            tris.push([id(k, j), id(k + 1, j + 1), id(k, j + 1)]);
-        }
-    }
-    (verts, tris)
+/// A bent tube: a section of a torus surface whose centreline is the arc
+/// `c(θ) = (R (1 − cos θ), 0, R sin θ)` in the x–z plane, starting at the origin along +z and
+/// bending towards +x with radius `bend_radius` (R), for θ from `theta0` to `theta1` \[rad\];
+/// the wall is the circle of radius `tube_radius` around it, with `rings` circles along the arc
+/// and `segments` vertices on each (at least 2 and 3 are used). Deterministic, so the files it
+/// writes through [`to_obj`] can be regenerated bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BentTube {
+    /// Radius of the centreline's arc \[m\].
+    pub bend_radius: f64,
+    /// Radius of the wall around the centreline \[m\].
+    pub tube_radius: f64,
+    /// Arc angle where the tube starts \[rad\].
+    pub theta0: f64,
+    /// Arc angle where the tube ends \[rad\].
+    pub theta1: f64,
+    /// Circles of vertices along the arc.
+    pub rings: usize,
+    /// Vertices on each circle.
+    pub segments: usize,
 }
 
-/// [`bent_tube`] closed at both ends by flat caps (a fan about each end ring's centre): a
-/// closed, consistently wound solid ([`mesh_check::solid`]) of `2 rings × segments`
-/// triangles — a lumen with `free = "inside"`.
-pub fn capped_tube(
-    bend_radius: f64,
-    tube_radius: f64,
-    theta0: f64,
-    theta1: f64,
-    rings: usize,
-    segments: usize,
-) -> MeshData {
-    let (rings, segments) = (rings.max(2), segments.max(3));
-    let (mut v, mut t) = bent_tube(bend_radius, tube_radius, theta0, theta1, rings, segments);
-    let centre =
-        |th: f64| Vector3::new(bend_radius * (1.0 - th.cos()), 0.0, bend_radius * th.sin());
-    let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
-    v.push(centre(theta0));
-    v.push(centre(theta1));
-    let (c0, c1) = ((v.len() - 2) as u32, (v.len() - 1) as u32);
-    for j in 0..segments {
-        t.push([c0, id(0, j), id(0, j + 1)]);
-        t.push([c1, id(rings - 1, j + 1), id(rings - 1, j)]);
+impl BentTube {
+    /// The centreline's point at arc angle `th`.
+    fn centre(&self, th: f64) -> Vector3<f64> {
+        let r = self.bend_radius;
+        Vector3::new(r * (1.0 - th.cos()), 0.0, r * th.sin())
     }
-    (v, t)
+
+    /// Rings and segments as meshed (at least 2 and 3).
+    fn counts(&self) -> (usize, usize) {
+        (self.rings.max(2), self.segments.max(3))
+    }
+
+    /// The wall alone, open at both ends: `2 (rings − 1) segments` triangles.
+    pub fn open(&self) -> MeshData {
+        let (rings, segments) = self.counts();
+        let mut verts = Vec::with_capacity(rings * segments);
+        for k in 0..rings {
+            let th = self.theta0 + (self.theta1 - self.theta0) * k as f64 / (rings - 1) as f64;
+            // In-plane normal (away from the bend centre) and the bend's binormal.
+            let e1 = Vector3::new(-th.cos(), 0.0, th.sin());
+            let e2 = Vector3::new(0.0, 1.0, 0.0);
+            for j in 0..segments {
+                let phi = j as f64 / segments as f64 * std::f64::consts::TAU;
+                verts.push(self.centre(th) + self.tube_radius * (phi.cos() * e1 + phi.sin() * e2));
+            }
+        }
+        let mut tris = Vec::with_capacity(2 * (rings - 1) * segments);
+        for k in 0..rings - 1 {
+            for j in 0..segments {
+                let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
+                tris.push([id(k, j), id(k + 1, j), id(k + 1, j + 1)]);
+                tris.push([id(k, j), id(k + 1, j + 1), id(k, j + 1)]);
+            }
+        }
+        (verts, tris)
+    }
+
+    /// The tube closed at both ends by flat caps (a fan about each end ring's centre): a
+    /// closed, consistently wound solid ([`mesh_check::solid`]) of `2 rings × segments`
+    /// triangles — a lumen with `free = "inside"`.
+    pub fn capped(&self) -> MeshData {
+        let (rings, segments) = self.counts();
+        let (mut v, mut t) = self.open();
+        v.push(self.centre(self.theta0));
+        v.push(self.centre(self.theta1));
+        let (c0, c1) = ((v.len() - 2) as u32, (v.len() - 1) as u32);
+        let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
+        for j in 0..segments {
+            t.push([c0, id(0, j), id(0, j + 1)]);
+            t.push([c1, id(rings - 1, j + 1), id(rings - 1, j)]);
+        }
+        (v, t)
+    }
 }
 
 #[cfg(test)]

@@ -173,7 +173,15 @@ fn each_bad_file_is_named() {
 #[test]
 fn the_capped_tube_is_a_solid_of_the_torus_volume() {
     let (r_bend, r, th) = (0.11, 0.02, 1.9);
-    let (v, t) = capped_tube(r_bend, r, -0.1, 1.8, 400, 64);
+    let (v, t) = BentTube {
+        bend_radius: r_bend,
+        tube_radius: r,
+        theta0: -0.1,
+        theta1: 1.8,
+        rings: 400,
+        segments: 64,
+    }
+    .capped();
     mesh_check::basic(&v, &t).unwrap();
     let solid = mesh_check::solid(&v, &t).unwrap();
     let n = 64.0;
