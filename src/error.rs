@@ -78,8 +78,10 @@ pub enum SolveError {
     },
     /// An iterative solver stopped without meeting its tolerance.
     #[error(
-        "{method} did not converge{}: {iterations} iterations, residual {residual:.3e}{}",
+        "{method} did not converge{}: {iterations} iterations, residual {}{}",
         section.map(|s| format!(" in section {s}")).unwrap_or_default(),
+        // A residual that overflowed is said in words, never printed as `NaN`/`inf`.
+        if residual.is_finite() { format!("{residual:.3e}") } else { "not finite".into() },
         if detail.is_empty() { String::new() } else { format!(" ({detail})") }
     )]
     NotConverged {
@@ -310,5 +312,31 @@ impl std::fmt::Display for Status {
 impl PartialEq<&str> for Status {
     fn eq(&self, other: &&str) -> bool {
         self.name() == *other
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SolveError;
+
+    /// A residual that overflowed reads `not finite` (it printed `residual NaN`, a non-finite
+    /// token in the output of a run that exits 0, e.g. a `compare` row).
+    #[test]
+    fn a_non_finite_residual_is_said_in_words() {
+        let e = |residual| SolveError::NotConverged {
+            method: "cosserat".into(),
+            section: None,
+            iterations: 3,
+            residual,
+            detail: String::new(),
+        };
+        assert_eq!(
+            e(f64::NAN).to_string(),
+            "cosserat did not converge: 3 iterations, residual not finite"
+        );
+        assert!(e(f64::INFINITY)
+            .to_string()
+            .ends_with("residual not finite"));
+        assert!(e(1.5e-3).to_string().ends_with("residual 1.500e-3"));
     }
 }

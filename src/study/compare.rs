@@ -163,15 +163,20 @@ impl std::fmt::Display for Comparison {
                     format!("[{:.3}, {:.3}, {:.3}]", t.x, t.y, t.z)
                 })
                 .unwrap_or_default();
+            // A row that did not solve has no time (`NaN` inside): left blank, as its tip.
+            let time = match r.time_s.is_finite() {
+                true => format!("{:.0}", r.time_s * 1e6),
+                false => String::new(),
+            };
             writeln!(
                 f,
-                "{:<4} {:<40} {:<11} {:<14} {:>32} {:>10.0}",
+                "{:<4} {:<40} {:<11} {:<14} {:>32} {:>10}",
                 k + 1,
                 r.label,
                 r.input.name(),
                 r.status.name(),
                 tip,
-                r.time_s * 1e6
+                time
             )?;
             if let Some(e) = &r.error {
                 writeln!(f, "     {e}")?;

@@ -394,3 +394,121 @@ fn an_output_onto_a_file_the_model_or_scene_names_is_refused_by_name() {
         refused(&dir, &["view", "N.toml", "--out", "link.stl"], own);
     }
 }
+
+/// Generated: every command that writes (`view`, `export urdf` in both modes, `solve --json`,
+/// `compare --json`, `reach --json`, `plan --json`, `plan --trajectory`, `roadmap build`) ×
+/// every file the run reads (the model, a `--scene` file, the scene file the model names, the
+/// STL/OBJ/PLY meshes named inline, in that scene and in `--scene`) × every spelling of it (as
+/// given, `./`, through a folder and `..`, absolute, a symbolic link, a hard link): each run
+/// is refused with `would be overwritten` before anything is written, under a budget, and no
+/// file of the folder changes.
+#[test]
+fn every_writer_onto_every_input_in_every_spelling_is_refused() {
+    use crate::common::adversarial_harness::run_all;
+    let dir = named_fixtures("matrix");
+    let writers: &[&[&str]] = &[
+        &["view", "N.toml", "--scene", "extra.toml", "--out"],
+        &["export", "urdf", "N.toml", "--scene", "extra.toml", "--out"],
+        &[
+            "export",
+            "urdf",
+            "N.toml",
+            "--scene",
+            "extra.toml",
+            "--mode",
+            "fixed",
+            "--out",
+        ],
+        &["solve", "N.toml", "--scene", "extra.toml", "--json"],
+        &["compare", "N.toml", "--scene", "extra.toml", "--json"],
+        &[
+            "reach",
+            "N.toml",
+            "--tip",
+            "0,0,0.1",
+            "--scene",
+            "extra.toml",
+            "--json",
+        ],
+        &[
+            "plan",
+            "N.toml",
+            "--to-tip",
+            "0,0,0.1",
+            "--scene",
+            "extra.toml",
+            "--json",
+        ],
+        &[
+            "plan",
+            "N.toml",
+            "--to-tip",
+            "0,0,0.1",
+            "--scene",
+            "extra.toml",
+            "--trajectory",
+        ],
+        &[
+            "roadmap",
+            "build",
+            "N.toml",
+            "--scene",
+            "extra.toml",
+            "--out",
+        ],
+    ];
+    let inputs = [
+        "N.toml",
+        "extra.toml",
+        "scenes/room.toml",
+        "meshes/tet.stl",
+        "meshes/tet.obj",
+        "meshes/tet.ply",
+    ];
+    std::fs::create_dir_all(dir.join("links")).expect("dir");
+    let mut spellings = Vec::new();
+    for (k, f) in inputs.iter().enumerate() {
+        let abs = dir.join(f).display().to_string();
+        let link = format!("links/s{k}");
+        let hard = format!("links/h{k}");
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink(dir.join(f), dir.join(&link)).expect("symlink");
+            std::fs::hard_link(dir.join(f), dir.join(&hard)).expect("hard link");
+        }
+        spellings.extend([
+            f.to_string(),
+            format!("./{f}"),
+            format!("links/../{f}"),
+            abs,
+        ]);
+        if cfg!(unix) {
+            spellings.extend([link, hard]);
+        }
+    }
+    let before = snapshot(&dir);
+    let mut jobs = Vec::new();
+    for w in writers {
+        for out in &spellings {
+            let mut a: Vec<String> = w.iter().map(|s| s.to_string()).collect();
+            a.push(out.clone());
+            jobs.push((a, None));
+        }
+    }
+    let n = jobs.len();
+    let t = run_all(&dir, jobs.clone(), std::time::Duration::from_secs(60));
+    t.report_and_assert("outputs onto inputs");
+    assert_eq!((t.runs, t.named), (n, n), "every run refused: {t:?}");
+    assert_eq!(snapshot(&dir), before, "a refused run changed a file");
+    // Named, and named as this refusal (not another error on the way).
+    for (a, _) in jobs.iter().step_by(7) {
+        let out = ccrkit_in(&dir, a);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(OVER), "{a:?}: {err}");
+    }
+    println!(
+        "outputs onto inputs: {n} runs ({} writers × {} spellings)",
+        writers.len(),
+        spellings.len()
+    );
+}

@@ -289,3 +289,155 @@ fn deepest_disk_in_ball(v: &serde_json::Value, spec: &RobotSpec, c: Vector3<f64>
     }
     worst
 }
+
+/// Every number in `v` finite (`null` only where `allowed` says so for its path).
+fn finite_numbers(
+    v: &serde_json::Value,
+    path: &str,
+    allowed: &dyn Fn(&str) -> bool,
+) -> Option<String> {
+    match v {
+        serde_json::Value::Null if !allowed(path) => Some(format!("{path} is null")),
+        serde_json::Value::Number(n) if n.as_f64().is_none_or(|x| !x.is_finite()) => {
+            Some(format!("{path} = {n}"))
+        }
+        serde_json::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(k, x)| finite_numbers(x, &format!("{path}[{k}]"), allowed)),
+        serde_json::Value::Object(m) => m
+            .iter()
+            .find_map(|(k, x)| finite_numbers(x, &format!("{path}.{k}"), allowed)),
+        _ => None,
+    }
+}
+
+/// What `report.unique` says holds together, read from the JSON alone: the equilibria are the
+/// answer and each try marked distinct (each farther than the tolerance); the converged tries
+/// are those with a tip; `only` is one equilibrium and at least one converged try; a try
+/// without a tip names its error.
+fn unique_consistent(u: &serde_json::Value) -> Result<(), String> {
+    let tries = u["tries"].as_array().ok_or("no tries")?;
+    let tol = u["tolerance_m"].as_f64().ok_or("no tolerance")?;
+    let mut converged = 0;
+    let mut distinct = 0;
+    for t in tries {
+        match (t["tip_distance_m"].as_f64(), t["tip_m"].is_array()) {
+            (Some(d), true) => {
+                converged += 1;
+                if t["distinct"] == true {
+                    distinct += 1;
+                    if d <= tol {
+                        return Err(format!("distinct at {d} ≤ {tol}: {t}"));
+                    }
+                }
+            }
+            (None, false) if t["error"].as_str().is_some_and(|e| !e.is_empty()) => {}
+            _ => return Err(format!("a try neither converged nor named its error: {t}")),
+        }
+    }
+    let equilibria = u["equilibria"].as_u64().ok_or("no equilibria")? as usize;
+    let claimed = u["converged_tries"].as_u64().ok_or("no converged_tries")? as usize;
+    if equilibria != 1 + distinct || claimed != converged {
+        return Err(format!("{equilibria} equilibria, {claimed} converged: {u}"));
+    }
+    if u["only"] != (equilibria == 1 && converged > 0) {
+        return Err(format!("`only` disagrees with its counts: {u}"));
+    }
+    Ok(())
+}
+
+/// Multiplicity: random robots solved by every method with `--check unique`, and compared
+/// (`compare --json`), under the budget: no panic, hang or unnamed failure; every number
+/// finite (a `null` only where a try, the other model or a compared row did not solve);
+/// `report.unique`
+/// consistent with its own tries; the comparison's `any_disagreement` and each pair's
+/// `disagree` what its distances and inputs say.
+#[test]
+fn random_robots_checked_for_other_equilibria_report_consistently() {
+    let cases: u32 = std::env::var("CCRKIT_ADVERSARIAL_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .map_or(12, |c: u32| c.div_ceil(3));
+    let dir = scratch("multiplicity");
+    let mut runner = TestRunner::new(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let ms = methods();
+    let mut jobs = vec![];
+    let mut files = vec![];
+    for k in 0..cases {
+        let spec = robot()
+            .new_tree(&mut runner)
+            .expect("strategy draws")
+            .current();
+        let file = dir.join(format!("robot{k}.toml"));
+        std::fs::write(&file, toml(&spec)).expect("write");
+        let f = file.display().to_string();
+        for (j, m) in ms.iter().enumerate() {
+            let json = dir.join(format!("u{k}_{j}.json"));
+            let j = json.display().to_string();
+            let a = [
+                "solve", &f, "--method", m, "--check", "unique", "--json", &j,
+            ];
+            jobs.push((a.iter().map(|s| s.to_string()).collect(), None));
+            files.push(json);
+        }
+        let json = dir.join(format!("c{k}.json"));
+        let a = ["compare", &f, "--json", &json.display().to_string()];
+        jobs.push((a.iter().map(|s| s.to_string()).collect(), None));
+        files.push(json);
+    }
+    let t: Tally = run_all(&dir, jobs, BUDGET);
+    t.report_and_assert("multiplicity (--check unique, compare)");
+    let unconverged = |p: &str| {
+        [
+            ".tip_distance_m",
+            ".tip_m",
+            ".stable",
+            ".tension",
+            ".time_s",
+        ]
+        .iter()
+        .any(|s| p.ends_with(s))
+    };
+    let (mut checked, mut several) = (0, 0);
+    for f in &files {
+        let Ok(text) = std::fs::read_to_string(f) else {
+            continue;
+        };
+        let v: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+        if let Some(bad) = finite_numbers(&v, "", &unconverged) {
+            panic!("{}: {bad}", f.display());
+        }
+        if let Some(u) = v.pointer("/report/unique") {
+            unique_consistent(u).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+            several += usize::from(u["equilibria"].as_u64() > Some(1));
+        } else {
+            // A row that did not solve has no tip, stability or time, and names its error.
+            for r in v["rows"].as_array().expect("rows") {
+                let ok = r["status"] == "ok";
+                assert_eq!(ok, r["tip_m"].is_array(), "{r}");
+                assert_eq!(ok, r["time_s"].is_number(), "{r}");
+                assert!(ok || r["error"].is_string(), "{r}");
+            }
+            let tol = v["tolerance_m"].as_f64().expect("tolerance");
+            let pairs = v["pairs"].as_array().expect("pairs");
+            for p in pairs {
+                let d = p["tip_m"].as_f64().expect("tip distance");
+                assert_eq!(p["disagree"], p["same_input"] == true && d > tol, "{p}");
+            }
+            let any = pairs.iter().any(|p| p["disagree"] == true);
+            assert_eq!(v["any_disagreement"], any, "{}", f.display());
+        }
+        checked += 1;
+    }
+    assert!(
+        checked > files.len() / 3,
+        "{checked} of {} answered",
+        files.len()
+    );
+    println!("multiplicity: {checked} answers checked, {several} with more than one equilibrium");
+}
