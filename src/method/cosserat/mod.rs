@@ -209,6 +209,7 @@ mod settings;
 mod shooting;
 mod solve;
 mod unloaded;
+mod unloaded_solve;
 mod variational;
 mod warm;
 
