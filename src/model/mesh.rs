@@ -11,6 +11,7 @@
 //! declares which side is free ([`Free`], [`mesh_check::solid`]).
 
 use super::mesh_check::{self, MeshError};
+use foldhash::fast::FixedState;
 use nalgebra::Vector3;
 use parry3d::math::Vector as PVec;
 use parry3d::shape::{TriMesh, TriMeshFlags};
@@ -71,13 +72,13 @@ pub fn load(path: &Path) -> Result<MeshData, MeshError> {
 /// Parse the bytes of a mesh file in `format` (`STL`, `OBJ` or `PLY`), vertices merged.
 pub fn parse(format: &'static str, bytes: Vec<u8>) -> Result<MeshData, MeshError> {
     let read = |reason: String| MeshError::Read { format, reason };
-    let (v, t) = match format {
-        "STL" => stl(bytes).map_err(read)?,
-        "OBJ" => obj(&bytes).map_err(read)?,
-        "PLY" => ply(&bytes).map_err(read)?,
-        _ => return Err(MeshError::Format),
-    };
-    Ok(merge(v, t))
+    match format {
+        // Merged as read.
+        "STL" => stl(bytes).map_err(read),
+        "OBJ" => obj(&bytes).map_err(read).map(|(v, t)| merge(v, t)),
+        "PLY" => ply(&bytes).map_err(read).map(|(v, t)| merge(v, t)),
+        _ => Err(MeshError::Format),
+    }
 }
 
 /// An STL file by `stl_io`. A file whose size is exactly that of a binary STL with the
@@ -99,18 +100,55 @@ fn stl(mut bytes: Vec<u8>) -> Result<MeshData, String> {
             count.map_or("missing".into(), |n| n.to_string())
         ));
     }
-    let mesh = stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| e.to_string())?;
-    let v = mesh
-        .vertices
-        .iter()
-        .map(|p| Vector3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
-        .collect();
-    let t = mesh
-        .faces
-        .iter()
-        .map(|f| try_indices(f.vertices.map(|i| i as u64)))
-        .collect::<Result<_, _>>()?;
-    Ok((v, t))
+    // `stl_io`'s triangles, their corners merged here once (its own indexed read hashes every
+    // corner with SipHash, and the corners were merged again after it).
+    let cap = (bytes.len() / 50).min(super::mesh_check::MAX_TRIANGLES + 1);
+    let mut cursor = Cursor::new(bytes);
+    let reader = stl_io::create_stl_reader(&mut cursor).map_err(|e| e.to_string())?;
+    let mut merged = Merged::with_capacity(cap);
+    for t in reader {
+        let t = t.map_err(|e| e.to_string())?;
+        let mut tri = [0u32; 3];
+        for (id, v) in tri.iter_mut().zip(&t.vertices) {
+            let p = Vector3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]));
+            *id = merged.index(p)?;
+        }
+        merged.triangles.push(tri);
+    }
+    Ok((merged.vertices, merged.triangles))
+}
+
+/// Vertices equal to the bit merged as they come (the first kept, in order), with the
+/// triangles naming them: one hash map (foldhash, fixed seed) sized up front.
+struct Merged {
+    index: HashMap<[u64; 3], u32, FixedState>,
+    vertices: Vec<Vector3<f64>>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl Merged {
+    /// Room for about `triangles` triangles of a closed mesh (half as many vertices).
+    fn with_capacity(triangles: usize) -> Merged {
+        Merged {
+            index: HashMap::with_capacity_and_hasher(triangles / 2 + 4, FixedState::default()),
+            vertices: Vec::with_capacity(triangles / 2 + 4),
+            triangles: Vec::with_capacity(triangles),
+        }
+    }
+
+    /// The index of the vertex `p` (a new one when no earlier vertex has its bits).
+    fn index(&mut self, p: Vector3<f64>) -> Result<u32, String> {
+        let next = u32::try_from(self.vertices.len())
+            .map_err(|_| format!("more than {} vertices", u32::MAX))?;
+        let id = *self
+            .index
+            .entry([p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .or_insert(next);
+        if id == next {
+            self.vertices.push(p);
+        }
+        Ok(id)
+    }
 }
 
 /// A Wavefront OBJ file by `tobj` (faces fanned into triangles, every object's vertices in one
@@ -206,7 +244,8 @@ fn try_indices(ids: [u64; 3]) -> Result<[u32; 3], String> {
 /// Vertices equal to the bit merged (the first kept, in order), triangles re-indexed; an
 /// index out of range is kept out of range (for [`mesh_check::basic`] to name).
 fn merge(v: Vec<Vector3<f64>>, t: Vec<[u32; 3]>) -> MeshData {
-    let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(v.len());
+    let mut index: HashMap<[u64; 3], u32, FixedState> =
+        HashMap::with_capacity_and_hasher(v.len(), FixedState::default());
     let mut verts = Vec::with_capacity(v.len());
     let map: Vec<u32> = v
         .iter()
