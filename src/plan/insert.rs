@@ -83,11 +83,16 @@ fn out_first(space: &Space, s: &[f64], g: &[f64]) -> Vec<[Vec<f64>; 2]> {
         .filter(|&c| tied(c) && g[c] > s[c].max(0.0))
         .map(|c| out_at(space, c))
         .fold(f64::NEG_INFINITY, f64::max);
-    let deepest = (0..k).filter(|&c| !tied(c)).map(|c| robot.cables[c].ends_at).max();
+    let deepest = (0..k)
+        .filter(|&c| !tied(c))
+        .map(|c| robot.cables[c].ends_at)
+        .max();
     let (true, Some(deepest)) = (out.is_finite() && out < dg, deepest) else {
         return Vec::new();
     };
-    let steer: Vec<usize> = (0..k).filter(|&c| robot.cables[c].ends_at == deepest).collect();
+    let steer: Vec<usize> = (0..k)
+        .filter(|&c| robot.cables[c].ends_at == deepest)
+        .collect();
     let hole = |c: usize| robot.cables[c].hole(0);
     let most = steer
         .iter()
@@ -95,7 +100,9 @@ fn out_first(space: &Space, s: &[f64], g: &[f64]) -> Vec<[Vec<f64>; 2]> {
         .fold(f64::INFINITY, f64::min)
         .max(0.0);
     let stops = |free: &dyn Fn(usize) -> f64| {
-        let mut bent: Vec<f64> = (0..k).map(|c| if tied(c) { s[c] } else { free(c) }).collect();
+        let mut bent: Vec<f64> = (0..k)
+            .map(|c| if tied(c) { s[c] } else { free(c) })
+            .collect();
         bent.extend([ds, g[k + 1]]);
         let mut deep = bent.clone();
         deep[k] = out;

@@ -130,7 +130,7 @@ fn arc_start(space: &Space, target: &Target) -> Option<Vec<f64>> {
         .base_frame(psi)
         .inverse_transform_point(&nalgebra::Point3::from(target.tip));
     let (rho, z) = (q.x.hypot(q.y), q.z);
-    if !(z > 0.0) {
+    if z.is_nan() || z <= 0.0 {
         return None;
     }
     // The arc tangent to the axis at the port turns by twice the chord's angle to the axis.

@@ -59,7 +59,8 @@ fn a_goal_bending_the_tied_segment_is_planned_by_inserting_first() {
     assert_eq!(proximal.len(), 3);
     let retracted = setup.retracted(&space);
     assert!(
-        proximal.iter().any(|&c| task.u[c] > 0.0) && proximal.iter().all(|&c| out(c) > retracted[k]),
+        proximal.iter().any(|&c| task.u[c] > 0.0)
+            && proximal.iter().all(|&c| out(c) > retracted[k]),
         "the goal pulls a cable tied at the retracted insertion: {:?}",
         task.u
     );
@@ -78,7 +79,11 @@ fn a_goal_bending_the_tied_segment_is_planned_by_inserting_first() {
     .expect("planned by a staged path");
     assert_eq!(p.stats.samples, 0, "no random sample drawn");
     let last = &p.waypoints[p.waypoints.len() - 1];
-    assert!(last.u.iter().zip(&task.u).all(|(a, b)| (a - b).abs() < 1e-12));
+    assert!(last
+        .u
+        .iter()
+        .zip(&task.u)
+        .all(|(a, b)| (a - b).abs() < 1e-12));
     for w in &p.waypoints {
         for &c in &proximal {
             assert!(
@@ -88,6 +93,10 @@ fn a_goal_bending_the_tied_segment_is_planned_by_inserting_first() {
             );
         }
         let dense = dense_clearance(&setup, &w.shape);
-        assert!(dense >= 0.0, "a waypoint {dense} m from the wall: {:?}", w.u);
+        assert!(
+            dense >= 0.0,
+            "a waypoint {dense} m from the wall: {:?}",
+            w.u
+        );
     }
 }
