@@ -461,5 +461,9 @@ fn finish(
         },
         reason: reasons.join("; "),
         by_tension: space.by_tension(),
+        made_for: crate::fingerprint::MadeFor {
+            margin_m: margin,
+            ..crate::fingerprint::MadeFor::of_space(space)
+        },
     })
 }
