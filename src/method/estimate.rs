@@ -79,7 +79,7 @@ pub struct ErrorEstimate {
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub note: String,
     /// Why the discretization part was measured by an extra solve rather than read from the
-    /// answer alone ([`a_priori`]: `energy … through a port`, `cosserat has none`), or empty.
+    /// answer alone ([`a_priori`]: `energy with contacts`, `cosserat has none`), or empty.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub fallback: String,
     /// Each extra solve that failed, by its setting, status name and message
@@ -219,7 +219,8 @@ pub const LOCAL_FACTOR: f64 = 1.0;
 /// The discretization part of an `energy` answer read from the answer alone \[m\] (safety
 /// factor included): the strain each constant-strain sub-arc leaves out, from the cables'
 /// pull and the loads along it (`energy/local_error.rs`), times [`LOCAL_FACTOR`]. `None`
-/// where it does not apply (another method, a port, contacts, chord lengths, a tip moment):
+/// where it does not apply (another method, contacts, chord lengths, a tip moment; through a
+/// port it reads the robot beyond it, as solved):
 /// Richardson's extra solve then measures it.
 pub fn a_priori_discretization(
     kind: MethodKind,
@@ -230,8 +231,8 @@ pub fn a_priori_discretization(
     a_priori(kind, settings, robot, shape).ok()
 }
 
-/// [`a_priori_discretization`], or why it does not apply (`energy through a port`, `energy
-/// with contacts`, `cosserat has none`, …).
+/// [`a_priori_discretization`], or why it does not apply (`energy with contacts`, `energy with
+/// chord cable lengths`, `cosserat has none`, …).
 pub fn a_priori(
     kind: MethodKind,
     settings: &Settings,

@@ -26,11 +26,12 @@
 //! calibration factor in `estimate.rs` covers that, measured on random robots.
 
 use super::kinematics::sheared_exp;
-use crate::method::warm::WarmState;
+use crate::method::port::solved_beyond;
+use crate::method::warm::{EnergyWarm, WarmState};
 use crate::model::actuation::LengthMeasure;
 use crate::model::robot::Robot;
 use crate::model::routing::{Route, RoutingFit};
-use crate::shape::Shape;
+use crate::shape::{CablePath, Shape, TipJacobian};
 use nalgebra::{Matrix3, Vector3};
 
 /// A body frame along the backbone: arc length (undeformed), rotation, position.
@@ -38,8 +39,11 @@ type Frame = (f64, Matrix3<f64>, Vector3<f64>);
 
 /// The leading discretization error of the energy answer `shape` of `robot` (module docs)
 /// \[m\], unscaled, per section (base first; the tip error is bounded by their sum); where it
-/// does not apply, why: not an energy answer, through a port, with contacts, chord cable
-/// lengths, a tip moment, no Jacobian, or strains that do not fit the robot.
+/// does not apply, why: not an energy answer, with contacts, chord cable lengths, a tip
+/// moment, no Jacobian, or strains that do not fit the robot. Through a port, the robot
+/// beyond it is what was solved (`method/port.rs`): its loads turned into its frame, its
+/// cables those not tied behind the port; the tip error of a rigid placement is its own, and
+/// nothing bending beyond the port is exact (0).
 pub fn local_error(
     robot: &Robot,
     shape: &Shape,
@@ -48,25 +52,64 @@ pub fn local_error(
     let Some(WarmState::Energy(e)) = shape.report.warm.as_ref() else {
         return Err("the answer carries no energy strains");
     };
-    let n = robot.sections();
-    let m = e.sub_arcs;
-    let nsub = n * m;
-    if shape.port.is_some() {
-        return Err("through a port");
-    }
     if !shape.contacts.is_empty() {
         return Err("with contacts");
     }
     if e.length != LengthMeasure::Path {
         return Err("with chord cable lengths");
     }
+    if shape.cables.len() != robot.cables.len() {
+        return Err("with strains that do not fit the robot");
+    }
+    let jac = shape.report.jacobian.as_ref();
+    let Some(state) = shape.port.as_ref() else {
+        let paths: Vec<&CablePath> = shape.cables.iter().collect();
+        return strain_error(robot, e, &paths, jac, routing);
+    };
+    let port = robot
+        .port
+        .as_ref()
+        .ok_or("through a port the robot does not have")?;
+    let Some((b, sub)) = solved_beyond(robot, port, state)
+        .map_err(|_| "through a port that does not cut the robot")?
+    else {
+        return Ok(vec![0.0; robot.sections()]);
+    };
+    let paths: Vec<&CablePath> = shape
+        .cables
+        .iter()
+        .zip(&b.cables)
+        .filter_map(|(p, at)| at.map(|_| p))
+        .collect();
+    let beyond = strain_error(&sub, e, &paths, jac, routing)?;
+    let mut out = vec![0.0; robot.sections()];
+    for (i, x) in beyond.into_iter().enumerate() {
+        if let Some(o) = out.get_mut(b.section(i + 1) - 1) {
+            *o += x;
+        }
+    }
+    Ok(out)
+}
+
+/// [`local_error`] of the strains `e` of `robot` (no port), with its cables' `paths` (tensions,
+/// names) and the answer's Jacobian `jac`.
+fn strain_error(
+    robot: &Robot,
+    e: &EnergyWarm,
+    paths: &[&CablePath],
+    jac: Option<&TipJacobian>,
+    routing: RoutingFit,
+) -> Result<Vec<f64>, &'static str> {
+    let n = robot.sections();
+    let m = e.sub_arcs;
+    let nsub = n * m;
     if robot.loads.tip_moment != Vector3::zeros() {
         return Err("with a tip moment");
     }
     let fits = m > 0
         && e.strains.len() == 4 * nsub
         && (e.shear.is_empty() || e.shear.len() == nsub)
-        && shape.cables.len() == robot.cables.len();
+        && paths.len() == robot.cables.len();
     if !fits {
         return Err("with strains that do not fit the robot");
     }
@@ -74,8 +117,7 @@ pub fn local_error(
         .map(|c| Route::new(robot, c, routing).ok())
         .collect::<Option<Vec<Route>>>()
         .ok_or("without a routing curve for every cable")?;
-    let tensions: Vec<f64> = shape
-        .cables
+    let tensions: Vec<f64> = paths
         .iter()
         .map(|c| c.tension.unwrap_or(0.0).max(0.0))
         .collect();
@@ -95,7 +137,7 @@ pub fn local_error(
     // The tip's pull per metre of each length-driven cable's shortening (the answer's
     // Jacobian): a path the sub-arcs measure differently moves the tip as a shortening would.
     let driven =
-        length_driven(robot, shape).ok_or("without the answer's Jacobian (sensitivity = off)")?;
+        length_driven(paths, jac).ok_or("without the answer's Jacobian (sensitivity = off)")?;
     let loads = dead_loads(robot, &frames, m);
     let b = &robot.backbone;
     let (ei, gj) = (b.ei(), b.gj());
@@ -168,10 +210,9 @@ pub fn local_error(
 /// Per cable, `|∂p_tip/∂shortening|` of the length-driven cables (0 for the others), from the
 /// answer's Jacobian; `None` when a cable with a tension is neither in it as a shortening nor as
 /// a tension (no Jacobian: solved with `sensitivity = off`).
-fn length_driven(robot: &Robot, shape: &Shape) -> Option<Vec<f64>> {
-    let mut out = vec![0.0; robot.cables.len()];
-    let jac = shape.report.jacobian.as_ref();
-    for (c, path) in shape.cables.iter().enumerate() {
+fn length_driven(paths: &[&CablePath], jac: Option<&TipJacobian>) -> Option<Vec<f64>> {
+    let mut out = vec![0.0; paths.len()];
+    for (c, path) in paths.iter().enumerate() {
         if path.tension.unwrap_or(0.0) <= 0.0 {
             continue;
         }

@@ -51,22 +51,25 @@ fn energy_estimates_need_no_extra_solve_and_bound_the_refined_error() {
 }
 
 /// Where the a-priori part does not apply, the estimate says why and measures it by an extra
-/// solve: through a port, and with chord cable lengths.
+/// solve: with contacts (paper case I pressed on the wall), and with chord cable lengths.
 #[test]
 fn fallbacks_name_their_reason() {
-    let port = Model::from_file("models/port/behind_block.toml").expect("port model");
+    let case1 = Model::from_file("models/paper/case1.toml").expect("case I");
     let case2 = Model::from_file("models/paper/case2.toml").expect("case II");
+    let wall = Scene::from_file("models/scenes/wall.toml").expect("the wall");
     let cases = [
-        (&port, Settings::new(), "energy through a port"),
+        (&case1, Some(wall), Settings::new(), "energy with contacts"),
         (
             &case2,
+            None,
             Settings::new().with("length", "chord"),
             "energy with chord cable lengths",
         ),
     ];
-    for (model, s, why) in cases {
+    for (model, scene, s, why) in cases {
         let shape = SolveRequest::new(MethodKind::Energy)
             .with_settings(s)
+            .with_scene(scene)
             .with_estimate(true)
             .run(model)
             .expect("solves")
@@ -76,4 +79,19 @@ fn fallbacks_name_their_reason() {
         assert_eq!(e.against, "sub-arcs=3", "{e:?}");
         assert!(e.discretization_m.is_some() && e.failed.is_empty(), "{e:?}");
     }
+}
+
+/// Through a port the estimate is read from the answer alone too.
+#[test]
+fn port_answers_are_estimated_a_priori() {
+    let port = Model::from_file("models/port/behind_block.toml").expect("port model");
+    let shape = SolveRequest::new(MethodKind::Energy)
+        .with_estimate(true)
+        .run(&port)
+        .expect("solves")
+        .shape;
+    assert!(shape.contacts.is_empty(), "the block is not touched");
+    let e = shape.report.error_estimate.expect("asked for");
+    assert_eq!(e.against, A_PRIORI, "{e:?}");
+    assert!(e.fallback.is_empty(), "{e:?}");
 }
