@@ -6,7 +6,6 @@
 //! `cargo bench --bench clearance`
 
 #[path = "../examples/common/airway_tasks.rs"]
-#[allow(dead_code)]
 mod airway_tasks;
 
 use airway_tasks::Setup;
