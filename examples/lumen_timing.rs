@@ -6,7 +6,7 @@
 //! solve: the clearance of the shape solved without obstacles)
 
 use anyhow::Result;
-use ccrkit::mesh::{capped_tube, to_obj};
+use ccrkit::mesh::{to_obj, BentTube};
 use ccrkit::prelude::*;
 use ccrkit::reach::clearance;
 use std::path::PathBuf;
@@ -20,7 +20,15 @@ fn main() -> Result<()> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let dir = root.join("target/lumen_timing");
     std::fs::create_dir_all(&dir)?;
-    let (v, t) = capped_tube(0.11, 0.02, -0.1, 1.8, rings, segments);
+    let (v, t) = BentTube {
+        bend_radius: 0.11,
+        tube_radius: 0.02,
+        theta0: -0.1,
+        theta1: 1.8,
+        rings,
+        segments,
+    }
+    .capped();
     ccrkit::output::write_file(dir.join("lumen.obj"), to_obj(&v, &t))?;
     for free in ["free = \"inside\"\n", ""] {
         ccrkit::output::write_file(

@@ -84,6 +84,11 @@ pub struct MadeFor {
     pub method: String,
     /// Its settings, `NAME=VALUE`.
     pub settings: Vec<String>,
+    /// The actuation space's fingerprint ([`space`]): what its unknowns are (shortenings or
+    /// tensions), the cables, their limits and the effort's scales. Written by reach answers
+    /// and plans; absent from plans written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub space_fingerprint: Option<String>,
 }
 
 impl MadeFor {
@@ -100,24 +105,47 @@ impl MadeFor {
                 .iter()
                 .map(|(k, v)| format!("{k}={v}"))
                 .collect(),
+            space_fingerprint: None,
+        }
+    }
+
+    /// What a file made in `space` (its robot, obstacles, margin and request) is for,
+    /// with the space's fingerprint.
+    pub fn of_space(space: &crate::reach::Space) -> MadeFor {
+        MadeFor {
+            space_fingerprint: Some(self::space(space)),
+            ..MadeFor::new(&space.robot, &space.scene, space.margin, &space.request)
+        }
+    }
+
+    /// Refused, with `field` (e.g. `made_for`) and the fingerprints in the reason, when the
+    /// robot of `space` is not the one the file was made for, or the space is another (other
+    /// unknowns — shortenings or tensions —, other limits or scales). The obstacles, the margin
+    /// and the method are recorded but not required: a point of the space means the same
+    /// actuation among other obstacles or solved by another method of the same input, and
+    /// whatever is measured at it (clearance, tip) is measured again where it is used.
+    pub fn check_space(&self, field: &str, space: &crate::reach::Space) -> Result<(), ModelError> {
+        self.check_robot(field, &space.robot)?;
+        let s = self::space(space);
+        match &self.space_fingerprint {
+            Some(f) if *f == s => Ok(()),
+            f => Err(ModelError::invalid(
+                format!("{field}.space_fingerprint"),
+                format!(
+                    "made for an actuation space with fingerprint {}; this request's {} space \
+                     has {s} (shortenings or tensions, a cable's limits or the effort's scales \
+                     differ): make it again with this model and method",
+                    f.as_deref().unwrap_or("(none)"),
+                    space.input.name()
+                ),
+            )),
         }
     }
 
     /// Refused, with `field` (e.g. `plan.made_for`) and the fingerprints in the reason, when
     /// `robot` or `scene` is not what the file was made for.
     pub fn check(&self, field: &str, robot: &Robot, scene: &Scene) -> Result<(), ModelError> {
-        let r = self::robot(robot);
-        if self.robot_fingerprint != r {
-            return Err(ModelError::invalid(
-                format!("{field}.robot_fingerprint"),
-                format!(
-                    "made for robot `{}` with fingerprint {}; this model's robot `{}` has {r} \
-                     (a hole, a disk, the backbone or a cable's routing differs): make it again \
-                     for this robot",
-                    self.robot, self.robot_fingerprint, robot.name
-                ),
-            ));
-        }
+        self.check_robot(field, robot)?;
         let s = self::scene(scene);
         if self.scene_fingerprint != s {
             return Err(ModelError::invalid(
@@ -127,6 +155,23 @@ impl MadeFor {
                      obstacle, its pose, or the clearance differs): make it again with this \
                      scene",
                     self.scene_fingerprint
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refused, naming `field.robot_fingerprint`, when `robot` is not the file's.
+    pub fn check_robot(&self, field: &str, robot: &Robot) -> Result<(), ModelError> {
+        let r = self::robot(robot);
+        if self.robot_fingerprint != r {
+            return Err(ModelError::invalid(
+                format!("{field}.robot_fingerprint"),
+                format!(
+                    "made for robot `{}` with fingerprint {}; this model's robot `{}` has {r} \
+                     (a hole, a disk, the backbone or a cable's routing differs): make it again \
+                     for this robot",
+                    self.robot, self.robot_fingerprint, robot.name
                 ),
             ));
         }

@@ -144,6 +144,25 @@ impl RunFiles {
         Ok(())
     }
 
+    /// Record `files` (each `(role, path)`) as read by this run — the files a model or a scene
+    /// was read from ([`crate::Model::files`], [`crate::Scene::files`]), known only once it is
+    /// loaded — refused when one of them is an output the run has already claimed. A command
+    /// claims its outputs first, loads, then calls this before it writes anything.
+    pub fn read(&mut self, files: &[(String, PathBuf)]) -> Result<(), WriteError> {
+        for (role, path) in files {
+            if let Some((output, p)) = self.outputs.iter().find(|(_, o)| same_file(o, path)) {
+                return Err(WriteError::Clobbers {
+                    output: output.clone(),
+                    path: p.display().to_string(),
+                    input: role.clone(),
+                    input_path: path.display().to_string(),
+                });
+            }
+            self.inputs.push((role.clone(), path.clone()));
+        }
+        Ok(())
+    }
+
     /// [`RunFiles::output`] for each `(role, path)` in turn.
     pub fn outputs<S: AsRef<str>, P: AsRef<Path>>(
         &mut self,
@@ -318,5 +337,39 @@ mod tests {
         assert!(matches!(e, Err(WriteError::Twice { .. })), "{e:?}");
         run.output("stdout", Path::new("-")).expect("stdout");
         run.output("stdout", Path::new("-")).expect("stdout twice");
+    }
+
+    /// Files learnt only once a model is loaded (its scene and mesh files) are checked against
+    /// the outputs claimed before, whether they exist yet or not, through `..` and links.
+    #[cfg(unix)]
+    #[test]
+    fn files_read_after_the_outputs_are_claimed_are_checked_against_them() {
+        let d = dir("read");
+        std::fs::create_dir_all(d.join("meshes")).expect("dir");
+        let mesh = d.join("meshes/wall.stl");
+        std::fs::write(&mesh, "solid").expect("writes");
+        std::os::unix::fs::symlink(&mesh, d.join("link.stl")).expect("symlink");
+        let read = |p: PathBuf| vec![("mesh file of obstacle `w`".to_string(), p)];
+        for out in ["meshes/wall.stl", "link.stl", "meshes/../meshes/wall.stl"] {
+            let mut run = RunFiles::new();
+            run.output("--out file", &d.join(out)).expect("claimed");
+            let e = run.read(&read(d.join("meshes/./wall.stl")));
+            match e {
+                Err(WriteError::Clobbers { input, output, .. }) => {
+                    assert_eq!(input, "mesh file of obstacle `w`");
+                    assert_eq!(output, "--out file");
+                }
+                other => panic!("{out}: {other:?}"),
+            }
+        }
+        // Neither exists yet: the same path once its folder is resolved.
+        let mut run = RunFiles::new();
+        run.output("--out file", &d.join("meshes/../new.toml"))
+            .expect("claimed");
+        assert!(run.read(&read(d.join("new.toml"))).is_err());
+        assert!(run.read(&read(d.join("other.toml"))).is_ok());
+        // And an output claimed after the read is refused too.
+        let e = run.output("--json file", &d.join("other.toml"));
+        assert!(matches!(e, Err(WriteError::Clobbers { .. })), "{e:?}");
     }
 }

@@ -108,6 +108,35 @@ impl Setup {
         })
     }
 
+    /// Write the catheter with its port placed (`catheter.toml`: the model file with the
+    /// port's `position` and `orientation` set) into `dir`, beside `airway.stl` and
+    /// `scene.toml`, for the command line (`ccrkit roadmap build DIR/catheter.toml --scene
+    /// DIR/scene.toml`). Its path.
+    pub fn write_model(&self, dir: &Path) -> Result<std::path::PathBuf> {
+        let root = env!("CARGO_MANIFEST_DIR");
+        let text = std::fs::read_to_string(format!("{root}/models/anatomy/airway_catheter.toml"))?;
+        let port = self
+            .model
+            .robot
+            .port
+            .as_ref()
+            .ok_or_else(|| anyhow!("the catheter model has no port"))?;
+        let (p, q) = (port.pose.translation.vector, port.pose.rotation);
+        let placed = format!(
+            "position = [{:?}, {:?}, {:?}]\norientation = {{ quaternion = [{:?}, {:?}, {:?}, {:?}] }}",
+            p.x, p.y, p.z, q.w, q.i, q.j, q.k
+        );
+        let line = "position = [0.0, 0.0, 0.095]";
+        if !text.contains(line) {
+            return Err(anyhow!(
+                "the catheter model's port has no `{line}` to replace"
+            ));
+        }
+        let path = dir.join("catheter.toml");
+        ccrkit::output::write_file(&path, text.replace(line, &placed))?;
+        Ok(path)
+    }
+
     /// The actuation space (shortenings, insertion, rotation) with the airway.
     pub fn space(&self) -> Result<Space> {
         Ok(Space::new(&self.model, &self.request, false)?)

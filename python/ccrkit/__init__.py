@@ -101,8 +101,9 @@ def solve_batch(
 
     ``method=None`` is ``DEFAULT_METHOD`` (the core's default, ``energy``). ``full=True``
     also keeps every row's disk frames. ``estimate=True`` adds each row's estimated tip
-    distance from the converged reference rod [m] (``Batch.error_estimate``; one extra solve
-    per row, as ``Model.solve(estimate=True)``). Other keywords are the method's settings by
+    distance from the converged reference rod [m] (``Batch.error_estimate``; for ``energy``
+    read from each answer alone, else one extra solve per row, as
+    ``Model.solve(estimate=True)``). Other keywords are the method's settings by
     name, as in ``Model.solve``.
     """
     raw = _solve_batch(

@@ -239,7 +239,7 @@ impl Model {
     /// shape's `insertion` and `rotation` give them back).
     /// `steps` reaches the actuation in that many warm-started steps; `warm_from` starts from
     /// another method's shape; `estimate=True` adds the answer's estimated distance from the
-    /// converged rod (`Shape.error_estimate`, one extra solve). Every other keyword is a setting
+    /// converged rod (`Shape.error_estimate`; `energy`: no extra solve). Every other keyword is a setting
     /// of the method by name (`sub_arcs=8`, `length="chord"`); a setting the method does not
     /// take is refused.
     /// `method="auto"` picks the cheapest model and resolution whose estimated error is within

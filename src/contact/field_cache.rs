@@ -32,6 +32,7 @@ use super::field_build::Grid;
 use parry3d::math::Vector as PVec;
 use parry3d::query::PointQueryWithLocation;
 use parry3d::shape::TriMesh;
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use xxhash_rust::xxh3::{xxh3_64, Xxh3};
@@ -287,21 +288,21 @@ pub fn decode(
         return Err(CacheError::Header("the grid's place is not this mesh's"));
     }
     let values = &body[HEADER..HEADER + 4 * total];
-    let lo: Vec<f32> = values
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
     let loose: Vec<u64> = body[HEADER + 4 * total..]
         .chunks_exact(8)
         .map(|c| u64_at(c, 0))
         .collect();
     let h32 = super::field_build::down(g.h);
-    for (k, v) in lo.iter().enumerate() {
+    // Decoded and checked in one pass (in parallel it cost more than it saved).
+    let mut lo: Vec<f32> = Vec::with_capacity(total);
+    for (k, c) in values.chunks_exact(4).enumerate() {
+        let v = f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
         let is_loose = loose[k / 64] >> (k % 64) & 1 == 1;
         // A loose node is at least `h` from the surface: its bound is at least `h` there.
         if !v.is_finite() || (is_loose && v.abs() < h32) {
             return Err(CacheError::Value(k));
         }
+        lo.push(v);
     }
     if (lo[0] > 0.0) != far_free {
         return Err(CacheError::Header(
@@ -327,15 +328,20 @@ fn spot_check(f: &SolidField, mesh: &TriMesh, seed: u64) -> Result<(), CacheErro
     let total = f.lo.len();
     let mut s = seed | 1;
     let is_loose = |k: usize| f.loose[k / 64] >> (k % 64) & 1 == 1;
-    for i in 0..SPOT {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        let mut k = (s % total as u64) as usize;
-        if i % 2 == 0 {
-            let next = (k..total).chain(0..k).find(|&j| !is_loose(j));
-            k = next.unwrap_or(k);
-        }
+    let nodes: Vec<usize> = (0..SPOT)
+        .map(|i| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            let k = (s % total as u64) as usize;
+            if i % 2 == 1 {
+                return k;
+            }
+            (k..total).chain(0..k).find(|&j| !is_loose(j)).unwrap_or(k)
+        })
+        .collect();
+    // Projected in parallel; the first node (in the drawn order) that fails is named.
+    let failed = nodes.par_iter().find_map_first(|&k| {
         let (x, y, z) = (k % f.n[0], (k / f.n[0]) % f.n[1], k / (f.n[0] * f.n[1]));
         let p = PVec::new(
             f.origin[0] + x as f64 * f.h,
@@ -348,15 +354,13 @@ fn spot_check(f: &SolidField, mesh: &TriMesh, seed: u64) -> Result<(), CacheErro
         let stored = f64::from(f.lo[k]);
         let up = if is_loose(k) { LOOSE * f.h } else { 0.0 };
         let tol = 1e-9 * (f.h + d) + stored.abs() * f64::from(f32::EPSILON);
-        if exact < stored - tol || exact > stored + up + tol {
-            return Err(CacheError::SpotCheck {
-                node: k,
-                stored,
-                exact,
-            });
-        }
-    }
-    Ok(())
+        (exact < stored - tol || exact > stored + up + tol).then_some(CacheError::SpotCheck {
+            node: k,
+            stored,
+            exact,
+        })
+    });
+    failed.map_or(Ok(()), Err)
 }
 
 /// The grid of the solid `mesh` with `nodes` nodes: read from `dir` when a good file is there,

@@ -1,11 +1,11 @@
 use super::*;
-use crate::contact::field::tests::points;
-use crate::model::mesh::{capped_tube, trimesh, Free};
+use crate::contact::field::tests::{points, tube};
+use crate::model::mesh::{trimesh, Free};
 
 const NODES: usize = 1 << 16;
 
 fn mesh(free: Free, scale: f64) -> TriMesh {
-    let (v, t) = capped_tube(0.11, 0.02, -0.1, 1.8, 60, 24);
+    let (v, t) = tube();
     let v: Vec<_> = v.into_iter().map(|x| x * scale).collect();
     trimesh(&v, &t, Some(free)).expect("a solid")
 }

@@ -1,5 +1,5 @@
 use super::*;
-use crate::model::mesh::{capped_tube, trimesh, Free};
+use crate::model::mesh::{trimesh, BentTube, Free};
 use crate::numeric::test_rng::Rng;
 use nalgebra::Vector3;
 use parry3d::query::PointQueryWithLocation;
@@ -20,8 +20,18 @@ fn winding(v: &[Vector3<f64>], t: &[[u32; 3]], p: &Vector3<f64>) -> f64 {
     sum / (4.0 * std::f64::consts::PI)
 }
 
-fn tube() -> (Vec<Vector3<f64>>, Vec<[u32; 3]>) {
-    capped_tube(0.11, 0.02, -0.1, 1.8, 60, 24)
+/// The committed vessel's bend closed at both ends, coarse (60 rings × 24): the lumen of
+/// these tests and the cache's.
+pub(crate) fn tube() -> (Vec<Vector3<f64>>, Vec<[u32; 3]>) {
+    BentTube {
+        bend_radius: 0.11,
+        tube_radius: 0.02,
+        theta0: -0.1,
+        theta1: 1.8,
+        rings: 60,
+        segments: 24,
+    }
+    .capped()
 }
 
 fn solid(free: Free) -> (TriMesh, Vec<Vector3<f64>>, Vec<[u32; 3]>) {

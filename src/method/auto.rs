@@ -37,9 +37,7 @@ use crate::shape::Shape;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
-/// What an estimate read from the answer alone was measured against (`report.error_estimate
-/// .against`).
-pub const A_PRIORI: &str = "the answer's own strains";
+pub use super::estimate::A_PRIORI;
 
 /// What `auto` chose and what it cost.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -142,12 +140,12 @@ impl Search<'_> {
 
     /// Keep `shape` if its estimate is the smallest yet; true when it meets the tolerance.
     fn offer(&mut self, rung: &Rung, shape: Shape, est: ErrorEstimate, model: f64) -> bool {
-        let bound = est.discretization_m + model;
+        let bound = est.discretization_m.unwrap_or(f64::INFINITY) + model;
         let met = bound <= self.tolerance;
         let better = self
             .best
             .as_ref()
-            .is_none_or(|(_, e, _)| bound < e.discretization_m + e.model_m.unwrap_or(0.0));
+            .is_none_or(|(_, e, _)| bound < e.known_parts_m());
         if better || met {
             self.best = Some((shape, est, rung.describe()));
         }
@@ -165,20 +163,24 @@ impl Search<'_> {
         against: Option<(&Rung, &Shape)>,
     ) -> Result<ErrorEstimate, SolveError> {
         let settings = rung_settings(rung, self.base, &self.control);
-        let local = estimate::a_priori_discretization(rung.kind, &settings, self.robot, shape);
-        let (disc, from) = match (local, against) {
-            (Some(d), _) => (d, A_PRIORI.to_string()),
-            (None, Some((from, last))) => {
+        let local = estimate::a_priori(rung.kind, &settings, self.robot, shape);
+        let (disc, from, fallback) = match (local, against) {
+            (Ok(d), _) => (d, A_PRIORI.to_string(), String::new()),
+            (Err(why), Some((from, last))) => {
                 let ratio = rung.n as f64 / from.n as f64;
                 let d = shape.tip_distance(last);
                 let e = SAFETY * estimate::richardson(d, ratio, rung.order, true);
-                (e, from.describe())
+                let fallback =
+                    format!("no a-priori estimate ({why}): measured against the previous rung");
+                (e, from.describe(), fallback)
             }
-            (None, None) => {
-                self.solves += 1;
-                return estimate::estimate(
+            (Err(_), None) => {
+                let est = estimate::estimate(
                     rung.kind, &settings, self.robot, self.act, self.scene, shape,
-                );
+                )?;
+                // The companion solved, and each one that failed before it.
+                self.solves += usize::from(est.discretization_m.is_some()) + est.failed.len();
+                return Ok(est);
             }
         };
         let (m, note) = estimate::model_estimate(
@@ -186,12 +188,14 @@ impl Search<'_> {
         );
         Ok(ErrorEstimate {
             bound_m: m.map(|m| m + disc),
-            discretization_m: disc,
+            discretization_m: Some(disc),
             model_m: m,
             against: from,
             order: rung.order,
             cost_s: 0.0,
             note,
+            fallback,
+            failed: vec![],
         })
     }
 
@@ -203,10 +207,14 @@ impl Search<'_> {
         let a0 = self.solve(first, None)?;
         let e0 = self.estimate(first, &a0, None)?;
         let model = e0.model_m.unwrap_or(0.0);
-        let mut disc = e0.discretization_m;
+        let disc0 = e0.discretization_m;
         if self.offer(first, a0.clone(), e0, model) {
             return Ok(true);
         }
+        // Its extra solves failed (named in the estimate): no order to predict from.
+        let Some(mut disc) = disc0 else {
+            return Ok(false);
+        };
         if model > self.tolerance {
             return Ok(false);
         }
@@ -221,7 +229,7 @@ impl Search<'_> {
             let shape = self.solve(rung, Some(&last))?;
             let est = self.estimate(rung, &shape, Some((from, &last)))?;
             let model = est.model_m.unwrap_or(0.0);
-            disc = est.discretization_m;
+            disc = est.discretization_m.unwrap_or(f64::INFINITY);
             if self.offer(rung, shape.clone(), est, model) {
                 return Ok(true);
             }
@@ -298,7 +306,7 @@ pub fn choose(
     crate::check::output(robot, &shape)?;
     let cost = t0.elapsed().as_secs_f64();
     est.cost_s = cost;
-    let bound = est.discretization_m + est.model_m.unwrap_or(0.0);
+    let bound = est.known_parts_m();
     shape.report.notes.push(format!(
         "auto: {} {setting}, estimated {:.4} mm {} the tolerance {:.4} mm; {solves} solves in {:.1} µs{}",
         shape.method,

@@ -31,8 +31,10 @@
 //!
 //! Each part is multiplied by a safety factor calibrated on seeded random robots against the
 //! converged rod ([`SAFETY`]; the calibration and how often the bound held are in
-//! `docs/guide/methods.md`). The estimate costs one extra solve (about half the answer's own
-//! cost at the coarser rung) and is computed only when asked for
+//! `docs/guide/methods.md`). [`estimate`] reads `energy`'s discretization part a priori; it
+//! costs one extra solve (about half the answer's own cost at the coarser rung) where that does
+//! not apply, and says why (`fallback`); an extra solve that fails is named (`failed`) and the
+//! next companion (one rung up) tried. Computed only when asked for
 //! ([`SolveRequest::estimate`](super::run::SolveRequest)).
 
 use super::{MethodKind, Settings};
@@ -61,8 +63,9 @@ pub const SAFETY: f64 = 2.0;
 pub struct ErrorEstimate {
     /// The estimated bound: discretization + model \[m\]; `None` when the model part is unknown.
     pub bound_m: Option<f64>,
-    /// The discretization part \[m\] (0 for a closed form or a section solver).
-    pub discretization_m: f64,
+    /// The discretization part \[m\] (0 for a closed form or a section solver); `None` when
+    /// every extra solve that measures it failed (`failed` names them).
+    pub discretization_m: Option<f64>,
     /// The model part \[m\]; `None` when the rod has no counterpart (see the note).
     pub model_m: Option<f64>,
     /// The extra solve the discretization part was measured against (`sub-arcs=2`), `the
@@ -75,7 +78,27 @@ pub struct ErrorEstimate {
     /// Why a part is unknown, or empty.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub note: String,
+    /// Why the discretization part was measured by an extra solve rather than read from the
+    /// answer alone ([`a_priori`]: `energy with contacts`, `cosserat has none`), or empty.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub fallback: String,
+    /// Each extra solve that failed, by its setting, status name and message
+    /// (`sub-arcs=1: not_converged: …`); a later companion may still have measured the part.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub failed: Vec<String>,
 }
+
+impl ErrorEstimate {
+    /// The bound where both parts are known, else the known parts with an unknown one taken
+    /// as 0 (`auto` holds that to its tolerance next to obstacles), `+∞` without a
+    /// discretization part.
+    pub fn known_parts_m(&self) -> f64 {
+        self.discretization_m.unwrap_or(f64::INFINITY) + self.model_m.unwrap_or(0.0)
+    }
+}
+
+/// What an estimate read from the answer alone was measured against (`against`).
+pub const A_PRIORI: &str = "the answer's own strains";
 
 /// A method's resolution, as the estimator reads it from its settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -128,43 +151,50 @@ struct Companion {
     order: f64,
 }
 
-fn companion(res: Resolution) -> Option<Companion> {
-    // One rung down: close enough to stay in the asymptotic range (3 RK4 steps against 1 is
-    // not), cheap enough to cost less than the answer.
-    let halve = |name: &'static str, n: usize, order: f64| {
-        let (m, coarser) = match n {
-            1 => (2, false),
-            2 => (1, true),
-            n if n < 6 => (n - 1, true),
-            n => (n / 2, true),
-        };
-        Companion {
-            name,
-            value: m.to_string(),
-            ratio: n.max(m) as f64 / n.min(m) as f64,
-            coarser,
-            order,
+/// The companions of a resolution, the one to try first first: one rung down (close enough
+/// to stay in the asymptotic range — 3 RK4 steps against 1 is not — and cheaper than the
+/// answer), then, should that solve fail (a coarse rod that does not converge), one rung up.
+fn companions(res: Resolution) -> Vec<Companion> {
+    let at = |name: &'static str, n: usize, m: usize, order: f64| Companion {
+        name,
+        value: m.to_string(),
+        ratio: n.max(m) as f64 / n.min(m) as f64,
+        coarser: m < n,
+        order,
+    };
+    let fixed = |name: &'static str, n: usize, order: f64| {
+        let up = if n < 6 { n + 1 } else { n + n / 2 };
+        match n {
+            0 | 1 => vec![at(name, n.max(1), 2, order)],
+            n if n < 6 => vec![at(name, n, n - 1, order), at(name, n, up, order)],
+            n => vec![at(name, n, n / 2, order), at(name, n, up, order)],
         }
     };
     match res {
-        Resolution::SubArcs(k) => Some(halve("sub-arcs", k, SUB_ARC_ORDER)),
-        Resolution::Rk4(n) => Some(halve("rk4-steps", n, RK4_ORDER)),
+        Resolution::SubArcs(k) => fixed("sub-arcs", k, SUB_ARC_ORDER),
+        Resolution::Rk4(n) => fixed("rk4-steps", n, RK4_ORDER),
         Resolution::Adaptive(tol) => {
-            let coarser = tol * ADAPTIVE_RATIO <= 1.0;
-            let other = if coarser {
-                tol * ADAPTIVE_RATIO
-            } else {
-                tol / ADAPTIVE_RATIO
-            };
-            Some(Companion {
+            let other = |coarser: bool| Companion {
                 name: "adaptive",
-                value: format!("{other:e}"),
+                value: format!(
+                    "{:e}",
+                    if coarser {
+                        tol * ADAPTIVE_RATIO
+                    } else {
+                        tol / ADAPTIVE_RATIO
+                    }
+                ),
                 ratio: ADAPTIVE_RATIO,
                 coarser,
                 order: ADAPTIVE_ORDER,
-            })
+            };
+            if tol * ADAPTIVE_RATIO <= 1.0 {
+                vec![other(true), other(false)]
+            } else {
+                vec![other(false)]
+            }
         }
-        Resolution::Exact => None,
+        Resolution::Exact => vec![],
     }
 }
 
@@ -189,7 +219,8 @@ pub const LOCAL_FACTOR: f64 = 1.0;
 /// The discretization part of an `energy` answer read from the answer alone \[m\] (safety
 /// factor included): the strain each constant-strain sub-arc leaves out, from the cables'
 /// pull and the loads along it (`energy/local_error.rs`), times [`LOCAL_FACTOR`]. `None`
-/// where it does not apply (another method, a port, contacts, chord lengths, a tip moment):
+/// where it does not apply (another method, contacts, chord lengths, a tip moment; through a
+/// port it reads the robot beyond it, as solved):
 /// Richardson's extra solve then measures it.
 pub fn a_priori_discretization(
     kind: MethodKind,
@@ -197,16 +228,28 @@ pub fn a_priori_discretization(
     robot: &Robot,
     shape: &Shape,
 ) -> Option<f64> {
+    a_priori(kind, settings, robot, shape).ok()
+}
+
+/// [`a_priori_discretization`], or why it does not apply (`energy with contacts`, `energy with
+/// chord cable lengths`, `cosserat has none`, …).
+pub fn a_priori(
+    kind: MethodKind,
+    settings: &Settings,
+    robot: &Robot,
+    shape: &Shape,
+) -> Result<f64, String> {
     if kind != MethodKind::Energy {
-        return None;
+        return Err(format!("{kind} has none"));
     }
     let routing = match settings.get("routing").map(str::trim) {
         None | Some("spline") => crate::model::routing::RoutingFit::Spline,
         Some("fourier8") => crate::model::routing::RoutingFit::Fourier8,
-        Some(_) => return None,
+        Some(other) => return Err(format!("{kind} with routing = {other}")),
     };
     super::energy::local_error::local_error(robot, shape, routing)
-        .map(|e| SAFETY * LOCAL_FACTOR * e)
+        .map(|e| SAFETY * LOCAL_FACTOR * e.iter().sum::<f64>())
+        .map_err(|why| format!("{kind} {why}"))
 }
 
 /// How the model part of `kind` is estimated.
@@ -289,8 +332,10 @@ pub fn left_out_strain_tip(robot: &Robot, shape: &Shape, shear: bool, extension:
 }
 
 /// Estimate how far `shape` (solved by `kind` with `settings` for `robot`, `act`, `scene`)
-/// is from the converged reference rod: one extra solve for the discretization part, the
-/// left-out strains for the model part (module docs).
+/// is from the converged reference rod: the discretization part read from the answer alone
+/// where it can be ([`a_priori`]), else by one extra solve (two where the first fails); the
+/// left-out strains for the model part (module docs). A failed extra solve is named in the
+/// estimate (`failed`), never an error of the answer.
 pub(crate) fn estimate(
     kind: MethodKind,
     settings: &Settings,
@@ -300,52 +345,123 @@ pub(crate) fn estimate(
     shape: &Shape,
 ) -> Result<ErrorEstimate, SolveError> {
     let t0 = Instant::now();
-    let part = model_part(kind, settings);
-    let mut rod_gap = None;
     let res = resolution(kind, settings);
-    let (discretization, against, order) = match companion(res) {
-        Some(c) => {
-            let mut s = settings.clone();
-            s.push(c.name, &c.value);
-            quiet(kind, &mut s);
-            // Never handed out, so only the finite half of the output check.
-            let at = |k: MethodKind| {
-                let other = super::run::SolveRequest::new(k)
-                    .with_settings(s.clone())
-                    .solver()?
-                    .solve_unchecked(robot, act, scene, Some(shape))?;
-                crate::check::finite(&other)?;
-                Ok::<_, SolveError>(other)
-            };
-            let other = at(kind)?;
-            if part == ModelPart::RodAtCompanion && scene.is_empty() {
-                rod_gap = Some(at(MethodKind::Cosserat)?.tip_distance(&other));
+    let mut failed = vec![];
+    let (discretization, against, order, fallback, rod_gap) =
+        match a_priori(kind, settings, robot, shape) {
+            Ok(d) => (
+                Some(d),
+                A_PRIORI.to_string(),
+                SUB_ARC_ORDER,
+                String::new(),
+                None,
+            ),
+            Err(_) if res == Resolution::Exact => {
+                (Some(0.0), String::new(), 0.0, String::new(), None)
             }
-            let d = other.tip_distance(shape);
-            (
-                SAFETY * richardson(d, c.ratio, c.order, c.coarser),
-                format!("{}={}", c.name, c.value),
-                c.order,
-            )
-        }
-        None => (0.0, String::new(), 0.0),
-    };
+            Err(why) => {
+                // Never handed out, so only the finite half of the output check.
+                let solve = |k: MethodKind, s: &Settings| {
+                    let other = super::run::SolveRequest::new(k)
+                        .with_settings(s.clone())
+                        .solver()?
+                        .solve_unchecked(robot, act, scene, Some(shape))?;
+                    crate::check::finite(&other)?;
+                    Ok(other)
+                };
+                let rod =
+                    model_part(kind, settings) == ModelPart::RodAtCompanion && scene.is_empty();
+                let m = measure(kind, settings, shape, rod, &solve, &mut failed);
+                let fallback = format!("no a-priori estimate ({why}): measured by an extra solve");
+                (m.discretization, m.against, m.order, fallback, m.rod_gap)
+            }
+        };
     // An adaptive stepper often takes the same steps at 16× its tolerance: its error is
     // then read from the tolerance, per metre of robot (calibration, module docs).
     let discretization = match res {
-        Resolution::Adaptive(tol) => discretization.max(SAFETY * tol * robot.length()),
+        Resolution::Adaptive(tol) => discretization.map(|d| d.max(SAFETY * tol * robot.length())),
         _ => discretization,
     };
-    let (model, note) = model_estimate(kind, settings, robot, act, scene, shape, rod_gap);
+    let (model, mut note) = model_estimate(kind, settings, robot, act, scene, shape, rod_gap);
+    if discretization.is_none() {
+        note = join(
+            &note,
+            "every extra solve that measures the discretization part failed (`failed`): no bound",
+        );
+    }
     Ok(ErrorEstimate {
-        bound_m: model.map(|m| m + discretization),
+        bound_m: model.zip(discretization).map(|(m, d)| m + d),
         discretization_m: discretization,
         model_m: model,
         against,
         order,
         cost_s: t0.elapsed().as_secs_f64(),
         note,
+        fallback,
+        failed,
     })
+}
+
+/// Two notes in one.
+fn join(a: &str, b: &str) -> String {
+    if a.is_empty() {
+        b.to_string()
+    } else {
+        format!("{a}; {b}")
+    }
+}
+
+/// The discretization part measured by Richardson against a companion solve, what it was
+/// measured against and its order, and (`kirchhoff`) the Cosserat rod's distance there.
+struct Measured {
+    discretization: Option<f64>,
+    against: String,
+    order: f64,
+    rod_gap: Option<f64>,
+}
+
+/// Richardson against the first companion ([`companions`]) whose solve (`solve`: a method and
+/// its settings, warm from the answer) succeeds; each failure pushed to `failed` by setting,
+/// status name and message. `rod`: also solve the Cosserat rod there (`kirchhoff`).
+fn measure(
+    kind: MethodKind,
+    settings: &Settings,
+    shape: &Shape,
+    rod: bool,
+    solve: &dyn Fn(MethodKind, &Settings) -> Result<Shape, SolveError>,
+    failed: &mut Vec<String>,
+) -> Measured {
+    let mut out = Measured {
+        discretization: None,
+        against: String::new(),
+        order: 0.0,
+        rod_gap: None,
+    };
+    for c in companions(resolution(kind, settings)) {
+        let mut s = settings.clone();
+        s.push(c.name, &c.value);
+        quiet(kind, &mut s);
+        let label = format!("{}={}", c.name, c.value);
+        let other = match solve(kind, &s) {
+            Ok(o) => o,
+            Err(e) => {
+                failed.push(format!("{kind} {label}: {}: {e}", e.kind()));
+                continue;
+            }
+        };
+        if rod {
+            match solve(MethodKind::Cosserat, &s) {
+                Ok(r) => out.rod_gap = Some(r.tip_distance(&other)),
+                Err(e) => failed.push(format!("cosserat {label}: {}: {e}", e.kind())),
+            }
+        }
+        let d = other.tip_distance(shape);
+        out.discretization = Some(SAFETY * richardson(d, c.ratio, c.order, c.coarser));
+        out.against = label;
+        out.order = c.order;
+        break;
+    }
+    out
 }
 
 /// Settings that skip what a companion solve does not need (the tip is the same to the bit):
@@ -392,7 +508,12 @@ pub(crate) fn model_estimate(
         (ModelPart::FirstOrder(shear, ext), None) => {
             Some(SAFETY * left_out_strain_tip(robot, shape, shear, ext))
         }
-        (ModelPart::RodAtCompanion, None) => rod_gap.map(|g| SAFETY * g),
+        (ModelPart::RodAtCompanion, None) => {
+            if rod_gap.is_none() {
+                note = format!("the Cosserat rod beside {kind}'s companion did not solve: the model part is unknown");
+            }
+            rod_gap.map(|g| SAFETY * g)
+        }
     };
     (model, note)
 }
@@ -409,6 +530,66 @@ mod tests {
         let d = e(2.0 * h) - e(h);
         assert!((richardson(d, 2.0, p, true) - e(h)).abs() < 1e-12);
         assert!((richardson(d, 2.0, p, false) - e(2.0 * h)).abs() < 1e-12);
+    }
+
+    /// A cosserat answer of paper case I at `rk4-steps = 3` and its settings.
+    fn case1_rod() -> (Shape, Settings) {
+        let model = crate::Model::from_file("models/paper/case1.toml").expect("case I");
+        let s = Settings::new().with("rk4-steps", 3);
+        let shape = super::super::run::SolveRequest::new(MethodKind::Cosserat)
+            .with_settings(s.clone())
+            .run(&model)
+            .expect("solves")
+            .shape;
+        (shape, s)
+    }
+
+    /// `shape` with its tip moved by `d` along x.
+    fn moved(shape: &Shape, d: f64) -> Shape {
+        let mut s = shape.clone();
+        if let Some(last) = s.disks.last_mut() {
+            last.position.x += d;
+        }
+        s
+    }
+
+    #[test]
+    fn a_companion_that_fails_is_named_and_the_next_one_measures() {
+        let (shape, s) = case1_rod();
+        let not_converged = || SolveError::NotConverged {
+            method: "cosserat".into(),
+            section: None,
+            iterations: 40,
+            residual: 1.0,
+            detail: String::new(),
+        };
+        // 3 steps: the coarse companion (2) fails, the fine one (4) is 1 µm away.
+        let solve = |_: MethodKind, c: &Settings| match c.get("rk4-steps") {
+            Some("2") => Err(not_converged()),
+            _ => Ok(moved(&shape, 1e-6)),
+        };
+        let mut failed = vec![];
+        let m = measure(MethodKind::Cosserat, &s, &shape, false, &solve, &mut failed);
+        assert_eq!(failed.len(), 1, "{failed:?}");
+        assert!(failed[0].starts_with("cosserat rk4-steps=2: not_converged: "));
+        assert_eq!(m.against, "rk4-steps=4");
+        // The answer is the coarse one of the pair: d · g / (g − 1), g = (4/3)^4.
+        let g = (4.0f64 / 3.0).powi(4);
+        let want = SAFETY * 1e-6 * g / (g - 1.0);
+        let got = m.discretization.expect("measured by the fine companion");
+        assert!((got - want).abs() < 1e-9 * want, "{got:e} vs {want:e}");
+        // Both fail: no discretization part, two failures named.
+        let mut failed = vec![];
+        let none = measure(
+            MethodKind::Cosserat,
+            &s,
+            &shape,
+            false,
+            &|_, _| Err(not_converged()),
+            &mut failed,
+        );
+        assert!(none.discretization.is_none());
+        assert_eq!(failed.len(), 2, "{failed:?}");
     }
 
     #[test]

@@ -73,11 +73,7 @@ pub(super) fn solve_through(
     let Some(b) = &cut.beyond else {
         return Ok(place(kind, robot, &cut, None, &behind));
     };
-    let mut sub = b.robot.clone();
-    let r_inv = cut.base.rotation.inverse();
-    sub.loads.gravity = r_inv * robot.loads.gravity;
-    sub.loads.tip_force = r_inv * robot.loads.tip_force;
-    sub.loads.tip_moment = r_inv * robot.loads.tip_moment;
+    let sub = posed(robot, b, &cut.base);
     let act = sub_actuation(robot, input.act, b);
     let scene = input.scene.transformed(&cut.base.inverse());
     kind.check_support(&sub, &scene)?;
@@ -89,6 +85,33 @@ pub(super) fn solve_through(
         warm: warm.as_ref(),
     })?;
     Ok(place(kind, robot, &cut, Some((b, shape)), &behind))
+}
+
+/// The robot beyond the port as the methods solve it: `b`'s robot with `robot`'s loads (scene
+/// frame) turned into the frame `base` of its disk 0.
+fn posed(robot: &Robot, b: &Beyond, base: &Isometry3<f64>) -> Robot {
+    let mut sub = b.robot.clone();
+    let r_inv = base.rotation.inverse();
+    sub.loads.gravity = r_inv * robot.loads.gravity;
+    sub.loads.tip_force = r_inv * robot.loads.tip_force;
+    sub.loads.tip_moment = r_inv * robot.loads.tip_moment;
+    sub
+}
+
+/// The cut and the robot that was solved (its loads in its own frame, [`posed`]) for an
+/// answer of `robot` through `port` at the insertion and rotation it reports (`state`);
+/// `None` when nothing beyond the port bends.
+pub(crate) fn solved_beyond(
+    robot: &Robot,
+    port: &Port,
+    state: &PortState,
+) -> Result<Option<(Beyond, Robot)>, SolveError> {
+    let Some(b) = port::beyond(robot, state.insertion)? else {
+        return Ok(None);
+    };
+    // The snapped piece is a translation along the port axis: the base turns as the port.
+    let sub = posed(robot, &b, &port.base_frame(state.rotation));
+    Ok(Some((b, sub)))
 }
 
 /// Payouts beyond this fraction of the exposed cable's length are taken as this fraction:

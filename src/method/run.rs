@@ -53,7 +53,7 @@ pub struct SolveRequest {
     /// Solve this many times and report the median time (≥ 1).
     pub repeat: usize,
     /// Estimate each answer's distance from the converged reference rod
-    /// ([`crate::method::estimate`]: one extra solve), into `report.error_estimate`.
+    /// ([`crate::method::estimate`]: `energy` a priori, else one extra solve), into `report.error_estimate`.
     pub estimate: bool,
     /// `auto` with this tolerance \[m\]: the cheapest model and resolution whose estimated
     /// error is within it ([`crate::method::auto`]); `method` is then not used.

@@ -59,8 +59,9 @@ impl Solver {
     }
 
     /// How far `shape` (this solver's answer for `robot`, `act`, `scene`) is from the
-    /// converged reference rod: one extra solve at the companion resolution and the model's
-    /// left-out strains ([`crate::method::estimate`]).
+    /// converged reference rod: the discretization part read from the answer (`energy`) or
+    /// measured by an extra solve at the companion resolution, and the model's left-out
+    /// strains ([`crate::method::estimate`]).
     pub fn estimate(
         &self,
         robot: &Robot,

@@ -203,12 +203,13 @@ impl FileModel {
     fn scene(&self, dir: &Path) -> Result<Scene, ModelError> {
         let mut scene = Scene::from_parts(self.clearance, &self.obstacles, dir, "")?;
         if let Some(rel) = &self.scene {
-            let other = Scene::from_file(dir.join(rel)).map_err(|e| match e {
-                ModelError::Io { path, reason } => {
-                    ModelError::invalid("scene", format!("cannot read `{path}`: {reason}"))
-                }
-                other => other,
-            })?;
+            let other = Scene::from_file_as(&dir.join(rel), "scene file named in the model")
+                .map_err(|e| match e {
+                    ModelError::Io { path, reason } => {
+                        ModelError::invalid("scene", format!("cannot read `{path}`: {reason}"))
+                    }
+                    other => other,
+                })?;
             scene.merge(other);
             let mut names: Vec<&str> = scene.obstacles.iter().map(|o| o.name.as_str()).collect();
             names.sort_unstable();

@@ -11,6 +11,7 @@
 //! declares which side is free ([`Free`], [`mesh_check::solid`]).
 
 use super::mesh_check::{self, MeshError};
+use foldhash::fast::FixedState;
 use nalgebra::Vector3;
 use parry3d::math::Vector as PVec;
 use parry3d::shape::{TriMesh, TriMeshFlags};
@@ -71,13 +72,13 @@ pub fn load(path: &Path) -> Result<MeshData, MeshError> {
 /// Parse the bytes of a mesh file in `format` (`STL`, `OBJ` or `PLY`), vertices merged.
 pub fn parse(format: &'static str, bytes: Vec<u8>) -> Result<MeshData, MeshError> {
     let read = |reason: String| MeshError::Read { format, reason };
-    let (v, t) = match format {
-        "STL" => stl(bytes).map_err(read)?,
-        "OBJ" => obj(&bytes).map_err(read)?,
-        "PLY" => ply(&bytes).map_err(read)?,
-        _ => return Err(MeshError::Format),
-    };
-    Ok(merge(v, t))
+    match format {
+        // Merged as read.
+        "STL" => stl(bytes).map_err(read),
+        "OBJ" => obj(&bytes).map_err(read).map(|(v, t)| merge(v, t)),
+        "PLY" => ply(&bytes).map_err(read).map(|(v, t)| merge(v, t)),
+        _ => Err(MeshError::Format),
+    }
 }
 
 /// An STL file by `stl_io`. A file whose size is exactly that of a binary STL with the
@@ -99,18 +100,55 @@ fn stl(mut bytes: Vec<u8>) -> Result<MeshData, String> {
             count.map_or("missing".into(), |n| n.to_string())
         ));
     }
-    let mesh = stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| e.to_string())?;
-    let v = mesh
-        .vertices
-        .iter()
-        .map(|p| Vector3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
-        .collect();
-    let t = mesh
-        .faces
-        .iter()
-        .map(|f| try_indices(f.vertices.map(|i| i as u64)))
-        .collect::<Result<_, _>>()?;
-    Ok((v, t))
+    // `stl_io`'s triangles, their corners merged here once (its own indexed read hashes every
+    // corner with SipHash, and the corners were merged again after it).
+    let cap = (bytes.len() / 50).min(super::mesh_check::MAX_TRIANGLES + 1);
+    let mut cursor = Cursor::new(bytes);
+    let reader = stl_io::create_stl_reader(&mut cursor).map_err(|e| e.to_string())?;
+    let mut merged = Merged::with_capacity(cap);
+    for t in reader {
+        let t = t.map_err(|e| e.to_string())?;
+        let mut tri = [0u32; 3];
+        for (id, v) in tri.iter_mut().zip(&t.vertices) {
+            let p = Vector3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]));
+            *id = merged.index(p)?;
+        }
+        merged.triangles.push(tri);
+    }
+    Ok((merged.vertices, merged.triangles))
+}
+
+/// Vertices equal to the bit merged as they come (the first kept, in order), with the
+/// triangles naming them: one hash map (foldhash, fixed seed) sized up front.
+struct Merged {
+    index: HashMap<[u64; 3], u32, FixedState>,
+    vertices: Vec<Vector3<f64>>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl Merged {
+    /// Room for about `triangles` triangles of a closed mesh (half as many vertices).
+    fn with_capacity(triangles: usize) -> Merged {
+        Merged {
+            index: HashMap::with_capacity_and_hasher(triangles / 2 + 4, FixedState::default()),
+            vertices: Vec::with_capacity(triangles / 2 + 4),
+            triangles: Vec::with_capacity(triangles),
+        }
+    }
+
+    /// The index of the vertex `p` (a new one when no earlier vertex has its bits).
+    fn index(&mut self, p: Vector3<f64>) -> Result<u32, String> {
+        let next = u32::try_from(self.vertices.len())
+            .map_err(|_| format!("more than {} vertices", u32::MAX))?;
+        let id = *self
+            .index
+            .entry([p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .or_insert(next);
+        if id == next {
+            self.vertices.push(p);
+        }
+        Ok(id)
+    }
 }
 
 /// A Wavefront OBJ file by `tobj` (faces fanned into triangles, every object's vertices in one
@@ -206,7 +244,8 @@ fn try_indices(ids: [u64; 3]) -> Result<[u32; 3], String> {
 /// Vertices equal to the bit merged (the first kept, in order), triangles re-indexed; an
 /// index out of range is kept out of range (for [`mesh_check::basic`] to name).
 fn merge(v: Vec<Vector3<f64>>, t: Vec<[u32; 3]>) -> MeshData {
-    let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(v.len());
+    let mut index: HashMap<[u64; 3], u32, FixedState> =
+        HashMap::with_capacity_and_hasher(v.len(), FixedState::default());
     let mut verts = Vec::with_capacity(v.len());
     let map: Vec<u32> = v
         .iter()
@@ -311,69 +350,81 @@ pub fn write(
     })
 }
 
-/// A bent tube (a section of a torus surface, open at both ends) as a triangle mesh: the
-/// centreline is the arc `c(θ) = (R (1 − cos θ), 0, R sin θ)` in the x–z plane, starting at the
-/// origin along +z and bending towards +x with radius `bend_radius` (R), for θ from `theta0` to
-/// `theta1` \[rad\]; the wall is the circle of radius `tube_radius` around it, with `rings`
-/// circles along the arc and `segments` vertices on each. Deterministic, so the file it writes
-/// through [`to_obj`] can be regenerated bit for bit.
-pub fn bent_tube(
-    bend_radius: f64,
-    tube_radius: f64,
-    theta0: f64,
-    theta1: f64,
-    rings: usize,
-    segments: usize,
-) -> MeshData {
-    let rings = rings.max(2);
-    let segments = segments.max(3);
-    let mut verts = Vec::with_capacity(rings * segments);
-    for k in 0..rings {
-        let th = theta0 + (theta1 - theta0) * k as f64 / (rings - 1) as f64;
-        let c = Vector3::new(bend_radius * (1.0 - th.cos()), 0.0, bend_radius * th.sin());
-        // In-plane normal (away from the bend centre) and the bend's binormal.
-        let e1 = Vector3::new(-th.cos(), 0.0, th.sin());
-        let e2 = Vector3::new(0.0, 1.0, 0.0);
-        for j in 0..segments {
-            let phi = j as f64 / segments as f64 * std::f64::consts::TAU;
-            verts.push(c + tube_radius * (phi.cos() * e1 + phi.sin() * e2));
-        }
-    }
-    let mut tris = Vec::with_capacity(2 * (rings - 1) * segments);
-    let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
-    for k in 0..rings - 1 {
-        for j in 0..segments {
-            tris.push([id(k, j), id(k + 1, j), id(k + 1, j + 1)]);
-            tris.push([id(k, j), id(k + 1, j + 1), id(k, j + 1)]);
-        }
-    }
-    (verts, tris)
+/// A bent tube: a section of a torus surface whose centreline is the arc
+/// `c(θ) = (R (1 − cos θ), 0, R sin θ)` in the x–z plane, starting at the origin along +z and
+/// bending towards +x with radius `bend_radius` (R), for θ from `theta0` to `theta1` \[rad\];
+/// the wall is the circle of radius `tube_radius` around it, with `rings` circles along the arc
+/// and `segments` vertices on each (at least 2 and 3 are used). Deterministic, so the files it
+/// writes through [`to_obj`] can be regenerated bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BentTube {
+    /// Radius of the centreline's arc \[m\].
+    pub bend_radius: f64,
+    /// Radius of the wall around the centreline \[m\].
+    pub tube_radius: f64,
+    /// Arc angle where the tube starts \[rad\].
+    pub theta0: f64,
+    /// Arc angle where the tube ends \[rad\].
+    pub theta1: f64,
+    /// Circles of vertices along the arc.
+    pub rings: usize,
+    /// Vertices on each circle.
+    pub segments: usize,
 }
 
-/// [`bent_tube`] closed at both ends by flat caps (a fan about each end ring's centre): a
-/// closed, consistently wound solid ([`mesh_check::solid`]) of `2 rings × segments`
-/// triangles — a lumen with `free = "inside"`.
-pub fn capped_tube(
-    bend_radius: f64,
-    tube_radius: f64,
-    theta0: f64,
-    theta1: f64,
-    rings: usize,
-    segments: usize,
-) -> MeshData {
-    let (rings, segments) = (rings.max(2), segments.max(3));
-    let (mut v, mut t) = bent_tube(bend_radius, tube_radius, theta0, theta1, rings, segments);
-    let centre =
-        |th: f64| Vector3::new(bend_radius * (1.0 - th.cos()), 0.0, bend_radius * th.sin());
-    let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
-    v.push(centre(theta0));
-    v.push(centre(theta1));
-    let (c0, c1) = ((v.len() - 2) as u32, (v.len() - 1) as u32);
-    for j in 0..segments {
-        t.push([c0, id(0, j), id(0, j + 1)]);
-        t.push([c1, id(rings - 1, j + 1), id(rings - 1, j)]);
+impl BentTube {
+    /// The centreline's point at arc angle `th`.
+    fn centre(&self, th: f64) -> Vector3<f64> {
+        let r = self.bend_radius;
+        Vector3::new(r * (1.0 - th.cos()), 0.0, r * th.sin())
     }
-    (v, t)
+
+    /// Rings and segments as meshed (at least 2 and 3).
+    fn counts(&self) -> (usize, usize) {
+        (self.rings.max(2), self.segments.max(3))
+    }
+
+    /// The wall alone, open at both ends: `2 (rings − 1) segments` triangles.
+    pub fn open(&self) -> MeshData {
+        let (rings, segments) = self.counts();
+        let mut verts = Vec::with_capacity(rings * segments);
+        for k in 0..rings {
+            let th = self.theta0 + (self.theta1 - self.theta0) * k as f64 / (rings - 1) as f64;
+            // In-plane normal (away from the bend centre) and the bend's binormal.
+            let e1 = Vector3::new(-th.cos(), 0.0, th.sin());
+            let e2 = Vector3::new(0.0, 1.0, 0.0);
+            for j in 0..segments {
+                let phi = j as f64 / segments as f64 * std::f64::consts::TAU;
+                verts.push(self.centre(th) + self.tube_radius * (phi.cos() * e1 + phi.sin() * e2));
+            }
+        }
+        let mut tris = Vec::with_capacity(2 * (rings - 1) * segments);
+        for k in 0..rings - 1 {
+            for j in 0..segments {
+                let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
+                tris.push([id(k, j), id(k + 1, j), id(k + 1, j + 1)]);
+                tris.push([id(k, j), id(k + 1, j + 1), id(k, j + 1)]);
+            }
+        }
+        (verts, tris)
+    }
+
+    /// The tube closed at both ends by flat caps (a fan about each end ring's centre): a
+    /// closed, consistently wound solid ([`mesh_check::solid`]) of `2 rings × segments`
+    /// triangles — a lumen with `free = "inside"`.
+    pub fn capped(&self) -> MeshData {
+        let (rings, segments) = self.counts();
+        let (mut v, mut t) = self.open();
+        v.push(self.centre(self.theta0));
+        v.push(self.centre(self.theta1));
+        let (c0, c1) = ((v.len() - 2) as u32, (v.len() - 1) as u32);
+        let id = |k: usize, j: usize| (k * segments + j % segments) as u32;
+        for j in 0..segments {
+            t.push([c0, id(0, j), id(0, j + 1)]);
+            t.push([c1, id(rings - 1, j + 1), id(rings - 1, j)]);
+        }
+        (v, t)
+    }
 }
 
 #[cfg(test)]

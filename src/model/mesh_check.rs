@@ -19,7 +19,7 @@
 //! [`TriMesh`]: parry3d::shape::TriMesh
 
 use nalgebra::Vector3;
-use std::collections::HashMap;
+use rayon::prelude::*;
 
 /// Most triangles in one mesh (about the 256 MiB file cap of a binary STL).
 pub const MAX_TRIANGLES: usize = 5_000_000;
@@ -156,43 +156,7 @@ pub fn solid(
     vertices: &[Vector3<f64>],
     triangles: &[[u32; 3]],
 ) -> Result<Vec<[u32; 3]>, MeshError> {
-    // Directed edge → how many triangles run along it.
-    let mut directed: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * triangles.len());
-    for t in triangles {
-        for k in 0..3 {
-            *directed.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
-        }
-    }
-    let mut boundary = (0usize, (0u32, 0u32));
-    let mut seen: Vec<(u32, u32)> = directed.keys().copied().collect();
-    // Deterministic reports (the smallest offending edge), whatever the hash order.
-    seen.sort_unstable();
-    for &(a, b) in &seen {
-        let ab = directed[&(a, b)] as usize;
-        let ba = directed.get(&(b, a)).copied().unwrap_or(0) as usize;
-        let (lo, hi) = (a.min(b), a.max(b));
-        if ab + ba > 2 {
-            return Err(MeshError::NonManifold {
-                edge: (lo, hi),
-                triangles: ab + ba,
-            });
-        }
-        if ab == 2 {
-            return Err(MeshError::Inconsistent { edge: (a, b) });
-        }
-        if ba == 0 {
-            if boundary.0 == 0 {
-                boundary.1 = (lo, hi);
-            }
-            boundary.0 += 1;
-        }
-    }
-    if boundary.0 > 0 {
-        return Err(MeshError::NotClosed {
-            boundary_edges: boundary.0,
-            edge: boundary.1,
-        });
-    }
+    edges(vertices.len(), triangles)?;
     let volume = enclosed_volume(vertices, triangles);
     let (lo, hi) = vertices.iter().fold(
         (
@@ -210,6 +174,125 @@ pub fn solid(
     } else {
         triangles.iter().map(|t| [t[0], t[2], t[1]]).collect()
     })
+}
+
+/// The one of `a` and `b` with the smaller directed edge.
+fn earlier<T>(a: Option<((u32, u32), T)>, b: Option<((u32, u32), T)>) -> Option<((u32, u32), T)> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(if y.0 < x.0 { y } else { x }),
+        (x, y) => x.or(y),
+    }
+}
+
+/// What one vertex's outgoing edges say about the edge check: the first defect in the order
+/// of directed edges `(a, b)`, how many edges have no partner, and the first of those.
+#[derive(Default)]
+struct EdgeSummary {
+    defect: Option<((u32, u32), MeshError)>,
+    boundary: usize,
+    first_boundary: Option<((u32, u32), (u32, u32))>,
+}
+
+impl EdgeSummary {
+    /// Both summaries as one: the earlier defect and boundary edge, the counts summed.
+    fn join(self, other: EdgeSummary) -> EdgeSummary {
+        EdgeSummary {
+            defect: earlier(self.defect, other.defect),
+            boundary: self.boundary + other.boundary,
+            first_boundary: earlier(self.first_boundary, other.first_boundary),
+        }
+    }
+}
+
+/// Every edge used by exactly two triangles, once in each direction (module docs), or the
+/// defect of the smallest directed edge `(a, b)` that has one (a mesh with a hole: how many
+/// edges have one triangle, and the smallest). The directed edges are grouped by their first
+/// vertex (counted, then placed: no hashing), each vertex's list sorted, and every edge's
+/// reverse counted in its end's list by binary search, vertices in parallel.
+fn edges(vertices: usize, triangles: &[[u32; 3]]) -> Result<(), MeshError> {
+    for (triangle, t) in triangles.iter().enumerate() {
+        if let Some(&index) = t.iter().find(|&&i| i as usize >= vertices) {
+            return Err(MeshError::IndexOutOfRange {
+                triangle,
+                index: u64::from(index),
+                vertices,
+            });
+        }
+    }
+    // `start[a]..start[a + 1]`: the ends of the edges leaving vertex `a` in `to`.
+    let mut start = vec![0usize; vertices + 1];
+    for t in triangles {
+        for &a in t {
+            start[a as usize + 1] += 1;
+        }
+    }
+    for a in 0..vertices {
+        start[a + 1] += start[a];
+    }
+    let mut fill = start.clone();
+    let mut to = vec![0u32; 3 * triangles.len()];
+    for t in triangles {
+        for k in 0..3 {
+            let a = t[k] as usize;
+            to[fill[a]] = t[(k + 1) % 3];
+            fill[a] += 1;
+        }
+    }
+    let mut lists: Vec<&mut [u32]> = Vec::with_capacity(vertices);
+    let mut rest = &mut to[..];
+    for a in 0..vertices {
+        let (list, tail) = rest.split_at_mut(start[a + 1] - start[a]);
+        lists.push(list);
+        rest = tail;
+    }
+    lists.par_iter_mut().for_each(|l| l.sort_unstable());
+    drop(lists);
+    let list = |a: usize| &to[start[a]..start[a + 1]];
+    let count = |l: &[u32], b: u32| l.partition_point(|&x| x <= b) - l.partition_point(|&x| x < b);
+    let summary = (0..vertices)
+        .into_par_iter()
+        .with_min_len(1024)
+        .map(|a| {
+            let mut s = EdgeSummary::default();
+            let out = list(a);
+            let a = a as u32;
+            let mut i = 0;
+            while i < out.len() {
+                let b = out[i];
+                let ab = count(&out[i..], b);
+                i += ab;
+                let ba = count(list(b as usize), a);
+                let (lo, hi) = (a.min(b), a.max(b));
+                if ab + ba > 2 {
+                    let e = MeshError::NonManifold {
+                        edge: (lo, hi),
+                        triangles: ab + ba,
+                    };
+                    s.defect = Some(((a, b), e));
+                    break;
+                }
+                if ab == 2 {
+                    s.defect = Some(((a, b), MeshError::Inconsistent { edge: (a, b) }));
+                    break;
+                }
+                if ba == 0 {
+                    s.boundary += 1;
+                    s.first_boundary.get_or_insert(((a, b), (lo, hi)));
+                }
+            }
+            s
+        })
+        .reduce(EdgeSummary::default, EdgeSummary::join);
+    if let Some((_, e)) = summary.defect {
+        return Err(e);
+    }
+    match summary.first_boundary {
+        Some((_, edge)) => Err(MeshError::NotClosed {
+            boundary_edges: summary.boundary,
+            edge,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The signed volume a closed mesh encloses, `Σ det(v₀, v₁, v₂) / 6` (positive when the

@@ -173,7 +173,15 @@ fn each_bad_file_is_named() {
 #[test]
 fn the_capped_tube_is_a_solid_of_the_torus_volume() {
     let (r_bend, r, th) = (0.11, 0.02, 1.9);
-    let (v, t) = capped_tube(r_bend, r, -0.1, 1.8, 400, 64);
+    let (v, t) = BentTube {
+        bend_radius: r_bend,
+        tube_radius: r,
+        theta0: -0.1,
+        theta1: 1.8,
+        rings: 400,
+        segments: 64,
+    }
+    .capped();
     mesh_check::basic(&v, &t).unwrap();
     let solid = mesh_check::solid(&v, &t).unwrap();
     let n = 64.0;
@@ -181,4 +189,90 @@ fn the_capped_tube_is_a_solid_of_the_torus_volume() {
     let want = std::f64::consts::PI * r * r * polygon * r_bend * th;
     let got = mesh_check::enclosed_volume(&v, &solid);
     assert!((got / want - 1.0).abs() < 1e-4, "{got} vs {want}");
+}
+
+/// The edge check of a solid as it was first written: every directed edge counted in a hash
+/// map, then read in sorted order — the first defect, else every edge with one triangle.
+fn edges_by_map(t: &[[u32; 3]]) -> Result<(), MeshError> {
+    let mut directed: std::collections::HashMap<(u32, u32), usize> = Default::default();
+    for t in t {
+        for k in 0..3 {
+            *directed.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+        }
+    }
+    let mut seen: Vec<(u32, u32)> = directed.keys().copied().collect();
+    seen.sort_unstable();
+    let mut boundary = (0, (0, 0));
+    for &(a, b) in &seen {
+        let (ab, ba) = (
+            directed[&(a, b)],
+            directed.get(&(b, a)).copied().unwrap_or(0),
+        );
+        let edge = (a.min(b), a.max(b));
+        if ab + ba > 2 {
+            return Err(MeshError::NonManifold {
+                edge,
+                triangles: ab + ba,
+            });
+        }
+        if ab == 2 {
+            return Err(MeshError::Inconsistent { edge: (a, b) });
+        }
+        if ba == 0 {
+            if boundary.0 == 0 {
+                boundary.1 = edge;
+            }
+            boundary.0 += 1;
+        }
+    }
+    match boundary {
+        (0, _) => Ok(()),
+        (n, edge) => Err(MeshError::NotClosed {
+            boundary_edges: n,
+            edge,
+        }),
+    }
+}
+
+/// The solid check (edges grouped by vertex, no hashing, in parallel) names the same defect
+/// as a hash map of directed edges read in order, on a closed tube and on copies of it with
+/// triangles removed, flipped, repeated or added across it, drawn at random.
+#[test]
+fn the_edge_check_agrees_with_a_map_of_directed_edges() {
+    let (v, t) = BentTube {
+        bend_radius: 0.11,
+        tube_radius: 0.02,
+        theta0: -0.1,
+        theta1: 1.8,
+        rings: 40,
+        segments: 12,
+    }
+    .capped();
+    let mut rng = crate::numeric::test_rng::Rng(17);
+    let mut kinds = [0usize; 4];
+    for case in 0..200 {
+        let mut t = t.clone();
+        for _ in 0..case % 4 {
+            let k = (rng.next() * t.len() as f64) as usize;
+            match (rng.next() * 4.0) as usize {
+                0 => {
+                    t.remove(k);
+                }
+                1 => t[k] = [t[k][0], t[k][2], t[k][1]],
+                2 => t.push(t[k]),
+                _ => t.push([t[k][0], t[k][1], (rng.next() * v.len() as f64) as u32]),
+            }
+        }
+        let want = edges_by_map(&t);
+        let got = mesh_check::solid(&v, &t).map(|_| ());
+        kinds[match &want {
+            Ok(()) => 0,
+            Err(MeshError::NotClosed { .. }) => 1,
+            Err(MeshError::NonManifold { .. }) => 2,
+            Err(_) => 3,
+        }] += 1;
+        assert_eq!(got, want, "case {case}");
+    }
+    // Every outcome was drawn.
+    assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
 }

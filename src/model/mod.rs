@@ -85,6 +85,18 @@ impl Model {
         Ok(m)
     }
 
+    /// The files this model was read from, each with what it was: the model file (when read
+    /// by [`Model::from_file`]), then its scene's ([`Scene::files`]: a scene file it names,
+    /// the mesh files its obstacles name). A run lists them among its inputs
+    /// ([`crate::output::RunFiles::read`]).
+    pub fn files(&self) -> Vec<(String, PathBuf)> {
+        let own = self
+            .source
+            .iter()
+            .map(|p| ("model file".to_string(), p.clone()));
+        own.chain(self.scene.files().iter().cloned()).collect()
+    }
+
     /// Parse and validate model text (relative mesh and scene paths resolve against the
     /// current directory).
     pub fn from_toml_str(text: &str) -> Result<Model, ModelError> {

@@ -54,7 +54,10 @@ impl Robot {
         let mut shortest = f64::INFINITY;
         for i in 1..=n {
             let l = self.disk_s[i] - self.disk_s[i - 1];
-            bounds::SECTION_LENGTH.check(&format!("robot.section_lengths[{}]", i - 1), l)?;
+            named(
+                || format!("robot.section_lengths[{}]", i - 1),
+                |f| bounds::SECTION_LENGTH.check(f, l),
+            )?;
             shortest = shortest.min(l);
         }
         bounds::ROBOT_LENGTH.check("robot.section_lengths", self.length())?;
@@ -107,7 +110,10 @@ impl Robot {
     fn check_cable(&self, ci: usize) -> Result<(), ModelError> {
         let c: &Cable = &self.cables[ci];
         let f = |name: &str| format!("cables[{ci}].{name}");
-        super::name::check_name(f("name"), &c.name)?;
+        named(
+            || f("name"),
+            |field| super::name::check_name(field, &c.name),
+        )?;
         let n = self.sections();
         if !(1..=n).contains(&c.ends_at) {
             return Err(ModelError::invalid(
@@ -128,25 +134,61 @@ impl Robot {
             }
         }
         for (k, r) in c.radius.iter().enumerate() {
-            hole_radius(&f(&format!("radius[{k}]")), *r, self)?;
+            named(
+                || f(&format!("radius[{k}]")),
+                |field| hole_radius(field, *r, self),
+            )?;
         }
         for (k, a) in c.angle.iter().enumerate() {
-            bounds::ANGLE.check(&f(&format!("angles[{k}]")), *a)?;
+            named(
+                || f(&format!("angles[{k}]")),
+                |field| bounds::ANGLE.check(field, *a),
+            )?;
         }
         if let Some(h) = &c.helix {
-            bounds::ANGLE.check(&f("angles.helix.start"), h.start)?;
-            bounds::HELIX_PER_METRE.check(&f("angles.helix.per_metre"), h.per_metre)?;
+            named(
+                || f("angles.helix.start"),
+                |field| bounds::ANGLE.check(field, h.start),
+            )?;
+            named(
+                || f("angles.helix.per_metre"),
+                |field| bounds::HELIX_PER_METRE.check(field, h.per_metre),
+            )?;
         }
         if let Some(k) = c.stiffness {
-            bounds::CABLE_STIFFNESS.check(&f("stiffness"), k)?;
+            named(
+                || f("stiffness"),
+                |field| bounds::CABLE_STIFFNESS.check(field, k),
+            )?;
         }
         // A pretension of 0 is none (the struct's default).
-        pretension(
-            &f("pretension"),
-            (c.pretension != 0.0).then_some(c.pretension),
-            c.stiffness,
-            self.undeformed_chord_length(ci),
+        if c.pretension == 0.0 {
+            return Ok(());
+        }
+        named(
+            || f("pretension"),
+            |field| {
+                pretension(
+                    field,
+                    Some(c.pretension),
+                    c.stiffness,
+                    self.undeformed_chord_length(ci),
+                )
+            },
         )
+    }
+}
+
+/// `check` run with an empty field name and, only if it refuses, again with the name
+/// `field()` formatted: a valid robot (every solve checks one, [`Robot::check`]) formats no
+/// field names. `check` must decide the same both times (a pure check of the value).
+fn named<T>(
+    field: impl FnOnce() -> String,
+    check: impl Fn(&str) -> Result<T, ModelError>,
+) -> Result<T, ModelError> {
+    match check("") {
+        Ok(v) => Ok(v),
+        Err(_) => check(&field()),
     }
 }
 

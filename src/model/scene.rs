@@ -126,6 +126,8 @@ pub struct Scene {
     pub clearance: f64,
     /// The obstacles.
     pub obstacles: Vec<Obstacle>,
+    /// The files this scene was read from, each with what it was ([`Scene::files`]).
+    pub(crate) files: Vec<(String, PathBuf)>,
 }
 
 impl Scene {
@@ -145,6 +147,7 @@ impl Scene {
         Scene {
             clearance: self.clearance,
             obstacles: self.obstacles.iter().map(|o| o.transformed(iso)).collect(),
+            files: self.files.clone(),
         }
     }
 
@@ -158,6 +161,7 @@ impl Scene {
                 .iter()
                 .map(|o| o.with_field_cache(cache.clone()))
                 .collect(),
+            files: self.files.clone(),
         }
     }
 
@@ -165,6 +169,17 @@ impl Scene {
     pub fn merge(&mut self, other: Scene) {
         self.clearance = self.clearance.max(other.clearance);
         self.obstacles.extend(other.obstacles);
+        self.files.extend(other.files);
+    }
+
+    /// The files this scene was read from, each with what it was to the scene: the scene
+    /// file itself (`scene file`, or `scene file named in the model`) and every mesh file an
+    /// obstacle names (`mesh file of obstacle `NAME``), as the paths that were opened (relative
+    /// ones joined to their file's folder). A run lists them among its inputs, so that none
+    /// is overwritten by one of its outputs ([`crate::output::RunFiles::read`]). Empty for a
+    /// scene built in code.
+    pub fn files(&self) -> &[(String, PathBuf)] {
+        &self.files
     }
 
     /// Broad phase: indices of the obstacles whose bounds come within `radius` of `center`.

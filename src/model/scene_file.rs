@@ -21,7 +21,11 @@ impl Scene {
     /// A file named `*.json` is read as JSON with the same fields and checks
     /// ([`crate::model::scene`]).
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, ModelError> {
-        let path = path.as_ref();
+        Self::from_file_as(path.as_ref(), "scene file")
+    }
+
+    /// [`Scene::from_file`], the file listed in [`Scene::files`] as `role`.
+    pub(crate) fn from_file_as(path: &Path, role: &str) -> Result<Scene, ModelError> {
         let text = super::read::read_text(path, "scene file")?;
         let json = path
             .extension()
@@ -36,7 +40,11 @@ impl Scene {
             reason: reason.trim_end().to_string(),
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        Scene::from_parts(file.clearance, &file.obstacles, dir, "")
+        let mut scene = Scene::from_parts(file.clearance, &file.obstacles, dir, "")?;
+        scene
+            .files
+            .insert(0, (role.to_string(), path.to_path_buf()));
+        Ok(scene)
     }
 
     /// Build from parsed file parts; `prefix` is prepended to field names in errors.
@@ -51,6 +59,7 @@ impl Scene {
             Some(c) => super::bounds::CLEARANCE.check(&format!("{prefix}clearance"), c)?,
         };
         let mut out: Vec<Obstacle> = Vec::with_capacity(obstacles.len());
+        let mut files = Vec::new();
         // Names seen so far: a hash set keeps a scene of thousands of obstacles linear.
         let mut names = std::collections::HashSet::with_capacity(obstacles.len());
         for (k, o) in obstacles.iter().enumerate() {
@@ -62,11 +71,15 @@ impl Scene {
                     format!("two obstacles are named `{}`", ob.name),
                 ));
             }
+            if let ObstacleKind::Mesh { path, .. } = &ob.kind {
+                files.push((format!("mesh file of obstacle `{}`", ob.name), path.clone()));
+            }
             out.push(ob);
         }
         Ok(Scene {
             clearance,
             obstacles: out,
+            files,
         })
     }
 }

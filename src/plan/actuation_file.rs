@@ -4,11 +4,19 @@
 //! naming a cable of the model, no cable twice. A name the model does not have (a typo, or a
 //! file written for another robot) is refused by name rather than ignored. In tension space
 //! each cable's value is its entry's `tension` \[N\], else its `shorten` \[m\]; a file that
-//! names its `space` (a plan's JSON does) must name the one planned in.
+//! names its `space` (a plan's JSON and a reach answer do) must name the one planned in. A
+//! file that names what it was made for (`made_for`, [`MadeFor`]: a reach answer's) is
+//! refused by name when read for another robot or another actuation space
+//! ([`read_actuation_file`]); a file without it (hand-written, or older) is read by cable name
+//! with a warning ([`ActuationFile::warning`]). The file is at most 1 MiB
+//! ([`crate::model::read::MAX_ACTUATION_BYTES`]).
 
 use crate::error::ModelError;
+use crate::fingerprint::MadeFor;
 use crate::model::actuation::{Actuation, Input};
 use crate::model::Model;
+use crate::reach::Space;
+use serde::Deserialize;
 use serde_json::Value;
 
 /// Every entry of `list` names a distinct cable of `model` (`path` for the message).
@@ -74,13 +82,73 @@ pub fn read_actuation(path: &std::path::Path, model: &Model) -> Result<Vec<f64>,
 /// `"actuation": [{"cable": NAME, "shorten": METRES}, …]` (in tension space
 /// `{"cable": NAME, "tension": NEWTONS}`) naming every cable of the model, and, for a robot
 /// with a port, `"insertion"` \[m\] and `"rotation"` \[rad\] (default: the model's) — what
-/// `ccrkit reach --json` and each waypoint of `ccrkit plan --json` write. The limits are
-/// checked where the point is used (the plan's start and goal, by name).
+/// `ccrkit reach --json` and each waypoint of `ccrkit plan --json` write. A file that names
+/// what it was made for (`made_for`) must name this model's robot; the space it was made for
+/// is checked by [`read_actuation_file`], which has the space. The limits are checked where
+/// the point is used (the plan's start and goal, by name).
 pub fn read_actuation_in(
     path: &std::path::Path,
     model: &Model,
     input: Input,
 ) -> Result<Vec<f64>, ModelError> {
+    let p = path.display().to_string();
+    let v = json(path, input)?;
+    if let Some(m) = made_for(&v, &p)? {
+        m.check_robot("made_for", &model.robot)
+            .map_err(|e| in_file(e, &p))?;
+    }
+    point(&v, &p, model, input)
+}
+
+/// An actuation file read against an actuation space ([`read_actuation_file`]).
+#[derive(Debug, Clone)]
+pub struct ActuationFile {
+    /// The point of the space: each cable's shortening \[m\] (tension \[N\] in tension space),
+    /// then, with a port, insertion \[m\] and rotation \[rad\].
+    pub point: Vec<f64>,
+    /// What the file was made for, checked against the space; `None` for a file without
+    /// `made_for` (written by hand, or before ccrkit recorded it), read by cable name only.
+    pub made_for: Option<MadeFor>,
+}
+
+impl ActuationFile {
+    /// The warning a front end prints for a file read unchecked (no `made_for`), naming `path`.
+    pub fn warning(&self, path: &std::path::Path) -> Option<String> {
+        self.made_for.is_none().then(|| {
+            format!(
+                "`{}` names no `made_for` (written by hand, or by a ccrkit before it recorded \
+                 one): read by cable name, not checked against the robot and actuation space it \
+                 was made for",
+                path.display()
+            )
+        })
+    }
+}
+
+/// Read an actuation file ([`read_actuation_in`]) as a point of `space`: a file that names
+/// what it was made for (`made_for`, as `reach --json` writes) is refused by name when it was
+/// made for another robot (`made_for.robot_fingerprint`) or another actuation space —
+/// shortenings against tensions, other limits or scales (`made_for.space_fingerprint`). A file
+/// without `made_for` is read by cable name, with [`ActuationFile::warning`].
+pub fn read_actuation_file(
+    path: &std::path::Path,
+    model: &Model,
+    space: &Space,
+) -> Result<ActuationFile, ModelError> {
+    let p = path.display().to_string();
+    let v = json(path, space.input)?;
+    let made_for = made_for(&v, &p)?;
+    if let Some(m) = &made_for {
+        m.check_space("made_for", space)
+            .map_err(|e| in_file(e, &p))?;
+    }
+    let point = point(&v, &p, model, space.input)?;
+    Ok(ActuationFile { point, made_for })
+}
+
+/// The file's JSON (capped at [`crate::model::read::MAX_ACTUATION_BYTES`]), refused by name
+/// when it names a `space` other than `input`'s.
+fn json(path: &std::path::Path, input: Input) -> Result<Value, ModelError> {
     let p = path.display().to_string();
     let text = crate::model::read::read_text_capped(
         path,
@@ -104,13 +172,38 @@ pub fn read_actuation_in(
             ));
         }
     }
+    Ok(v)
+}
+
+/// The file's `made_for`, if it has one (refused by name when it is not one).
+fn made_for(v: &Value, p: &str) -> Result<Option<MadeFor>, ModelError> {
+    match v.get("made_for") {
+        None => Ok(None),
+        Some(m) => MadeFor::deserialize(m).map(Some).map_err(|e| {
+            ModelError::invalid("made_for", format!("`{p}`: not what ccrkit writes: {e}"))
+        }),
+    }
+}
+
+/// `e` with the file named in its reason.
+fn in_file(e: ModelError, p: &str) -> ModelError {
+    match e {
+        ModelError::Invalid { field, reason } => {
+            ModelError::invalid(field, format!("`{p}` was {reason}"))
+        }
+        other => other,
+    }
+}
+
+/// The point the file's entries give, each cable named once ([`entries`]).
+fn point(v: &Value, p: &str, model: &Model, input: Input) -> Result<Vec<f64>, ModelError> {
     let list = v
         .get("actuation")
         .and_then(|a| a.as_array())
         .ok_or_else(|| {
             ModelError::invalid("actuation", format!("`{p}` has no `actuation` list"))
         })?;
-    entries(list, model, &p)?;
+    entries(list, model, p)?;
     let key = match input {
         Input::Shortening => "shorten",
         Input::Tension => "tension",

@@ -42,7 +42,10 @@ pub mod roadmap_shard;
 mod rrt;
 mod trajectory;
 
-pub use actuation_file::{actuation_of, actuation_of_in, read_actuation, read_actuation_in};
+pub use actuation_file::{
+    actuation_of, actuation_of_in, read_actuation, read_actuation_file, read_actuation_in,
+    ActuationFile,
+};
 pub use edge::{Checker, EdgeCheck, Node, Stats};
 
 use crate::error::SolveError;
@@ -482,11 +485,9 @@ pub(crate) fn finish(
         certified_clearance_m: certified,
         seed: opts.seed,
         stats,
-        made_for: MadeFor::new(
-            &ck.space.robot,
-            &ck.space.scene,
-            ck.margin,
-            &ck.space.request,
-        ),
+        made_for: MadeFor {
+            margin_m: ck.margin,
+            ..MadeFor::of_space(ck.space)
+        },
     })
 }

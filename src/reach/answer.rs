@@ -3,6 +3,7 @@
 
 use super::solve::Target;
 use crate::error::SolveError;
+use crate::fingerprint::MadeFor;
 use crate::model::actuation::Input;
 use crate::shape::{Shape, ShapeJson};
 use nalgebra::Vector3;
@@ -89,6 +90,10 @@ pub struct Reach {
     pub reason: String,
     /// True in tension space: `u` and the effort are in newtons ([`super::Space::input`]).
     pub by_tension: bool,
+    /// What it was found for: robot, actuation space, obstacles, margin, method — written into
+    /// the JSON, checked where the actuation is read back
+    /// ([`crate::plan::read_actuation_file`]).
+    pub made_for: MadeFor,
 }
 
 /// JSON form of a [`Reach`].
@@ -132,6 +137,12 @@ pub struct ReachJson {
     /// Why not reached (absent when reached).
     #[serde(skip_serializing_if = "String::is_empty")]
     pub reason: String,
+    /// The space searched: `shortening` (cables' `shorten` \[m\] are the inputs) or `tension`
+    /// (their `tension` \[N\]).
+    pub space: &'static str,
+    /// What it was found for (robot, space, obstacles, margin, method): an actuation file read
+    /// back with another robot or space is refused by name.
+    pub made_for: MadeFor,
     /// The shape.
     pub shape: ShapeJson,
 }
@@ -187,6 +198,12 @@ impl Reach {
             solves: self.solves,
             sensitivities: self.sensitivities,
             reason: self.reason.clone(),
+            space: if self.by_tension {
+                Input::Tension.name()
+            } else {
+                Input::Shortening.name()
+            },
+            made_for: self.made_for.clone(),
             shape: self.shape.to_json(),
         }
     }

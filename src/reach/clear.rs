@@ -50,8 +50,8 @@ pub struct Clearance {
 }
 
 /// Which robot feature (see [`Clearance::feature`]).
-#[derive(Debug, Clone, Copy)]
-enum Label {
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Label {
     Disk(usize),
     Backbone(usize),
     /// Cable index, chord index (from 1).
@@ -233,6 +233,71 @@ pub fn clearance_hinted(
             ));
         }
         cap *= 2.0;
+    }
+}
+
+/// The clearance of `shape` when it is below `cap` \[m\] (the same distance, obstacle and
+/// feature as [`clearance`]) with its closest pair, `None` when every feature–obstacle
+/// distance is at least `cap` — proved by the grid's lower bounds without a query, or by one
+/// pass whose queries are bounded by `cap` (module docs: a pass that finds a pair within its
+/// bound has found the minimum). Also `None` for an empty scene. What a margin test needs:
+/// the exact depth of a shape too close, nothing more for a clear one.
+pub fn clearance_below(
+    robot: &Robot,
+    shape: &Shape,
+    scene: &Scene,
+    cap: f64,
+) -> Option<(Clearance, ClosestPair)> {
+    if !cap.is_finite() {
+        return clearance_hinted(robot, shape, scene, None).filter(|c| c.0.distance < cap);
+    }
+    if scene.is_empty() {
+        return None;
+    }
+    let feats = features_of(robot, shape);
+    let bounds = grid_bounds(&feats, scene);
+    let (d, f, k) = pass(&feats, scene, cap, &bounds)?;
+    let c = Clearance {
+        distance: d,
+        obstacle: scene.obstacles[k].name.clone(),
+        feature: feats[f].label.text(shape),
+    };
+    (d < cap).then_some((c, (f, k)))
+}
+
+/// The feature of `shape` at index `f` of a [`ClosestPair`] (`None` when out of range).
+pub(crate) fn label_of(robot: &Robot, shape: &Shape, f: usize) -> Option<Label> {
+    features_of(robot, shape).get(f).map(|x| x.label)
+}
+
+/// The signed distance between the feature `label` of `shape` and obstacle `k` (exact, as
+/// [`clearance`] measures it; `None` when `shape` has no such feature or `k` is out of
+/// range): the distance of one pair — the clearance's active piece, whose change along a
+/// small step is the clearance's (one-sided) derivative while that pair stays the closest.
+pub(crate) fn pair_distance(
+    robot: &Robot,
+    shape: &Shape,
+    scene: &Scene,
+    label: Label,
+    k: usize,
+) -> Option<f64> {
+    if k >= scene.obstacles.len() {
+        return None;
+    }
+    let feats = features_of(robot, shape);
+    let f = feats.iter().find(|f| f.label == label)?;
+    // The growing bound of the hinted pair in `clearance_hinted` (finite up to the far corner).
+    let far = far_corner(scene, k, &f.centre);
+    let mut b = 2.0 * scene.clearance.max(5e-4);
+    loop {
+        let last = b > far;
+        if let Some(d) = pair(f, scene, k, if last { f64::MAX } else { b }) {
+            return Some(d);
+        }
+        if last {
+            return Some(f64::INFINITY);
+        }
+        b *= 2.0;
     }
 }
 

@@ -135,9 +135,10 @@ impl Ctx<'_> {
     fn merit(&self, u: &[f64], shape: &Shape) -> (f64, f64) {
         let r = residual(shape, self.target, self.len).norm();
         let viol = if self.keep_clear() {
+            // Only a shape within the margin pays: one bounded by it costs no exact query.
             self.space
-                .clearance(shape)
-                .map_or(0.0, |c| (self.margin - c.distance).max(0.0))
+                .clearance_below(shape, self.margin)
+                .map_or(0.0, |c| (self.margin - c.0.distance).max(0.0))
         } else {
             0.0
         };
@@ -205,13 +206,14 @@ impl Ctx<'_> {
     fn step(&mut self, p: &Point) -> Option<(Vec<f64>, bool)> {
         let (u, shape) = (&p.u, &p.shape);
         let k = u.len();
-        let clear = if self.keep_clear() {
-            self.space.clearance(shape).map(|c| c.distance)
+        // The clearance matters only within the band: beyond it, no exact query.
+        let near = if self.keep_clear() {
+            self.space.clearance_below(shape, self.margin + CLEAR_BAND)
         } else {
             None
         };
-        let near = clear.is_some_and(|d| d < self.margin + CLEAR_BAND);
-        let s = sensitivity_with(self.space, u, &p.released, shape, near).ok()?;
+        let clear = near.as_ref().map(|c| c.0.distance);
+        let s = sensitivity_with(self.space, u, &p.released, shape, near.map(|c| c.1)).ok()?;
         self.solves += s.solves;
         self.exact = s.exact;
         let r = residual(shape, self.target, self.len);

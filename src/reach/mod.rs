@@ -51,7 +51,7 @@ mod descend;
 mod sens;
 mod solve;
 
-pub use clear::{clearance, clearance_hinted, Clearance, ClosestPair};
+pub use clear::{clearance, clearance_below, clearance_hinted, Clearance, ClosestPair};
 
 pub use answer::{CableActuation, EffortJson, Reach, ReachJson};
 pub use sens::{sensitivity, TipSens, FD_STEP};
@@ -367,6 +367,12 @@ impl Space {
         clearance(&self.robot, shape, &self.scene)
     }
 
+    /// [`Space::clearance`] when it is below `cap` \[m\], `None` when the shape is at least
+    /// `cap` from every obstacle ([`clearance_below`]: cheaper for a shape well clear).
+    pub fn clearance_below(&self, shape: &Shape, cap: f64) -> Option<(Clearance, ClosestPair)> {
+        clearance_below(&self.robot, shape, &self.scene, cap)
+    }
+
     /// [`Space::clearance`] starting from a hinted closest pair, with the closest pair found
     /// ([`clearance_hinted`]: the same answer).
     pub fn clearance_hinted(
@@ -400,8 +406,8 @@ impl Space {
     pub fn admissible(&self, shape: &Shape) -> bool {
         let clear = self.allow_contact
             || self
-                .clearance(shape)
-                .is_none_or(|c| c.distance >= self.margin);
+                .clearance_below(shape, self.margin)
+                .is_none_or(|c| c.0.distance >= self.margin);
         clear && self.tension_violation(shape).is_none()
     }
 }

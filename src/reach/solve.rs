@@ -31,7 +31,8 @@
 //! m (above the multipliers: with shortenings of centimetres and tip gains of order one,
 //! the price of the target in effort is ~1e-2 m), times [`Space::effort_scale`] in tension
 //! space (the effort is then in N²). Several deterministic starts
-//! ([`ReachOptions::starts`]: every cable pulled a quarter of its range — through a port, at the
+//! ([`ReachOptions::starts`]: through a port, first the constant-curvature arc from the port
+//! to the target; then every cable pulled a quarter of its range — through a port, at the
 //! model's insertion, then all the way out —, the middle of the box, then a Kronecker sequence
 //! through it) guard against local minima. Every descent keeps the best point it saw; an
 //! unreachable target ends with the best of all (smallest residual, then least effort), its
@@ -101,19 +102,74 @@ impl Default for ReachOptions {
     }
 }
 
-/// Start `s` of the search: a quarter of the way up each cable's pulling range, then the
+/// Start `s` of the search: through a port in shortening space first the arc to the target
+/// ([`arc_start`]), then the starts in the limits box ([`box_start`]).
+fn start(space: &Space, target: &Target, s: usize) -> Vec<f64> {
+    // Through a port (shortening space), the first start is the arc to the target.
+    match (space.has_port() && !space.by_tension(), s) {
+        (true, 0) => arc_start(space, target).unwrap_or_else(|| box_start(space, 0)),
+        (true, s) => box_start(space, s - 1),
+        (false, s) => box_start(space, s),
+    }
+}
+
+/// The arc start through a port: the robot bent at one constant curvature, in one plane,
+/// along the circular arc that leaves the port along its axis and ends at the target, inserted
+/// by the arc's length. A cable's shortening is then `κ ℓ_c r_c cos(α_c − φ)`, `ℓ_c` the
+/// length of its path beyond the port (a cable tied in the port: none), `φ` the target's
+/// azimuth about the port axis at the model's rotation (the inextensible planar relation;
+/// clamped to the limits). In a lumen such an arc follows the branch the target lies in far
+/// more closely than a straight robot: measured on the generated airway's targets
+/// (`examples/airway_benchmark.rs`), the descent from it ends on the target where the starts
+/// in the box crossed the carina's wall. `None` for a target behind the port.
+fn arc_start(space: &Space, target: &Target) -> Option<Vec<f64>> {
+    let port = space.robot.port.as_ref()?;
+    let k = space.cables();
+    let psi = space.rest[k + 1].clamp(space.lo[k + 1], space.hi[k + 1]);
+    let q = port
+        .base_frame(psi)
+        .inverse_transform_point(&nalgebra::Point3::from(target.tip));
+    let (rho, z) = (q.x.hypot(q.y), q.z);
+    if z.is_nan() || z <= 0.0 {
+        return None;
+    }
+    // The arc tangent to the axis at the port turns by twice the chord's angle to the axis.
+    let (chord, turn, phi) = (rho.hypot(z), 2.0 * rho.atan2(z), q.y.atan2(q.x));
+    let (kappa, arc) = if turn < 1e-9 {
+        (0.0, chord)
+    } else {
+        let radius = chord / (2.0 * (0.5 * turn).sin());
+        (1.0 / radius, radius * turn)
+    };
+    let d = arc.clamp(space.lo[k], space.hi[k]);
+    let robot = &space.robot;
+    let len = robot.length();
+    let mut u: Vec<f64> = (0..k)
+        .map(|c| {
+            let cable = &robot.cables[c];
+            let h = cable.hole(0);
+            let out = (robot.disk_s[cable.ends_at] - (len - d)).max(0.0);
+            let u = kappa * out * (h.x * phi.cos() + h.y * phi.sin());
+            u.clamp(space.lo[c], space.hi[c])
+        })
+        .collect();
+    u.extend([d, psi]);
+    Some(u)
+}
+
+/// Start `s` in the limits box: a quarter of the way up each cable's pulling range, then the
 /// middle of the box, then a Kronecker sequence through it.
 ///
 /// The first start pulls every cable (from `max(lo, 0)` a quarter towards `hi`): there every
 /// cable is taut and the tip Jacobian has full rank. The middle of the default limits
 /// (symmetric about zero) is the straight robot with every cable slack, where the tip does not
 /// depend on the inputs and no step leaves it.
-fn start(space: &Space, s: usize) -> Vec<f64> {
+fn box_start(space: &Space, s: usize) -> Vec<f64> {
     // Through a port, the second start is the first with the robot all the way out.
     let s = match (space.has_port(), s) {
         (false, _) | (true, 0) => s,
         (true, 1) => {
-            let mut u = start(space, 0);
+            let mut u = box_start(space, 0);
             let k = space.cables();
             u[k] = space.hi[k];
             return u;
@@ -180,7 +236,7 @@ pub fn reach_in(
     let (mut iterations, mut starts) = (0, 0);
     for s in 0..opts.starts {
         starts += 1;
-        if let Some(a) = ctx.descend(&start(space, s)) {
+        if let Some(a) = ctx.descend(&start(space, target, s)) {
             iterations += a.iterations;
             found.push(confirm(&mut ctx, model, a));
         }
@@ -197,7 +253,7 @@ pub fn reach_in(
         let mut seed = None;
         for s in 0..opts.starts {
             starts += 1;
-            if let Some(a) = ctx.descend(&start(space, s)) {
+            if let Some(a) = ctx.descend(&start(space, target, s)) {
                 iterations += a.iterations;
                 if a.res <= opts.tolerance {
                     seed = Some(a.u);
@@ -405,5 +461,9 @@ fn finish(
         },
         reason: reasons.join("; "),
         by_tension: space.by_tension(),
+        made_for: crate::fingerprint::MadeFor {
+            margin_m: margin,
+            ..crate::fingerprint::MadeFor::of_space(space)
+        },
     })
 }

@@ -148,8 +148,7 @@ pub fn auto_study(opts: &AutoStudyOptions) -> Result<Vec<AutoStudyRow>, StudyErr
                         solves: a.as_ref().map_or(0, |a| a.solves),
                         met: a.is_some_and(|a| a.met),
                         true_error: s.shape.tip_distance(&truth.shape),
-                        estimate: e
-                            .map_or(f64::NAN, |e| e.discretization_m + e.model_m.unwrap_or(0.0)),
+                        estimate: e.map_or(f64::NAN, |e| e.known_parts_m()),
                         cost_s: cost,
                         hindsight,
                         hindsight_cost_s,

@@ -1,6 +1,7 @@
 //! Outputs that would clobber inputs: every command's output named as one of the same run's
 //! inputs — directly, through a symbolic or a hard link, or as another output of the run — is
-//! refused by name before any work, and the input is left byte for byte as it was.
+//! refused by name before any work, and the input is left byte for byte as it was; so is an
+//! output onto a file a model or a scene names (a scene file, a mesh).
 
 use crate::common::adversarial_harness::cli::ccrkit_in;
 use crate::common::adversarial_harness::{root, scratch};
@@ -41,19 +42,22 @@ fn refused(dir: &Path, args: &[&str], says: &str) {
     assert_eq!(snapshot(dir), before, "{args:?} changed a file");
 }
 
-/// Every file of `dir` with its bytes, sorted by name.
+/// Every file of `dir` and its subfolders with its bytes, sorted by path.
 fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut v: Vec<_> = std::fs::read_dir(dir)
+    let mut v = Vec::new();
+    for e in std::fs::read_dir(dir)
         .expect("lists")
         .filter_map(|e| e.ok())
-        .filter(|e| e.path().is_file())
-        .map(|e| {
-            (
-                e.file_name().to_string_lossy().into_owned(),
-                std::fs::read(e.path()).expect("reads"),
-            )
-        })
-        .collect();
+    {
+        let p = e.path();
+        let name = e.file_name().to_string_lossy().into_owned();
+        if p.is_dir() {
+            let inner = snapshot(&p).into_iter();
+            v.extend(inner.map(|(n, b)| (format!("{name}/{n}"), b)));
+        } else if p.is_file() {
+            v.push((name, std::fs::read(&p).expect("reads")));
+        }
+    }
     v.sort();
     v
 }
@@ -220,5 +224,173 @@ fn every_output_creates_its_folder_and_leaves_no_temporary_file() {
             let name = e.expect("entry").file_name().to_string_lossy().into_owned();
             assert!(!name.starts_with(".ccrkit-"), "{name} left in {folder:?}");
         }
+    }
+}
+
+/// A tetrahedron 1 m from the robot, as ASCII STL, OBJ and PLY.
+fn tetrahedron(dir: &Path) {
+    let v = [
+        [1.0, 1.0, 1.0],
+        [1.1, 1.0, 1.0],
+        [1.0, 1.1, 1.0],
+        [1.0, 1.0, 1.1],
+    ];
+    let f = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let mut stl = String::from("solid t\n");
+    for t in f {
+        stl += "facet normal 0 0 0\nouter loop\n";
+        for k in t {
+            let p = v[k];
+            stl += &format!("vertex {} {} {}\n", p[0], p[1], p[2]);
+        }
+        stl += "endloop\nendfacet\n";
+    }
+    stl += "endsolid t\n";
+    let vs: String = v
+        .iter()
+        .map(|p| format!("{} {} {}\n", p[0], p[1], p[2]))
+        .collect();
+    let obj = v.iter().map(|p| format!("v {} {} {}\n", p[0], p[1], p[2]));
+    let obj: String = obj
+        .chain(
+            f.iter()
+                .map(|t| format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1)),
+        )
+        .collect();
+    let ply = format!(
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+         element face 4\nproperty list uchar int vertex_indices\nend_header\n{vs}{}",
+        f.iter().map(|t| format!("3 {} {} {}\n", t[0], t[1], t[2])).collect::<String>()
+    );
+    std::fs::create_dir_all(dir.join("meshes")).expect("dir");
+    std::fs::write(dir.join("meshes/tet.stl"), stl).expect("stl");
+    std::fs::write(dir.join("meshes/tet.obj"), obj).expect("obj");
+    std::fs::write(dir.join("meshes/tet.ply"), ply).expect("ply");
+}
+
+/// [`fixtures`] plus files a model or a scene names: `N.toml` is case 1 naming
+/// `scenes/room.toml` (whose obstacle is the mesh `../meshes/tet.obj`) and holding an obstacle
+/// of its own, the mesh `meshes/tet.stl`; `extra.toml` is a scene of the mesh `meshes/tet.ply`.
+fn named_fixtures(name: &str) -> PathBuf {
+    let dir = fixtures(name);
+    tetrahedron(&dir);
+    std::fs::create_dir_all(dir.join("scenes")).expect("dir");
+    let mesh = |name: &str, path: &str| {
+        format!("[[obstacles]]\nname = \"{name}\"\nshape = \"mesh\"\npath = \"{path}\"\n")
+    };
+    std::fs::write(
+        dir.join("scenes/room.toml"),
+        mesh("room", "../meshes/tet.obj"),
+    )
+    .expect("scene");
+    std::fs::write(dir.join("extra.toml"), mesh("extra", "meshes/tet.ply")).expect("scene");
+    let case1 = std::fs::read_to_string(dir.join("M.toml")).expect("model");
+    let model = format!(
+        "scene = \"scenes/room.toml\"\n{case1}\n{}",
+        mesh("own", "meshes/tet.stl")
+    );
+    std::fs::write(dir.join("N.toml"), model).expect("model");
+    dir
+}
+
+/// The files a model or a scene names — the scene file a model names, the STL/OBJ/PLY meshes
+/// its obstacles or a `--scene` file's name — are inputs of the run too: an output onto one of
+/// them (directly, through `..` or a link) is refused by naming the file and what it is, and
+/// nothing is written (they were overwritten, exit 0).
+#[test]
+fn an_output_onto_a_file_the_model_or_scene_names_is_refused_by_name() {
+    let dir = named_fixtures("named");
+    let ok = ccrkit_in(&dir, &["solve", "N.toml", "--scene", "extra.toml"]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let own = "the mesh file of obstacle `own`";
+    let room = "the mesh file of obstacle `room`";
+    let scene = "the scene file named in the model";
+    let cases: &[(&[&str], &str)] = &[
+        (&["view", "N.toml", "--out", "meshes/tet.stl"], own),
+        (&["view", "N.toml", "--out", "scenes/room.toml"], scene),
+        (
+            &["view", "N.toml", "--out", "scenes/../meshes/tet.obj"],
+            room,
+        ),
+        (
+            &["export", "urdf", "N.toml", "--out", "meshes/tet.obj"],
+            room,
+        ),
+        (
+            &[
+                "export",
+                "urdf",
+                "N.toml",
+                "--mode",
+                "fixed",
+                "--out",
+                "./scenes/room.toml",
+            ],
+            scene,
+        ),
+        (&["solve", "N.toml", "--json", "meshes/tet.stl"], own),
+        (&["solve", "N.toml", "--json", "./scenes/room.toml"], scene),
+        (
+            &[
+                "solve",
+                "M.toml",
+                "--scene",
+                "extra.toml",
+                "--json",
+                "meshes/tet.ply",
+            ],
+            "obstacle `extra`",
+        ),
+        (
+            &[
+                "view",
+                "M.toml",
+                "--scene",
+                "extra.toml",
+                "--out",
+                "meshes/../meshes/tet.ply",
+            ],
+            "obstacle `extra`",
+        ),
+        (&["compare", "N.toml", "--json", "meshes/tet.stl"], own),
+        (
+            &[
+                "reach",
+                "N.toml",
+                "--tip",
+                "0,0,0.1",
+                "--json",
+                "scenes/room.toml",
+            ],
+            scene,
+        ),
+        (
+            &[
+                "plan",
+                "N.toml",
+                "--to-tip",
+                "0,0,0.1",
+                "--trajectory",
+                "meshes/tet.obj",
+            ],
+            room,
+        ),
+        (
+            &["roadmap", "build", "N.toml", "--out", "meshes/tet.stl"],
+            own,
+        ),
+    ];
+    for (args, says) in cases {
+        refused(&dir, args, says);
+        refused(&dir, args, OVER);
+    }
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(dir.join("meshes/tet.stl"), dir.join("link.stl")).expect("link");
+        refused(&dir, &["view", "N.toml", "--out", "link.stl"], own);
     }
 }

@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod adversarial_actuation_files;
 mod adversarial_cli;
 mod adversarial_counts;
 mod adversarial_files;

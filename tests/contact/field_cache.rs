@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use ccrkit::mesh::{capped_tube, to_obj};
+use ccrkit::mesh::{to_obj, BentTube};
 use ccrkit::model::field_cache::{FieldCache, FieldOrigin, MIN_CACHED_TRIANGLES};
 use ccrkit::prelude::*;
 use ccrkit::reach::clearance;
@@ -11,7 +11,15 @@ use nalgebra::{Isometry3, Vector3};
 
 #[test]
 fn clearances_are_the_same_cold_and_cached_and_a_bad_file_is_rebuilt() {
-    let (v, t) = capped_tube(0.11, 0.02, -0.1, 1.8, 180, 32);
+    let (v, t) = BentTube {
+        bend_radius: 0.11,
+        tube_radius: 0.02,
+        theta0: -0.1,
+        theta1: 1.8,
+        rings: 180,
+        segments: 32,
+    }
+    .capped();
     assert!(t.len() >= MIN_CACHED_TRIANGLES, "{} triangles", t.len());
     common::scene_file("field_cache", "lumen.obj", &to_obj(&v, &t));
     let path = common::scene_file(

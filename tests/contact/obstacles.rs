@@ -292,7 +292,15 @@ fn the_committed_vessel_mesh_is_what_the_generator_writes() {
         .filter(|l| !l.starts_with('#'))
         .map(|l| format!("{l}\n"))
         .collect();
-    let (v, t) = ccrkit::mesh::bent_tube(0.11, 0.02, -0.1, 1.8, 61, 32);
+    let (v, t) = ccrkit::mesh::BentTube {
+        bend_radius: 0.11,
+        tube_radius: 0.02,
+        theta0: -0.1,
+        theta1: 1.8,
+        rings: 61,
+        segments: 32,
+    }
+    .open();
     assert_eq!(body, ccrkit::mesh::to_obj(&v, &t));
     let scene = Scene::from_file(root().join("models/scenes/vessel.toml")).unwrap();
     assert_eq!(scene.obstacles[0].name, "vessel");

@@ -36,3 +36,67 @@ fn a_catheter_reaches_and_plans_in_a_generated_airway() {
     assert!(reached >= 3, "reached {reached} of 3: {out:?}");
     assert!(planned >= 3, "planned {planned} of 3: {out:?}");
 }
+
+/// The out-first staged path (`src/plan/insert.rs`): seed 11's first target bends the
+/// catheter's proximal segment, whose cables are tied in the port at the retracted insertion
+/// (they reach the port at 40 mm: 120 mm of catheter, tied at 80 mm). RRT-Connect missed it in
+/// 5 000 samples before; the staged path finds it before any random sample, pulls no
+/// proximal cable while it is tied, ends on the goal, and every waypoint is inside the lumen
+/// by the dense check.
+#[test]
+fn a_goal_bending_the_tied_segment_is_planned_by_inserting_first() {
+    use airway_tasks::{dense_clearance, Setup};
+    use ccrkit::plan::{plan, Goal, PlanOptions};
+    let dir = std::env::temp_dir().join(format!("ccrkit-airway-out-{}", std::process::id()));
+    let setup = Setup::new(11, GENERATIONS, &dir).expect("the airway and the catheter load");
+    let space = setup.space().expect("the space");
+    let task = setup.tasks(&space, 11, 1, 1, 200).remove(0);
+    std::fs::remove_dir_all(&dir).ok();
+    let k = space.cables();
+    let robot = &setup.model.robot;
+    let out = |c: usize| robot.length() - robot.disk_s[robot.cables[c].ends_at];
+    let proximal: Vec<usize> = (0..k).filter(|&c| out(c) > 0.0).collect();
+    assert_eq!(proximal.len(), 3);
+    let retracted = setup.retracted(&space);
+    assert!(
+        proximal.iter().any(|&c| task.u[c] > 0.0)
+            && proximal.iter().all(|&c| out(c) > retracted[k]),
+        "the goal pulls a cable tied at the retracted insertion: {:?}",
+        task.u
+    );
+    let opts = PlanOptions {
+        max_samples: 1,
+        ..PlanOptions::default()
+    };
+    let p = plan(
+        &setup.model,
+        &setup.request,
+        Some(retracted),
+        &Goal::Actuation(task.u.clone()),
+        &opts,
+        None,
+    )
+    .expect("planned by a staged path");
+    assert_eq!(p.stats.samples, 0, "no random sample drawn");
+    let last = &p.waypoints[p.waypoints.len() - 1];
+    assert!(last
+        .u
+        .iter()
+        .zip(&task.u)
+        .all(|(a, b)| (a - b).abs() < 1e-12));
+    for w in &p.waypoints {
+        for &c in &proximal {
+            assert!(
+                w.u[k] > out(c) || w.u[c] <= 0.0,
+                "cable {c} pulled while tied: {:?}",
+                w.u
+            );
+        }
+        let dense = dense_clearance(&setup, &w.shape);
+        assert!(
+            dense >= 0.0,
+            "a waypoint {dense} m from the wall: {:?}",
+            w.u
+        );
+    }
+}

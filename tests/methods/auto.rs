@@ -35,7 +35,7 @@ fn answers_are_within_their_tolerance_of_the_converged_rod() {
             let err = s.tip_distance(&truth);
             assert!(err <= t, "seed {seed} T {t}: error {err:e} with {a:?}");
             let e = s.report.error_estimate.as_ref().expect("estimate");
-            assert!(e.discretization_m + e.model_m.unwrap_or(0.0) <= t);
+            assert!(e.known_parts_m() <= t);
             checked += 1;
         }
     }

@@ -4,6 +4,7 @@
 
 mod a_priori;
 mod calibration;
+mod on_solve;
 mod orders;
 
 /// The command line prints the estimate and writes it into the JSON.
@@ -31,5 +32,6 @@ fn solve_estimate_prints_and_writes_the_bound() {
     let parts =
         e["discretization_m"].as_f64().expect("disc") + e["model_m"].as_f64().expect("model");
     assert!((bound - parts).abs() <= 1e-15 && bound > 0.0, "{e}");
-    assert_eq!(e["against"], "sub-arcs=3");
+    assert_eq!(e["against"], "the answer's own strains");
+    assert!(e.get("fallback").is_none(), "{e}");
 }

@@ -45,11 +45,12 @@ pub struct CalibrateArgs {
 
 /// Run `ccrkit calibrate`.
 pub fn run(a: CalibrateArgs) -> Result<()> {
-    a.data.check_files(&a.file, &a.out)?;
+    let mut run = a.data.check_files(&a.file, &a.out)?;
     let text = ccrkit::model::read::read_text(&a.file, "model file")?;
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;
     let mut opts = FitOptions::new(a.data.predict_options(&model)?);
+    crate::check_read(&mut run, &model, opts.predict.request.extra_scene.as_ref())?;
     opts.max_iterations = a.max_iterations;
     let t = Instant::now();
     let (rep, chosen) = if a.fit.is_empty() {

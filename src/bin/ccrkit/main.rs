@@ -333,7 +333,7 @@ fn run() -> Result<()> {
             let outs = ccrkit::export::UrdfExport::paths(mode, &out);
             let outs: Vec<(&str, Option<&Path>)> =
                 outs.iter().map(|(r, p)| (*r, Some(p.as_path()))).collect();
-            check_files(
+            let mut run = check_files(
                 &[
                     ("model file", Some(&file)),
                     ("--scene file", solve.scene.as_deref()),
@@ -342,6 +342,7 @@ fn run() -> Result<()> {
             )?;
             let request = solve.request(1)?;
             let model = Model::from_file(&file)?;
+            check_read(&mut run, &model, request.extra_scene.as_ref())?;
             let shape = request.run(&model)?.shape;
             let opts = ccrkit::export::UrdfOptions {
                 mode,
@@ -365,7 +366,7 @@ fn run() -> Result<()> {
             if let Some(p) = &plot_path {
                 plot::check_path(p)?;
             }
-            check_files(
+            let mut run = check_files(
                 &[
                     ("model file", Some(&file)),
                     ("--scene file", solve.scene.as_deref()),
@@ -379,6 +380,7 @@ fn run() -> Result<()> {
                 .request(repeat)?
                 .with_unique_check(matches!(check, Some(Check::Unique)));
             let model = Model::from_file(&file)?;
+            check_read(&mut run, &model, request.extra_scene.as_ref())?;
             let bar = progress::spinner(&format!("solving with {}", solve.method));
             let solved = request.run(&model);
             bar.finish_and_clear();
@@ -466,7 +468,7 @@ fn compare(
     if let Some(p) = plot_path {
         plot::check_path(p)?;
     }
-    check_files(
+    let mut run = check_files(
         &[
             ("model file", Some(file)),
             ("--scene file", scene.map(|p| p.as_path())),
@@ -498,6 +500,7 @@ fn compare(
         })
         .collect::<Result<Vec<_>>>()?;
     let model = Model::from_file(file)?;
+    check_read(&mut run, &model, extra.as_ref())?;
     let cmp = study::compare(&model, &requests, tolerance)?;
     match json {
         Some("-") => println!("{}", serde_json::to_string_pretty(&cmp.to_json())?),
@@ -531,11 +534,12 @@ fn compare(
 }
 
 /// The files of one run checked before any work: no output is one of the inputs, no two outputs
-/// are one file (`ccrkit::output::RunFiles`). `None` entries are options not given.
+/// are one file (`ccrkit::output::RunFiles`). `None` entries are options not given. The files a
+/// model or scene names (a scene file, meshes) are known once it is loaded: [`check_read`].
 pub(crate) fn check_files(
     inputs: &[(&str, Option<&Path>)],
     outputs: &[(&str, Option<&Path>)],
-) -> Result<()> {
+) -> Result<ccrkit::output::RunFiles> {
     let mut run = ccrkit::output::RunFiles::new();
     for (role, p) in inputs {
         if let Some(p) = p {
@@ -546,6 +550,21 @@ pub(crate) fn check_files(
         if let Some(p) = p {
             run.output(role, p)?;
         }
+    }
+    Ok(run)
+}
+
+/// The files the loaded `model` and the `--scene` scene were read from (the scene file a model
+/// names, every mesh file an obstacle names) checked against the outputs `run` claimed: an
+/// output onto one of them is refused by name before anything is written.
+pub(crate) fn check_read(
+    run: &mut ccrkit::output::RunFiles,
+    model: &Model,
+    extra: Option<&Scene>,
+) -> Result<()> {
+    run.read(&model.files())?;
+    if let Some(s) = extra {
+        run.read(s.files())?;
     }
     Ok(())
 }

@@ -4,7 +4,7 @@
 use super::reach::{vec3, write_json, InverseArgs};
 use anyhow::{bail, Result};
 use ccrkit::plan::roadmap::Roadmap;
-use ccrkit::plan::{plan, read_actuation_in, Goal, Plan, PlanOptions};
+use ccrkit::plan::{plan, read_actuation_file, Goal, Plan, PlanOptions};
 use ccrkit::Model;
 use std::path::PathBuf;
 
@@ -44,7 +44,7 @@ pub(crate) struct PlanArgs {
 }
 
 pub(crate) fn run(a: PlanArgs) -> Result<()> {
-    super::check_files(
+    let mut run = super::check_files(
         &[
             ("model file", Some(&a.file)),
             ("--scene file", a.inverse.scene.as_deref()),
@@ -59,8 +59,17 @@ pub(crate) fn run(a: PlanArgs) -> Result<()> {
     )?;
     let model = Model::from_file(&a.file)?;
     let request = a.inverse.request(&model)?;
-    let input = request.method.input_with(&request.settings);
-    let read_actuation = |p: &std::path::Path| read_actuation_in(p, &model, input);
+    super::check_read(&mut run, &model, request.extra_scene.as_ref())?;
+    // The space the actuation files are read in: refused by name when made for another robot
+    // or space; a file without `made_for` is read by cable name, with a warning.
+    let space = ccrkit::reach::Space::new(&model, &request, false)?;
+    let read_actuation = |p: &std::path::Path| -> Result<Vec<f64>> {
+        let file = read_actuation_file(p, &model, &space)?;
+        if let Some(w) = file.warning(p) {
+            eprintln!("warning: {w}");
+        }
+        Ok(file.point)
+    };
     let goal = match (a.to_tip.is_empty(), &a.to_actuation) {
         (false, None) => Goal::Tip(vec3("to-tip", &a.to_tip)?),
         (true, Some(p)) => Goal::Actuation(read_actuation(p)?),
@@ -92,13 +101,25 @@ pub(crate) fn run(a: PlanArgs) -> Result<()> {
     }
     if !quiet {
         let s = &p.stats;
+        // Without obstacles both clearances are unbounded (`+∞`): said in words, not `inf`.
+        let clearance = if p.min_clearance_m.is_finite() {
+            format!(
+                "clearance ≥ {:.3} mm measured, {} (margin {} mm)",
+                p.min_clearance_m * 1e3,
+                if p.certified_clearance_m.is_finite() {
+                    format!("≥ {:.3} mm certified", p.certified_clearance_m * 1e3)
+                } else {
+                    "no edge to certify".into()
+                },
+                p.margin_m * 1e3
+            )
+        } else {
+            "no obstacles to keep clear of".into()
+        };
         println!(
-            "{}: {} waypoints, clearance ≥ {:.3} mm measured, ≥ {:.3} mm certified (margin {} mm)",
+            "{}: {} waypoints, {clearance}",
             s.planner,
             p.waypoints.len(),
-            p.min_clearance_m * 1e3,
-            p.certified_clearance_m * 1e3,
-            p.margin_m * 1e3
         );
         println!(
             "{} samples, {} tree nodes, {} solves, {} edges checked ({} refused), {} shortcut \

@@ -33,8 +33,9 @@ pub struct DataArgs {
 
 impl DataArgs {
     /// The files of a `predict` or `calibrate` run checked before any work
-    /// ([`crate::check_files`]): the model, the data and the scene are inputs, `out` the output.
-    pub fn check_files(&self, model: &Path, out: &Path) -> Result<()> {
+    /// ([`crate::check_files`]): the model, the data and the scene are inputs, `out` the output
+    /// (the files the model names are checked once it is loaded: [`crate::check_read`]).
+    pub fn check_files(&self, model: &Path, out: &Path) -> Result<ccrkit::output::RunFiles> {
         crate::check_files(
             &[
                 ("model file", Some(model)),
@@ -81,10 +82,11 @@ pub struct PredictArgs {
 
 /// Run `ccrkit predict`.
 pub fn run(a: PredictArgs) -> Result<()> {
-    a.data.check_files(&a.file, &a.out)?;
+    let mut run = a.data.check_files(&a.file, &a.out)?;
     let model = Model::from_file(&a.file)?;
     let (data, unit) = a.data.dataset()?;
     let opts = a.data.predict_options(&model)?;
+    crate::check_read(&mut run, &model, opts.request.extra_scene.as_ref())?;
     let t = Instant::now();
     let rows = predict(&model, &data, &opts)?;
     let wall = t.elapsed().as_secs_f64();

@@ -111,7 +111,7 @@ pub(crate) fn run(a: ReachArgs) -> Result<()> {
         }
         Some(t.normalize())
     };
-    super::check_files(
+    let mut run = super::check_files(
         &[
             ("model file", Some(&a.file)),
             ("--scene file", a.inverse.scene.as_deref()),
@@ -120,6 +120,7 @@ pub(crate) fn run(a: ReachArgs) -> Result<()> {
     )?;
     let model = Model::from_file(&a.file)?;
     let request = a.inverse.request(&model)?;
+    super::check_read(&mut run, &model, request.extra_scene.as_ref())?;
     let opts = ReachOptions {
         allow_contact: a.allow_contact,
         tolerance: a.tolerance,

@@ -66,7 +66,7 @@ pub(crate) fn run(cmd: RoadmapCommand) -> Result<()> {
             seed,
             shard,
         } => {
-            super::check_files(
+            let mut run = super::check_files(
                 &[
                     ("model file", Some(&file)),
                     ("--scene file", inverse.scene.as_deref()),
@@ -75,6 +75,7 @@ pub(crate) fn run(cmd: RoadmapCommand) -> Result<()> {
             )?;
             let model = Model::from_file(&file)?;
             let request = inverse.request(&model)?;
+            super::check_read(&mut run, &model, request.extra_scene.as_ref())?;
             let opts = BuildOptions {
                 samples,
                 neighbours,
@@ -106,7 +107,7 @@ pub(crate) fn run(cmd: RoadmapCommand) -> Result<()> {
                 .iter()
                 .map(|p| ("shard file", Some(p.as_path())))
                 .collect();
-            super::check_files(&inputs, &[("--out file", Some(&out))])?;
+            let _ = super::check_files(&inputs, &[("--out file", Some(&out))])?;
             let loaded = parts
                 .iter()
                 .map(|p| Roadmap::load(p))

@@ -333,7 +333,7 @@ fn merge(a: MergeArgs) -> Result<()> {
         .iter()
         .map(|p| ("input CSV", Some(p.as_path())))
         .collect();
-    crate::check_files(&ins, &[("--out file", Some(&out))])?;
+    let _ = crate::check_files(&ins, &[("--out file", Some(&out))])?;
     let texts = inputs
         .iter()
         .map(|p| {

@@ -160,11 +160,16 @@ fn error_line(e: &ccrkit::method::estimate::ErrorEstimate) -> String {
     let mut s = format!(
         "error   ≤ {} from the converged rod (discretization {}{against}, model {model}; estimate took {:.1} µs)",
         e.bound_m.map_or_else(|| "?".to_string(), mm),
-        mm(e.discretization_m),
+        e.discretization_m.map_or_else(|| "unknown".to_string(), mm),
         e.cost_s * 1e6
     );
-    if !e.note.is_empty() {
-        s += &format!("\n        {}", e.note);
+    for line in std::iter::once(&e.fallback)
+        .chain(&e.failed)
+        .chain(std::iter::once(&e.note))
+    {
+        if !line.is_empty() {
+            s += &format!("\n        {line}");
+        }
     }
     s
 }

@@ -46,7 +46,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
             .map_or("view".into(), |s| s.to_string_lossy());
         PathBuf::from(format!("{stem}.html"))
     });
-    crate::check_files(
+    let mut run = crate::check_files(
         &[
             ("model file", Some(&a.file)),
             ("--scene file", a.scene.as_deref()),
@@ -83,6 +83,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
         None => None,
     };
     let model = Model::from_file(&a.file)?;
+    crate::check_read(&mut run, &model, extra.as_ref())?;
     let mut scene = model.scene.clone();
     if let Some(x) = &extra {
         scene.merge(x.clone());

@@ -339,23 +339,16 @@ fn port_joints(
     ));
     links.push(empty_link(PORT_LINK));
     let len = robot.length();
+    // Both joints turn or slide about the port's z axis.
+    let (z, prismatic, revolute) = (
+        [0.0, 0.0, 1.0],
+        urdf_rs::JointType::Prismatic,
+        urdf_rs::JointType::Revolute,
+    );
+    let (slide, turn) = (PORT_INSERTION_LINK, PORT_ROTATION_LINK);
     let specs = [
-        JointSpec::new(
-            "insertion",
-            PORT_INSERTION_LINK,
-            urdf_rs::JointType::Prismatic,
-            [0.0, 0.0, 1.0],
-            p.insertion,
-            (0.0, len),
-        ),
-        JointSpec::new(
-            "rotation",
-            PORT_ROTATION_LINK,
-            urdf_rs::JointType::Revolute,
-            [0.0, 0.0, 1.0],
-            p.rotation,
-            (-PI, PI),
-        ),
+        JointSpec::new("insertion", slide, prismatic, z, p.insertion, (0.0, len)),
+        JointSpec::new("rotation", turn, revolute, z, p.rotation, (-PI, PI)),
     ];
     // Disk 0 sits at (0, 0, −L) in both links' frames in every configuration (the rotation
     // is about that axis, and the disk is symmetric about it): each carries a share of it
@@ -363,17 +356,8 @@ fn port_joints(
     let mut base_share = inertia::disk(robot, 0)
         .scaled(1.0 / inertia::shares_at_disk(0, robot.sections(), true) as f64);
     base_share.com = Vector3::new(0.0, 0.0, -len);
-    let mut parent = PORT_LINK.to_string();
-    for spec in specs {
-        let jname = format!("port_{}", spec.what);
-        joints.push(movable_joint(&spec, &jname, parent));
-        values.push(JointValue {
-            name: jname,
-            value: spec.value,
-        });
-        links.push(mass_link(spec.child, base_share));
-        parent = spec.child.to_string();
-    }
+    chain(&specs, "port", PORT_LINK, joints, values);
+    links.extend(specs.iter().map(|s| mass_link(s.child, base_share)));
     joints.push(fixed_joint(
         "base_to_disk_0",
         PORT_ROTATION_LINK,
@@ -431,16 +415,7 @@ fn articulated_section(
         JointSpec::new("tilt_y", &tilt_y_link, revolute.clone(), y, q.tilt_y, bend),
         JointSpec::new("twist", &disk, revolute, z, q.twist, (-PI, PI)),
     ];
-    let mut parent = disk_link_name(i - 1);
-    for spec in specs {
-        let jname = format!("{sec}_{}", spec.what);
-        joints.push(movable_joint(&spec, &jname, parent));
-        values.push(JointValue {
-            name: jname,
-            value: spec.value,
-        });
-        parent = spec.child.to_string();
-    }
+    chain(&specs, &sec, &disk_link_name(i - 1), joints, values);
     links.push(mass_link(&bend_x_link, disk_part(i - 1)));
     let mut chord = mass_link(
         &chord_link,
@@ -471,6 +446,27 @@ fn articulated_section(
 }
 
 /// The URDF joint of `spec`, from `parent` to the spec's child.
+/// The movable joints of `specs` in a chain from `parent` (each the next one's parent),
+/// named `<prefix>_<what>`, with their values.
+fn chain(
+    specs: &[JointSpec],
+    prefix: &str,
+    parent: &str,
+    joints: &mut Vec<urdf_rs::Joint>,
+    values: &mut Vec<JointValue>,
+) {
+    let mut parent = parent.to_string();
+    for spec in specs {
+        let name = format!("{prefix}_{}", spec.what);
+        joints.push(movable_joint(spec, &name, parent));
+        values.push(JointValue {
+            name,
+            value: spec.value,
+        });
+        parent = spec.child.to_string();
+    }
+}
+
 fn movable_joint(spec: &JointSpec, name: &str, parent: String) -> urdf_rs::Joint {
     let (lo, hi) = spec.limits;
     urdf_rs::Joint {

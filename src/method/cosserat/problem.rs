@@ -67,6 +67,9 @@ pub(super) struct Trace {
     pub(super) key: Vec<f64>,
     /// Integrated by the unloaded path (`unloaded.rs`), not by shooting.
     pub(super) fast: bool,
+    /// The unloaded path's rest lengths: the straight rod's, in the same measure and by the
+    /// same quadrature as `len` (empty for shooting, whose rest lengths take a pass at zero load).
+    pub(super) rest: Vec<f64>,
 }
 
 impl Trace {
@@ -75,6 +78,7 @@ impl Trace {
         self.disks.clear();
         self.backbone.clear();
         self.len.clear();
+        self.rest.clear();
         self.key.clear();
         self.fast = false;
         self.key.extend(n0.iter().chain(m0.iter()).chain(&ld.tau));

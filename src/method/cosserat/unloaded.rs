@@ -156,7 +156,8 @@ impl Problem<'_> {
     }
 
     /// The strains at `s` in section `sec` from the start `z` (the neighbouring point's):
-    /// Newton on `F = 0` (module docs). `lr[c]` receives `|ṗ_c|` there. Returns the strains
+    /// Newton on `F = 0` (module docs). `lr[c]` receives `|ṗ_c|` there and `rest[c]` its
+    /// value on the straight, unloaded rod, `|e3 + r_c′|`. Returns the strains
     /// and the balance residual \[N\] of the last evaluation, or `None` if Newton does not
     /// settle (never seen for `τ ≥ 0`: `Φ` is strictly convex).
     fn strains_at(
@@ -166,6 +167,7 @@ impl Problem<'_> {
         ld: &LoadCase,
         mut z: Strains,
         lr: &mut Buf,
+        rest: &mut Buf,
     ) -> Option<(Strains, f64)> {
         let full = self.set.model == RodModel::Full;
         // The routes once for all iterations, and the largest tendon offset here
@@ -181,10 +183,22 @@ impl Problem<'_> {
             if cable.ends_at >= sec {
                 routes[c] = self.eval_route(c, s, sec);
                 rmax = rmax.max(routes[c].r.norm());
+                rest[c] = (routes[c].dr + E3).norm();
             }
         }
         if rmax == 0.0 {
             rmax = self.robot.disk_radius.max(1e-6);
+        }
+        // No tendon pulls here (the rest lengths' pass, or beyond the pulled ties): the
+        // balance is linear, `Kse (v − e3) = 0`, `Kbt u = 0`, and the rod is straight.
+        let mut cables = self.robot.cables.iter().enumerate();
+        if !cables.any(|(c, cable)| cable.ends_at >= sec && ld.tau[c] != 0.0) {
+            lr.copy_from_slice(rest);
+            let straight = Strains {
+                v: E3,
+                u: Vector3::zeros(),
+            };
+            return Some((straight, 0.0));
         }
         let mut keep = CablePoints::new();
         for _ in 0..STRAIN_ITERATIONS {
@@ -243,11 +257,12 @@ impl Problem<'_> {
         let robot = self.robot;
         let nc = robot.cables.len();
         let mut lr = [0.0; MAX_CABLES];
+        let mut rest = [0.0; MAX_CABLES];
         let straight = Strains {
             v: E3,
             u: Vector3::zeros(),
         };
-        let (z0, mut residual) = self.strains_at(0.0, 1, ld, straight, &mut lr)?;
+        let (z0, mut residual) = self.strains_at(0.0, 1, ld, straight, &mut lr, &mut rest)?;
         // Kirchhoff: `n` is not a strain, but the same balance gives it (`−Σ τ t`).
         let n0 = match self.set.model {
             RodModel::Full => self.kse.component_mul(&(z0.v - E3)),
@@ -267,12 +282,15 @@ impl Problem<'_> {
         rec.disks.push((Vector3::zeros(), Matrix3::identity()));
         rec.backbone.push(Vector3::zeros());
         let (mut p, mut r) = (Vector3::<f64>::zeros(), Matrix3::<f64>::identity());
-        let mut path = [0.0; MAX_CABLES];
-        let mut chord = [0.0; MAX_CABLES];
+        // The lengths, and the rest lengths of the straight rod by the same quadrature.
+        let (mut path, mut path0) = ([0.0; MAX_CABLES], [0.0; MAX_CABLES]);
+        let (mut chord, mut chord0) = ([0.0; MAX_CABLES], [0.0; MAX_CABLES]);
         let mut prev = [Vector3::zeros(); MAX_CABLES];
         for (c, cable) in robot.cables.iter().enumerate() {
             prev[c] = cable.hole(0);
         }
+        let mut prev0 = prev;
+        let mut rest2 = [0.0; MAX_CABLES];
         let gauss = 3f64.sqrt() / 6.0;
         let mut guess = Guess::new(0.0, z0);
         let mut lr2 = [0.0; MAX_CABLES];
@@ -291,9 +309,9 @@ impl Problem<'_> {
             for j in 0..steps {
                 let s = s0 + j as f64 * h;
                 let (sa, sb) = (s + h * (0.5 - gauss), s + h * (0.5 + gauss));
-                let (z1, r1) = self.strains_at(sa, k, ld, guess.at(sa), &mut lr)?;
+                let (z1, r1) = self.strains_at(sa, k, ld, guess.at(sa), &mut lr, &mut rest)?;
                 guess.push(sa, z1);
-                let (z2, r2) = self.strains_at(sb, k, ld, guess.at(sb), &mut lr2)?;
+                let (z2, r2) = self.strains_at(sb, k, ld, guess.at(sb), &mut lr2, &mut rest2)?;
                 guess.push(sb, z2);
                 residual = residual.max(r1).max(r2);
                 let (dp, dr) = magnus_step(h, &z1, &z2);
@@ -302,18 +320,22 @@ impl Problem<'_> {
                 for (c, cable) in robot.cables.iter().enumerate() {
                     if cable.ends_at >= k {
                         path[c] += 0.5 * h * (lr[c] + lr2[c]);
+                        path0[c] += 0.5 * h * (rest[c] + rest2[c]);
                     }
                 }
                 rec.backbone.push(p);
             }
             rec.disks.push((p, r));
             self.advance_chords(k, &p, &r, &mut chord, &mut prev);
+            let straight = Vector3::new(0.0, 0.0, s1);
+            self.advance_chords(k, &straight, &Matrix3::identity(), &mut chord0, &mut prev0);
         }
-        let len = match self.set.length {
-            crate::model::actuation::LengthMeasure::Path => path,
-            crate::model::actuation::LengthMeasure::Chord => chord,
+        let (len, len0) = match self.set.length {
+            crate::model::actuation::LengthMeasure::Path => (path, path0),
+            crate::model::actuation::LengthMeasure::Chord => (chord, chord0),
         };
         rec.len.extend_from_slice(&len[..nc]);
+        rec.rest.extend_from_slice(&len0[..nc]);
         Some(Unloaded {
             shot: Shot {
                 resid: Vector6::zeros(),

@@ -26,42 +26,98 @@
 //! calibration factor in `estimate.rs` covers that, measured on random robots.
 
 use super::kinematics::sheared_exp;
-use crate::method::warm::WarmState;
+use crate::method::port::solved_beyond;
+use crate::method::warm::{EnergyWarm, WarmState};
 use crate::model::actuation::LengthMeasure;
 use crate::model::robot::Robot;
 use crate::model::routing::{Route, RoutingFit};
-use crate::shape::Shape;
+use crate::shape::{CablePath, Shape, TipJacobian};
 use nalgebra::{Matrix3, Vector3};
 
 /// A body frame along the backbone: arc length (undeformed), rotation, position.
 type Frame = (f64, Matrix3<f64>, Vector3<f64>);
 
 /// The leading discretization error of the energy answer `shape` of `robot` (module docs)
-/// \[m\], unscaled; `None` where it does not apply: not an energy answer, through a port,
-/// with contacts, chord cable lengths, a tip moment, or strains that do not fit the robot.
-pub fn local_error(robot: &Robot, shape: &Shape, routing: RoutingFit) -> Option<f64> {
+/// \[m\], unscaled, per section (base first; the tip error is bounded by their sum); where it
+/// does not apply, why: not an energy answer, with contacts, chord cable lengths, a tip
+/// moment, no Jacobian, or strains that do not fit the robot. Through a port, the robot
+/// beyond it is what was solved (`method/port.rs`): its loads turned into its frame, its
+/// cables those not tied behind the port; the tip error of a rigid placement is its own, and
+/// nothing bending beyond the port is exact (0).
+pub fn local_error(
+    robot: &Robot,
+    shape: &Shape,
+    routing: RoutingFit,
+) -> Result<Vec<f64>, &'static str> {
     let Some(WarmState::Energy(e)) = shape.report.warm.as_ref() else {
-        return None;
+        return Err("the answer carries no energy strains");
     };
+    if !shape.contacts.is_empty() {
+        return Err("with contacts");
+    }
+    if e.length != LengthMeasure::Path {
+        return Err("with chord cable lengths");
+    }
+    if shape.cables.len() != robot.cables.len() {
+        return Err("with strains that do not fit the robot");
+    }
+    let jac = shape.report.jacobian.as_ref();
+    let Some(state) = shape.port.as_ref() else {
+        let paths: Vec<&CablePath> = shape.cables.iter().collect();
+        return strain_error(robot, e, &paths, jac, routing);
+    };
+    let port = robot
+        .port
+        .as_ref()
+        .ok_or("through a port the robot does not have")?;
+    let Some((b, sub)) = solved_beyond(robot, port, state)
+        .map_err(|_| "through a port that does not cut the robot")?
+    else {
+        return Ok(vec![0.0; robot.sections()]);
+    };
+    let paths: Vec<&CablePath> = shape
+        .cables
+        .iter()
+        .zip(&b.cables)
+        .filter_map(|(p, at)| at.map(|_| p))
+        .collect();
+    let beyond = strain_error(&sub, e, &paths, jac, routing)?;
+    let mut out = vec![0.0; robot.sections()];
+    for (i, x) in beyond.into_iter().enumerate() {
+        if let Some(o) = out.get_mut(b.section(i + 1) - 1) {
+            *o += x;
+        }
+    }
+    Ok(out)
+}
+
+/// [`local_error`] of the strains `e` of `robot` (no port), with its cables' `paths` (tensions,
+/// names) and the answer's Jacobian `jac`.
+fn strain_error(
+    robot: &Robot,
+    e: &EnergyWarm,
+    paths: &[&CablePath],
+    jac: Option<&TipJacobian>,
+    routing: RoutingFit,
+) -> Result<Vec<f64>, &'static str> {
     let n = robot.sections();
     let m = e.sub_arcs;
     let nsub = n * m;
-    let unsupported = shape.port.is_some()
-        || !shape.contacts.is_empty()
-        || e.length != LengthMeasure::Path
-        || robot.loads.tip_moment != Vector3::zeros()
-        || m == 0
-        || e.strains.len() != 4 * nsub
-        || !(e.shear.is_empty() || e.shear.len() == nsub)
-        || shape.cables.len() != robot.cables.len();
-    if unsupported {
-        return None;
+    if robot.loads.tip_moment != Vector3::zeros() {
+        return Err("with a tip moment");
+    }
+    let fits = m > 0
+        && e.strains.len() == 4 * nsub
+        && (e.shear.is_empty() || e.shear.len() == nsub)
+        && paths.len() == robot.cables.len();
+    if !fits {
+        return Err("with strains that do not fit the robot");
     }
     let routes = (0..robot.cables.len())
         .map(|c| Route::new(robot, c, routing).ok())
-        .collect::<Option<Vec<Route>>>()?;
-    let tensions: Vec<f64> = shape
-        .cables
+        .collect::<Option<Vec<Route>>>()
+        .ok_or("without a routing curve for every cable")?;
+    let tensions: Vec<f64> = paths
         .iter()
         .map(|c| c.tension.unwrap_or(0.0).max(0.0))
         .collect();
@@ -80,13 +136,13 @@ pub fn local_error(robot: &Robot, shape: &Shape, routing: RoutingFit) -> Option<
     }
     // The tip's pull per metre of each length-driven cable's shortening (the answer's
     // Jacobian): a path the sub-arcs measure differently moves the tip as a shortening would.
-    let driven = length_driven(robot, shape)?;
+    let driven =
+        length_driven(paths, jac).ok_or("without the answer's Jacobian (sensitivity = off)")?;
     let loads = dead_loads(robot, &frames, m);
     let b = &robot.backbone;
     let (ei, gj) = (b.ei(), b.gj());
     let tip = frames[nsub].2;
-    let mut total = 0.0;
-    let mut path_defect = vec![0.0; robot.cables.len()];
+    let mut per_section = vec![0.0; n];
     for j in 0..nsub {
         let x = &e.strains[4 * j..4 * j + 4];
         let u = Vector3::new(x[0], x[1], x[2]);
@@ -127,33 +183,36 @@ pub fn local_error(robot: &Robot, shape: &Shape, routing: RoutingFit) -> Option<
         // The pull turns with the strain it bends (`r × (u × r)`): the rod answers a moment
         // change with `(K − ∂pull/∂u)⁻¹`, the derivative averaged over the sub-arc's ends.
         let stiff = Matrix3::from_diagonal(&Vector3::new(ei, ei, gj)) - 0.5 * (turn0 + turn1);
-        let du = stiff.try_inverse()? * (m1 - m0);
+        let du = stiff
+            .try_inverse()
+            .ok_or("with a singular stiffness under the cables' pull")?
+            * (m1 - m0);
         let l = ell(j);
         let mid = 0.5 * (frames[j].2 + frames[j + 1].2);
-        total += l * l / 12.0 * (du.x.hypot(du.y) + u.cross(&du).norm() * (tip - mid).norm());
-        // The path's first-order change under the left-out strain `δu(s) · (r × ŵ)(s)`.
-        for (c, d) in path_defect.iter_mut().enumerate() {
-            if driven[c] > 0.0 {
+        let mut term = l * l / 12.0 * (du.x.hypot(du.y) + u.cross(&du).norm() * (tip - mid).norm());
+        // The path's first-order change under the left-out strain `δu(s) · (r × ŵ)(s)`, times
+        // the tip's pull per metre of that cable's shortening.
+        for (c, pull) in driven.iter().enumerate() {
+            if *pull > 0.0 {
                 let turn = arm(c, &frames[j + 1]).0 - arm(c, &frames[j]).0;
-                *d += l / 12.0 * du.dot(&turn).abs();
+                term += l / 12.0 * du.dot(&turn).abs() * pull;
             }
         }
+        per_section[j / m] += term;
     }
-    total += path_defect
-        .iter()
-        .zip(&driven)
-        .map(|(d, pull)| d * pull)
-        .sum::<f64>();
-    total.is_finite().then_some(total)
+    if per_section.iter().all(|x| x.is_finite()) {
+        Ok(per_section)
+    } else {
+        Err("with a non-finite term")
+    }
 }
 
 /// Per cable, `|∂p_tip/∂shortening|` of the length-driven cables (0 for the others), from the
 /// answer's Jacobian; `None` when a cable with a tension is neither in it as a shortening nor as
 /// a tension (no Jacobian: solved with `sensitivity = off`).
-fn length_driven(robot: &Robot, shape: &Shape) -> Option<Vec<f64>> {
-    let mut out = vec![0.0; robot.cables.len()];
-    let jac = shape.report.jacobian.as_ref();
-    for (c, path) in shape.cables.iter().enumerate() {
+fn length_driven(paths: &[&CablePath], jac: Option<&TipJacobian>) -> Option<Vec<f64>> {
+    let mut out = vec![0.0; paths.len()];
+    for (c, path) in paths.iter().enumerate() {
         if path.tension.unwrap_or(0.0) <= 0.0 {
             continue;
         }

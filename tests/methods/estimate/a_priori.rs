@@ -4,6 +4,7 @@
 use ccrkit::method::estimate::{a_priori_discretization, LOCAL_FACTOR, SAFETY};
 use ccrkit::prelude::*;
 use ccrkit::study::random::random_model;
+use ccrkit_test_support::{port_robots::port_robot, rng::Rng};
 
 /// The answer at `k` sub-arcs (displacement control, as `auto` solves), its settings.
 fn at(model: &Model, k: usize) -> Option<(ccrkit::Shape, Settings)> {
@@ -64,4 +65,65 @@ fn straight_cables_without_loads_have_no_discretization_error() {
         "{:e}",
         one.tip_distance(&fine)
     );
+}
+
+/// Random port robot `seed` of the support crate, every cable shortened by a seeded 0–4 %,
+/// sagging under gravity across the port axis, the port turned by 0.9 rad.
+fn port_model(seed: u64) -> Model {
+    let mut r = Rng(seed * 11 + 5);
+    let mut t = String::new();
+    for line in port_robot(seed).toml.lines() {
+        t += line;
+        t += "\n";
+        if line.starts_with("ends_at") {
+            t += &format!("shorten_percent = {}\n", r.range(0.0, 4.0));
+        }
+        if line.starts_with("insertion") {
+            t += "rotation = 0.9\n";
+        }
+    }
+    t += "[loads]\ngravity = [0.0, 9.81, 0.0]\ndisk_mass = 0.002\n";
+    Model::from_toml_str(&t).expect("valid by construction")
+}
+
+/// Through a port the leading term is that of the robot beyond it (its loads turned into its
+/// frame): it bounds the distance to 32 sub-arcs on seeded random port robots as without one.
+#[test]
+fn the_leading_term_bounds_the_discretization_error_through_a_port() {
+    let (mut checked, mut ratios) = (0, vec![]);
+    for seed in 0..30 {
+        let model = port_model(seed);
+        let Some((fine, _)) = at(&model, 32) else {
+            continue;
+        };
+        for k in [1, 2] {
+            let Some((shape, s)) = at(&model, k) else {
+                continue;
+            };
+            let raw = a_priori_discretization(MethodKind::Energy, &s, &model.robot, &shape)
+                .expect("applies through a port")
+                / (SAFETY * LOCAL_FACTOR);
+            let truth = shape.tip_distance(&fine);
+            assert!(
+                truth <= raw + 1e-9,
+                "port seed {seed}, {k} sub-arcs: error {truth:.3e} m above the leading term {raw:.3e} m"
+            );
+            checked += 1;
+            if truth > 1e-7 {
+                ratios.push(raw / truth);
+            }
+        }
+    }
+    ratios.sort_by(f64::total_cmp);
+    let median = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
+    println!(
+        "{checked} answers through a port, {} with an error above 0.1 µm: leading term / error median {median:.2}",
+        ratios.len()
+    );
+    assert!(
+        checked >= 40 && ratios.len() >= 20,
+        "{checked} answers, {} with an error",
+        ratios.len()
+    );
+    assert!(median <= 3.0, "leading term / error: median {median:.2}");
 }

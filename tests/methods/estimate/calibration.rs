@@ -59,7 +59,7 @@ fn the_bound_holds_on_at_least_95_percent_of_random_answers() {
                 held += 1;
             } else {
                 println!(
-                    "seed {seed} {kind} {pairs:?}: error {err:.3e} m > bound {bound:.3e} (disc {:.3e}, model {:?})",
+                    "seed {seed} {kind} {pairs:?}: error {err:.3e} m > bound {bound:.3e} (disc {:?}, model {:?})",
                     est.discretization_m, est.model_m
                 );
             }
