@@ -2,8 +2,10 @@
 //! a slightly different actuation (tensions 2 % lower; under displacement control,
 //! shortenings 2 % lower), at the default settings (3 RK4 steps
 //! per section, more where a route bends: the resolution that keeps the tip within 0.01 mm of
-//! the converged rod). `CCRKIT_BENCH_STEPS=N` sets the base steps per section instead. `lung`:
-//! the 24-section soft lung rod, unloaded path against shooting.
+//! the converged rod). `CCRKIT_BENCH_STEPS=N` sets the base steps per section instead. With no
+//! external load the default takes the unloaded path (under displacement control, Newton on
+//! the tensions); `displacement-shooting` rows shoot instead. `lung`: the 24-section soft lung
+//! rod, unloaded path against shooting.
 
 use ccrkit::actuation::{Input, Shortening};
 use ccrkit::method::cosserat::Cosserat;
@@ -59,6 +61,13 @@ fn bench(c: &mut Criterion) {
         c.bench_function(&format!("cosserat/case{n}/displacement/warm"), |b| {
             b.iter(|| black_box(md.solve(robot, act, &scene, Some(&warm)).expect("solves")))
         });
+        // The same cold solve shooting (`solver = shooting`): the unloaded path's Newton on the
+        // tensions against shooting for base wrench and tensions.
+        let shoot = md.clone().with_unloaded(false);
+        c.bench_function(
+            &format!("cosserat/case{n}/displacement-shooting/cold"),
+            |b| b.iter(|| black_box(shoot.solve(robot, act, &scene, None).expect("solves"))),
+        );
     }
 }
 

@@ -46,6 +46,10 @@ const BENCHES: &[(&str, &str)] = &[
         "`reach` on paper case I, through a port (`port_behind_block`) and on the soft lung rod in tension space (`lung_rod_tension`); `plan` around a ball and in the vessel",
     ),
     (
+        "clearance",
+        "one whole-shape clearance (`reach::clearance`) of the catheter in a generated airway of 110 988 triangles, a seeded reachable target's shape per iteration",
+    ),
+    (
         "predict",
         "`predict` on the 1620 rows of FTDCR v4 train, `sub-arcs` 1 and 4, on every core",
     ),

@@ -77,7 +77,12 @@ impl Setup {
             generations,
             ..AirwayOptions::default()
         };
-        let airway = generate(&opts)?;
+        Setup::from_options(&opts, dir)
+    }
+
+    /// [`Setup::new`] for the airway of `opts` (a finer meshing cell, say).
+    pub fn from_options(opts: &AirwayOptions, dir: &Path) -> Result<Setup> {
+        let airway = generate(opts)?;
         std::fs::create_dir_all(dir)?;
         ccrkit::mesh::write(&dir.join("airway.stl"), &airway.vertices, &airway.triangles)?;
         ccrkit::output::write_file(

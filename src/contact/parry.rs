@@ -86,6 +86,8 @@ pub(crate) fn query(
             parry3d::query::contact(gpose, g, opose, shape, margin).ok()?
         };
         return match closest {
+            // Wholly on the free side by the grid: its witness is too (no side test).
+            Some(ct) if free && ct.dist > 0.0 => Some(ct),
             Some(ct) => Some(super::solid::signed(ct, g, gpose, mesh, opose)),
             // Wholly on the free side by the grid: apart from the surface.
             None if free => None,

@@ -70,7 +70,15 @@ pub fn abc_series<T: Real>(x: T) -> (T, T, T) {
 /// C[ω]×²` (Barfoot 2017 §7.1.5).
 pub fn abc(theta2: f64) -> (f64, f64, f64) {
     if theta2 < 1e-4 {
-        abc_series(theta2)
+        // [`abc_series`]'s five terms (there the next is below 3e-22) by its Horner order,
+        // so the same bits, without its derivatives.
+        let series = |o: usize| {
+            (0..=4usize).rev().fold(0.0, |f, k| {
+                let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
+                f * theta2 + sign * inv_fact(2 * k + o)
+            })
+        };
+        (series(1), series(2), series(3))
     } else {
         let th = theta2.sqrt();
         let (s, c) = th.sin_cos();

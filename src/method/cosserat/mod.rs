@@ -125,6 +125,9 @@
 //! that the internal wrench is the tendons' pull there, `nb = −Σ τ t_i`, `mb = −Σ τ r_i × t_i`,
 //! so the strains at each point solve a strictly convex six-unknown balance (Newton, two
 //! evaluations per point), and one fourth-order Magnus integration on SE(3) gives the shape.
+//! Shortened cables (length along the path, displacement control) keep this path: Newton on
+//! their tensions, the lengths' tension Jacobian in closed form beside each pass
+//! (`unloaded_solve.rs`); shooting is the fallback if it does not settle.
 //! Same answer as converged shooting (to 1 µm on random tension-driven robots,
 //! `tests/methods/cosserat_unloaded.rs`), exact for a straight tendon's arc, fourth order in
 //! the step; the 24-section soft lung rod meets the converged rod to 0.5 µm with one step per
@@ -192,7 +195,8 @@
 //! `shooting` (Newton with Broyden updates, load continuation) · `warm` (the start from a
 //! previous shape) · `inextensible` (balanced cable groups of the Kirchhoff rod under
 //! displacement control: proven infeasible shortenings, the slack start) · `unloaded` (the
-//! path without shooting: strains from the tendons' balance, Magnus steps) · `contact`
+//! path without shooting: strains from the tendons' balance, Magnus steps) · `unloaded_solve`
+//! (its solve: the given tensions, or Newton on the shortened cables') · `contact`
 //! (point contacts at the disks: witnesses, active set, the crossing check) · `approach`
 //! (the cold start next to obstacles) · `solve` (the `Method` entry: active sets of slack
 //! cables and contacts, shape assembly).
@@ -209,6 +213,7 @@ mod settings;
 mod shooting;
 mod solve;
 mod unloaded;
+mod unloaded_solve;
 mod variational;
 mod warm;
 

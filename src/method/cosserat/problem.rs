@@ -417,9 +417,14 @@ impl Cosserat {
         // zero load), integrated with the same quadrature as the loaded one.
         let zero = LoadCase::new([0.0; MAX_CABLES], 0.0);
         if (0..nc).any(|c| matches!(prob.modes[c], Drive::Shorten { .. })) {
-            prob.len0 = prob
-                .pass(&Vector3::zeros(), &Vector3::zeros(), &zero, None)
-                .len;
+            prob.len0 = match prob.fast {
+                // (The unloaded path shortens only cables measured along their paths.)
+                true => prob.rest_paths(),
+                false => {
+                    prob.pass(&Vector3::zeros(), &Vector3::zeros(), &zero, None)
+                        .len
+                }
+            };
         }
 
         Ok((prob, notes))

@@ -104,10 +104,16 @@ impl Method for Cosserat {
             } else {
                 None
             };
-            let solved = match prob.fast {
-                true => prob.solve_unloaded(&mut notes),
+            let mut solved = match prob.fast {
+                true => prob.solve_unloaded(&x0, &setup, &mut notes),
                 false => prob.solve_with_continuation(&x0, &setup, jac0),
             };
+            // The unloaded path's Newton on tensions did not settle: shoot instead.
+            if prob.fast && solved.is_err() && !setup.unknown.is_empty() {
+                prob.shoot_instead();
+                notes.push("unloaded: tensions did not settle; shooting instead".into());
+                solved = prob.solve_with_continuation(&x0, &setup, jac0);
+            }
             let (sol, load_steps) = solved.map_err(|e| SolveError::NotConverged {
                 method: name.clone(),
                 section: None,

@@ -52,11 +52,10 @@
 
 use super::problem::{LoadCase, Problem, Shot, Trace};
 use super::rhs::{CablePoints, Point};
-use super::shooting::{Fail, Newton};
 use super::{sym_inverse, Buf, RodModel, E3, MAX_CABLES};
 use crate::model::routing::RoutePoint;
 use crate::numeric::so3::{abc, hat};
-use nalgebra::{DVector, Matrix3, Vector3, Vector6};
+use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// Newton iterations allowed for the strains at one point (two or three are typical).
 const STRAIN_ITERATIONS: usize = 60;
@@ -76,6 +75,50 @@ pub(super) struct Unloaded {
     pub(super) residual: f64,
 }
 
+/// What one point gives besides its strains: each running cable's `|ṗ_c|` (`lr`), its value
+/// `|e3 + r_c′|` on the straight, unloaded rod (`rest`), and, for the cables `sens` marks,
+/// the tension sensitivities `dl[i][j] = ∂|ṗ_i|/∂τ_j` (`unloaded_solve.rs`).
+pub(super) struct At {
+    lr: Buf,
+    rest: Buf,
+    sens: [bool; MAX_CABLES],
+    dl: Sens,
+}
+
+/// One number per pair of cables.
+pub(super) type Sens = [[f64; MAX_CABLES]; MAX_CABLES];
+
+impl At {
+    fn new(sens: [bool; MAX_CABLES]) -> Self {
+        At {
+            lr: [0.0; MAX_CABLES],
+            rest: [0.0; MAX_CABLES],
+            sens,
+            dl: [[0.0; MAX_CABLES]; MAX_CABLES],
+        }
+    }
+}
+
+/// The balance's Hessian `K = [Kse + A, G; Gᵀ, Kbt + H]` at a point, factored by blocks:
+/// `(Kse + A)⁻¹`, the Schur complement's inverse and `G` (Kirchhoff: `(Kbt + H)⁻¹` alone).
+struct Stiffness {
+    k1inv: Matrix3<f64>,
+    sinv: Matrix3<f64>,
+    g: Matrix3<f64>,
+    full: bool,
+}
+
+impl Stiffness {
+    /// `K⁻¹ [bv; bu]` (Kirchhoff: `(Kbt + H)⁻¹ bu`, no `v` part).
+    fn solve(&self, bv: &Vector3<f64>, bu: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+        if !self.full {
+            return (Vector3::zeros(), self.sinv * bu);
+        }
+        let xu = self.sinv * (bu - self.g.transpose() * (self.k1inv * bv));
+        (self.k1inv * (bv - self.g * xu), xu)
+    }
+}
+
 /// The strains `(v, u)` at one point.
 #[derive(Clone, Copy)]
 struct Strains {
@@ -86,17 +129,18 @@ struct Strains {
 impl Problem<'_> {
     /// True when this solve takes the unloaded path: the `solver` setting allows it, fixed
     /// steps (not `--adaptive`), no external load at all, and every cable pulled with a given
-    /// tension or free.
+    /// tension, free, or shortened with its length measured along its path (its tension then
+    /// an unknown, `unloaded_solve.rs`; chords go on shooting).
     pub(super) fn unloaded_applies(&self) -> bool {
-        use crate::model::actuation::Drive;
+        use crate::model::actuation::{Drive, LengthMeasure};
         self.set.unloaded
             && self.set.adaptive.is_none()
             && self.shape_free_loads()
             && self.tip_m == Vector3::zeros()
-            && self
-                .modes
-                .iter()
-                .all(|m| matches!(m, Drive::Tension(_) | Drive::Free))
+            && self.modes.iter().all(|m| match m {
+                Drive::Tension(_) | Drive::Free => true,
+                Drive::Shorten { .. } => self.set.length == LengthMeasure::Path,
+            })
     }
 
     /// One pass at the loads `ld`: the unloaded path's when it applies ([`Problem::fast`]),
@@ -109,7 +153,7 @@ impl Problem<'_> {
         trace: Option<&mut Trace>,
     ) -> Shot {
         if self.fast {
-            if let Some(un) = self.unloaded_pass(ld, trace) {
+            if let Some(un) = self.unloaded_pass(ld, trace, None) {
                 return un.shot;
             }
             return Shot::failed();
@@ -117,57 +161,18 @@ impl Problem<'_> {
         self.shoot(n0, m0, ld, trace, None)
     }
 
-    /// The unloaded solve (force control, no external load): one pass, the base wrench as the
-    /// solution `x = [n(0), m(0)/L]`, zero Newton iterations, and the largest balance residual
-    /// at a point as the residual. A note says which path was taken.
-    pub(super) fn solve_unloaded(&self, notes: &mut Vec<String>) -> Result<(Newton, usize), Fail> {
-        let mut tau = [0.0; MAX_CABLES];
-        for (c, mode) in self.modes.iter().enumerate() {
-            if let crate::model::actuation::Drive::Tension(t) = mode {
-                tau[c] = *t;
-            }
-        }
-        let ld = LoadCase::new(tau, 1.0);
-        let Some(un) = self.unloaded_pass(&ld, None) else {
-            return Err(Fail {
-                iterations: 0,
-                residual: f64::NAN,
-                detail: "the strains of the unloaded rod did not settle at some point".into(),
-            });
-        };
-        let steps: usize = self.nsteps[1..].iter().sum();
-        notes.push(format!(
-            "unloaded: strains from the tendons' balance, {steps} Magnus steps, no shooting"
-        ));
-        let mut x = DVector::zeros(6);
-        for i in 0..3 {
-            x[i] = un.n0[i];
-            x[3 + i] = un.ms[i];
-        }
-        Ok((
-            Newton {
-                x,
-                iterations: 0,
-                residual: un.residual,
-                jac: None,
-            },
-            0,
-        ))
-    }
-
     /// The strains at `s` in section `sec` from the start `z` (the neighbouring point's):
-    /// Newton on `F = 0` (module docs). `lr[c]` receives `|ṗ_c|` there and `rest[c]` its
-    /// value on the straight, unloaded rod, `|e3 + r_c′|`. Returns the strains
-    /// and the balance residual \[N\] of the last evaluation, or `None` if Newton does not
-    /// settle (never seen for `τ ≥ 0`: `Φ` is strictly convex).
+    /// Newton on `F = 0` (module docs). `at` receives each running cable's `|ṗ_c|` there, its
+    /// value on the straight, unloaded rod, and, if asked, their tension sensitivities
+    /// ([`At`]). Returns the strains and the balance residual \[N\] of the last evaluation, or
+    /// `None` if Newton does not settle (never seen for `τ ≥ 0`: `Φ` is strictly convex).
     fn strains_at(
         &self,
         s: f64,
         sec: usize,
         ld: &LoadCase,
         mut z: Strains,
-        lr: &mut Buf,
-        rest: &mut Buf,
+        at: &mut At,
     ) -> Option<(Strains, f64)> {
         let full = self.set.model == RodModel::Full;
         // The routes once for all iterations, and the largest tendon offset here
@@ -183,7 +188,7 @@ impl Problem<'_> {
             if cable.ends_at >= sec {
                 routes[c] = self.eval_route(c, s, sec);
                 rmax = rmax.max(routes[c].r.norm());
-                rest[c] = (routes[c].dr + E3).norm();
+                at.rest[c] = (routes[c].dr + E3).norm();
             }
         }
         if rmax == 0.0 {
@@ -193,11 +198,20 @@ impl Problem<'_> {
         // balance is linear, `Kse (v − e3) = 0`, `Kbt u = 0`, and the rod is straight.
         let mut cables = self.robot.cables.iter().enumerate();
         if !cables.any(|(c, cable)| cable.ends_at >= sec && ld.tau[c] != 0.0) {
-            lr.copy_from_slice(rest);
+            at.lr = at.rest;
             let straight = Strains {
                 v: E3,
                 u: Vector3::zeros(),
             };
+            if at.sens.contains(&true) {
+                let k = Stiffness {
+                    k1inv: Matrix3::from_diagonal(&self.kse.map(|x| 1.0 / x)),
+                    sinv: Matrix3::from_diagonal(&self.kbt.map(|x| 1.0 / x)),
+                    g: Matrix3::zeros(),
+                    full,
+                };
+                self.sensitivities(&straight, &routes, sec, &k, at);
+            }
             return Some((straight, 0.0));
         }
         let mut keep = CablePoints::new();
@@ -209,22 +223,37 @@ impl Problem<'_> {
                 u: z.u,
                 v,
             };
-            let sums = self.tendon_sums::<false>(|c| routes[c], sec, &pt, ld, lr, &mut keep);
+            let sums =
+                self.tendon_sums::<false>(|c| routes[c], sec, &pt, ld, &mut at.lr, &mut keep);
             self.work.set(self.work.get() + 1);
             let fv = self.kse.component_mul(&(v - E3)) + sums.pull;
             let fu = self.kbt.component_mul(&z.u) + sums.twist;
-            let residual = fv.norm().max(fu.norm() / self.len_l);
-            let (dv, du) = if full {
+            // (Kirchhoff: `v ≡ e3` and `n` is no strain, so the force rows are not equations.)
+            let residual = match full {
+                true => fv.norm().max(fu.norm() / self.len_l),
+                false => fu.norm() / self.len_l,
+            };
+            let k = if full {
                 let k1 = Matrix3::from_diagonal(&self.kse) + sums.am;
                 let k1inv = sym_inverse(&k1)?;
-                let gt = sums.gm.transpose();
-                let schur = Matrix3::from_diagonal(&self.kbt) + sums.hm - gt * k1inv * sums.gm;
-                let du = sym_inverse(&schur)? * (gt * (k1inv * fv) - fu);
-                (-(k1inv * (fv + sums.gm * du)), du)
+                let schur = Matrix3::from_diagonal(&self.kbt) + sums.hm
+                    - sums.gm.transpose() * k1inv * sums.gm;
+                Stiffness {
+                    k1inv,
+                    sinv: sym_inverse(&schur)?,
+                    g: sums.gm,
+                    full,
+                }
             } else {
                 let m = Matrix3::from_diagonal(&self.kbt) + sums.hm;
-                (Vector3::zeros(), -(sym_inverse(&m)? * fu))
+                Stiffness {
+                    k1inv: Matrix3::zeros(),
+                    sinv: sym_inverse(&m)?,
+                    g: Matrix3::zeros(),
+                    full,
+                }
             };
+            let (dv, du) = k.solve(&-fv, &-fu);
             let size = dv.norm() + du.norm() * rmax;
             if !size.is_finite() {
                 return None;
@@ -239,30 +268,69 @@ impl Problem<'_> {
             // Converged when the balance holds to the solver's tolerance (the step just taken
             // only shrinks it further), or when the step is at rounding level.
             if residual <= self.set.tolerance || size <= STRAIN_STEP_TOL {
+                if at.sens.contains(&true) {
+                    self.sensitivities(&z, &routes, sec, &k, at);
+                }
                 return Some((z, residual));
             }
         }
         None
     }
 
+    /// The tension sensitivities of the running cables' `|ṗ_i|` among those asked for (`at.sens`) at strains `z` (into
+    /// `at.dl`): `∂|ṗ_i|/∂τ_j = −b_iᵀ K⁻¹ b_j` with `b_i = [t_i; r_i × t_i]` (Kirchhoff:
+    /// `r_i × t_i`), which is both `∂F/∂τ_i` and `∂|ṗ_i|/∂(v, u)`; `K` the balance's Hessian
+    /// (module docs) at the last evaluation.
+    fn sensitivities(
+        &self,
+        z: &Strains,
+        routes: &[RoutePoint; MAX_CABLES],
+        sec: usize,
+        k: &Stiffness,
+        at: &mut At,
+    ) {
+        let v = if k.full { z.v } else { E3 };
+        let mut b = [(Vector3::zeros(), Vector3::zeros()); MAX_CABLES];
+        let mut w = b;
+        let running = |c: &usize| self.robot.cables[*c].ends_at >= sec && at.sens[*c];
+        let nc = self.robot.cables.len();
+        for c in (0..nc).filter(running) {
+            let rp = &routes[c];
+            let t = (z.u.cross(&rp.r) + rp.dr + v).normalize();
+            let bu = rp.r.cross(&t);
+            let bv = if k.full { t } else { Vector3::zeros() };
+            b[c] = (bv, bu);
+            w[c] = k.solve(&bv, &bu);
+        }
+        for i in (0..nc).filter(running) {
+            for j in (0..nc).filter(running) {
+                at.dl[i][j] = -(b[i].0.dot(&w[j].0) + b[i].1.dot(&w[j].1));
+            }
+        }
+    }
+
     /// The unloaded pass (module docs): the strains at `s = 0` give the base wrench, then each
     /// section is stepped by fourth-order Magnus at the Gauss points, disks are step
     /// boundaries. The geometry goes to `trace` (default: the problem's `last`, marked as this
-    /// path's). `None` if the strains cannot be found at some point.
+    /// path's). With `sens` (the Jacobian and the cables asked for), the path lengths'
+    /// tension sensitivities `∂ℓ_i/∂τ_j` among those cables by the same quadrature go there.
+    /// `None` if the strains cannot be found at some point.
     pub(super) fn unloaded_pass(
         &self,
         ld: &LoadCase,
         trace: Option<&mut Trace>,
+        sens: Option<(&mut Sens, [bool; MAX_CABLES])>,
     ) -> Option<Unloaded> {
         let robot = self.robot;
         let nc = robot.cables.len();
-        let mut lr = [0.0; MAX_CABLES];
-        let mut rest = [0.0; MAX_CABLES];
+        let asked = sens.as_ref().map_or([false; MAX_CABLES], |s| s.1);
+        let mut sens = sens.map(|s| s.0);
+        let (mut a, mut b) = (At::new(asked), At::new(asked));
         let straight = Strains {
             v: E3,
             u: Vector3::zeros(),
         };
-        let (z0, mut residual) = self.strains_at(0.0, 1, ld, straight, &mut lr, &mut rest)?;
+        let (z0, mut residual) = self.strains_at(0.0, 1, ld, straight, &mut a)?;
         // Kirchhoff: `n` is not a strain, but the same balance gives it (`−Σ τ t`).
         let n0 = match self.set.model {
             RodModel::Full => self.kse.component_mul(&(z0.v - E3)),
@@ -290,10 +358,11 @@ impl Problem<'_> {
             prev[c] = cable.hole(0);
         }
         let mut prev0 = prev;
-        let mut rest2 = [0.0; MAX_CABLES];
+        if let Some(d) = sens.as_deref_mut() {
+            *d = [[0.0; MAX_CABLES]; MAX_CABLES];
+        }
         let gauss = 3f64.sqrt() / 6.0;
         let mut guess = Guess::new(0.0, z0);
-        let mut lr2 = [0.0; MAX_CABLES];
         for k in 1..=robot.sections() {
             let (s0, s1) = (robot.disk_s[k - 1], robot.disk_s[k]);
             // The strains jump where a pulled tendon is tied: no extrapolation across.
@@ -309,18 +378,25 @@ impl Problem<'_> {
             for j in 0..steps {
                 let s = s0 + j as f64 * h;
                 let (sa, sb) = (s + h * (0.5 - gauss), s + h * (0.5 + gauss));
-                let (z1, r1) = self.strains_at(sa, k, ld, guess.at(sa), &mut lr, &mut rest)?;
+                let (z1, r1) = self.strains_at(sa, k, ld, guess.at(sa), &mut a)?;
                 guess.push(sa, z1);
-                let (z2, r2) = self.strains_at(sb, k, ld, guess.at(sb), &mut lr2, &mut rest2)?;
+                let (z2, r2) = self.strains_at(sb, k, ld, guess.at(sb), &mut b)?;
                 guess.push(sb, z2);
                 residual = residual.max(r1).max(r2);
                 let (dp, dr) = magnus_step(h, &z1, &z2);
                 p += r * dp;
                 r *= dr;
-                for (c, cable) in robot.cables.iter().enumerate() {
-                    if cable.ends_at >= k {
-                        path[c] += 0.5 * h * (lr[c] + lr2[c]);
-                        path0[c] += 0.5 * h * (rest[c] + rest2[c]);
+                let running = |c: &usize| robot.cables[*c].ends_at >= k;
+                for c in (0..nc).filter(running) {
+                    path[c] += 0.5 * h * (a.lr[c] + b.lr[c]);
+                    path0[c] += 0.5 * h * (a.rest[c] + b.rest[c]);
+                }
+                if let Some(d) = sens.as_deref_mut() {
+                    let asked = |c: &usize| running(c) && asked[*c];
+                    for i in (0..nc).filter(asked) {
+                        for j in (0..nc).filter(asked) {
+                            d[i][j] += 0.5 * h * (a.dl[i][j] + b.dl[i][j]);
+                        }
                     }
                 }
                 rec.backbone.push(p);
@@ -347,6 +423,30 @@ impl Problem<'_> {
             ms,
             residual,
         })
+    }
+
+    /// The straight rod's path lengths by the unloaded pass's quadrature (`|e3 + r_c′|` at its
+    /// Gauss points; the same bits as the `rest` it records beside a pass), without a pass.
+    pub(super) fn rest_paths(&self) -> Buf {
+        let robot = self.robot;
+        let gauss = 3f64.sqrt() / 6.0;
+        let mut path0 = [0.0; MAX_CABLES];
+        for k in 1..=robot.sections() {
+            let (s0, s1) = (robot.disk_s[k - 1], robot.disk_s[k]);
+            let h = (s1 - s0) / self.nsteps[k] as f64;
+            for j in 0..self.nsteps[k] {
+                let s = s0 + j as f64 * h;
+                let (sa, sb) = (s + h * (0.5 - gauss), s + h * (0.5 + gauss));
+                for (c, cable) in robot.cables.iter().enumerate() {
+                    if cable.ends_at >= k {
+                        let a = (self.eval_route(c, sa, k).dr + E3).norm();
+                        let b = (self.eval_route(c, sb, k).dr + E3).norm();
+                        path0[c] += 0.5 * h * (a + b);
+                    }
+                }
+            }
+        }
+        path0
     }
 
     /// The Kirchhoff rod's internal force at `s` (base frame at the base): `−Σ τ t`.
