@@ -1,13 +1,16 @@
 //! Obstacle cost of the geometric section solver and of the energy model on the paper's case-1
 //! robot: no obstacles, 1000 obstacles out of reach (broad phase only), 1000 small obstacles in
 //! reach but clear of the shape (broad + narrow phase), and pressing on one wall or a pillar
-//! (contacts active).
+//! (contacts active); and the literal method beside seeded generated scenes (`near_path`, as
+//! `examples/scene_speed.rs`): the scenes of seeds 1–20 that take the median and the most
+//! Newton iterations.
 //!
 //! `cargo bench --bench obstacles`
 
 use ccrkit::method::energy::Energy;
 use ccrkit::method::geometric::Geometric;
 use ccrkit::{Method, Model, Scene};
+use ccrkit_test_support::scenes::near_path;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -109,6 +112,50 @@ fn bench(c: &mut Criterion) {
         }
         grp.bench_function(format!("energy_{name}"), |b| {
             b.iter(|| black_box(e.solve(&model.robot, &model.actuation, scene, None)))
+        });
+    }
+    grp.finish();
+    generated(c, &model, &g);
+}
+
+/// The literal method beside the generated scenes of seeds 1–20 (paper case I pressing on a
+/// wall, box or pillar turned so a face, edge, corner or rim is nearest): the converged scene
+/// with the median and the one with the most Newton iterations, chosen by one solve each.
+fn generated(c: &mut Criterion, model: &Model, g: &Geometric) {
+    let free = g
+        .solve(&model.robot, &model.actuation, &Scene::empty(), None)
+        .unwrap();
+    let path: Vec<[f64; 3]> = free.disks.iter().map(|d| d.position.into()).collect();
+    let dir = std::env::temp_dir().join(format!("ccrkit-bench-generated-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut solved: Vec<(usize, u64, Scene)> = (1..=20u64)
+        .filter_map(|seed| {
+            let file = dir.join(format!("gen_{seed}.toml"));
+            std::fs::write(&file, near_path(&path, seed).0).ok()?;
+            let scene = Scene::from_file(&file).ok()?;
+            let s = g.solve(&model.robot, &model.actuation, &scene, None).ok()?;
+            Some((s.report.iterations, seed, scene))
+        })
+        .collect();
+    std::fs::remove_dir_all(&dir).ok();
+    solved.sort_by_key(|s| s.0);
+    let Some(worst) = solved.last() else {
+        return;
+    };
+    let median = &solved[solved.len() / 2];
+    eprintln!(
+        "generated: {} of 20 converged; median gen_{} ({} iterations), worst gen_{} ({} iterations)",
+        solved.len(),
+        median.1,
+        median.0,
+        worst.1,
+        worst.0
+    );
+    let mut grp = c.benchmark_group("obstacles_generated");
+    grp.sample_size(20);
+    for (name, (_, _, scene)) in [("geometric_median", median), ("geometric_worst", worst)] {
+        grp.bench_function(name, |b| {
+            b.iter(|| black_box(g.solve(&model.robot, &model.actuation, scene, None)))
         });
     }
     grp.finish();

@@ -13,6 +13,9 @@
 //!   for the second derivative of a feature–obstacle distance;
 //! * [`primitives`]: closed-form distances of the features to a box where one of its faces
 //!   decides them (parry otherwise);
+//! * [`sat`]: the exact distance, normal and witnesses of a feature and a box or cylinder where
+//!   an edge, corner, rim or side decides them — the separating-axis maximum over their support
+//!   functions, started from parry's answer (the geometric method's contact normals);
 //! * [`solid`]: signed distances to a closed mesh with a declared free side (a lumen, an
 //!   organ), so a feature beyond a thin wall is seen;
 //! * [`broad`]: the broad phase (obstacles within reach of the robot, exact duplicates
@@ -31,6 +34,7 @@ pub(crate) mod field_build;
 pub mod field_cache;
 pub(crate) mod parry;
 pub(crate) mod primitives;
+pub(crate) mod sat;
 pub(crate) mod solid;
 
 pub(crate) use parry::{

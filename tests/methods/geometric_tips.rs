@@ -3,6 +3,10 @@
 //! seeded random robots, compared to `tests/data/geometric_tips.json` to 1e-9 m. Recorded from
 //! the solver of commit "Literal method (issue 11 #11, #9)" with
 //! `CCRKIT_RECORD_TIPS=1 cargo test --release --test methods geometric_tips::`.
+//! Since then one entry was recorded again, `case1-pillar` (1.06e-6 m): its disk 6 touches
+//! the pillar with its side, whose contact point was the rim point the sign of a ~5e-6 normal
+//! component chose (±1 mm along the disk axis); the exact witness (`contact/sat.rs`) puts it
+//! where the two sides cross (−0.40 mm), which moves the contact's lever and the tip.
 
 use ccrkit::method::geometric::Geometric;
 use ccrkit::{Method, Model, Scene};

@@ -148,7 +148,9 @@ impl SectionWorld {
             Feature::Disk => {
                 let l = rq.transpose() * (p.point_robot - x0);
                 let uxy = m.x.hypot(m.y);
-                if uxy <= FACE_ON {
+                // A disk's side on an edge or a side (the exact witness between the rims,
+                // `contact/sat.rs`) is not a rim point: no rim curvature to add there.
+                if uxy <= FACE_ON || l.z.abs() < self.half_thickness * (1.0 - 1e-9) {
                     return None;
                 }
                 {

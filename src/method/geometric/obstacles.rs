@@ -5,6 +5,7 @@
 use super::problem::Pose;
 use crate::contact::features::{self, Touching};
 use crate::contact::primitives::{box_witness, Convex};
+use crate::contact::sat;
 use crate::contact::Witness;
 use crate::contact::{nvec, pvec};
 use crate::model::robot::Robot;
@@ -307,24 +308,34 @@ impl SectionWorld {
                 let closed = shape
                     .as_cuboid()
                     .and_then(|c| box_witness(&nvec(c.half_extents), opose, &hull, self.margin));
-                let w = match closed {
-                    Some(decided) => decided,
-                    None => features::witness(
-                        g,
-                        gpose,
-                        &**shape,
-                        opose,
-                        self.margin,
-                        self.fields[k].as_deref(),
-                    )
-                    .map(|w| w.0),
+                // The separating-axis witness's robot point is exact (a disk's side on a
+                // cylinder's side: the crossing of the two lines, not a rim point the normal
+                // suggests); a box face's is the disk's support point, placed as parry's is.
+                let (w, exact) = match closed {
+                    Some(decided) => (decided, false),
+                    None => {
+                        let rough = features::witness(
+                            g,
+                            gpose,
+                            &**shape,
+                            opose,
+                            self.margin,
+                            self.fields[k].as_deref(),
+                        )
+                        .map(|w| w.0);
+                        match rough.map(|w| (exact_witness(&**shape, opose, &hull, &w), w)) {
+                            Some((Some(e), _)) => (Some(e), true),
+                            Some((None, w)) => (Some(w), false),
+                            None => (None, false),
+                        }
+                    }
                 };
                 let Some(w) = w else {
                     return;
                 };
                 // `n` from the robot towards the obstacle.
                 let (mut a, po, n, dist) = (w.robot, w.obstacle, -w.normal, w.dist);
-                if feature == Feature::Disk {
+                if feature == Feature::Disk && !exact {
                     let (rd, ht) = (self.disk_radius, self.half_thickness);
                     a = features::disk_support(&ri, &x0, &w.normal, rd, ht).unwrap_or(a);
                 }
@@ -377,6 +388,15 @@ impl SectionWorld {
         }
         true
     }
+}
+
+/// parry's witness `w` of a feature against a box or cylinder made exact where a box edge or
+/// corner or a cylinder's rim or side decides it (`contact/sat.rs`: its normal otherwise
+/// chatters at ~1e-6 rad near touching); `None` where that does not decide.
+fn exact_witness(shape: &dyn PShape, opose: &PPose, hull: &Convex, w: &Witness) -> Option<Witness> {
+    sat::obstacle_support(shape, opose)
+        .zip(sat::feature_support(hull))
+        .and_then(|(o, f)| sat::sat_witness(&f, &o, w))
 }
 
 /// Up to 300 random section worlds of `robot` next to `scene`, each with a pose whose features
