@@ -106,6 +106,34 @@ fn robot() -> impl Strategy<Value = RobotSpec> {
         })
 }
 
+/// How many robots `CCRKIT_ADVERSARIAL_CASES` asks for (unset or unreadable: the test's own).
+fn env_cases() -> Option<u32> {
+    std::env::var("CCRKIT_ADVERSARIAL_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+}
+
+/// `cases` robots drawn from [`robot`] (proptest's runner, seeded as proptest seeds it), each
+/// written to `dir/robot<k>.toml`.
+fn draw_robots(dir: &std::path::Path, cases: u32) -> Vec<(RobotSpec, std::path::PathBuf)> {
+    let mut runner = TestRunner::new(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    (0..cases)
+        .map(|k| {
+            let spec = robot()
+                .new_tree(&mut runner)
+                .expect("strategy draws")
+                .current();
+            let file = dir.join(format!("robot{k}.toml"));
+            std::fs::write(&file, toml(&spec)).expect("write");
+            (spec, file)
+        })
+        .collect()
+}
+
 /// The model file of a spec (valid by construction, except what the methods must judge).
 fn toml(r: &RobotSpec) -> String {
     let n = r.sections;
@@ -179,27 +207,11 @@ fn toml(r: &RobotSpec) -> String {
 
 #[test]
 fn random_robots_with_every_method_end_named_and_bounded() {
-    let cases: u32 = std::env::var("CCRKIT_ADVERSARIAL_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(40);
     let dir = scratch("robots");
-    let mut runner = TestRunner::new(Config {
-        cases,
-        failure_persistence: None,
-        ..Config::default()
-    });
+    let drawn = draw_robots(&dir, env_cases().unwrap_or(40));
     let ms = methods();
     let mut jobs = vec![];
-    let mut specs = vec![];
-    for k in 0..cases {
-        let spec = robot()
-            .new_tree(&mut runner)
-            .expect("strategy draws")
-            .current();
-        specs.push(spec.clone());
-        let file = dir.join(format!("robot{k}.toml"));
-        std::fs::write(&file, toml(&spec)).expect("write");
+    for (k, (_, file)) in drawn.iter().enumerate() {
         for (j, m) in ms.iter().enumerate() {
             let json = dir.join(format!("robot{k}_{j}.json"));
             let args: Vec<String> = [
@@ -221,7 +233,7 @@ fn random_robots_with_every_method_end_named_and_bounded() {
     // Every solved shape with the ball obstacle keeps its disks out of the ball, checked from
     // the JSON alone with parry3d (independent of the methods' own contact code).
     let mut checked = 0;
-    for (k, spec) in specs.iter().enumerate() {
+    for (k, (spec, _)) in drawn.iter().enumerate() {
         let Some((rad, h)) = spec.sphere else {
             continue;
         };
@@ -355,26 +367,12 @@ fn unique_consistent(u: &serde_json::Value) -> Result<(), String> {
 /// `disagree` what its distances and inputs say.
 #[test]
 fn random_robots_checked_for_other_equilibria_report_consistently() {
-    let cases: u32 = std::env::var("CCRKIT_ADVERSARIAL_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .map_or(12, |c: u32| c.div_ceil(3));
     let dir = scratch("multiplicity");
-    let mut runner = TestRunner::new(Config {
-        cases,
-        failure_persistence: None,
-        ..Config::default()
-    });
+    let drawn = draw_robots(&dir, env_cases().map_or(12, |c| c.div_ceil(3)));
     let ms = methods();
     let mut jobs = vec![];
     let mut files = vec![];
-    for k in 0..cases {
-        let spec = robot()
-            .new_tree(&mut runner)
-            .expect("strategy draws")
-            .current();
-        let file = dir.join(format!("robot{k}.toml"));
-        std::fs::write(&file, toml(&spec)).expect("write");
+    for (k, (_, file)) in drawn.iter().enumerate() {
         let f = file.display().to_string();
         for (j, m) in ms.iter().enumerate() {
             let json = dir.join(format!("u{k}_{j}.json"));
