@@ -31,7 +31,7 @@
 //!
 //! Each part is multiplied by a safety factor calibrated on seeded random robots against the
 //! converged rod ([`SAFETY`]; the calibration and how often the bound held are in
-//! `docs/guide/methods.md`). [`estimate`] reads `energy`'s discretization part a priori; it
+//! `docs/guide/methods.md`). The estimate reads `energy`'s discretization part a priori; it
 //! costs one extra solve (about half the answer's own cost at the coarser rung) where that does
 //! not apply, and says why (`fallback`); an extra solve that fails is named (`failed`) and the
 //! next companion (one rung up) tried. Computed only when asked for
