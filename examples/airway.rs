@@ -15,7 +15,7 @@
 #[path = "common/airway_tasks.rs"]
 mod airway_tasks;
 
-use airway_tasks::{dense_clearance, Setup, GENERATIONS};
+use airway_tasks::{plan_dense_clearance, Setup, GENERATIONS};
 use anyhow::{bail, Result};
 use ccrkit::anatomy::tasks::branch_of;
 use ccrkit::export::view::View;
@@ -88,11 +88,7 @@ fn main() -> Result<()> {
         p.certified_clearance_m * 1e3
     );
     let t3 = Instant::now();
-    let dense = p
-        .waypoints
-        .iter()
-        .map(|w| dense_clearance(&setup, &w.shape))
-        .fold(f64::INFINITY, f64::min);
+    let dense = plan_dense_clearance(&setup, &p);
     let last = &p.waypoints[p.waypoints.len() - 1].shape;
     let branch = branch_of(&setup.airway, &last.tip()).map(|b| setup.airway.branches[b].generation);
     println!(

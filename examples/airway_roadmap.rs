@@ -17,7 +17,7 @@
 #[path = "common/airway_tasks.rs"]
 mod airway_tasks;
 
-use airway_tasks::{cpu_seconds, dense_clearance, quantile, Setup, GENERATIONS};
+use airway_tasks::{cpu_seconds, plan_dense_clearance, quantile, Setup, GENERATIONS};
 use ccrkit::plan::roadmap::Roadmap;
 use ccrkit::plan::{plan, Goal, PlanOptions};
 use ccrkit::Model;
@@ -75,11 +75,7 @@ fn main() -> anyhow::Result<()> {
         cpu.push(c);
         match p {
             Ok(p) => {
-                let dense = p
-                    .waypoints
-                    .iter()
-                    .map(|w| dense_clearance(&setup, &w.shape))
-                    .fold(f64::INFINITY, f64::min);
+                let dense = plan_dense_clearance(&setup, &p);
                 found += usize::from(dense >= 0.0);
                 println!(
                     "query: {} waypoints, {c:.3} s CPU ({w:.3} s wall), dense {:.2} mm, {}",

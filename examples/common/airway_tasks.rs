@@ -230,6 +230,14 @@ impl Setup {
     }
 }
 
+/// The smallest [`dense_clearance`] over a plan's waypoints \[m\].
+pub fn plan_dense_clearance(setup: &Setup, plan: &ccrkit::plan::Plan) -> f64 {
+    plan.waypoints
+        .iter()
+        .map(|w| dense_clearance(setup, &w.shape))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// The dense clearance of `shape` (module docs) \[m\]: negative when the body reaches the
 /// wall, `-∞` when the first sample beyond the port is outside the mesh.
 pub fn dense_clearance(setup: &Setup, shape: &Shape) -> f64 {
@@ -369,11 +377,7 @@ pub fn measure(
         let plan_cpu_s = cpu_seconds(t1) - c1;
         let (planned, waypoints, plan_dense) = match p {
             Ok(p) => {
-                let dense = p
-                    .waypoints
-                    .iter()
-                    .map(|w| dense_clearance(&setup, &w.shape))
-                    .fold(f64::INFINITY, f64::min);
+                let dense = plan_dense_clearance(&setup, &p);
                 (dense >= 0.0, p.waypoints.len(), dense)
             }
             Err(e) => {
