@@ -193,20 +193,9 @@ pub fn clearance_hinted(
     let start = (2.0 * scene.clearance.max(5e-4)).min(within);
     let mut cap = start;
     if let Some((f, k)) = hint.filter(|&(f, k)| f < feats.len() && k < scene.obstacles.len()) {
-        // The hinted pair's own distance, by the same growing bound (finite: the far corner
-        // of the obstacle's box from the feature's point bounds it).
-        let far_f = far_corner(scene, k, &feats[f].centre);
-        let mut b = start;
-        loop {
-            let last = b > far_f;
-            if let Some(d) = pair(&feats[f], scene, k, if last { f64::MAX } else { b }) {
-                cap = d.max(0.0) * (1.0 + 1e-9) + 1e-12;
-                break;
-            }
-            if last {
-                break;
-            }
-            b *= 2.0;
+        // The hinted pair's own distance, by the same growing bound.
+        if let Some(d) = pair_grown(&feats[f], scene, k, start) {
+            cap = d.max(0.0) * (1.0 + 1e-9) + 1e-12;
         }
     }
     loop {
@@ -286,16 +275,22 @@ pub(crate) fn pair_distance(
     }
     let feats = features_of(robot, shape);
     let f = feats.iter().find(|f| f.label == label)?;
-    // The growing bound of the hinted pair in `clearance_hinted` (finite up to the far corner).
+    Some(pair_grown(f, scene, k, 2.0 * scene.clearance.max(5e-4)).unwrap_or(f64::INFINITY))
+}
+
+/// The distance of one feature–obstacle pair by a growing bound from `start` (×2 per query),
+/// finite up to the far corner of the obstacle's box from the feature's point, unbounded
+/// beyond it; `None` only when even the unbounded query fails.
+fn pair_grown(f: &Feature, scene: &Scene, k: usize, start: f64) -> Option<f64> {
     let far = far_corner(scene, k, &f.centre);
-    let mut b = 2.0 * scene.clearance.max(5e-4);
+    let mut b = start;
     loop {
         let last = b > far;
         if let Some(d) = pair(f, scene, k, if last { f64::MAX } else { b }) {
             return Some(d);
         }
         if last {
-            return Some(f64::INFINITY);
+            return None;
         }
         b *= 2.0;
     }
