@@ -153,25 +153,31 @@ impl Pair<'_> {
     }
 }
 
-/// Orthonormal basis of the directions orthogonal to `n` and to every active kink's `v`:
-/// 0, 1 or 2 vectors; `None` when the active kinks leave no unit `n` (rank 3).
-fn tangent_basis(n: &Vector3<f64>, cons: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
-    let mut basis: Vec<Vector3<f64>> = vec![*n];
+/// `v` less its components along the orthonormal `basis`, one vector after the other
+/// (modified Gram–Schmidt).
+fn reject(v: &Vector3<f64>, basis: &[Vector3<f64>]) -> Vector3<f64> {
+    basis.iter().fold(*v, |r, b| r - b * b.dot(&r))
+}
+
+/// `basis` extended by the active kinks' directions `cons` that are independent of it
+/// (rejection above 1e-9), orthonormal.
+fn with_kinks(mut basis: Vec<Vector3<f64>>, cons: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
     for c in cons {
-        let mut r = *c;
-        for b in &basis {
-            r -= b * b.dot(&r);
-        }
+        let r = reject(c, &basis);
         if r.norm() > 1e-9 {
             basis.push(r.normalize());
         }
     }
+    basis
+}
+
+/// Orthonormal basis of the directions orthogonal to `n` and to every active kink's `v`:
+/// 0, 1 or 2 vectors; `None` when the active kinks leave no unit `n` (rank 3).
+fn tangent_basis(n: &Vector3<f64>, cons: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+    let mut basis = with_kinks(vec![*n], cons);
     let fixed = basis.len();
     for e in [Vector3::x(), Vector3::y(), Vector3::z()] {
-        let mut r = e;
-        for b in &basis {
-            r -= b * b.dot(&r);
-        }
+        let r = reject(&e, &basis);
         if r.norm() > 1e-6 && basis.len() < 3 {
             basis.push(r.normalize());
         }
@@ -181,20 +187,7 @@ fn tangent_basis(n: &Vector3<f64>, cons: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
 
 /// The projection of `n` on the directions orthogonal to the active kinks, normalized.
 fn onto_stratum(n: &Vector3<f64>, cons: &[Vector3<f64>]) -> Option<Vector3<f64>> {
-    let mut q: Vec<Vector3<f64>> = vec![];
-    for c in cons {
-        let mut r = *c;
-        for b in &q {
-            r -= b * b.dot(&r);
-        }
-        if r.norm() > 1e-9 {
-            q.push(r.normalize());
-        }
-    }
-    let mut m = *n;
-    for b in &q {
-        m -= b * b.dot(&m);
-    }
+    let m = reject(n, &with_kinks(vec![], cons));
     (m.norm() > 1e-6).then(|| m.normalize())
 }
 
