@@ -111,6 +111,92 @@ pub(crate) fn intersecting(
     across(near, c, 0.0, g, gpose, mesh, opose)
 }
 
+/// The most face contacts [`face_contacts`] returns for one feature.
+pub(crate) const MAX_FACES: usize = 8;
+
+/// The face contacts of feature `g` at `gpose` with the solid `mesh` at `opose`: every
+/// triangle facing the way `towards` does (the feature's closest contact's normal, within
+/// 60°) whose plane the feature lies beyond by `|s| ≤ within` (across it for `s < 0`: the depth
+/// of [`signed`]) and whose point nearest the feature's lowest point is inside its face, each
+/// with that distance, closest first, one per plane (normals apart by more than ~1e-4 rad),
+/// at most [`MAX_FACES`]. Facing the same way keeps out the far side of a thin wall.
+///
+/// Why: the distance to a mesh is the smallest of the distances to its triangles, so on the
+/// free side `d ≥ c` holds exactly when `d_t ≥ c` holds for every triangle `t`. Where the wall
+/// is concave (a lumen seen from inside, a crease), the feature settles where two or three
+/// faces hold it; one constraint on the closest triangle alone switches between them from one
+/// iterate to the next and never settles. With the faces as constraints of their own, each is
+/// smooth and the solver can hold all of them.
+///
+/// Each is exact in closed form (no GJK): with `n` the face's unit normal towards the free
+/// side, `x*` the feature's support point along `−n` and `s = n · (x* − a)` its height over
+/// the plane, the projection `y = x* − s n` lying in the triangle makes `s` the distance from
+/// the convex feature to the triangle (no point of the feature is lower than `x*`, and `y` is
+/// a point of the triangle at that height), with witnesses `x*` and `y`.
+pub(crate) fn face_contacts(
+    gpose: &PPose,
+    g: &dyn PShape,
+    opose: &PPose,
+    mesh: &TriMesh,
+    within: f64,
+    towards: PVec,
+) -> Vec<(u32, super::Witness)> {
+    use parry3d::bounding_volume::BoundingVolume;
+    let Some(sm) = g.as_support_map() else {
+        return vec![];
+    };
+    let rel = gpose.inv_mul(opose).inverse();
+    let reach = g.compute_aabb(&rel).loosened(within);
+    let towards = opose.inverse_transform_vector(towards);
+    let mut found: Vec<(f64, u32, PVec, PVec, PVec)> = mesh
+        .bvh()
+        .leaves(|node| node.aabb().intersects(&reach))
+        .filter_map(|t| {
+            let tri = mesh.triangle(t);
+            let n = mesh.triangle_normal(t).filter(|n| n.dot(towards) > 0.5)?;
+            let x = sm.support_point(&rel, -n);
+            let s = n.dot(x - tri.a);
+            if s.is_nan() || s.abs() > within {
+                return None;
+            }
+            let y = x - s * n;
+            inside_face(&tri, n, y).then_some((s, t, n, x, y))
+        })
+        .collect();
+    found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut normals: Vec<PVec> = vec![];
+    let mut out = vec![];
+    for (s, t, n, x, y) in found {
+        if out.len() == MAX_FACES {
+            break;
+        }
+        if normals.iter().any(|m| n.dot(*m) > 1.0 - 5e-9) {
+            continue;
+        }
+        normals.push(n);
+        out.push((
+            t,
+            super::Witness {
+                robot: super::nvec(opose.transform_point(x)),
+                obstacle: super::nvec(opose.transform_point(y)),
+                normal: super::nvec(opose.transform_vector(n)),
+                dist: s,
+            },
+        ));
+    }
+    out
+}
+
+/// Whether `y` (on the plane of `tri`, unit normal `n`) lies strictly inside the triangle:
+/// on the inner side of each edge by more than round-off.
+fn inside_face(tri: &parry3d::shape::Triangle, n: PVec, y: PVec) -> bool {
+    let scale = (tri.b - tri.a).length() + (tri.c - tri.b).length() + (tri.a - tri.c).length();
+    let eps = 1e-12 * scale * scale;
+    [(tri.a, tri.b), (tri.b, tri.c), (tri.c, tri.a)]
+        .iter()
+        .all(|(p, q)| n.dot((*q - *p).cross(y - *p)) > eps)
+}
+
 #[cfg(test)]
 #[path = "solid_tests.rs"]
 mod tests;

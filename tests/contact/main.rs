@@ -7,6 +7,7 @@
 mod common;
 
 mod airway;
+mod concave_lumen;
 mod dense_scenes;
 mod energy_contact_convergence;
 mod field_cache;

@@ -188,7 +188,7 @@ fn turning(kin: &Kin, f: usize, tangent: Vector3<f64>, n: &Vector3<f64>, curv: f
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::method::energy::contacts::kinematics;
+    use crate::method::energy::contacts::{kinematics, PairKey};
     use crate::method::energy::curvature::dense;
     use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
     use crate::method::energy::Energy;
@@ -207,7 +207,7 @@ mod tests {
         let xi = bent_state(nv);
         let kin = kinematics(&xi, &prob.ell, true);
         let (pairs, _) = world.pairs(&kin);
-        let grad_at = |x: &[f64], key: (usize, Feat)| -> Vec<f64> {
+        let grad_at = |x: &[f64], key: PairKey| -> Vec<f64> {
             world
                 .pairs(&kinematics(x, &prob.ell, true))
                 .0

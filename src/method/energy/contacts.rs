@@ -87,12 +87,19 @@ pub(super) struct Pair {
     pub normal: Vector3<f64>,
     /// How the feature moves with the frames.
     pub ends: Ends,
+    /// `None` for the feature's closest pair with the obstacle; a triangle of a solid mesh for
+    /// one of its face contacts ([`crate::contact::solid::face_contacts`]; the closest pair is
+    /// then the one of smallest distance among them, or a `None` pair closer still).
+    pub part: Option<u32>,
 }
+
+/// Identity of a pair across iterations: obstacle, feature, face ([`Pair::part`]).
+pub(super) type PairKey = (usize, Feat, Option<u32>);
 
 impl Pair {
     /// Identity of the pair across iterations.
-    pub fn key(&self) -> (usize, Feat) {
-        (self.obstacle, self.feat)
+    pub fn key(&self) -> PairKey {
+        (self.obstacle, self.feat, self.part)
     }
 }
 
@@ -197,6 +204,14 @@ impl<'a> World<'a> {
     /// Pairs farther apart than this are left out of a step \[m\].
     pub fn margin(&self) -> f64 {
         self.margin
+    }
+
+    /// A feature this close to a solid mesh's wall gets the faces beside its closest triangle
+    /// within the same distance as pairs of their own ([`crate::contact::solid::face_contacts`]):
+    /// the clearance plus a tenth of the longest section \[m\].
+    pub fn face_band(&self) -> f64 {
+        let clearance = self.scene.clearance;
+        clearance + 0.2 * (self.margin - clearance)
     }
 
     /// Obstacles kept by the broad phase.
@@ -442,7 +457,8 @@ impl Collect<'_, '_> {
         let (world, kin) = (self.world, self.kin);
         let (scene, margin) = (world.scene, world.margin);
         let robot = world.robot;
-        for &k in &self.candidates {
+        for i in 0..self.candidates.len() {
+            let k = self.candidates[i];
             if self.stopped {
                 return;
             }
@@ -467,7 +483,7 @@ impl Collect<'_, '_> {
             let near = self
                 .hints
                 .iter()
-                .find(|h| h.key() == (k, feat) && h.dist < SEPARATION_SHIFT);
+                .find(|h| h.key() == (k, feat, None) && h.dist < SEPARATION_SHIFT);
             let found = match (closed, near) {
                 (Some(decided), _) => decided.map(|w| (w, w.dist)),
                 (None, Some(h)) => features::witness_near(
@@ -521,20 +537,72 @@ impl Collect<'_, '_> {
             } else {
                 World::grad(kin, ends, &a, &w.normal)
             };
-            let violates = self.stop.as_ref().filter(|st| st.clearance - w.dist > 0.0);
-            self.out.push(Pair {
-                obstacle: k,
-                feat,
-                dist: w.dist,
-                grad,
-                point_robot: a,
-                point_obstacle: w.obstacle,
-                normal: w.normal,
-                ends,
-            });
-            if let Some(st) = violates {
-                self.stopped = (st.rejects)(&self.out);
+            let faces = match crate::contact::solid::solid(&*o.shape) {
+                // Near a solid mesh's wall (or just across it): the faces beside the closest
+                // triangle that are about to hold the feature too (a concave wall).
+                Some(mesh) if w.dist.abs() <= world.face_band() => {
+                    crate::contact::solid::face_contacts(
+                        gpose,
+                        g,
+                        &o.parry_pose,
+                        mesh,
+                        world.face_band(),
+                        crate::contact::pvec(&w.normal),
+                    )
+                }
+                _ => vec![],
+            };
+            // The closest triangle is one of the faces when its witness lies inside its face
+            // (the same distance, in closed form): then the faces stand for it, keyed by
+            // their triangles, so a pair keeps its identity (and multiplier) while the
+            // closest triangle changes from one iterate to the next.
+            let closest_is_face = faces
+                .first()
+                .is_some_and(|(_, f)| f.dist <= w.dist + 1e-9 * (1.0 + w.dist.abs()));
+            if !closest_is_face {
+                self.push(k, feat, ends, None, &w, a, grad);
             }
+            for (t, f) in faces {
+                if self.stopped {
+                    return;
+                }
+                let grad = if kin.m_int.is_empty() {
+                    vec![]
+                } else {
+                    World::grad(kin, ends, &f.robot, &f.normal)
+                };
+                self.push(k, feat, ends, Some(t), &f, f.robot, grad);
+            }
+        }
+    }
+
+    /// Add the pair of feature `feat` (moving as `ends`) with obstacle `k` (face `part`) at
+    /// witness `w` (robot point `a`, gradient `grad`), and ask the stop rule if it violates.
+    #[allow(clippy::too_many_arguments)]
+    fn push(
+        &mut self,
+        k: usize,
+        feat: Feat,
+        ends: Ends,
+        part: Option<u32>,
+        w: &Witness,
+        a: Vector3<f64>,
+        grad: Vec<f64>,
+    ) {
+        let violates = self.stop.as_ref().filter(|st| st.clearance - w.dist > 0.0);
+        self.out.push(Pair {
+            obstacle: k,
+            feat,
+            dist: w.dist,
+            grad,
+            point_robot: a,
+            point_obstacle: w.obstacle,
+            normal: w.normal,
+            ends,
+            part,
+        });
+        if let Some(st) = violates {
+            self.stopped = (st.rejects)(&self.out);
         }
     }
 }

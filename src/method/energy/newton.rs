@@ -13,7 +13,7 @@ mod step;
 #[cfg(test)]
 mod tests;
 
-use super::contacts::{Feat, Kin, Pair, World};
+use super::contacts::{Feat, Kin, Pair, PairKey, World};
 use super::lengths::Work;
 use super::problem::{Problem, Target};
 use super::sensitivity::Sensitivity;
@@ -82,7 +82,7 @@ struct Sqp<'p, 'a> {
     /// robot's distance to the obstacles.
     pairs: Vec<Pair>,
     mu: Vec<f64>,
-    mu_prev: Vec<((usize, Feat), f64)>,
+    mu_prev: Vec<(PairKey, f64)>,
     clear: f64,
     dxi: Vec<f64>,
     trial: Vec<f64>,
@@ -133,6 +133,9 @@ impl Energy {
         sqp.warm_hessian = warm_hessian(warm, &sqp.xi).filter(|_| !self.shear);
         let tol = self.tolerance;
         let mut resid = f64::INFINITY;
+        // Whether the start keeps the clearance: a run that ends inside it then did not settle
+        // (rather than starting across an obstacle).
+        let mut start_clear = true;
         for it in 0..=self.max_iterations {
             // The shear's Newton step on its own equilibrium at the iterate (`energy/shear.rs`),
             // then the SQP's linearization at fixed shear.
@@ -147,6 +150,10 @@ impl Energy {
                 if let Some(e) = self.across_solid(&sqp) {
                     return Err(e);
                 }
+                start_clear = !sqp
+                    .pairs
+                    .iter()
+                    .any(|p| p.dist < sqp.clearance - CONTACT_RESIDUAL);
             }
             let r = sqp.residuals();
             // Chords: Gauss–Newton while it contracts fast, the exact Hessian once it slows.
@@ -194,7 +201,7 @@ impl Energy {
             })?;
             let Some(lam_new) = sqp.dual_step() else {
                 // Still inside an obstacle: that is the named reason (a start that crosses it).
-                return Err(self.obstructed(&sqp, it).unwrap_or_else(|| {
+                return Err(self.obstructed(&sqp, it, start_clear).unwrap_or_else(|| {
                     SolveError::NotConverged {
                         method: self.name().into(),
                         section: None,
@@ -208,7 +215,7 @@ impl Energy {
             let alpha = sqp.line_search(&lam_new);
             sqp.take_step(alpha, &lam_new);
         }
-        Err(self.failure(&sqp, resid))
+        Err(self.failure(&sqp, resid, start_clear))
     }
 
     /// The start: the strains and multipliers of a warm shape of this method and layout, else
@@ -248,12 +255,12 @@ impl Energy {
 
     /// The named error of a run that did not converge: a compressed backbone (target out of
     /// reach), a start that crosses an obstacle, or plain non-convergence with the residual.
-    fn failure(&self, sqp: &Sqp, resid: f64) -> SolveError {
+    fn failure(&self, sqp: &Sqp, resid: f64, start_clear: bool) -> SolveError {
         let prob = sqp.prob;
         if let Err(e) = self.check_stretch(prob, &sqp.xi, &sqp.lam) {
             return e;
         }
-        if let Some(e) = self.obstructed(sqp, self.max_iterations) {
+        if let Some(e) = self.obstructed(sqp, self.max_iterations, start_clear) {
             return e;
         }
         SolveError::NotConverged {
@@ -266,35 +273,47 @@ impl Energy {
     }
 
     /// [`SolveError::Obstructed`] when the iterate, after `iterations`, still lies inside an
-    /// obstacle: the start crossed it (the straight robot through a wall, or a tube it does
-    /// not fit).
-    fn obstructed(&self, sqp: &Sqp, iterations: usize) -> Option<SolveError> {
+    /// obstacle and the start did too (`start_clear` false): the start crossed it (the
+    /// straight robot through a wall, or a tube it does not fit). From a clear start, the same
+    /// state is [`SolveError::NotConverged`]: the iterations did not settle against the
+    /// obstacle, which says so.
+    fn obstructed(&self, sqp: &Sqp, iterations: usize, start_clear: bool) -> Option<SolveError> {
         let clearance = sqp.clearance;
-        if let Some(p) = sqp
+        let p = sqp
             .pairs
             .iter()
             .filter(|p| p.dist < clearance - CONTACT_RESIDUAL)
-            .min_by(|a, b| a.dist.total_cmp(&b.dist))
-        {
-            let c = sqp.world.map(|wd| wd.contact(p, 0.0));
-            return Some(SolveError::Obstructed {
-                obstacle: c.as_ref().map(|c| c.obstacle.clone()).unwrap_or_default(),
-                section: c.and_then(|c| c.section.or(c.disk)).unwrap_or(0),
-                reason: format!(
-                    "after {} iterations the {} still lies {:.3e} m inside the clearance: the \
-                     start crosses the obstacle; start from a shape that is clear of it (e.g. \
-                     the geometric method's, `--warm-from geometric`)",
-                    iterations,
-                    match p.feat {
-                        Feat::Backbone(_) => "backbone",
-                        Feat::Disk(_) => "disk",
-                        Feat::Cable(..) => "cable",
-                    },
-                    clearance - p.dist
+            .min_by(|a, b| a.dist.total_cmp(&b.dist))?;
+        let c = sqp.world.map(|wd| wd.contact(p, 0.0));
+        let obstacle = c.as_ref().map(|c| c.obstacle.clone()).unwrap_or_default();
+        let section = c.and_then(|c| c.section.or(c.disk)).unwrap_or(0);
+        let feature = match p.feat {
+            Feat::Backbone(_) => "backbone",
+            Feat::Disk(_) => "disk",
+            Feat::Cable(..) => "cable",
+        };
+        let depth = clearance - p.dist;
+        if start_clear {
+            return Some(SolveError::NotConverged {
+                method: self.name().into(),
+                section: Some(section),
+                iterations,
+                residual: sqp.history.last().copied().unwrap_or(depth),
+                detail: format!(
+                    "the iterations did not settle against `{obstacle}`: the {feature} still \
+                     lies {depth:.3e} m inside the clearance, from a start clear of it"
                 ),
             });
         }
-        None
+        Some(SolveError::Obstructed {
+            obstacle,
+            section,
+            reason: format!(
+                "after {iterations} iterations the {feature} still lies {depth:.3e} m inside \
+                 the clearance: the start crosses the obstacle; start from a shape that is \
+                 clear of it (e.g. the geometric method's, `--warm-from geometric`)"
+            ),
+        })
     }
 
     /// [`SolveError::Obstructed`] when a feature of the start lies across or beyond the wall of

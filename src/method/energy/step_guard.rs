@@ -144,8 +144,7 @@ impl World<'_> {
             }
             let (ball0, ball1) = (self.ball(&g0), self.ball(&g1));
             for &o in &self.near {
-                let a = p0.iter().find(|p| p.key() == (o, feat));
-                let b = p1.iter().find(|p| p.key() == (o, feat));
+                let (a, b) = (closest_pair(p0, o, feat), closest_pair(p1, o, feat));
                 // No pair: farther than the margin (and than the obstacle's bounds; with
                 // `exact`, than the distance from the feature's ball to a simple shape).
                 let ob = &self.scene.obstacles[o];
@@ -187,6 +186,15 @@ impl World<'_> {
         }
         true
     }
+}
+
+/// The closest pair of feature `feat` with obstacle `o` among `pairs` (of its face contacts
+/// with a solid mesh, if it has several).
+fn closest_pair(pairs: &[Pair], o: usize, feat: Feat) -> Option<&Pair> {
+    pairs
+        .iter()
+        .filter(|p| p.obstacle == o && p.feat == feat)
+        .min_by(|x, y| x.dist.total_cmp(&y.dist))
 }
 
 #[cfg(test)]

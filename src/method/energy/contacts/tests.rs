@@ -81,7 +81,7 @@ fn distance_gradients_match_finite_differences() {
     assert!(kinds.iter().any(|f| matches!(f, Feat::Backbone(_))));
     assert!(kinds.iter().any(|f| matches!(f, Feat::Disk(_))));
     assert!(kinds.iter().any(|f| matches!(f, Feat::Cable(..))));
-    let dist_at = |x: &[f64], key: (usize, Feat)| -> f64 {
+    let dist_at = |x: &[f64], key: PairKey| -> f64 {
         world
             .pairs(&kinematics(x, &ell, false))
             .0
