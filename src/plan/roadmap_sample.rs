@@ -69,7 +69,7 @@ pub(super) fn sample_nodes(
     opts: &BuildOptions,
 ) -> (Vec<Node>, usize) {
     let unit = super::rrt::unit;
-    let along = |i: usize| space.has_port() && i % super::insert::ALONG_EVERY == 0;
+    let along = |i: usize| space.has_port() && i.is_multiple_of(super::insert::ALONG_EVERY);
     // Phase 1: the model's own actuation (index 0) and the uniform samples.
     let own = super::actuation_of_in(model, &model.actuation, space.input);
     let mut jobs: Vec<(usize, Job)> = Vec::new();
