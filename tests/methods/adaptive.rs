@@ -60,15 +60,19 @@ fn uneven_counts_are_bounded_by_their_estimate_and_converge_at_order_two() {
             let c: Vec<String> = counts.iter().map(|m| (k * m).to_string()).collect();
             c.join(",")
         };
-        let (Some((one, s)), Some((two, _))) =
-            (energy(&model, &list(1), false), energy(&model, &list(2), false))
-        else {
+        let (Some((one, s)), Some((two, _))) = (
+            energy(&model, &list(1), false),
+            energy(&model, &list(2), false),
+        ) else {
             continue;
         };
-        let est = a_priori_discretization(MethodKind::Energy, &s, &model.robot, &one)
-            .expect("applies");
+        let est =
+            a_priori_discretization(MethodKind::Energy, &s, &model.robot, &one).expect("applies");
         let (e1, e2) = (one.tip_distance(&fine), two.tip_distance(&fine));
-        assert!(e1 <= est + 1e-9, "seed {seed} {counts:?}: error {e1:.3e} above estimate {est:.3e}");
+        assert!(
+            e1 <= est + 1e-9,
+            "seed {seed} {counts:?}: error {e1:.3e} above estimate {est:.3e}"
+        );
         checked += 1;
         if e1 > 1e-7 {
             ratios.push(e1 / e2);
@@ -77,7 +81,10 @@ fn uneven_counts_are_bounded_by_their_estimate_and_converge_at_order_two() {
     assert!(checked >= 15, "only {checked} robots solved");
     ratios.sort_by(f64::total_cmp);
     let median = ratios[ratios.len() / 2];
-    println!("error(counts) / error(2 × counts): median {median:.2} of {}", ratios.len());
+    println!(
+        "error(counts) / error(2 × counts): median {median:.2} of {}",
+        ratios.len()
+    );
     assert!((3.0..=5.5).contains(&median), "median ratio {median:.2}");
 }
 
@@ -85,7 +92,10 @@ fn uneven_counts_are_bounded_by_their_estimate_and_converge_at_order_two() {
 fn total(setting: &str, n: usize) -> usize {
     let value = setting.trim_start_matches("sub-arcs=");
     let value = value.strip_suffix(", shear=on").unwrap_or(value);
-    let counts: Vec<usize> = value.split(',').map(|v| v.parse().expect("count")).collect();
+    let counts: Vec<usize> = value
+        .split(',')
+        .map(|v| v.parse().expect("count"))
+        .collect();
     if counts.len() == 1 {
         counts[0] * n
     } else {
@@ -138,9 +148,18 @@ fn auto_refines_where_the_estimate_says_so_and_solves_fewer_sub_arcs_than_unifor
             let Some((fine, _)) = energy(&model, "32", shear) else {
                 continue;
             };
-            let est = answer.shape.report.error_estimate.clone().expect("estimate");
+            let est = answer
+                .shape
+                .report
+                .error_estimate
+                .clone()
+                .expect("estimate");
             let truth = answer.shape.tip_distance(&fine);
-            assert!(truth <= tol, "seed {seed} {}: {truth:.3e} m > {tol:e}", a.setting);
+            assert!(
+                truth <= tol,
+                "seed {seed} {}: {truth:.3e} m > {tol:e}",
+                a.setting
+            );
             let disc = est.discretization_m.expect("discretization part");
             assert!(
                 truth <= disc + 1e-9,
@@ -153,7 +172,10 @@ fn auto_refines_where_the_estimate_says_so_and_solves_fewer_sub_arcs_than_unifor
                 continue;
             };
             let (mine, theirs) = (total(&a.setting, n), k * n);
-            println!("seed {seed} T {tol:e}: {} ({mine}) against sub-arcs={k} ({theirs})", a.setting);
+            println!(
+                "seed {seed} T {tol:e}: {} ({mine}) against sub-arcs={k} ({theirs})",
+                a.setting
+            );
             adaptive += mine;
             uniform += theirs;
             compared += 1;

@@ -244,7 +244,8 @@ mod tests {
     #[test]
     fn taken_steps_beside_a_rod_never_cross_it() {
         let (model, ell) = straight_beside_rod();
-        let wd = World::new(&model.robot, &model.scene, vec![0], four(&model.robot)).expect("world");
+        let wd =
+            World::new(&model.robot, &model.scene, vec![0], four(&model.robot)).expect("world");
         let k0 = kinematics(&vec![0.0; 4 * ell.len()], &ell, false);
         let (p0, c0) = wd.pairs(&k0);
         assert!(c0 > 0.015 && c0 < 0.02, "clearance {c0}");
@@ -323,7 +324,8 @@ mod tests {
     #[test]
     fn refuses_a_jump_through_a_wall_and_takes_a_slide_along_it() {
         let (model, ell) = straight_beside_wall(0.019);
-        let wd = World::new(&model.robot, &model.scene, vec![0], four(&model.robot)).expect("world");
+        let wd =
+            World::new(&model.robot, &model.scene, vec![0], four(&model.robot)).expect("world");
         let k0 = kinematics(&vec![0.0; 4 * ell.len()], &ell, false);
         let (p0, c0) = wd.pairs(&k0);
         assert!(p0.iter().any(|p| matches!(p.feat, Feat::Disk(_))));
@@ -404,7 +406,8 @@ mod tests {
         for k in 0..160 {
             let model = odd_obstacle(k, &mut u);
             let ell = sub_arc_lengths(&model.robot, 4);
-            let Some(wd) = World::new(&model.robot, &model.scene, vec![0], four(&model.robot)) else {
+            let Some(wd) = World::new(&model.robot, &model.scene, vec![0], four(&model.robot))
+            else {
                 continue;
             };
             // Towards the obstacle (level) by half the pair margin until a pair is found.
