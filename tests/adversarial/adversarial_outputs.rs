@@ -512,3 +512,100 @@ fn every_writer_onto_every_input_in_every_spelling_is_refused() {
         spellings.len()
     );
 }
+
+/// The studies write fixed names into their `--out` folder (`workspace.csv`, `stability.csv`,
+/// `stability_METHOD.svg`, `speed_accuracy.png`, …): a model file, or the scene file a model
+/// names, that is one of those files — directly, through `..`, a symbolic link to the folder or
+/// a hard link — or an `--out` folder that is the model file itself, is refused by name before
+/// any work, and nothing changes (the study overwrote the model with its CSV, exit 0).
+#[test]
+fn a_study_folder_onto_an_input_is_refused_by_name() {
+    let dir = fixtures("studies");
+    std::fs::create_dir_all(dir.join("st")).expect("dir");
+    std::fs::copy(dir.join("M.toml"), dir.join("st/workspace.csv")).expect("model");
+    std::fs::copy(dir.join("M.toml"), dir.join("st/speed_accuracy.svg")).expect("model");
+    std::fs::copy(dir.join("wall.toml"), dir.join("st/stability.csv")).expect("scene");
+    let case1 = std::fs::read_to_string(dir.join("M.toml")).expect("model");
+    std::fs::write(
+        dir.join("S.toml"),
+        format!("scene = \"st/stability.csv\"\n{case1}"),
+    )
+    .expect("model naming a scene");
+    let ws = ["--samples", "2", "--method", "geometric"];
+    let model = "the model file";
+    let scene = "the scene file named in the model";
+    let mut cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["study", "workspace", "st/workspace.csv", "--out", "st"],
+            model,
+        ),
+        (
+            vec!["study", "workspace", "st/workspace.csv", "--out", "x/../st"],
+            model,
+        ),
+        (
+            vec!["study", "workspace", "M.toml", "--out", "M.toml"],
+            model,
+        ),
+        (
+            vec![
+                "study",
+                "stability",
+                "S.toml",
+                "--out",
+                "st",
+                "--grid",
+                "2",
+                "--methods",
+                "geometric",
+            ],
+            scene,
+        ),
+        (
+            vec![
+                "study",
+                "speed-accuracy",
+                "st/speed_accuracy.svg",
+                "--out",
+                "./st/",
+                "--repeats",
+                "1",
+                "--methods",
+                "geometric",
+            ],
+            model,
+        ),
+    ];
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(dir.join("st"), dir.join("lnk")).expect("symlink");
+        std::fs::create_dir_all(dir.join("hl")).expect("dir");
+        std::fs::hard_link(dir.join("M.toml"), dir.join("hl/stability_geometric.svg"))
+            .expect("hard link");
+        cases.push((
+            vec!["study", "workspace", "st/workspace.csv", "--out", "lnk"],
+            model,
+        ));
+        cases.push((
+            vec![
+                "study",
+                "stability",
+                "M.toml",
+                "--out",
+                "hl",
+                "--grid",
+                "2",
+                "--methods",
+                "geometric",
+            ],
+            model,
+        ));
+    }
+    for (mut args, says) in cases {
+        if args[1] == "workspace" {
+            args.extend(ws);
+        }
+        refused(&dir, &args, says);
+        refused(&dir, &args, OVER);
+    }
+}

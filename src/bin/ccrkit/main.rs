@@ -574,6 +574,6 @@ pub(crate) fn write_out(path: &Path, text: &str) -> Result<()> {
     Ok(ccrkit::output::write_file(path, text.as_bytes())?)
 }
 
-fn create_dir(out: &PathBuf) -> Result<()> {
+fn create_dir(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))
 }

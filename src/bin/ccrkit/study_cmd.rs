@@ -3,10 +3,11 @@
 use super::create_dir;
 use anyhow::{Context, Result};
 use ccrkit::method::MethodKind;
+use ccrkit::output::RunFiles;
 use ccrkit::study::{self, figures};
 use ccrkit::Model;
 use clap::{Args, Subcommand};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(Subcommand)]
@@ -124,6 +125,29 @@ pub(crate) struct MergeArgs {
     inputs: Vec<PathBuf>,
 }
 
+/// The study's model loaded for a run writing `names` into the folder `out`, its files checked
+/// before any work as every command's are (`ccrkit::output::RunFiles`): the folder and each file
+/// it will hold are outputs, the model file and the files it names (its scene file, meshes)
+/// inputs, so a study never writes its CSV or figures over one of them (by path, `..`, a link
+/// to the folder or a hard link); then the folder is created.
+fn load_for(file: &Path, out: &Path, names: &[String]) -> Result<Model> {
+    let mut run = crate::check_files(&[("model file", Some(file))], &[])?;
+    claim(&mut run, out, names)?;
+    let model = Model::from_file(file)?;
+    crate::check_read(&mut run, &model, None)?;
+    create_dir(out)?;
+    Ok(model)
+}
+
+/// Claim the study folder `out` and the files `names` in it as outputs of `run`.
+fn claim(run: &mut RunFiles, out: &Path, names: &[String]) -> Result<()> {
+    run.output("--out folder", out)?;
+    for n in names {
+        run.output(&format!("study's {n}"), &out.join(n))?;
+    }
+    Ok(())
+}
+
 fn parse_input(s: &str) -> Result<Option<study::Input>> {
     Ok(match s {
         "auto" => None,
@@ -161,6 +185,10 @@ fn auto(a: AutoArgs) -> Result<()> {
         repeats: a.repeats,
         progress: crate::progress::handle(),
     };
+    if let Some(out) = &a.out {
+        // No input to clobber; the folder and its file still claimed alike.
+        claim(&mut RunFiles::new(), out, &["auto.csv".to_string()])?;
+    }
     let rows = study::auto_study(&opts)?;
     if let Some(out) = &a.out {
         create_dir(out)?;
@@ -193,8 +221,11 @@ fn speed_accuracy(a: SpeedAccuracyArgs) -> Result<()> {
         repeats,
         methods,
     } = a;
-    let model = Model::from_file(&file)?;
-    create_dir(&out)?;
+    let names: Vec<String> = ["csv", "svg", "png"]
+        .iter()
+        .map(|e| format!("speed_accuracy.{e}"))
+        .collect();
+    let model = load_for(&file, &out, &names)?;
     let opts = study::SpeedAccuracyOptions {
         repeats,
         methods: if methods.is_empty() {
@@ -247,14 +278,18 @@ fn stability(a: StabilityArgs) -> Result<()> {
         input,
         methods,
     } = a;
-    let model = Model::from_file(&file)?;
-    create_dir(&out)?;
+    let methods = methods_or_all(methods);
+    let mut names = vec!["stability.csv".to_string()];
+    for m in &methods {
+        names.extend(["svg", "png"].map(|e| format!("stability_{m}.{e}")));
+    }
+    let model = load_for(&file, &out, &names)?;
     let opts = study::StabilityOptions {
         grid,
         max_fraction: max_percent / 100.0,
         tension_factor,
         input: parse_input(&input)?,
-        methods: methods_or_all(methods),
+        methods,
         progress: crate::progress::handle(),
     };
     let t = Instant::now();
@@ -288,9 +323,13 @@ fn workspace(a: WorkspaceArgs) -> Result<()> {
         input,
         chunk,
     } = a;
-    let model = Model::from_file(&file)?;
-    create_dir(&out)?;
     let shard: Option<study::Shard> = shard.map(|s| s.parse()).transpose()?;
+    let stem = match shard {
+        Some(s) => format!("workspace_shard_{}_of_{}", s.index, s.count),
+        None => "workspace".to_string(),
+    };
+    let names = ["csv", "svg", "png"].map(|e| format!("{stem}.{e}"));
+    let model = load_for(&file, &out, &names)?;
     let opts = study::WorkspaceOptions {
         samples,
         method,
@@ -302,10 +341,6 @@ fn workspace(a: WorkspaceArgs) -> Result<()> {
         progress: crate::progress::handle(),
     };
     let ws = study::workspace(&model, &opts)?;
-    let stem = match shard {
-        Some(s) => format!("workspace_shard_{}_of_{}", s.index, s.count),
-        None => "workspace".to_string(),
-    };
     let csv = out.join(format!("{stem}.csv"));
     study::write_text(&csv, &study::workspace_csv(&ws))?;
     let ok = ws.samples.iter().filter(|s| s.status.is_ok()).count();

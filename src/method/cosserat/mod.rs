@@ -113,7 +113,8 @@
 //! perturbations than fixed lengths do: no focal point proves the displacement-controlled
 //! answer stable too, a focal point does not prove it unstable (`None`). Also `None` where the
 //! variational pass is not run (adaptive steps, point loads at inner disks, e.g. the FTDCR's
-//! ties at disks 10 and 20). The test costs one variational pass per solve; the setting
+//! ties at disks 10 and 20, when loaded). The test costs one variational pass per solve
+//! where the rod shoots, nothing on the unloaded path (below); the setting
 //! `stability = skip` leaves it out, and `stable` is then `None` meaning *not checked* (the
 //! report's notes say `stability not checked`).
 
@@ -132,8 +133,9 @@
 //! `tests/methods/cosserat_unloaded.rs`), exact for a straight tendon's arc, fourth order in
 //! the step; the 24-section soft lung rod meets the converged rod to 0.5 µm with one step per
 //! section and to 0.006 µm at the default three. The report has zero iterations, the largest
-//! balance residual at a point, and a note; the stability test runs as for shooting (its
-//! variational pass is then most of the solve's cost: `stability = skip` to leave it out).
+//! balance residual at a point, and a note. Stability needs no pass here: the energy is
+//! strictly convex in the strains, so every answer is stable (`unloaded_solve.rs`,
+//! "Stability without a pass"; the report says so in a note).
 
 //! # Cable length and slack (displacement control)
 //!

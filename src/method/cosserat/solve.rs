@@ -141,18 +141,27 @@ impl Method for Cosserat {
                 prev = Some((x, setup));
                 continue;
             }
-            // The focal-point pass also gives the exact Jacobian at the answer, a better
-            // warm start than Newton's last (Broyden-updated) one. Skipped on request
-            // (`stability = skip`): `stable` stays `None`, meaning not checked.
-            let (stable, jac) = if self.check_stability {
+            // The unloaded rod's energy is strictly convex in its strains: stable with no
+            // pass (`unloaded_solve.rs`, "Stability"). Elsewhere the focal-point pass, which
+            // also gives the exact Jacobian at the answer, a better warm start than Newton's
+            // last (Broyden-updated) one. Skipped on request (`stability = skip`): `stable`
+            // stays `None`, meaning not checked.
+            let (stable, jac) = if !self.check_stability {
+                notes.push("stability not checked (stability = skip)".into());
+                (None, jac)
+            } else if prob.fast && prob.convex_stable(&x, &setup) {
+                notes.push(
+                    "stable: the unloaded rod's energy is strictly convex in its strains \
+                     (no focal-point pass)"
+                        .into(),
+                );
+                (Some(true), jac)
+            } else {
                 let (stable, exact) = prob.focal_stable(&x, &setup);
                 if stable.is_none() {
                     notes.push(prob.undecided_stability(exact.is_some()));
                 }
                 (stable, exact.or(jac))
-            } else {
-                notes.push("stability not checked (stability = skip)".into());
-                (None, jac)
             };
             let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, notes);
             shape.report.stable = stable;

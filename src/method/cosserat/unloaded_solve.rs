@@ -24,6 +24,27 @@
 //! straight rod (`τ = 0`) too. A tension that comes out negative is the slack active set's
 //! business (`solve.rs`), as for shooting. Two or three iterations from a cold start on the
 //! paper cases, each one pass: no base wrench to shoot for, no variational pass.
+//!
+//! # Stability without a pass
+//!
+//! With no external load the rod's configuration is its strain field alone (clamped base,
+//! free tip, nothing outside pulls on it: every strain field is a shape), and its potential
+//! energy under fixed tensions is `E[z] = ∫ Φ(z(s); τ, s) ds` — the backbone's strain energy
+//! and the actuators' `τ_i ℓ_i`, each `ℓ_i = ∫ |ṗ_i| ds` a local function of the strains.
+//! `Φ` is the sum of a positive definite quadratic and, for `τ ≥ 0`, the convex `τ_i |ṗ_i|`
+//! (a norm of a function affine in `z`), so its Hessian `K` is positive definite at every
+//! point and the second variation `∫ δzᵀ K δz ds` is positive for every `δz ≠ 0`: the answer
+//! is a strict minimum, stable (`report.stable = Some(true)`), for every tension. The
+//! focal-point test along the rod (`jacobian.rs`) must then find no focal point, and it
+//! does: its compliance `C(s)` of the base part is `∫₀ˢ Adᵀ K⁻¹ Ad dσ` here, a sum of
+//! positive definite terms (checked against it on random robots in
+//! `tests/methods/cosserat_unloaded.rs`). Under displacement control the tensions are the
+//! length constraints' multipliers, the Lagrangian's Hessian is the same `K`, positive
+//! definite on every perturbation and so on the constraints' tangent space too; a compliant
+//! cable adds `k δℓ² ≥ 0`. Cables guided along the rod cannot buckle it, however hard they
+//! pull (a duct-guided prestressing tendon does not buckle its column; the same force as a
+//! dead tip load does, `tests/methods/cosserat_stability.rs`). The check therefore costs
+//! nothing here; shooting's focal-point pass costs one variational pass.
 
 use super::problem::{LoadCase, Problem};
 use super::shooting::{Fail, Newton, Setup};
@@ -147,6 +168,16 @@ impl Problem<'_> {
             self.length_row(c, un.shot.len[c], x[6 + j], 1.0)
         });
         Some((un, f))
+    }
+
+    /// True when the answer `x` of the unloaded path is proven stable (module docs,
+    /// "Stability without a pass"): every tension finite and non-negative (the slack active
+    /// set has made a negative unknown tension slack before an answer is returned).
+    pub(super) fn convex_stable(&self, x: &DVector<f64>, setup: &Setup) -> bool {
+        let tau = self.tensions(x, setup, 1.0);
+        tau[..self.robot.cables.len()]
+            .iter()
+            .all(|t| t.is_finite() && *t >= 0.0)
     }
 
     /// Leave the unloaded path for shooting (its Newton on the tensions failed): the rest
