@@ -208,7 +208,8 @@ impl Problem<'_> {
                     return None;
                 }
                 self.add_rk4_lengths(&mut path, &lr, h);
-                rec.backbone.push(Vector3::new(y[(0, 0)], y[(1, 0)], y[(2, 0)]));
+                rec.backbone
+                    .push(Vector3::new(y[(0, 0)], y[(1, 0)], y[(2, 0)]));
             }
             let p = Vector3::new(y[(0, 0)], y[(1, 0)], y[(2, 0)]);
             let r = Matrix3::from_fn(|i, j| y[(3 + 3 * j + i, 0)]);

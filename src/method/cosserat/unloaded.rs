@@ -260,8 +260,14 @@ impl Problem<'_> {
                 u: z.u,
                 v,
             };
-            let sums =
-                self.tendon_sums::<false, false>(|c| routes[c], sec, &pt, ld, &mut at.lr, &mut keep);
+            let sums = self.tendon_sums::<false, false>(
+                |c| routes[c],
+                sec,
+                &pt,
+                ld,
+                &mut at.lr,
+                &mut keep,
+            );
             self.work.set(self.work.get() + 1);
             let fv = self.kse.component_mul(&(v - E3)) + sums.pull - bv;
             let fu = self.kbt.component_mul(&z.u) + sums.twist - bu;
