@@ -78,10 +78,15 @@ fn main() -> anyhow::Result<()> {
                 let dense = plan_dense_clearance(&setup, &p);
                 found += usize::from(dense >= 0.0);
                 println!(
-                    "query: {} waypoints, {c:.3} s CPU ({w:.3} s wall), dense {:.2} mm, {}",
+                    "query: {} waypoints, {c:.3} s CPU ({w:.3} s wall), dense {:.2} mm, {} (graph nodes {}, solves {}, edges {} of which blocked {}, shortcut removed {})",
                     p.waypoints.len(),
                     dense * 1e3,
-                    p.stats.planner
+                    p.stats.planner,
+                    p.stats.tree_nodes,
+                    p.stats.checks.solves,
+                    p.stats.checks.edges_checked,
+                    p.stats.checks.edges_rejected,
+                    p.stats.shortcut_removed,
                 );
             }
             Err(e) => println!("query failed: {c:.3} s CPU ({w:.3} s wall): {e}"),

@@ -38,6 +38,7 @@ pub mod motion;
 pub mod roadmap;
 mod roadmap_build;
 mod roadmap_nodes;
+mod roadmap_sample;
 pub mod roadmap_shard;
 mod rrt;
 mod trajectory;

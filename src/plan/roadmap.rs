@@ -35,8 +35,8 @@
 //!
 //! Nodes are points `[u, d, ψ]` (shortenings, insertion \[m\], rotation \[rad\]), nearest
 //! neighbours and path lengths are measured in the planners' metric ([`super::metric`]), every
-//! `insert::ALONG_EVERY`-th uniform sample slides the last admissible node along its
-//! insertion, and a query tries the staged insert-first paths (`insert`) before the
+//! `insert::ALONG_EVERY`-th uniform sample slides the last admissible uniform node before it
+//! along its insertion (`roadmap_sample.rs`), and a query tries the staged insert-first paths (`insert`) before the
 //! graph.
 
 use super::edge::{Checker, EdgeCheck, Node};
@@ -178,8 +178,14 @@ pub(super) fn nearest(metric: &Metric, nodes: &[RoadmapNode], u: &[f64], k: usiz
         .enumerate()
         .map(|(i, n)| (metric.dist(&n.u, u), i))
         .collect();
-    d.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    d.into_iter().take(k).map(|x| x.1).collect()
+    // A total order (distance, then index): the same k and order as a full sort.
+    let order = |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+    if k < d.len() {
+        d.select_nth_unstable_by(k, order);
+        d.truncate(k);
+    }
+    d.sort_by(order);
+    d.into_iter().map(|x| x.1).collect()
 }
 
 /// Dijkstra from node `s` to node `g` over `adj` (lengths in the planners' metric).

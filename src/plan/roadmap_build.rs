@@ -1,6 +1,7 @@
 //! Building a roadmap ([`super::roadmap`]'s module docs): seeded uniform samples, samples
-//! along the insertion through a port and Gaussian expansion around admissible nodes (one
-//! sequential pass, the same in every shard), then every candidate edge — each node with its
+//! along the insertion through a port and Gaussian expansion around admissible nodes (solved
+//! in parallel, the same on any threads and in every shard: [`super::roadmap_sample`]), then
+//! every candidate edge — each node with its
 //! nearest neighbours, one sorted list — checked in parallel, or only a shard's share of it
 //! ([`super::roadmap_shard`]).
 
@@ -14,8 +15,6 @@ use crate::method::run::SolveRequest;
 use crate::model::Model;
 use crate::progress::ProgressHandle;
 use crate::reach::Space;
-use rand_core::SeedableRng;
-use rand_xorshift::XorShiftRng;
 use std::collections::BTreeSet;
 use std::time::Instant;
 
@@ -37,14 +36,12 @@ pub fn build(
     let t0 = Instant::now();
     let space = Space::new(model, request, false)?;
     let margin = opts.margin.unwrap_or(space.margin);
-    let mut ck = Checker::new(&space, margin);
-    let mut rng = XorShiftRng::seed_from_u64(opts.seed);
     let progress = &opts.progress;
     progress.start("roadmap nodes", Some((opts.samples + opts.expand) as u64));
-    let nodes = sample_nodes(model, &mut ck, opts, &mut rng);
+    let (nodes, node_solves) = super::roadmap_sample::sample_nodes(model, &space, margin, opts);
     progress.finish();
     let plain: Vec<RoadmapNode> = nodes.iter().map(plain_node).collect();
-    let candidates = candidate_edges(&ck.metric, &plain, opts.neighbours);
+    let candidates = candidate_edges(&Metric::of(&space), &plain, opts.neighbours);
     let mine: Vec<(usize, usize)> = match opts.shard {
         Some(s) => candidates
             .into_iter()
@@ -76,7 +73,7 @@ pub fn build(
         edges,
         edge_clearance,
         shard: opts.shard,
-        build_solves: ck.stats.solves + edge_solves,
+        build_solves: node_solves + edge_solves,
         build_time_s: t0.elapsed().as_secs_f64(),
     })
 }
@@ -89,9 +86,14 @@ fn candidate_edges(
     nodes: &[RoadmapNode],
     neighbours: usize,
 ) -> Vec<(usize, usize)> {
+    use rayon::prelude::*;
+    let near: Vec<Vec<usize>> = nodes
+        .par_iter()
+        .map(|n| nearest(metric, nodes, &n.u, neighbours + 1))
+        .collect();
     let mut pairs = BTreeSet::new();
-    for (i, n) in nodes.iter().enumerate() {
-        for j in nearest(metric, nodes, &n.u, neighbours + 1) {
+    for (i, js) in near.into_iter().enumerate() {
+        for j in js {
             if i != j {
                 pairs.insert((i.min(j), i.max(j)));
             }
@@ -135,65 +137,6 @@ fn check_edges(
         .collect();
     let solves = out.iter().map(|x| x.1).sum();
     (out.into_iter().map(|x| x.0).collect(), solves)
-}
-
-/// The admissible nodes of a build: uniform samples and the model's actuation, then the
-/// expansion around them (module docs).
-fn sample_nodes(
-    model: &Model,
-    ck: &mut Checker,
-    opts: &BuildOptions,
-    rng: &mut XorShiftRng,
-) -> Vec<Node> {
-    let space = ck.space;
-    let unit = super::rrt::unit;
-    let mut nodes: Vec<Node> = Vec::new();
-    let own = super::actuation_of_in(model, &model.actuation, space.input);
-    if space.contains(&own) {
-        nodes.extend(ck.node(&own, None));
-    }
-    for i in 1..=opts.samples {
-        opts.progress.advance(1);
-        // Through a port every few samples slide the last admissible node along its
-        // insertion (`insert.rs`), warm from it.
-        if space.has_port() && i % super::insert::ALONG_EVERY == 0 && !nodes.is_empty() {
-            let last = nodes[nodes.len() - 1].clone();
-            let u = super::insert::along_insertion(space, &last.u, rng);
-            nodes.extend(ck.node(&u, Some(&last.shape)));
-            continue;
-        }
-        let u: Vec<f64> = space
-            .lo
-            .iter()
-            .zip(&space.hi)
-            .map(|(l, h)| l + unit(rng) * (h - l))
-            .collect();
-        nodes.extend(ck.node(&u, None));
-    }
-    for _ in 0..opts.expand {
-        opts.progress.advance(1);
-        if nodes.is_empty() {
-            break;
-        }
-        let k = (unit(rng) * nodes.len() as f64) as usize % nodes.len();
-        let u: Vec<f64> = (0..space.dim())
-            .map(|c| {
-                let range = space.hi[c] - space.lo[c];
-                nodes[k].u[c] + opts.spread * range * gaussian(rng)
-            })
-            .collect();
-        let u = space.clamp(&u);
-        let warm = nodes[k].shape.clone();
-        nodes.extend(ck.node(&u, Some(&warm)));
-    }
-    nodes
-}
-
-/// A standard normal number (Box–Muller on two uniform numbers of the generator).
-fn gaussian(rng: &mut XorShiftRng) -> f64 {
-    let a = 1.0 - super::rrt::unit(rng);
-    let b = super::rrt::unit(rng);
-    (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
 }
 
 fn plain_node(n: &Node) -> RoadmapNode {

@@ -1,8 +1,9 @@
 //! Roadmaps built in shards and merged: for a build larger than one machine (or one process).
 //!
 //! Shard `k` of `N` ([`super::roadmap::BuildOptions::shard`]) samples the same nodes as the
-//! whole build (the sampling is seeded and sequential, and cheap beside the edges: each edge
-//! check solves several shapes along it) and checks every `N`-th candidate edge starting at the
+//! whole build (each sample is seeded by its index, so the nodes do not depend on the threads
+//! or the shard: `roadmap_sample.rs`; sampling is cheap beside the edges, each of whose checks
+//! solves several shapes along it) and checks every `N`-th candidate edge starting at the
 //! `k`-th, of the one sorted candidate list every shard computes alike. An edge's check depends
 //! on its two nodes only, so [`merge`] — the union of the shards' edges, sorted — gives the
 //! roadmap a single build gives, edge for edge (`tests/inverse/roadmap_shards.rs`); only the

@@ -176,6 +176,29 @@ fn roadmap_through_a_port() {
     dense_recheck(&model, &p);
 }
 
+/// The port robot's roadmap nodes — uniform samples, samples slid along the insertion and the
+/// expansion rounds, solved in parallel — and edges are the same built on one thread.
+#[test]
+fn port_roadmap_is_the_same_on_one_thread() {
+    let model = behind_block();
+    let opts = BuildOptions {
+        samples: 45,
+        expand: 80,
+        neighbours: 4,
+        ..BuildOptions::default()
+    };
+    let many = build(&model, &energy(), &opts).unwrap();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| build(&model, &energy(), &opts).unwrap());
+    assert!(many.nodes.len() > 20, "{} nodes", many.nodes.len());
+    assert_eq!(many.nodes, one.nodes);
+    assert_eq!(many.edges, one.edges);
+    assert_eq!(many.build_solves, one.build_solves);
+}
+
 /// Each certified edge's bound holds on a fine sweep of independent cold solves along it:
 /// along the rotation alone (where the bound is exact), along the insertion alone, and along
 /// all inputs at once, each edge passing near the block.
