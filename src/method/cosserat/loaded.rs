@@ -410,7 +410,8 @@ impl Problem<'_> {
         let norm = |p: &Loaded| p.shot.resid.amax();
         let mut iterations = 0;
         let mut last = f64::INFINITY;
-        while !(norm(&pass) <= self.set.tolerance) {
+        // (A NaN residual is not converged.)
+        while norm(&pass).is_nan() || norm(&pass) > self.set.tolerance {
             if iterations == self.set.max_iterations || self.over_budget() {
                 let detail = "Newton on the loaded rod's base moment did not converge";
                 return Err(fail(iterations, norm(&pass), detail));
