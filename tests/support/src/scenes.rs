@@ -138,8 +138,9 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// The least distance of a generated obstacle from the path's first point (the base) \[m\]:
-/// more than a base disk of radius 12 mm (paper case I) and its thickness reach from it.
-pub const BASE_KEEP: f64 = 0.015;
+/// the radius of the ball holding paper case I's base disk (radius 12 mm, thickness 2 mm:
+/// `hypot(12, 1)` = 12.04 mm), so that no obstacle meets that disk.
+pub const BASE_KEEP: f64 = 0.0121;
 
 /// The distance from `p` to a generated obstacle — a box (`half_extents` in `sizes`) or a
 /// cylinder along its local z (`radius`, `half_height`) — with axes the columns of `rows` and
