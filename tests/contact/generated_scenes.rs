@@ -4,7 +4,7 @@
 //! on the obstacle as the scene file reads it (an independent check of the generator's
 //! rotations and support extents); and the set holds every kind, pressed on.
 
-use crate::common::scenes::{near_path, BASE_KEEP};
+use crate::common::scenes::near_path;
 use ccrkit::model::scene::Scene;
 use ccrkit::prelude::*;
 use parry3d::math::Vector as PVec;
@@ -40,12 +40,6 @@ fn generated_obstacles_lie_at_their_placed_gap_from_the_path() {
                 .shape
                 .project_point(&o.parry_pose, PVec::new(a[0], a[1], a[2]), true);
             assert!(!proj.is_inside, "seed {seed}: {} holds its anchor", o.name);
-            // Clear of the base (seeds 37 and 42 put a wall through the base disk before).
-            let b = path[0];
-            let base = o
-                .shape
-                .distance_to_point(&o.parry_pose, PVec::new(b[0], b[1], b[2]), true);
-            assert!(base >= BASE_KEEP - 1e-12, "seed {seed}: {} {base}", o.name);
             let q = proj.point;
             let d = ((q.x - a[0]).powi(2) + (q.y - a[1]).powi(2) + (q.z - a[2]).powi(2)).sqrt();
             worst = worst.max((d - p.gap).abs());
@@ -62,9 +56,10 @@ fn generated_obstacles_lie_at_their_placed_gap_from_the_path() {
     );
 }
 
-/// The scenes that put a wall through the base disk (seeds 37 and 42 before the generator kept
-/// its obstacles clear of the base) are valid inputs: the literal method is not refused as
-/// obstructed in section 0 (the broad phase's base-disk check).
+/// The scenes of `scene_speed` (seeds 1–60; 37 and 42 put a wall through the base disk before
+/// the generator kept its obstacles off it) are valid inputs: the literal method is never
+/// refused as obstructed in section 0 (the broad phase's base-disk check, independent of the
+/// generator's).
 #[test]
 fn generated_scenes_leave_the_base_disk_free() {
     let model = Model::from_file(concat!(
@@ -79,7 +74,7 @@ fn generated_scenes_leave_the_base_disk_free() {
     let path: Vec<[f64; 3]> = free.disks.iter().map(|d| d.position.into()).collect();
     let dir = std::env::temp_dir().join(format!("ccrkit-base-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for seed in [37, 42] {
+    for seed in 1..=60 {
         let file = dir.join(format!("gen_{seed}.toml"));
         std::fs::write(&file, near_path(&path, seed).0).unwrap();
         let scene = Scene::from_file(&file).unwrap();

@@ -137,10 +137,34 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-/// The least distance of a generated obstacle from the path's first point (the base) \[m\]:
-/// the radius of the ball holding paper case I's base disk (radius 12 mm, thickness 2 mm:
-/// `hypot(12, 1)` = 12.04 mm), so that no obstacle meets that disk.
-pub const BASE_KEEP: f64 = 0.0121;
+/// Paper case I's base disk: radius and half thickness \[m\].
+const BASE_DISK: (f64, f64) = (0.012, 0.001);
+
+/// Spacing of the grid over the base disk's mid-plane that [`meets_base`] samples \[m\].
+const BASE_GRID: f64 = 2.5e-4;
+
+/// Whether a generated obstacle may meet the base disk (paper case I's: centre `path[0]`,
+/// normal along `path[1] − path[0]`): some point of a polar grid over the disk's mid-plane
+/// (rings and arcs at most [`BASE_GRID`] apart) is within `half thickness + BASE_GRID` of it.
+/// Every point of the disk lies within that of a grid point, so an obstacle that meets the disk
+/// is always caught (a few that pass within 1.25 mm are too).
+fn meets_base(path: &[[f64; 3]], sizes: &str, rows: [[f64; 3]; 3], centre: [f64; 3]) -> bool {
+    let (radius, half) = BASE_DISK;
+    let (c, n) = (path[0], unit(sub(path[1], path[0])));
+    let helper = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+    let e1 = unit(cross(n, helper));
+    let e2 = cross(n, e1);
+    let rings = (radius / BASE_GRID).ceil() as usize;
+    (0..=rings).any(|k| {
+        let r = radius * k as f64 / rings as f64;
+        let arcs = ((std::f64::consts::TAU * r / BASE_GRID).ceil() as usize).max(1);
+        (0..arcs).any(|j| {
+            let (sn, cs) = (std::f64::consts::TAU * j as f64 / arcs as f64).sin_cos();
+            let p = [0, 1, 2].map(|i| c[i] + r * (cs * e1[i] + sn * e2[i]));
+            base_distance(p, sizes, rows, centre) <= half + BASE_GRID
+        })
+    })
+}
 
 /// The distance from `p` to a generated obstacle — a box (`half_extents` in `sizes`) or a
 /// cylinder along its local z (`radius`, `half_height`) — with axes the columns of `rows` and
@@ -198,8 +222,8 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 ///   corner, an edge or a rim point) is `p + gap·d`: it lies beyond the plane through that
 ///   point across `d`, so that point is its nearest to `p`.
 ///
-/// No obstacle comes within [`BASE_KEEP`] of the path's first point (one that does is drawn
-/// again), so that no wall passes through the base disk: every scene is a valid input.
+/// No obstacle meets paper case I's base disk at the path's first point (one that may is drawn
+/// again, `meets_base`), so that no wall passes through it: every scene is a valid input.
 ///
 /// Deterministic in `seed` (xorshift64). Returns the TOML text and what was placed, in the
 /// file's order.
@@ -213,8 +237,8 @@ pub fn near_path(path: &[[f64; 3]], seed: u64) -> (String, Vec<Placed>) {
     let mut placed = vec![];
     for k in 0..n {
         // Drawn again (the same stream, so scenes that never redraw are unchanged) while the
-        // obstacle reaches within `BASE_KEEP` of the base: a wall long enough to pass through the
-        // base disk makes the scene an invalid input (`Obstructed` in section 0).
+        // obstacle may meet the base disk: a wall long enough to pass through it makes the scene
+        // an invalid input (`Obstructed` in section 0).
         let (kind, i, gap, sizes, rows, centre) = loop {
             let kind = NEAR_KINDS[(rng.next() * 3.0) as usize % 3];
             let half = path.len() / 2;
@@ -275,8 +299,7 @@ pub fn near_path(path: &[[f64; 3]], seed: u64) -> (String, Vec<Placed>) {
                     (sizes, rows, c)
                 }
             };
-            let base = path[0];
-            if base_distance(base, &sizes, rows, centre) >= BASE_KEEP {
+            if !meets_base(path, &sizes, rows, centre) {
                 break (kind, i, gap, sizes, rows, centre);
             }
         };
