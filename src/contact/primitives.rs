@@ -38,6 +38,26 @@ pub(crate) enum Convex {
     Disk(Matrix3<f64>, Vector3<f64>, f64, f64),
 }
 
+impl Convex {
+    /// The point of the feature's core closest to `p`: of the segment (without its radius),
+    /// or of the solid disk (in-plane clamped to the radius, across clamped to the thickness).
+    pub(crate) fn closest(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        match self {
+            Convex::Segment(a, b, _) => a + (b - a) * super::features::segment_fraction(p, a, b),
+            Convex::Disk(rot, x, radius, half) => {
+                let l = rot.transpose() * (p - x);
+                let xy = l.xy();
+                let xy = if xy.norm() > *radius {
+                    xy * (*radius / xy.norm())
+                } else {
+                    xy
+                };
+                x + rot * Vector3::new(xy.x, xy.y, l.z.clamp(-half, *half))
+            }
+        }
+    }
+}
+
 /// The feature's support point in direction `dir` (base frame), `None` where it is not unique.
 fn support(f: &Convex, dir: &Vector3<f64>) -> Option<Vector3<f64>> {
     match f {

@@ -31,7 +31,12 @@
 //! when it agrees with parry's (the start) to parry's accuracy; `None` otherwise.
 
 use super::Witness;
+use arrayvec::ArrayVec;
 use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
+
+/// A few directions (a basis, the active kinks), on the stack: the solve runs per
+/// contact query, thousands of times per solve.
+type Dirs = ArrayVec<Vector3<f64>, MAX_KINKS>;
 
 /// Kinks `|n·v|` a pair can have (box 3 + feature 1, or cylinder 1 + feature 1).
 const MAX_KINKS: usize = 4;
@@ -49,9 +54,9 @@ pub(crate) struct SupportShape {
     /// Centre `c`.
     pub(crate) centre: Vector3<f64>,
     /// Kink terms `(w_j, v_j)`, `v_j` unit.
-    pub(crate) kinks: Vec<(f64, Vector3<f64>)>,
+    pub(crate) kinks: ArrayVec<(f64, Vector3<f64>), 3>,
     /// Rim terms `(ρ_k, a_k)`, `a_k` unit (the projection is across `a_k`).
-    pub(crate) rims: Vec<(f64, Vector3<f64>)>,
+    pub(crate) rims: ArrayVec<(f64, Vector3<f64>), 1>,
     /// Radius of the swept ball `r`.
     pub(crate) radius: f64,
 }
@@ -62,7 +67,7 @@ impl SupportShape {
         SupportShape {
             centre: c,
             kinks: (0..3).map(|i| (e[i], rot.column(i).into_owned())).collect(),
-            rims: vec![],
+            rims: ArrayVec::new(),
             radius: 0.0,
         }
     }
@@ -70,8 +75,8 @@ impl SupportShape {
     pub(crate) fn cylinder(c: Vector3<f64>, axis: Vector3<f64>, rho: f64, half: f64) -> Self {
         SupportShape {
             centre: c,
-            kinks: vec![(half, axis)],
-            rims: vec![(rho, axis)],
+            kinks: [(half, axis)].into_iter().collect(),
+            rims: [(rho, axis)].into_iter().collect(),
             radius: 0.0,
         }
     }
@@ -81,8 +86,8 @@ impl SupportShape {
         let l = d.norm();
         (l > 0.0).then(|| SupportShape {
             centre: 0.5 * (a + b),
-            kinks: vec![(0.5 * l, d / l)],
-            rims: vec![],
+            kinks: [(0.5 * l, d / l)].into_iter().collect(),
+            rims: ArrayVec::new(),
             radius: r,
         })
     }
@@ -116,7 +121,7 @@ struct Pair<'a> {
     delta: Vector3<f64>,
     kinks: [(f64, Vector3<f64>); MAX_KINKS],
     n_kinks: usize,
-    rims: Vec<(f64, Vector3<f64>)>,
+    rims: ArrayVec<(f64, Vector3<f64>), 2>,
     radius: f64,
     feature: &'a SupportShape,
     obstacle: &'a SupportShape,
@@ -161,11 +166,11 @@ fn reject(v: &Vector3<f64>, basis: &[Vector3<f64>]) -> Vector3<f64> {
 
 /// `basis` extended by the active kinks' directions `cons` that are independent of it
 /// (rejection above 1e-9), orthonormal.
-fn with_kinks(mut basis: Vec<Vector3<f64>>, cons: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+fn with_kinks(mut basis: Dirs, cons: &[Vector3<f64>]) -> Dirs {
     for c in cons {
         let r = reject(c, &basis);
         if r.norm() > 1e-9 {
-            basis.push(r.normalize());
+            let _ = basis.try_push(r.normalize());
         }
     }
     basis
@@ -173,22 +178,56 @@ fn with_kinks(mut basis: Vec<Vector3<f64>>, cons: &[Vector3<f64>]) -> Vec<Vector
 
 /// Orthonormal basis of the directions orthogonal to `n` and to every active kink's `v`:
 /// 0, 1 or 2 vectors; `None` when the active kinks leave no unit `n` (rank 3).
-fn tangent_basis(n: &Vector3<f64>, cons: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
-    let mut basis = with_kinks(vec![*n], cons);
+fn tangent_basis(n: &Vector3<f64>, cons: &[Vector3<f64>]) -> Dirs {
+    let mut basis = with_kinks([*n].into_iter().collect(), cons);
     let fixed = basis.len();
     for e in [Vector3::x(), Vector3::y(), Vector3::z()] {
         let r = reject(&e, &basis);
         if r.norm() > 1e-6 && basis.len() < 3 {
-            basis.push(r.normalize());
+            let _ = basis.try_push(r.normalize());
         }
     }
-    basis.split_off(fixed)
+    basis.drain(..fixed);
+    basis
 }
 
 /// The projection of `n` on the directions orthogonal to the active kinks, normalized.
 fn onto_stratum(n: &Vector3<f64>, cons: &[Vector3<f64>]) -> Option<Vector3<f64>> {
-    let m = reject(n, &with_kinks(vec![], cons));
+    let m = reject(n, &with_kinks(Dirs::new(), cons));
     (m.norm() > 1e-6).then(|| m.normalize())
+}
+
+/// The pair's `φ` of `feature` and `obstacle` (kinks of zero weight left out).
+fn pair_of<'a>(feature: &'a SupportShape, obstacle: &'a SupportShape) -> Option<Pair<'a>> {
+    let mut kinks = [(0.0, Vector3::zeros()); MAX_KINKS];
+    let mut n_kinks = 0;
+    for k in obstacle.kinks.iter().chain(&feature.kinks) {
+        if k.0 > 0.0 {
+            *kinks.get_mut(n_kinks)? = *k;
+            n_kinks += 1;
+        }
+    }
+    Some(Pair {
+        delta: feature.centre - obstacle.centre,
+        kinks,
+        n_kinks,
+        rims: obstacle.rims.iter().chain(&feature.rims).copied().collect(),
+        radius: feature.radius + obstacle.radius,
+        feature,
+        obstacle,
+    })
+}
+
+/// The witness at the maximizing `n`.
+fn answer(pair: &Pair, n: &Vector3<f64>) -> Option<Witness> {
+    let (dist, _, _) = pair.eval(n, 0, &signs(pair, n));
+    let (robot, obstacle) = witnesses(pair, n, dist)?;
+    Some(Witness {
+        robot,
+        obstacle,
+        normal: *n,
+        dist,
+    })
 }
 
 /// The signed distance, normal (obstacle towards feature) and witness points of `feature` and
@@ -201,35 +240,29 @@ pub(crate) fn sat_witness(
     obstacle: &SupportShape,
     start: &Witness,
 ) -> Option<Witness> {
-    let mut kinks = [(0.0, Vector3::zeros()); MAX_KINKS];
-    let mut n_kinks = 0;
-    for k in obstacle.kinks.iter().chain(&feature.kinks) {
-        if k.0 > 0.0 {
-            *kinks.get_mut(n_kinks)? = *k;
-            n_kinks += 1;
-        }
-    }
-    let pair = Pair {
-        delta: feature.centre - obstacle.centre,
-        kinks,
-        n_kinks,
-        rims: obstacle.rims.iter().chain(&feature.rims).copied().collect(),
-        radius: feature.radius + obstacle.radius,
-        feature,
-        obstacle,
-    };
-    let n = maximize(&pair, &start.normal.normalize())?;
-    let (dist, _, _) = pair.eval(&n, 0, &signs(&pair, &n));
-    if (dist - start.dist).abs() > 1e-6 || (n - start.normal).norm() > 1e-3 {
-        return None;
-    }
-    let (robot, obstacle_point) = witnesses(&pair, &n, dist)?;
-    Some(Witness {
-        robot,
-        obstacle: obstacle_point,
-        normal: n,
-        dist,
-    })
+    let pair = pair_of(feature, obstacle)?;
+    let w = answer(&pair, &maximize(&pair, &start.normal.normalize())?)?;
+    let agrees = (w.dist - start.dist).abs() <= 1e-6 && (w.normal - start.normal).norm() <= 1e-3;
+    agrees.then_some(w)
+}
+
+/// The witness of `feature` and `obstacle` when they are apart, by the separating-axis maximum
+/// from any start normal `n0` (obstacle towards feature), without parry's answer: `None` where
+/// they touch or overlap or the maximum does not decide (then ask parry, [`sat_witness`]).
+///
+/// Apart, the answer is the distance itself, whatever the start: `φ` is concave and
+/// positively homogeneous, so `max_{|n|≤1} φ` is a convex problem; a maximum on the sphere
+/// with `φ(n) > 0` (the active set's stationarity, `∂φ(n) ∋ μ n`, with `μ = φ(n) > 0` by
+/// Euler's identity) is its KKT point and so the global maximum, the distance. Overlapping,
+/// the sphere is not convex and a start can end in a local maximum that is not the depth.
+pub(crate) fn sat_apart(
+    feature: &SupportShape,
+    obstacle: &SupportShape,
+    n0: &Vector3<f64>,
+) -> Option<Witness> {
+    let pair = pair_of(feature, obstacle)?;
+    let w = answer(&pair, &maximize(&pair, &n0.normalize())?)?;
+    (w.dist > 0.0).then_some(w)
 }
 
 /// The kinks' signs at `n`.
@@ -252,7 +285,7 @@ fn maximize(pair: &Pair, n0: &Vector3<f64>) -> Option<Vector3<f64>> {
         .fold(0, |m, j| m | (1 << j));
     let mut n = *n0;
     for _ in 0..8 {
-        let cons: Vec<Vector3<f64>> = (0..nk)
+        let cons: Dirs = (0..nk)
             .filter(|j| active & (1 << j) != 0)
             .map(|j| pair.kinks[j].1)
             .collect();
@@ -273,19 +306,19 @@ fn maximize(pair: &Pair, n0: &Vector3<f64>) -> Option<Vector3<f64>> {
                 break;
             }
             let (v, g, h) = pair.eval(&n, active, &sign);
-            let step: Vec<f64> = if b.len() == 1 {
+            let step: ArrayVec<f64, 2> = if b.len() == 1 {
                 let gr = b[0].dot(&g);
                 let hr = b[0].dot(&(h * b[0])) - v;
                 if hr >= 0.0 {
                     return None;
                 }
-                vec![-gr / hr]
+                [-gr / hr].into_iter().collect()
             } else {
                 let gr = Vector2::new(b[0].dot(&g), b[1].dot(&g));
                 let hr = Matrix2::from_fn(|r, c| b[r].dot(&(h * b[c]))) - v * Matrix2::identity();
                 // Newton for a maximum: (−H) x = g, with −H positive definite.
                 let x = (-hr).cholesky()?.solve(&gr);
-                vec![x[0], x[1]]
+                [x[0], x[1]].into_iter().collect()
             };
             let dn: Vector3<f64> = b.iter().zip(&step).map(|(bi, s)| bi * *s).sum();
             let next = (n + dn).normalize();
@@ -320,11 +353,11 @@ fn maximize(pair: &Pair, n0: &Vector3<f64>) -> Option<Vector3<f64>> {
         // Σ λ_j (v_j across n); each must lie in [−w_j, w_j].
         let (_, g, _) = pair.eval(&n, active, &sign);
         let gt = g - n * n.dot(&g);
-        let act: Vec<usize> = (0..nk).filter(|j| active & (1 << j) != 0).collect();
+        let act: ArrayVec<usize, MAX_KINKS> = (0..nk).filter(|j| active & (1 << j) != 0).collect();
         if act.is_empty() {
             return Some(n);
         }
-        let vt: Vec<Vector3<f64>> = act
+        let vt: ArrayVec<Vector3<f64>, MAX_KINKS> = act
             .iter()
             .map(|&j| {
                 let u = pair.kinks[j].1;
@@ -353,13 +386,15 @@ fn maximize(pair: &Pair, n0: &Vector3<f64>) -> Option<Vector3<f64>> {
 
 /// `λ` with `Σ λ_j v_j = g` in the least-squares sense (1 or 2 vectors; 3 active kinks leave
 /// no direction).
-fn least_squares(v: &[Vector3<f64>], g: &Vector3<f64>) -> Option<Vec<f64>> {
+fn least_squares(v: &[Vector3<f64>], g: &Vector3<f64>) -> Option<ArrayVec<f64, 2>> {
     match v {
-        [a] => (a.norm_squared() > 1e-18).then(|| vec![a.dot(g) / a.norm_squared()]),
+        [a] => {
+            (a.norm_squared() > 1e-18).then(|| [a.dot(g) / a.norm_squared()].into_iter().collect())
+        }
         [a, b] => {
             let m = Matrix2::new(a.dot(a), a.dot(b), b.dot(a), b.dot(b));
             let x = m.try_inverse()? * Vector2::new(a.dot(g), b.dot(g));
-            Some(vec![x[0], x[1]])
+            Some([x[0], x[1]].into_iter().collect())
         }
         _ => None,
     }
@@ -461,6 +496,24 @@ pub(crate) fn feature_support(f: &super::primitives::Convex) -> Option<SupportSh
     }
 }
 
+/// The exact witness of a robot feature apart from a box or cylinder obstacle (`shape` at
+/// `opose`), by [`sat_apart`] started from one round of alternating point projections (the
+/// obstacle's point nearest the feature's centre, the feature's nearest that, the obstacle's
+/// nearest that), no GJK; `None` for other shapes and where they touch or overlap or the
+/// maximum does not decide (parry then answers, and [`sat_witness`] polishes it).
+pub(crate) fn apart_witness(
+    shape: &dyn parry3d::shape::Shape,
+    opose: &parry3d::math::Pose,
+    hull: &super::primitives::Convex,
+) -> Option<Witness> {
+    use super::{nvec, pvec};
+    let (o, f) = (obstacle_support(shape, opose)?, feature_support(hull)?);
+    let project = |p: &Vector3<f64>| nvec(shape.project_point(opose, pvec(p), true).point);
+    let a = hull.closest(&project(&f.centre));
+    let n0 = a - project(&a);
+    (n0.norm() > 1e-12).then(|| sat_apart(&f, &o, &n0))?
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -481,6 +534,56 @@ mod tests {
         nalgebra::Rotation3::new(w).into_inner()
     }
 
+    /// A sampled pair: the feature (convex set, parry shape and pose) and the obstacle (parry
+    /// shape and pose).
+    type Sample = (Convex, Box<dyn PShape>, PPose, Box<dyn PShape>, PPose);
+
+    /// Pair `n` of the sample: a box (even `n`) or cylinder at a random pose and a disk,
+    /// capsule or chord (`n % 3`) centred on a sphere around it at about its size (edges,
+    /// corners, rims and faces; apart, touching and overlapping).
+    fn sample(n: usize, rng: &mut Rng) -> Sample {
+        let orot = rotation(rng);
+        let oc = Vector3::new(rng.range(-0.05, 0.05), 0.0, rng.range(-0.05, 0.05));
+        let opose = ppose(&orot, &oc);
+        let (oshape, size): (Box<dyn PShape>, f64) = if n.is_multiple_of(2) {
+            let e = Vector3::new(
+                rng.range(0.004, 0.02),
+                rng.range(0.004, 0.02),
+                rng.range(0.004, 0.06),
+            );
+            (Box::new(Cuboid::new(pvec(&e))), e.norm())
+        } else {
+            let (r, h) = (rng.range(0.004, 0.015), rng.range(0.01, 0.05));
+            (Box::new(Cylinder::new(h, r)), r.hypot(h))
+        };
+        // A feature centre on a sphere around the obstacle, at about its size.
+        let dir = rotation(rng).column(0).into_owned();
+        let frot = rotation(rng);
+        let fc = oc + dir * rng.range(0.6, 1.3) * (size + 0.006);
+        let (feature, fshape, fpose): (Convex, Box<dyn PShape>, PPose) = match n % 3 {
+            0 => {
+                let (rd, ht) = (0.006, 0.001);
+                (
+                    Convex::Disk(frot, fc, rd, ht),
+                    Box::new(Cylinder::new(ht, rd)),
+                    disk_pose(&frot, &fc),
+                )
+            }
+            k => {
+                let r = if k == 1 { 0.0008 } else { 0.0 };
+                let d = frot.column(0) * rng.range(0.002, 0.02);
+                let (a, b) = (fc - d, fc + d);
+                let s: Box<dyn PShape> = if r > 0.0 {
+                    Box::new(features::backbone(&a, &b, r))
+                } else {
+                    Box::new(features::chord(&a, &b))
+                };
+                (Convex::Segment(a, b, r), s, PPose::IDENTITY)
+            }
+        };
+        (feature, fshape, fpose, oshape, opose)
+    }
+
     /// On random disks, capsules and chords near randomly posed boxes and cylinders (their
     /// edges, corners, rims and faces; apart, touching and overlapping), every decided answer is
     /// checked against parry's exact point projections, independent of the maximum: apart, the
@@ -496,45 +599,13 @@ mod tests {
             (0, 0, 0, 0, 0, 0);
         let mut worst = 0.0f64;
         for n in 0..6000 {
-            let orot = rotation(&mut rng);
-            let oc = Vector3::new(rng.range(-0.05, 0.05), 0.0, rng.range(-0.05, 0.05));
-            let opose = ppose(&orot, &oc);
-            let (oshape, size): (Box<dyn PShape>, f64) = if n % 2 == 0 {
-                let e = Vector3::new(
-                    rng.range(0.004, 0.02),
-                    rng.range(0.004, 0.02),
-                    rng.range(0.004, 0.06),
-                );
-                (Box::new(Cuboid::new(pvec(&e))), e.norm())
-            } else {
-                let (r, h) = (rng.range(0.004, 0.015), rng.range(0.01, 0.05));
-                (Box::new(Cylinder::new(h, r)), r.hypot(h))
-            };
-            // A feature centre on a sphere around the obstacle, at about its size.
-            let dir = rotation(&mut rng).column(0).into_owned();
-            let frot = rotation(&mut rng);
-            let fc = oc + dir * rng.range(0.6, 1.3) * (size + 0.006);
-            let (feature, fshape, fpose): (Convex, Box<dyn PShape>, PPose) = match n % 3 {
-                0 => {
-                    let (rd, ht) = (0.006, 0.001);
-                    (
-                        Convex::Disk(frot, fc, rd, ht),
-                        Box::new(Cylinder::new(ht, rd)),
-                        disk_pose(&frot, &fc),
-                    )
-                }
-                k => {
-                    let r = if k == 1 { 0.0008 } else { 0.0 };
-                    let d = frot.column(0) * rng.range(0.002, 0.02);
-                    let (a, b) = (fc - d, fc + d);
-                    let s: Box<dyn PShape> = if r > 0.0 {
-                        Box::new(features::backbone(&a, &b, r))
-                    } else {
-                        Box::new(features::chord(&a, &b))
-                    };
-                    (Convex::Segment(a, b, r), s, PPose::IDENTITY)
-                }
-            };
+            let (feature, fshape, fpose, oshape, opose) = sample(n, &mut rng);
+            let axis = |v: Vector3<f64>| nvec(opose.rotation * pvec(&v));
+            let orot = Matrix3::from_columns(&[
+                axis(Vector3::x()),
+                axis(Vector3::y()),
+                axis(Vector3::z()),
+            ]);
             let margin = 0.01;
             let Some((rough, _)) =
                 features::witness(&*fshape, &fpose, &*oshape, &opose, margin, None)
@@ -613,6 +684,73 @@ mod tests {
         assert!(
             edges >= 100 && corners >= 50 && rims >= 100 && apart >= 300 && over >= 30,
             "{decided} {edges} {corners} {rims} {apart} {over}"
+        );
+    }
+
+    /// Apart, the separating-axis maximum from the cold start of [`apart_witness`] (no GJK) is
+    /// the pair's distance: on the sample of [`sample`], every decided answer is a closest
+    /// pair by parry's exact point projections (independent of the maximum), agrees with
+    /// parry's distance to its accuracy and with the maximum started from parry's answer
+    /// ([`sat_witness`]) to round-off; it decides most pairs apart (91 %), and never one that
+    /// overlaps or touches.
+    #[test]
+    fn apart_witnesses_need_no_gjk() {
+        let mut rng = Rng(0x00a9_a27f_5eed_0001);
+        let (mut apart, mut decided, mut overlapping) = (0, 0, 0);
+        for n in 0..4000 {
+            let (feature, fshape, fpose, oshape, opose) = sample(n, &mut rng);
+            let Some((rough, _)) =
+                features::witness(&*fshape, &fpose, &*oshape, &opose, 0.01, None)
+            else {
+                continue;
+            };
+            let got = apart_witness(&*oshape, &opose, &feature);
+            if rough.dist <= 1e-9 {
+                overlapping += usize::from(rough.dist < -1e-9);
+                assert!(got.is_none(), "{n}: {rough:?} decided apart as {got:?}");
+                continue;
+            }
+            apart += 1;
+            let Some(w) = got else {
+                continue;
+            };
+            decided += 1;
+            assert!((w.dist - rough.dist).abs() < 1e-6, "{n}: {w:?} {rough:?}");
+            let (Some(o), Some(f)) = (
+                obstacle_support(&*oshape, &opose),
+                feature_support(&feature),
+            ) else {
+                panic!("supported shapes");
+            };
+            if let Some(warm) = sat_witness(&f, &o, &rough) {
+                assert!((warm.dist - w.dist).abs() < 1e-14, "{n}: {warm:?} {w:?}");
+                assert!(
+                    (warm.normal - w.normal).amax() < 1e-9,
+                    "{n}: {warm:?} {w:?}"
+                );
+            }
+            let on_obstacle = oshape.distance_to_point(&opose, pvec(&w.obstacle), false);
+            let on_feature = fshape.distance_to_point(&fpose, pvec(&w.robot), false);
+            let back_o = nvec(oshape.project_point(&opose, pvec(&w.robot), true).point);
+            let back_f = nvec(fshape.project_point(&fpose, pvec(&w.obstacle), true).point);
+            let gap = w.robot - w.obstacle;
+            let err = [
+                on_obstacle.abs(),
+                on_feature.abs(),
+                (gap.norm() - w.dist).abs(),
+                (gap / gap.norm() - w.normal).amax() * w.dist,
+                (back_o - w.obstacle).amax(),
+                (back_f - w.robot).amax(),
+            ];
+            assert!(err.iter().all(|e| *e < 1e-11), "{n}: {err:?} {w:?}");
+        }
+        eprintln!("apart {apart}: decided without GJK {decided}; overlapping {overlapping}");
+        assert!(apart >= 1000 && overlapping >= 100, "{apart} {overlapping}");
+        // 1143 of 1259 when written; the rest go to parry (a cap seen face on, witnesses it
+        // cannot place, no convergence).
+        assert!(
+            decided as f64 >= 0.85 * apart as f64,
+            "{decided} of {apart}"
         );
     }
 }

@@ -311,9 +311,15 @@ impl SectionWorld {
                 // The separating-axis witness's robot point is exact (a disk's side on a
                 // cylinder's side: the crossing of the two lines, not a rim point the normal
                 // suggests); a box face's is the disk's support point, placed as parry's is.
-                let (w, exact) = match closed {
-                    Some(decided) => (decided, false),
-                    None => {
+                // Apart from a box or cylinder: the exact witness without parry's.
+                let apart = match closed {
+                    Some(_) => None,
+                    None => sat::apart_witness(&**shape, opose, &hull),
+                };
+                let (w, exact) = match (closed, apart) {
+                    (Some(decided), _) => (decided, false),
+                    (None, Some(e)) => ((e.dist <= self.margin).then_some(e), true),
+                    (None, None) => {
                         let rough = features::witness(
                             g,
                             gpose,
