@@ -339,7 +339,7 @@ impl<'a> Checker<'a> {
 
     /// Remember a clear edge (and, with [`Checker::keep_samples`], its samples `kept`, whose
     /// parameters are from the end `forward` says: the key's first end or its second).
-    fn remember(&mut self, key: EdgeKey, out: EdgeCheck, kept: (bool, Vec<(f64, Node)>)) {
+    fn remember(&mut self, key: EdgeKey, out: EdgeCheck, kept: Samples) {
         let (forward, mut kept) = kept;
         if let Some(m) = self.samples.as_mut() {
             // Stored from the key's first end (dyadic: 1 − t is exact).
@@ -360,6 +360,10 @@ impl<'a> Checker<'a> {
         }
     }
 }
+
+/// A clear edge's solved samples with their parameters, and whether those are from the edge
+/// key's first end.
+type Samples = (bool, Vec<(f64, Node)>);
 
 /// One leg of [`Checker::legs`] being checked.
 struct Leg {
@@ -394,7 +398,7 @@ impl Leg {
     }
 
     /// The key, clear answer and samples of a finished leg.
-    fn finish(self) -> (EdgeKey, EdgeCheck, (bool, Vec<(f64, Node)>)) {
+    fn finish(self) -> (EdgeKey, EdgeCheck, Samples) {
         let clear = EdgeCheck::Clear {
             certified: self.certified,
             measured: self.measured,
