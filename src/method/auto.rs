@@ -19,6 +19,14 @@
 //!    further solve);
 //! 3. repeat until a rung's estimate is within the tolerance or the ladder ends.
 //!
+//! `energy`'s a-priori estimate comes per section, so where it applies its ladder is walked
+//! section by section instead (`Search::refine`): each section gets the fewest sub-arcs whose
+//! predicted part keeps the sum within 70 % of the room (`refined`: `m'_i ∝ c_i^{1/3}`,
+//! Lagrange), never fewer than before nor more than the ladder's finest rung, and the answer at
+//! those counts (`sub-arcs=1,2,2,4`) is solved and estimated again. On 25 seeded random robots
+//! its answers had fewer sub-arcs in total than uniform refinement's, in as many solves
+//! (`tests/methods/adaptive.rs`).
+//!
 //! The rungs are solved without the output check; the answer handed out passes it once.
 //! The answer says what was chosen, its estimate and the cost of everything solved
 //! ([`AutoReport`] in `report.auto`). Next to obstacles the model part is not estimated, so only
@@ -58,19 +66,44 @@ pub struct AutoReport {
 
 /// One rung: the method, its resolution setting and value, and (`energy`) whether it models
 /// the shear.
+#[derive(Clone)]
 struct Rung {
     kind: MethodKind,
     name: &'static str,
     n: usize,
     order: f64,
     shear: bool,
+    /// `energy`'s sub-arcs of each section where they differ (empty: `n` in each).
+    per: Vec<usize>,
 }
 
 impl Rung {
-    /// What the answer reports as the chosen setting (`sub-arcs=4`, `sub-arcs=4, shear=on`).
+    /// The resolution's value: `4`, or one count per section, `1,2,4`.
+    fn value(&self) -> String {
+        if self.per.is_empty() {
+            return self.n.to_string();
+        }
+        let c: Vec<String> = self.per.iter().map(|n| n.to_string()).collect();
+        c.join(",")
+    }
+
+    /// What the answer reports as the chosen setting (`sub-arcs=4`, `sub-arcs=1,2,4`,
+    /// `sub-arcs=4, shear=on`).
     fn describe(&self) -> String {
         let shear = if self.shear { ", shear=on" } else { "" };
-        format!("{}={}{shear}", self.name, self.n)
+        format!("{}={}{shear}", self.name, self.value())
+    }
+
+    /// The rung of this method at `per` sub-arcs per section (an adaptive `energy` rung).
+    /// Equal counts are the uniform rung (`sub-arcs=5`).
+    fn at(&self, per: Vec<usize>) -> Rung {
+        let n = per.iter().copied().max().unwrap_or(self.n);
+        let uniform = per.iter().all(|&m| m == n);
+        Rung {
+            n,
+            per: if uniform { vec![] } else { per },
+            ..self.clone()
+        }
     }
 }
 
@@ -93,6 +126,7 @@ fn ladder(kind: MethodKind, shear: bool) -> Vec<Rung> {
                 n: s.1.parse().ok()?,
                 order,
                 shear,
+                per: vec![],
             })
         })
         .collect()
@@ -110,7 +144,7 @@ fn rung_settings(rung: &Rung, base: &Settings, control: &str) -> Settings {
         }
     }
     s.push("control", control);
-    s.push(rung.name, rung.n);
+    s.push(rung.name, rung.value());
     if rung.shear {
         s.push("shear", "on");
     }
@@ -127,6 +161,8 @@ struct Search<'a> {
     control: String,
     solves: usize,
     best: Option<(Shape, ErrorEstimate, String)>,
+    /// The last estimate's a-priori part per section, where it had one.
+    parts: Option<Vec<f64>>,
 }
 
 impl Search<'_> {
@@ -163,8 +199,9 @@ impl Search<'_> {
         against: Option<(&Rung, &Shape)>,
     ) -> Result<ErrorEstimate, SolveError> {
         let settings = rung_settings(rung, self.base, &self.control);
-        let local = estimate::a_priori(rung.kind, &settings, self.robot, shape);
-        let (disc, from, fallback) = match (local, against) {
+        let local = estimate::a_priori_parts(rung.kind, &settings, self.robot, shape);
+        self.parts = local.as_ref().ok().cloned();
+        let (disc, from, fallback) = match (local.map(|p| p.iter().sum()), against) {
             (Ok(d), _) => (d, A_PRIORI.to_string(), String::new()),
             (Err(why), Some((from, last))) => {
                 let ratio = rung.n as f64 / from.n as f64;
@@ -218,6 +255,10 @@ impl Search<'_> {
         if model > self.tolerance {
             return Ok(false);
         }
+        if let Some(parts) = self.parts.take() {
+            let cap = rungs.last().map_or(first.n, |r| r.n);
+            return self.refine(first, a0, parts, model, cap);
+        }
         let (mut at, mut last) = (0, a0);
         while at + 1 < rungs.len() {
             let room = 0.7 * (self.tolerance - model);
@@ -240,6 +281,93 @@ impl Search<'_> {
         }
         Ok(false)
     }
+}
+
+impl Search<'_> {
+    /// Walk `energy`'s sub-arcs section by section from `rung`'s answer `last`, whose a-priori
+    /// estimate per section is `parts` (model part `model`): each section refined as
+    /// [`refined`] predicts, none beyond `cap`, until an answer's estimate is within the
+    /// tolerance; true when one is.
+    fn refine(
+        &mut self,
+        rung: &Rung,
+        mut last: Shape,
+        mut parts: Vec<f64>,
+        mut model: f64,
+        cap: usize,
+    ) -> Result<bool, SolveError> {
+        let mut counts = vec![rung.n; parts.len()];
+        loop {
+            let room = 0.7 * (self.tolerance - model);
+            let next = refined(&counts, &parts, room, rung.order, cap);
+            if next == counts {
+                return Ok(false);
+            }
+            let at = rung.at(next.clone());
+            let shape = self.solve(&at, Some(&last))?;
+            let est = self.estimate(&at, &shape, None)?;
+            model = est.model_m.unwrap_or(0.0);
+            if self.offer(&at, shape.clone(), est, model) {
+                return Ok(true);
+            }
+            let Some(p) = self.parts.take() else {
+                return Ok(false);
+            };
+            if model > self.tolerance {
+                return Ok(false);
+            }
+            (counts, parts, last) = (next, p, shape);
+        }
+    }
+}
+
+/// The fewest sub-arcs per section (none fewer than `counts`, none more than `cap`) whose
+/// predicted estimate is within `room`, when section `i` at `counts[i]` sub-arcs has the part
+/// `parts[i]` and parts fall as `(m / m')^order`: minimizing `Σ m'_i` under
+/// `Σ c_i m'_i^−p ≤ room` (`c_i = parts_i m_i^p`) gives `m'_i ∝ c_i^{1/(p+1)}` (Lagrange),
+/// rounded up, then each section lowered while the prediction stays within `room`.
+fn refined(counts: &[usize], parts: &[f64], room: f64, order: f64, cap: usize) -> Vec<usize> {
+    let c: Vec<f64> = parts
+        .iter()
+        .zip(counts)
+        .map(|(e, &m)| e * (m as f64).powf(order))
+        .collect();
+    let predict = |m: &[usize]| -> f64 {
+        c.iter()
+            .zip(m)
+            .map(|(c, &m)| c / (m as f64).powf(order))
+            .sum()
+    };
+    let weight: Vec<f64> = c.iter().map(|c| c.powf(1.0 / (order + 1.0))).collect();
+    let scale = (weight.iter().sum::<f64>() / room.max(0.0)).powf(1.0 / order);
+    let mut out: Vec<usize> = counts
+        .iter()
+        .zip(&weight)
+        .map(|(&m, w)| {
+            let want = (w * scale).ceil();
+            if want.is_finite() {
+                (want as usize).clamp(m, cap.max(m))
+            } else {
+                cap.max(m)
+            }
+        })
+        .collect();
+    // Rounding up overshoots: lower each section in turn while the prediction still fits.
+    let mut lowered = true;
+    while lowered {
+        lowered = false;
+        for i in 0..out.len() {
+            if out[i] > counts[i] {
+                out[i] -= 1;
+                if predict(&out) <= room {
+                    lowered = true;
+                } else {
+                    out[i] += 1;
+                }
+            }
+        }
+    }
+    out
 }
 
 /// The cheapest answer whose estimated tip distance from the converged rod is within
@@ -270,6 +398,7 @@ pub fn choose(
         control: base.get("control").unwrap_or("displacement").to_string(),
         solves: 0,
         best: None,
+        parts: None,
     };
     let mut failure = None;
     let mut met = false;
@@ -339,9 +468,20 @@ pub fn settled(shape: &Shape, base: &Settings) -> Option<SolveRequest> {
     let a = shape.report.auto.as_ref()?;
     let kind = MethodKind::from_name(&a.method)?;
     let shear = a.setting.ends_with(", shear=on");
-    let rung = ladder(kind, shear)
-        .into_iter()
-        .find(|r| r.describe() == a.setting)?;
+    let rungs = ladder(kind, shear);
+    let rung = match rungs.iter().find(|r| r.describe() == a.setting) {
+        Some(r) => r.clone(),
+        // An adaptive `energy` rung: `sub-arcs=1,2,4`.
+        None => {
+            let value = a.setting.strip_suffix(", shear=on").unwrap_or(&a.setting);
+            let per = value
+                .strip_prefix("sub-arcs=")?
+                .split(',')
+                .map(|n| n.trim().parse().ok())
+                .collect::<Option<Vec<usize>>>()?;
+            rungs.first()?.at(per)
+        }
+    };
     let control = base.get("control").unwrap_or("displacement");
     Some(SolveRequest::new(kind).with_settings(rung_settings(&rung, base, control)))
 }

@@ -239,6 +239,17 @@ pub fn a_priori(
     robot: &Robot,
     shape: &Shape,
 ) -> Result<f64, String> {
+    a_priori_parts(kind, settings, robot, shape).map(|e| e.iter().sum())
+}
+
+/// [`a_priori`] per section, base first \[m\] (safety factor included; their sum is the
+/// estimate): where `auto` refines the sub-arcs.
+pub fn a_priori_parts(
+    kind: MethodKind,
+    settings: &Settings,
+    robot: &Robot,
+    shape: &Shape,
+) -> Result<Vec<f64>, String> {
     if kind != MethodKind::Energy {
         return Err(format!("{kind} has none"));
     }
@@ -248,7 +259,7 @@ pub fn a_priori(
         Some(other) => return Err(format!("{kind} with routing = {other}")),
     };
     super::energy::local_error::local_error(robot, shape, routing)
-        .map(|e| SAFETY * LOCAL_FACTOR * e.iter().sum::<f64>())
+        .map(|e| e.iter().map(|x| SAFETY * LOCAL_FACTOR * x).collect())
         .map_err(|why| format!("{kind} {why}"))
 }
 

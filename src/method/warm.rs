@@ -27,8 +27,8 @@ pub enum WarmState {
 /// The energy model's solution, for warm starts and for the inverse problems built on it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnergyWarm {
-    /// Sub-arcs per section of the discretization the strains belong to.
-    pub sub_arcs: usize,
+    /// Sub-arcs of each section (base first) of the discretization the strains belong to.
+    pub sub_arcs: Vec<usize>,
     /// Cable length measure of the solve.
     pub length: LengthMeasure,
     /// Strains `(κx, κy, τ, ε)` per sub-arc, base to tip.

@@ -164,7 +164,7 @@ fn base_strains(shape: &Shape) -> Option<(Vector3<f64>, Vector3<f64>)> {
         )
     };
     let (u1, v1) = at(0);
-    if e.sub_arcs < 2 || e.strains.len() < 8 {
+    if e.sub_arcs.first().is_none_or(|&m| m < 2) || e.strains.len() < 8 {
         return Some((u1, v1));
     }
     // Body-frame components at the midpoints ℓ/2 and 3ℓ/2, extrapolated to the base.

@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod adaptive;
 mod auto;
 mod cable_report;
 mod compliance;

@@ -121,7 +121,10 @@ fn printed_ranges_read_as_before() {
             .to_string()
     };
     let e = MethodKind::Energy;
-    assert_eq!(text(e, "sub-arcs"), "1..=64 (≤ 4 with length = chord)");
+    assert_eq!(
+        text(e, "sub-arcs"),
+        "1..=64 (≤ 4 with length = chord; or one per section, base first: 1,2,4)"
+    );
     assert_eq!(text(e, "tolerance"), "(0, 1]");
     assert_eq!(text(e, "max-iterations"), "1..=100000");
     assert_eq!(text(e, "control"), "force | displacement");

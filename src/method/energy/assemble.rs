@@ -54,8 +54,7 @@ impl Energy {
             pos += rot * p;
             rot *= r;
             backbone.push(pos);
-            if (j + 1) % prob.m == 0 {
-                let k = (j + 1) / prob.m;
+            if let Ok(k) = prob.first.binary_search(&(j + 1)) {
                 disks.push(DiskFrame {
                     s: robot.disk_s[k],
                     position: pos,
@@ -89,7 +88,7 @@ impl Energy {
             path.shortening = prob.len0.get(c).map(|l0| l0 - len[c] + stretch);
         }
         let state = WarmState::Energy(EnergyWarm {
-            sub_arcs: self.sub_arcs,
+            sub_arcs: prob.first.windows(2).map(|w| w[1] - w[0]).collect(),
             length: self.cable_length,
             strains: xi.to_vec(),
             multipliers: lam.to_vec(),

@@ -166,14 +166,19 @@ pub(super) struct World<'a> {
     pub(super) near: Vec<usize>,
     /// Pairs farther apart than this are left out of the step \[m\].
     pub(super) margin: f64,
-    /// Sub-arcs per section.
-    pub(super) m: usize,
+    /// Sub-arc index at which each section starts, then the total (`Problem::first`).
+    pub(super) first: Vec<usize>,
 }
 
 impl<'a> World<'a> {
     /// `None` when no obstacle comes within reach of the robot (the broad phase: a ball of
     /// the robot's length plus disk radius around the base).
-    pub fn new(robot: &'a Robot, scene: &'a Scene, near: Vec<usize>, m: usize) -> Option<Self> {
+    pub fn new(
+        robot: &'a Robot,
+        scene: &'a Scene,
+        near: Vec<usize>,
+        first: Vec<usize>,
+    ) -> Option<Self> {
         if near.is_empty() {
             return None;
         }
@@ -185,7 +190,7 @@ impl<'a> World<'a> {
             robot,
             near,
             margin: scene.clearance + 0.5 * lmax,
-            m,
+            first,
         })
     }
 
@@ -278,7 +283,6 @@ impl<'a> World<'a> {
             stopped: false,
         };
         let robot = self.robot;
-        let m = self.m;
         let nsub = kin.pos.len() - 1;
         let parts = features::BodyParts::of(robot);
         let rb = parts.radius;
@@ -299,7 +303,7 @@ impl<'a> World<'a> {
         // its body (which meets the world for them).
         let disks = if parts.disks { robot.sections() } else { 0 };
         for k in 1..=disks {
-            let f = k * m;
+            let f = self.first[k];
             q.feature(
                 Feat::Disk(k),
                 (&disk, &features::disk_pose(&kin.rot[f], &kin.pos[f])),
@@ -311,7 +315,7 @@ impl<'a> World<'a> {
         let exposed = parts.cables;
         for (c, cable) in robot.cables.iter().enumerate().filter(|_| exposed) {
             for i in 1..=cable.ends_at {
-                let (fa, fb) = ((i - 1) * m, i * m);
+                let (fa, fb) = (self.first[i - 1], self.first[i]);
                 let pa = kin.pos[fa] + kin.rot[fa] * cable.hole(i - 1);
                 let pb = kin.pos[fb] + kin.rot[fb] * cable.hole(i);
                 if (pb - pa).norm() == 0.0 {
@@ -376,7 +380,7 @@ impl<'a> World<'a> {
     pub fn contact(&self, p: &Pair, mu: f64) -> Contact {
         let feature = match p.feat {
             Feat::Backbone(j) => Touching::Backbone {
-                section: (j - 1) / self.m + 1,
+                section: super::problem::section_of(&self.first, j - 1),
             },
             Feat::Disk(k) => Touching::Disk { disk: k },
             Feat::Cable(c, i) => Touching::Cable {

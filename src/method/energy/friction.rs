@@ -145,7 +145,7 @@ pub(super) fn weights(prob: &Problem, a: &[f64], xi: &[f64]) -> Vec<Vec<f64>> {
         .iter()
         .zip(a)
         .map(|(cable, &ac)| {
-            let n = cable.ends_at * prob.m;
+            let n = prob.first[cable.ends_at];
             if ac == 0.0 {
                 return vec![1.0; n];
             }
@@ -501,7 +501,7 @@ impl<'a> Problem<'a> {
         for (r, &c) in taut.iter().enumerate() {
             let ac = a[c];
             let g = &plain.grad[c];
-            let nj = self.robot.cables[c].ends_at * self.m;
+            let nj = self.first[self.robot.cables[c].ends_at];
             let mut wrap = 0.0;
             for j in 0..nj {
                 let th = self.ell[j] * xi[4 * j].hypot(xi[4 * j + 1]);

@@ -45,7 +45,7 @@ impl Problem<'_> {
             let mut total = 0.0;
             match self.set.cable_length {
                 LengthMeasure::Path => {
-                    for j in 0..cable.ends_at * self.m {
+                    for j in 0..self.first[cable.ends_at] {
                         let x = &xi[4 * j..4 * j + 4];
                         for nd in &self.nodes[c][j] {
                             total += nd[4] * path_w(nd, x, self.shear_at(j)).norm();
@@ -54,11 +54,11 @@ impl Problem<'_> {
                 }
                 LengthMeasure::Chord => {
                     for i in 1..=cable.ends_at {
-                        let j0 = (i - 1) * self.m;
+                        let (j0, m) = (self.first[i - 1], self.count(i));
                         total += chord_value(
-                            &xi[4 * j0..4 * (j0 + self.m)],
+                            &xi[4 * j0..4 * (j0 + m)],
                             self.ell[j0],
-                            self.m,
+                            m,
                             &cable.hole(i - 1),
                             &cable.hole(i),
                         );
@@ -87,7 +87,7 @@ impl Problem<'_> {
             let wc = wgt[c];
             match self.set.cable_length {
                 LengthMeasure::Path => {
-                    for j in 0..cable.ends_at * self.m {
+                    for j in 0..self.first[cable.ends_at] {
                         let x = &xi[4 * j..4 * j + 4];
                         let sh = self.shear_at(j);
                         let mut gj = [0.0; 4];
@@ -108,8 +108,8 @@ impl Problem<'_> {
                 }
                 LengthMeasure::Chord => {
                     for i in 1..=cable.ends_at {
-                        let j0 = (i - 1) * self.m;
-                        let xs = &xi[4 * j0..4 * (j0 + self.m)];
+                        let (j0, m) = (self.first[i - 1], self.count(i));
+                        let xs = &xi[4 * j0..4 * (j0 + m)];
                         let (hp, h) = (cable.hole(i - 1), cable.hole(i));
                         let ell = self.ell[j0];
                         let hb = &mut w.hess[(i - 1) * nb * nb..i * nb * nb];
@@ -160,7 +160,7 @@ impl Problem<'_> {
                                 }
                             }};
                         }
-                        match (self.m, exact) {
+                        match (m, exact) {
                             (1, false) => acc!(4),
                             (2, false) => acc!(8),
                             (3, false) => acc!(12),
@@ -210,7 +210,7 @@ impl Problem<'_> {
             if wc == 0.0 {
                 continue;
             }
-            for j in 0..cable.ends_at * self.m {
+            for j in 0..self.first[cable.ends_at] {
                 let x = &xi[4 * j..4 * j + 4];
                 let sh = self.shear_at(j);
                 let mut h = [0.0; 10];

@@ -26,6 +26,7 @@
 //! calibration factor in `estimate.rs` covers that, measured on random robots.
 
 use super::kinematics::sheared_exp;
+use super::problem::section_of;
 use crate::method::port::solved_beyond;
 use crate::method::warm::{EnergyWarm, WarmState};
 use crate::model::actuation::LengthMeasure;
@@ -101,12 +102,16 @@ fn strain_error(
     routing: RoutingFit,
 ) -> Result<Vec<f64>, &'static str> {
     let n = robot.sections();
-    let m = e.sub_arcs;
-    let nsub = n * m;
+    let mut first = vec![0];
+    for m in &e.sub_arcs {
+        first.push(first[first.len() - 1] + m);
+    }
+    let nsub = first[first.len() - 1];
     if robot.loads.tip_moment != Vector3::zeros() {
         return Err("with a tip moment");
     }
-    let fits = m > 0
+    let fits = e.sub_arcs.len() == n
+        && e.sub_arcs.iter().all(|&m| m > 0)
         && e.strains.len() == 4 * nsub
         && (e.shear.is_empty() || e.shear.len() == nsub)
         && paths.len() == robot.cables.len();
@@ -122,7 +127,8 @@ fn strain_error(
         .map(|c| c.tension.unwrap_or(0.0).max(0.0))
         .collect();
     let shear = |j: usize| e.shear.get(j).copied().unwrap_or([0.0; 2]);
-    let ell = |j: usize| robot.section_length(j / m + 1) / m as f64;
+    let section_of = |j: usize| section_of(&first, j);
+    let ell = |j: usize| robot.section_length(section_of(j)) / e.sub_arcs[section_of(j) - 1] as f64;
     // Frames at the sub-arc ends, base to tip.
     let mut frames: Vec<Frame> = Vec::with_capacity(nsub + 1);
     let (mut s, mut rot, mut pos) = (0.0, Matrix3::identity(), Vector3::zeros());
@@ -138,7 +144,7 @@ fn strain_error(
     // Jacobian): a path the sub-arcs measure differently moves the tip as a shortening would.
     let driven =
         length_driven(paths, jac).ok_or("without the answer's Jacobian (sensitivity = off)")?;
-    let loads = dead_loads(robot, &frames, m);
+    let loads = dead_loads(robot, &frames, &first);
     let b = &robot.backbone;
     let (ei, gj) = (b.ei(), b.gj());
     let tip = frames[nsub].2;
@@ -148,7 +154,7 @@ fn strain_error(
         let u = Vector3::new(x[0], x[1], x[2]);
         let g = shear(j);
         let v = Vector3::new(g[0], g[1], 1.0 + x[3]);
-        let section = j / m + 1;
+        let section = section_of(j);
         // Each cable's arm `r × ŵ` at `f` (0: beyond its end), and its derivative in the
         // strain, `[r]× (I − ŵŵᵀ) (−[r]×) / |w|` (`w = v + u × r + r'`).
         let arm = |c: usize, f: &Frame| {
@@ -198,7 +204,7 @@ fn strain_error(
                 term += l / 12.0 * du.dot(&turn).abs() * pull;
             }
         }
-        per_section[j / m] += term;
+        per_section[section - 1] += term;
     }
     if per_section.iter().all(|x| x.is_finite()) {
         Ok(per_section)
@@ -230,7 +236,11 @@ fn length_driven(paths: &[&CablePath], jac: Option<&TipJacobian>) -> Option<Vec<
 /// The dead loads as the model applies them: the disks' weight at the disks, the backbone's
 /// weight lumped half to each end of its sub-arc, the tip force at the tip; as (undeformed
 /// arc length, position, force).
-fn dead_loads(robot: &Robot, frames: &[Frame], m: usize) -> Vec<(f64, Vector3<f64>, Vector3<f64>)> {
+fn dead_loads(
+    robot: &Robot,
+    frames: &[Frame],
+    first: &[usize],
+) -> Vec<(f64, Vector3<f64>, Vector3<f64>)> {
     let l = &robot.loads;
     let nsub = frames.len() - 1;
     let mut out = vec![];
@@ -240,7 +250,7 @@ fn dead_loads(robot: &Robot, frames: &[Frame], m: usize) -> Vec<(f64, Vector3<f6
             let before = if j > 0 { f.0 - frames[j - 1].0 } else { 0.0 };
             let after = frames.get(j + 1).map_or(0.0, |g| g.0 - f.0);
             let mut mass = 0.5 * line * (before + after);
-            if j > 0 && j % m == 0 {
+            if j > 0 && first.binary_search(&j).is_ok() {
                 mass += l.disk_mass;
             }
             if mass > 0.0 {

@@ -184,6 +184,10 @@ pub struct Energy {
     pub control: Input,
     /// Constant-strain sub-arcs per section (≥ 1; ≤ 4 with [`LengthMeasure::Chord`]).
     pub sub_arcs: usize,
+    /// Sub-arcs of each section, base first, where they differ (empty: [`Energy::sub_arcs`]
+    /// in every section; setting `sub-arcs = 1,2,4`): the adaptive discretization `auto`
+    /// refines where the a-priori estimate's per-section part is large. Path measure only.
+    pub section_sub_arcs: Vec<usize>,
     /// Cable length measure.
     pub cable_length: LengthMeasure,
     /// Routing curve of the path measure.
@@ -217,6 +221,7 @@ impl Default for Energy {
         Energy {
             control: Input::Shortening,
             sub_arcs: 4,
+            section_sub_arcs: vec![],
             cable_length: LengthMeasure::Path,
             routing: RoutingFit::Spline,
             max_iterations: 60,
@@ -234,7 +239,31 @@ impl Energy {
     /// Builder: sub-arcs per section.
     pub fn with_sub_arcs(mut self, n: usize) -> Self {
         self.sub_arcs = n;
+        self.section_sub_arcs.clear();
         self
+    }
+    /// Builder: sub-arcs of each section, base first ([`Energy::section_sub_arcs`]).
+    pub fn with_section_sub_arcs(mut self, counts: Vec<usize>) -> Self {
+        self.section_sub_arcs = counts;
+        self
+    }
+    /// The sub-arcs of each of `robot`'s sections, base first: [`Energy::section_sub_arcs`]
+    /// where given (one per section, else refused by name), else [`Energy::sub_arcs`] in each.
+    pub fn counts(&self, robot: &Robot) -> Result<Vec<usize>, SolveError> {
+        let n = robot.sections();
+        if self.section_sub_arcs.is_empty() {
+            return Ok(vec![self.sub_arcs; n]);
+        }
+        if self.section_sub_arcs.len() != n {
+            return Err(SolveError::InvalidInput {
+                field: "sub-arcs".into(),
+                reason: format!(
+                    "{} counts given for a robot of {n} sections (one per section, base first)",
+                    self.section_sub_arcs.len()
+                ),
+            });
+        }
+        Ok(self.section_sub_arcs.clone())
     }
     /// Builder: cable length measure.
     pub fn with_cable_length(mut self, l: LengthMeasure) -> Self {
@@ -253,7 +282,17 @@ impl Configure for Energy {
         let range = self.kind().setting(name)?.values;
         match name {
             "control" => self.control = range.pick(name, value, common::CONTROL_INPUTS)?,
-            "sub-arcs" => self.sub_arcs = range.count(name, value)?,
+            "sub-arcs" if value.contains(',') => {
+                self.section_sub_arcs = value
+                    .split(',')
+                    .map(|v| range.count(name, v.trim()))
+                    .collect::<Result<_, _>>()?;
+                self.sub_arcs = self.section_sub_arcs.iter().copied().max().unwrap_or(1);
+            }
+            "sub-arcs" => {
+                self.sub_arcs = range.count(name, value)?;
+                self.section_sub_arcs.clear();
+            }
             "length" => self.cable_length = range.pick(name, value, common::LENGTH_MEASURES)?,
             "routing" => self.routing = range.pick(name, value, common::ROUTING_FITS)?,
             "max-iterations" => self.max_iterations = range.count(name, value)?,
@@ -273,6 +312,15 @@ impl Configure for Energy {
     fn check(&self) -> Result<(), SolveError> {
         let range = |name| self.kind().setting(name).map(|s| s.values);
         range("sub-arcs")?.check_count("sub-arcs", self.sub_arcs)?;
+        for &n in &self.section_sub_arcs {
+            range("sub-arcs")?.check_count("sub-arcs", n)?;
+        }
+        if self.cable_length == LengthMeasure::Chord && !self.section_sub_arcs.is_empty() {
+            return Err(SolveError::InvalidInput {
+                field: "sub-arcs".into(),
+                reason: "the chord measure takes one count for every section".into(),
+            });
+        }
         range("max-iterations")?.check_count("max-iterations", self.max_iterations)?;
         range("tolerance")?.check_real("tolerance", self.tolerance)?;
         range("min-stretch")?.check_real("min-stretch", self.min_stretch)?;
@@ -353,9 +401,15 @@ impl ReadyEnergy<'_> {
         )?;
         let capstan = friction::coefficients(act);
         set.check_shear(&prob, capstan.is_some())?;
+        let per = if set.section_sub_arcs.is_empty() {
+            set.sub_arcs.to_string()
+        } else {
+            let c: Vec<String> = set.section_sub_arcs.iter().map(|n| n.to_string()).collect();
+            c.join(",")
+        };
         let mut notes = vec![format!(
-            "energy: {} sub-arcs/section, {:?} cable length, {:?} routing",
-            set.sub_arcs, set.cable_length, set.routing
+            "energy: {per} sub-arcs/section, {:?} cable length, {:?} routing",
+            set.cable_length, set.routing
         )];
         if !prob.frame_forces.is_empty() {
             notes.push(

@@ -226,6 +226,11 @@ impl Energy {
             })
             .filter(|e| {
                 e.strains.len() == nv
+                    && e.sub_arcs.len() + 1 == prob.first.len()
+                    && e.sub_arcs
+                        .iter()
+                        .zip(prob.first.windows(2))
+                        .all(|(m, w)| *m == w[1] - w[0])
                     && e.multipliers.len() == nc
                     && e.strains
                         .iter()

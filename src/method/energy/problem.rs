@@ -48,8 +48,10 @@ pub(super) enum Target {
 pub(super) struct Problem<'a> {
     pub(super) robot: &'a Robot,
     pub(super) set: &'a Energy,
-    /// Sub-arcs per section.
-    pub(super) m: usize,
+    /// Sub-arc index at which each section starts, base first, then the total: section `i`
+    /// (1-based) is sub-arcs `first[i − 1]..first[i]`, and disk `k`'s frame is frame
+    /// `first[k]` ([`Energy::counts`]: sections may differ).
+    pub(super) first: Vec<usize>,
     /// Total sub-arcs.
     pub(super) nsub: usize,
     /// Sub-arc lengths.
@@ -117,7 +119,12 @@ impl Problem<'_> {
 
     /// Section (1-based) of sub-arc `j`.
     pub(super) fn section_of(&self, j: usize) -> usize {
-        j / self.m + 1
+        section_of(&self.first, j)
+    }
+
+    /// Sub-arcs of section `i` (1-based).
+    pub(super) fn count(&self, i: usize) -> usize {
+        self.first[i] - self.first[i - 1]
     }
 
     /// The cable length constraint of displacement-driven cable `c` at path length `len` and
@@ -173,7 +180,7 @@ impl Problem<'_> {
                 };
                 let terms = match self.set.cable_length {
                     LengthMeasure::Path => self.nodes[c].len() * GL_NODES,
-                    LengthMeasure::Chord => self.robot.cables[c].ends_at * 8 * self.m,
+                    LengthMeasure::Chord => 8 * self.first[self.robot.cables[c].ends_at],
                 };
                 weight * (terms + 8) as f64 * f64::EPSILON * len[c].abs()
             })
@@ -317,7 +324,7 @@ impl Problem<'_> {
             let u = log_so3(&r) / l;
             let (_, unit) = sub_arc_exp(&[u.x, u.y, u.z, 0.0], l);
             let stretch = p.norm() / unit.norm();
-            for j in (i - 1) * self.m..i * self.m {
+            for j in self.first[i - 1]..self.first[i] {
                 out[4 * j..4 * j + 4].copy_from_slice(&[u.x, u.y, u.z, stretch - 1.0]);
             }
         }
@@ -358,9 +365,9 @@ impl Energy {
 
     /// Routing samples and undeformed cable lengths of `robot` (straight backbone, ξ = 0).
     pub(super) fn robot_part(&self, robot: &Robot) -> Result<RobotPart, SolveError> {
-        let mut prob = self.bare(robot, Cow::Owned(vec![]));
+        let mut prob = self.bare(robot, Cow::Owned(vec![]), &self.counts(robot)?);
         if self.cable_length == LengthMeasure::Path {
-            prob.nodes = Cow::Owned(self.gauss_nodes(robot, &prob.ell)?);
+            prob.nodes = Cow::Owned(self.gauss_nodes(robot, &prob.ell, &prob.first)?);
         }
         let mut len0 = vec![0.0; robot.cables.len()];
         prob.lengths(&vec![0.0; prob.nvar()], &mut len0);
@@ -371,25 +378,36 @@ impl Energy {
     }
 
     /// The sub-arcs, stiffnesses and block layout of `robot`, with the routing samples
-    /// `nodes`; every cable free, no loads, no obstacles.
-    fn bare<'a>(&'a self, robot: &'a Robot, nodes: Cow<'a, [NodeRow]>) -> Problem<'a> {
-        let m = self.sub_arcs;
+    /// `nodes` and the sub-arcs `counts` of each section ([`Energy::counts`]); every cable
+    /// free, no loads, no obstacles.
+    fn bare<'a>(
+        &'a self,
+        robot: &'a Robot,
+        nodes: Cow<'a, [NodeRow]>,
+        counts: &[usize],
+    ) -> Problem<'a> {
         let n = robot.sections();
-        let nsub = n * m;
+        let mut first = Vec::with_capacity(n + 1);
+        first.push(0);
+        for m in counts {
+            first.push(first.last().copied().unwrap_or(0) + m);
+        }
+        let nsub = first[n];
         let bb = &robot.backbone;
         let (ei, gj, ea) = (bb.ei(), bb.gj(), bb.ea());
         let mut ell = Vec::with_capacity(nsub);
         let mut k = Vec::with_capacity(4 * nsub);
-        for i in 1..=n {
-            let l = robot.section_length(i) / m as f64;
+        for (i, &m) in counts.iter().enumerate() {
+            let l = robot.section_length(i + 1) / m as f64;
             for _ in 0..m {
                 ell.push(l);
                 k.extend_from_slice(&[l * ei, l * ei, l * gj, l * ea]);
             }
         }
+        // The chord measure's blocks are sections, of one count (`Energy::check`).
         let (nb, nblocks) = match self.cable_length {
             LengthMeasure::Path => (4, nsub),
-            LengthMeasure::Chord => (4 * m, n),
+            LengthMeasure::Chord => (4 * counts.first().copied().unwrap_or(1), n),
         };
         let rbar = robot
             .cables
@@ -401,7 +419,7 @@ impl Energy {
         Problem {
             robot,
             set: self,
-            m,
+            first,
             nsub,
             ell,
             k,
@@ -431,12 +449,12 @@ impl Energy {
         nodes: Cow<'a, [NodeRow]>,
         len0: &[f64],
     ) -> Result<Problem<'a>, SolveError> {
-        let mut prob = self.bare(robot, nodes);
+        let mut prob = self.bare(robot, nodes, &self.counts(robot)?);
         prob.len0 = len0.to_vec();
-        prob.frame_forces = self.dead_loads(robot, &prob.ell)?;
+        prob.frame_forces = self.dead_loads(robot, &prob.ell, &prob.first)?;
         if !scene.is_empty() {
             let near = broad::robot_obstacles(robot, scene)?;
-            prob.world = World::new(robot, scene, near, self.sub_arcs);
+            prob.world = World::new(robot, scene, near, prob.first.clone());
         }
         // Capstan friction is this method's to honour (`energy/friction.rs`).
         let drives = self.kind().drives(robot, act, self.control)?;
@@ -467,9 +485,14 @@ impl Energy {
 
     /// Dead loads at the sub-arc ends (empty: none): backbone weight lumped half to each end of
     /// its sub-arc, disk weights, the tip force; a tip moment is refused (no potential).
-    fn dead_loads(&self, robot: &Robot, ell: &[f64]) -> Result<Vec<Vector3<f64>>, SolveError> {
-        let (m, n) = (self.sub_arcs, robot.sections());
-        let nsub = n * m;
+    fn dead_loads(
+        &self,
+        robot: &Robot,
+        ell: &[f64],
+        first: &[usize],
+    ) -> Result<Vec<Vector3<f64>>, SolveError> {
+        let n = robot.sections();
+        let nsub = first[n];
         let bb = &robot.backbone;
         let loads = &robot.loads;
         if loads.tip_moment.norm() > 0.0 {
@@ -495,7 +518,7 @@ impl Energy {
                 ff[j + 1] += w * (0.5 * ell[j]);
             }
             for k in 1..=n {
-                ff[k * m] += loads.gravity * loads.disk_mass;
+                ff[first[k]] += loads.gravity * loads.disk_mass;
             }
             ff[nsub] += loads.tip_force;
             return Ok(ff);
@@ -509,15 +532,15 @@ impl Energy {
         &self,
         robot: &Robot,
         ell: &[f64],
+        first: &[usize],
     ) -> Result<Vec<Vec<[Node; GL_NODES]>>, SolveError> {
-        let m = self.sub_arcs;
         let mut nodes = Vec::with_capacity(robot.cables.len());
         for (c, cable) in robot.cables.iter().enumerate() {
             let route = Route::new(robot, c, self.routing)?;
-            let mut per = Vec::with_capacity(cable.ends_at * m);
+            let mut per = Vec::with_capacity(first[cable.ends_at]);
             for sec in 1..=cable.ends_at {
-                for k in 0..m {
-                    let j = (sec - 1) * m + k;
+                for k in 0..first[sec] - first[sec - 1] {
+                    let j = first[sec - 1] + k;
                     let s0 = robot.disk_s[sec - 1] + k as f64 * ell[j];
                     let mut arr = [[0.0; 5]; GL_NODES];
                     for q in 0..GL_NODES {
@@ -532,4 +555,10 @@ impl Energy {
         }
         Ok(nodes)
     }
+}
+
+/// Section (1-based) of sub-arc `j` when section `i` starts at sub-arc `first[i − 1]`
+/// ([`Problem::first`]).
+pub(super) fn section_of(first: &[usize], j: usize) -> usize {
+    first.partition_point(|&f| f <= j).max(1)
 }

@@ -117,7 +117,7 @@ impl Problem<'_> {
             if wc == 0.0 || self.targets[c] == Target::Free {
                 continue;
             }
-            for j in 0..(cable.ends_at * self.m).min(shear.len()) {
+            for j in 0..self.first[cable.ends_at].min(shear.len()) {
                 let x = &xi[4 * j..4 * j + 4];
                 let (r, h) = &mut out[j];
                 for nd in &self.nodes[c][j] {

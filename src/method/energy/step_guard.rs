@@ -51,12 +51,12 @@ impl World<'_> {
         match feat {
             Feat::Backbone(j) => Geom::Segment(kin.pos[j - 1], kin.pos[j], robot.body_radius()),
             Feat::Disk(k) => {
-                let f = k * self.m;
+                let f = self.first[k];
                 Geom::Disk(kin.rot[f], kin.pos[f])
             }
             Feat::Cable(c, i) => {
                 let cable = &robot.cables[c];
-                let (fa, fb) = ((i - 1) * self.m, i * self.m);
+                let (fa, fb) = (self.first[i - 1], self.first[i]);
                 Geom::Segment(
                     kin.pos[fa] + kin.rot[fa] * cable.hole(i - 1),
                     kin.pos[fb] + kin.rot[fb] * cable.hole(i),
@@ -112,7 +112,7 @@ impl World<'_> {
     /// Every feature of the robot, as in [`World::pairs`].
     fn features(&self) -> Vec<Feat> {
         let robot = self.robot;
-        let nsub = robot.sections() * self.m;
+        let nsub = self.first[robot.sections()];
         let mut out: Vec<Feat> = (1..=nsub).map(Feat::Backbone).collect();
         let disks = if robot.has_disks() {
             robot.sections()
@@ -191,6 +191,10 @@ impl World<'_> {
 
 #[cfg(test)]
 mod tests {
+    /// The start of every section at four sub-arcs per section.
+    fn four(robot: &crate::model::robot::Robot) -> Vec<usize> {
+        (0..=robot.sections()).map(|k| 4 * k).collect()
+    }
     use super::*;
     use crate::method::energy::contacts::kinematics;
     use crate::method::energy::test_fixture::sub_arc_lengths;
@@ -240,7 +244,8 @@ mod tests {
     #[test]
     fn taken_steps_beside_a_rod_never_cross_it() {
         let (model, ell) = straight_beside_rod();
-        let wd = World::new(&model.robot, &model.scene, vec![0], 4).expect("world");
+        let wd =
+            World::new(&model.robot, &model.scene, vec![0], four(&model.robot)).expect("world");
         let k0 = kinematics(&vec![0.0; 4 * ell.len()], &ell, false);
         let (p0, c0) = wd.pairs(&k0);
         assert!(c0 > 0.015 && c0 < 0.02, "clearance {c0}");
@@ -319,7 +324,8 @@ mod tests {
     #[test]
     fn refuses_a_jump_through_a_wall_and_takes_a_slide_along_it() {
         let (model, ell) = straight_beside_wall(0.019);
-        let wd = World::new(&model.robot, &model.scene, vec![0], 4).expect("world");
+        let wd =
+            World::new(&model.robot, &model.scene, vec![0], four(&model.robot)).expect("world");
         let k0 = kinematics(&vec![0.0; 4 * ell.len()], &ell, false);
         let (p0, c0) = wd.pairs(&k0);
         assert!(p0.iter().any(|p| matches!(p.feat, Feat::Disk(_))));
@@ -400,7 +406,8 @@ mod tests {
         for k in 0..160 {
             let model = odd_obstacle(k, &mut u);
             let ell = sub_arc_lengths(&model.robot, 4);
-            let Some(wd) = World::new(&model.robot, &model.scene, vec![0], 4) else {
+            let Some(wd) = World::new(&model.robot, &model.scene, vec![0], four(&model.robot))
+            else {
                 continue;
             };
             // Towards the obstacle (level) by half the pair margin until a pair is found.

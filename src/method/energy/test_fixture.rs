@@ -58,7 +58,8 @@ half_height = 0.03
 /// (every pair of the bent state is kept).
 pub(super) fn world(model: &Model, m: usize) -> World<'_> {
     let near: Vec<usize> = (0..model.scene.obstacles.len()).collect();
-    let mut world = World::new(&model.robot, &model.scene, near, m).expect("world");
+    let first = (0..=model.robot.sections()).map(|k| k * m).collect();
+    let mut world = World::new(&model.robot, &model.scene, near, first).expect("world");
     world.margin = 0.05;
     world
 }

@@ -30,10 +30,10 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
         values: Range::Count {
             min: 1,
             max: 64,
-            note: "≤ 4 with length = chord",
+            note: "≤ 4 with length = chord; or one per section, base first: 1,2,4",
         },
         default: "4",
-        help: "constant-strain sub-arcs per section",
+        help: "constant-strain sub-arcs per section (a list: each section its own)",
     },
     common::LENGTH,
     common::ROUTING,

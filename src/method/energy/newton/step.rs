@@ -59,7 +59,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 }
                 shift *= 10.0;
                 if shift > 1e8 {
-                    return Err(b * nb / 4 / prob.m + 1);
+                    return Err(prob.section_of(b * nb / 4));
                 }
             }
         }
