@@ -3,6 +3,10 @@
 //! `free = "inside"`): the catheter through its port in the trachea, at the shapes of seeded
 //! reachable targets, one shape per iteration in turn. The grid is prepared before timing.
 //!
+//! Two rows: `clearance/airway_1e5`, the exact clearance (the triangles queried: what a plan
+//! or an answer reports), and `clearance/airway_1e5_grid`, the grid's certified bounds on it
+//! (`reach::clearance_bounds`, no triangle queried: what the search's margin tests ask first).
+//!
 //! `cargo bench --bench clearance`
 
 #[path = "../examples/common/airway_tasks.rs"]
@@ -10,7 +14,7 @@ mod airway_tasks;
 
 use airway_tasks::Setup;
 use ccrkit::anatomy::AirwayOptions;
-use ccrkit::reach::clearance;
+use ccrkit::reach::{clearance, clearance_bounds};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -37,6 +41,12 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             k = (k + 1) % shapes.len();
             clearance(&space.robot, black_box(&shapes[k]), &space.scene)
+        })
+    });
+    c.bench_function("clearance/airway_1e5_grid", |b| {
+        b.iter(|| {
+            k = (k + 1) % shapes.len();
+            clearance_bounds(&space.robot, black_box(&shapes[k]), &space.scene)
         })
     });
 }

@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release --example airway_clearance [SHAPES] [REPEATS]`; its instruction count,
 //! the setup left out: `valgrind --tool=callgrind --toggle-collect='*airway_clearance*timed*'
-//! target/release/examples/airway_clearance 8 1`
+//! target/release/examples/airway_clearance 8 1`; the grid's certified bounds alone
+//! (`reach::clearance_bounds`, printed beside each): `--toggle-collect='*airway_clearance*bounded*'`
 
 #[path = "common/airway_tasks.rs"]
 mod airway_tasks;
@@ -14,7 +15,7 @@ mod airway_tasks;
 use airway_tasks::{dense_clearance, Setup};
 use anyhow::Result;
 use ccrkit::anatomy::AirwayOptions;
-use ccrkit::reach::clearance;
+use ccrkit::reach::{clearance, clearance_bounds, ClearanceBounds};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -39,6 +40,16 @@ fn timed(
     clearance(robot, shape, scene)
 }
 
+/// The grid's bounds on one clearance, in a function of its own for callgrind.
+#[inline(never)]
+fn bounded(
+    robot: &ccrkit::Robot,
+    shape: &ccrkit::Shape,
+    scene: &ccrkit::Scene,
+) -> Option<ClearanceBounds> {
+    clearance_bounds(robot, shape, scene)
+}
+
 fn main() -> Result<()> {
     let arg = |k: usize, d: usize| std::env::args().nth(k).map_or(Ok(d), |s| s.parse());
     let (count, repeats) = (arg(1, 16)?, arg(2, 200)?);
@@ -55,7 +66,7 @@ fn main() -> Result<()> {
     );
     let tasks = setup.tasks(&space, 5, count, 0, 400 * count);
     let robot = &space.robot;
-    let mut total = std::time::Duration::ZERO;
+    let (mut total, mut grid_total) = (std::time::Duration::ZERO, std::time::Duration::ZERO);
     for task in &tasks {
         let shape = space.solve(&task.u, None)?;
         let t0 = Instant::now();
@@ -65,7 +76,20 @@ fn main() -> Result<()> {
         }
         let each = t0.elapsed() / repeats as u32;
         total += each;
+        let t0 = Instant::now();
+        let mut b = None;
+        for _ in 0..repeats {
+            b = black_box(bounded(robot, black_box(&shape), scene));
+        }
+        let grid = t0.elapsed() / repeats as u32;
+        grid_total += grid;
+        let b = b.ok_or_else(|| anyhow::anyhow!("no bounds"))?;
         let c = c.ok_or_else(|| anyhow::anyhow!("no clearance"))?;
+        println!(
+            "  grid bounds [{:.4}, {:.4}] mm, {grid:.2?}",
+            1e3 * b.lower,
+            1e3 * b.upper
+        );
         println!(
             "generation {} ({} backbone points, {} disks, {} cables): clearance {:.4} mm ({}), dense check {:.4} mm, {each:.2?}",
             task.generation,
@@ -77,10 +101,12 @@ fn main() -> Result<()> {
             1e3 * dense_clearance(&setup, &shape)
         );
     }
+    let n = tasks.len().max(1) as u32;
     println!(
-        "{} shapes: mean {:.2?} per clearance",
+        "{} shapes: mean {:.2?} per clearance, {:.2?} per grid bounds",
         tasks.len(),
-        total / tasks.len().max(1) as u32
+        total / n,
+        grid_total / n
     );
     Ok(())
 }

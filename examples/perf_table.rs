@@ -47,7 +47,7 @@ const BENCHES: &[(&str, &str)] = &[
     ),
     (
         "clearance",
-        "one whole-shape clearance (`reach::clearance`) of the catheter in a generated airway of 110 988 triangles, a seeded reachable target's shape per iteration",
+        "one whole-shape clearance of the catheter in a generated airway of 110 988 triangles, a seeded reachable target's shape per iteration: exact on the triangles (`reach::clearance`, `airway_1e5`) and the grid's certified bounds alone (`reach::clearance_bounds`, `airway_1e5_grid`)",
     ),
     (
         "predict",

@@ -195,7 +195,7 @@ impl Setup {
     }
 
     /// One sampled actuation ([`Setup::tasks`]).
-    fn draw(&self, space: &Space, rng: &mut ccrkit_test_support::rng::Rng) -> Vec<f64> {
+    pub fn draw(&self, space: &Space, rng: &mut ccrkit_test_support::rng::Rng) -> Vec<f64> {
         let robot = &self.model.robot;
         let k = space.cables();
         let ends: Vec<usize> = robot.cables.iter().map(|c| c.ends_at).collect();

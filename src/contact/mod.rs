@@ -32,6 +32,7 @@ pub(crate) mod features;
 pub mod field;
 pub(crate) mod field_build;
 pub mod field_cache;
+mod field_interval;
 pub(crate) mod parry;
 pub(crate) mod primitives;
 pub(crate) mod sat;

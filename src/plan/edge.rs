@@ -194,6 +194,15 @@ impl<'a> Checker<'a> {
                 return None;
             }
         };
+        // Too close by the grids' bounds: refused as the exact clearance would refuse it.
+        let close = self
+            .space
+            .clearance_bounds(&shape)
+            .and_then(|b| b.keeps(self.margin));
+        if close == Some(false) {
+            self.stats.nodes_rejected += 1;
+            return None;
+        }
         let clearance = match self.space.clearance_hinted(&shape, self.hint) {
             Some((c, pair)) => {
                 self.hint = Some(pair);

@@ -69,12 +69,12 @@ impl Label {
 }
 
 /// A robot feature: label, parry shape, bounding box (min, max), pose, a point of it.
-struct Feature {
+pub(super) struct Feature {
     label: Label,
-    shape: Box<dyn PShape>,
+    pub(super) shape: Box<dyn PShape>,
     lo: Vector3<f64>,
     hi: Vector3<f64>,
-    pose: parry3d::math::Pose,
+    pub(super) pose: parry3d::math::Pose,
     centre: Vector3<f64>,
 }
 
@@ -83,7 +83,7 @@ struct Feature {
 /// them: spacer disks when it has them, the backbone as capsules of the body radius, cable
 /// chords only for cables outside the rod), and, through a port, only beyond it (the disks,
 /// backbone and cables behind the port lie inside it, where no solve has contact either).
-fn features_of(robot: &Robot, shape: &Shape) -> Vec<Feature> {
+pub(super) fn features_of(robot: &Robot, shape: &Shape) -> Vec<Feature> {
     let mut out: Vec<Feature> = Vec::new();
     let parts = features::BodyParts::of(robot);
     // The first disk beyond the port; a backbone piece lies in the port when both its ends
@@ -281,7 +281,7 @@ pub(crate) fn pair_distance(
 /// The distance of one feature–obstacle pair by a growing bound from `start` (×2 per query),
 /// finite up to the far corner of the obstacle's box from the feature's point, unbounded
 /// beyond it; `None` only when even the unbounded query fails.
-fn pair_grown(f: &Feature, scene: &Scene, k: usize, start: f64) -> Option<f64> {
+pub(super) fn pair_grown(f: &Feature, scene: &Scene, k: usize, start: f64) -> Option<f64> {
     let far = far_corner(scene, k, &f.centre);
     let mut b = start;
     loop {

@@ -132,13 +132,26 @@ impl Ctx<'_> {
         !self.free && !self.opts.allow_contact && !self.space.scene.is_empty()
     }
 
+    /// Whether the grids' bounds prove `shape` at least `cap` from every obstacle (then
+    /// [`Space::clearance_below`] of `cap` is `None` too, with no exact query).
+    fn keeps_by_grid(&self, shape: &Shape, cap: f64) -> bool {
+        self.space
+            .clearance_bounds(shape)
+            .is_some_and(|b| b.keeps(cap) == Some(true))
+    }
+
     fn merit(&self, u: &[f64], shape: &Shape) -> (f64, f64) {
         let r = residual(shape, self.target, self.len).norm();
         let viol = if self.keep_clear() {
-            // Only a shape within the margin pays: one bounded by it costs no exact query.
-            self.space
-                .clearance_below(shape, self.margin)
-                .map_or(0.0, |c| (self.margin - c.0.distance).max(0.0))
+            // Only a shape within the margin pays: one the grids put beyond it costs no exact
+            // query.
+            if self.keeps_by_grid(shape, self.margin) {
+                0.0
+            } else {
+                self.space
+                    .clearance_below(shape, self.margin)
+                    .map_or(0.0, |c| (self.margin - c.0.distance).max(0.0))
+            }
         } else {
             0.0
         };
@@ -207,8 +220,9 @@ impl Ctx<'_> {
         let (u, shape) = (&p.u, &p.shape);
         let k = u.len();
         // The clearance matters only within the band: beyond it, no exact query.
-        let near = if self.keep_clear() {
-            self.space.clearance_below(shape, self.margin + CLEAR_BAND)
+        let band = self.margin + CLEAR_BAND;
+        let near = if self.keep_clear() && !self.keeps_by_grid(shape, band) {
+            self.space.clearance_below(shape, band)
         } else {
             None
         };

@@ -47,11 +47,13 @@
 
 mod answer;
 mod clear;
+mod clear_bounds;
 mod descend;
 mod sens;
 mod solve;
 
 pub use clear::{clearance, clearance_below, clearance_hinted, Clearance, ClosestPair};
+pub use clear_bounds::{clearance_bounds, ClearanceBounds};
 
 pub use answer::{CableActuation, EffortJson, Reach, ReachJson};
 pub use sens::{sensitivity, TipSens, FD_STEP};
@@ -401,13 +403,29 @@ impl Space {
         })
     }
 
+    /// Certified bounds on the clearance of `shape` from the grids of the scene's solids
+    /// ([`clearance_bounds`]: no triangle queried for them; `None` without obstacles).
+    pub fn clearance_bounds(&self, shape: &Shape) -> Option<ClearanceBounds> {
+        clearance_bounds(&self.robot, shape, &self.scene)
+    }
+
+    /// Whether the clearance of `shape` is at least `margin` \[m\] (true without obstacles):
+    /// the grids' bounds decide where they can ([`ClearanceBounds::keeps`]), the exact
+    /// clearance below `margin` where they straddle it — the same answer as the exact
+    /// clearance's.
+    pub fn keeps_margin(&self, shape: &Shape, margin: f64) -> bool {
+        match self.clearance_bounds(shape).and_then(|b| b.keeps(margin)) {
+            Some(keeps) => keeps,
+            None => self
+                .clearance_below(shape, margin)
+                .is_none_or(|c| c.0.distance >= margin),
+        }
+    }
+
     /// True when `shape` is acceptable: clear by the margin (unless contact is allowed) and
     /// within the tension limits.
     pub fn admissible(&self, shape: &Shape) -> bool {
-        let clear = self.allow_contact
-            || self
-                .clearance_below(shape, self.margin)
-                .is_none_or(|c| c.0.distance >= self.margin);
+        let clear = self.allow_contact || self.keeps_margin(shape, self.margin);
         clear && self.tension_violation(shape).is_none()
     }
 }

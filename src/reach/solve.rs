@@ -268,7 +268,7 @@ pub fn reach_in(
             let clear = a
                 .cold
                 .as_ref()
-                .is_some_and(|sh| space.clearance(sh).is_none_or(|c| c.distance >= margin));
+                .is_some_and(|sh| space.keeps_margin(sh, margin));
             if clear {
                 found.push(a);
             }
