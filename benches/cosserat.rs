@@ -4,8 +4,10 @@
 //! per section, more where a route bends: the resolution that keeps the tip within 0.01 mm of
 //! the converged rod). `CCRKIT_BENCH_STEPS=N` sets the base steps per section instead. With no
 //! external load the default takes the unloaded path (under displacement control, Newton on
-//! the tensions); `displacement-shooting` rows shoot instead. `lung`: the 24-section soft lung
-//! rod, unloaded path against shooting.
+//! the tensions); `displacement-shooting` rows shoot instead. `loaded`: lateral gravity and a
+//! tip force, shooting on the external moment (the default) against `loaded-shooting` on
+//! Rucker–Webster's equations. `lung`: the 24-section soft lung rod, unloaded path against
+//! shooting.
 
 use ccrkit::actuation::{Input, Shortening};
 use ccrkit::method::cosserat::Cosserat;
@@ -68,6 +70,21 @@ fn bench(c: &mut Criterion) {
             &format!("cosserat/case{n}/displacement-shooting/cold"),
             |b| b.iter(|| black_box(shoot.solve(robot, act, &scene, None).expect("solves"))),
         );
+        // Loaded (lateral gravity on a nitinol backbone, a tip force; force control): shooting
+        // on the external moment (`loaded.rs`, the default) against shooting on
+        // Rucker–Webster's equations (`solver = shooting`), both cold with the stability test.
+        let mut loaded = model.clone();
+        loaded.robot.backbone.density = 6450.0;
+        loaded.robot.loads.gravity = nalgebra::Vector3::new(0.0, -9.81, 0.0);
+        loaded.robot.loads.tip_force = nalgebra::Vector3::new(0.05, 0.0, 0.0);
+        let (lr, la) = (&loaded.robot, &loaded.actuation);
+        c.bench_function(&format!("cosserat/case{n}/loaded/cold"), |b| {
+            b.iter(|| black_box(m.solve(lr, la, &scene, None).expect("solves")))
+        });
+        let shoot = m.clone().with_unloaded(false);
+        c.bench_function(&format!("cosserat/case{n}/loaded-shooting/cold"), |b| {
+            b.iter(|| black_box(shoot.solve(lr, la, &scene, None).expect("solves")))
+        });
     }
 }
 

@@ -31,7 +31,7 @@ const BENCHES: &[(&str, &str)] = &[
     ),
     (
         "cosserat",
-        "one `cosserat` solve of a paper case: force or displacement control, cold or warm",
+        "one `cosserat` solve of a paper case: force or displacement control, loaded, cold or warm",
     ),
     (
         "obstacles",

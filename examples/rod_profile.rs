@@ -1,6 +1,7 @@
 //! A fixed number of rod solves for instruction-count profiling (`valgrind --tool=callgrind`):
 //! `cargo run --release --example rod_profile -- <case> [repeats]`, case one of `lung24`
-//! (the 24-section soft lung rod, tension-driven), `case1`..`case3` (the paper cases, force
+//! (the 24-section soft lung rod, tension-driven), `randomN` (seeded random robot N),
+//! `case1`..`case3` (the paper cases, force
 //! control), `case1-disp`..`case3-disp` (displacement control), each unloaded (the rod's
 //! unloaded path), and suffixes in any order: `-shoot` always shoots (`solver = shooting`),
 //! `-check` keeps the stability test, `-loaded` adds lateral gravity (`[0, −9.81, 0]` m/s²)
@@ -43,6 +44,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             24,
             [1.5, 2.5, 0.7],
         ))?,
+        other if other.starts_with("random") => {
+            ccrkit::study::random::random_model(other.trim_start_matches("random").parse()?)?
+        }
         other => Model::from_file(format!(
             "{}/models/paper/{}.toml",
             env!("CARGO_MANIFEST_DIR"),
@@ -69,7 +73,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if args.next().as_deref() == Some("accuracy") {
         let converged = Cosserat {
             tolerance: 1e-10,
-            ..m.clone().with_unloaded(false).with_steps(64)
+            ..m.clone().with_unloaded(false).with_steps(
+                std::env::var("CCRKIT_PROFILE_REF_STEPS").map_or(Ok(64), |s| s.parse())?,
+            )
         };
         let reference = converged.solve(&model.robot, &model.actuation, &scene, None)?;
         let shape = m.solve(&model.robot, &model.actuation, &scene, None)?;

@@ -385,9 +385,10 @@ const BALANCE_TOL: f64 = 1e-8;
 #[test]
 fn continuation_solves_a_tip_load_the_direct_start_cannot() {
     // 5 N sideways at the tip plus 3 N of tendon: the rod folds over (the tip ends near the
-    // base); Newton from the straight-rod balance fails, load stepping from zero succeeds. 60
-    // steps per section and a tight shooting tolerance keep the discrete balance error (the
-    // rod is sharply bent) below the tolerance.
+    // base); shooting's Newton from the straight-rod balance fails, load stepping from zero
+    // succeeds. 60 steps per section and a tight shooting tolerance keep the discrete balance
+    // error (the rod is sharply bent) below the tolerance. (The default, shooting on the
+    // external moment, `loaded.rs`, solves it directly: `loaded_path_folds_the_rod_directly`.)
     let tau = 3.0;
     let model = one_cable(
         &format!("tension = {tau}"),
@@ -398,11 +399,45 @@ fn continuation_solves_a_tip_load_the_direct_start_cannot() {
         // 1e-11 N: with 5 N loads, rounding keeps the residual near 1e-12.
         let m = Cosserat {
             tolerance: 1e-11,
-            ..method.with_steps(60)
+            ..method.with_steps(60).with_unloaded(false)
         };
         let shape = solve(&m, &model);
         assert!(used_continuation(&shape), "{}: direct start", m.name());
         assert!(shape.report.residual <= m.tolerance);
+        let (f, mo) = imbalance(&shape, &model, tau, kirchhoff);
+        assert!(
+            f <= BALANCE_TOL && mo <= BALANCE_TOL,
+            "imbalance {f:e} N, {mo:e} N m"
+        );
+    }
+}
+
+/// The folded rod of `continuation_solves_a_tip_load_the_direct_start_cannot` at the
+/// default solver: shooting on the external moment (`loaded.rs`) reaches it without load
+/// steps for the full rod (the inextensible one may fall back to shooting with them), in
+/// balance either way.
+#[test]
+fn loaded_path_folds_the_rod_directly() {
+    let tau = 3.0;
+    let model = one_cable(
+        &format!("tension = {tau}"),
+        "[loads]\ntip_force = [5.0, 0.0, 0.0]",
+    );
+    for method in [Cosserat::full(), Cosserat::kirchhoff()] {
+        let kirchhoff = method.name() == "kirchhoff";
+        let m = Cosserat {
+            tolerance: 1e-11,
+            ..method.with_steps(60)
+        };
+        let shape = solve(&m, &model);
+        if !kirchhoff {
+            assert!(!used_continuation(&shape), "{:?}", shape.report.notes);
+            assert!(
+                shape.report.notes.iter().any(|n| n.starts_with("loaded:")),
+                "{:?}",
+                shape.report.notes
+            );
+        }
         let (f, mo) = imbalance(&shape, &model, tau, kirchhoff);
         assert!(
             f <= BALANCE_TOL && mo <= BALANCE_TOL,

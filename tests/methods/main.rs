@@ -13,6 +13,7 @@ mod cable_report;
 mod compliance;
 mod cosserat;
 mod cosserat_compliance;
+mod cosserat_loaded;
 mod cosserat_refs;
 mod cosserat_stability;
 mod cosserat_unloaded;

@@ -92,6 +92,13 @@ impl Problem<'_> {
                 wm[(i, d)] = col_w[i];
             }
         }
+        self.compliance_psd(&um, &wm)
+    }
+
+    /// The focal-point test's verdict from the Jacobi fields' `U` and `W` (6×6, columns any
+    /// basis of the base wrench's directions: `C = U W⁻¹` does not depend on it): true when
+    /// `W` is regular and the symmetric part of `C` is positive semidefinite.
+    pub(super) fn compliance_psd(&self, um: &Matrix6<f64>, wm: &Matrix6<f64>) -> bool {
         let Some(wi) = wm.try_inverse() else {
             return false;
         };

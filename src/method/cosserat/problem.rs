@@ -127,6 +127,11 @@ pub(super) struct Problem<'a> {
     pub(super) work: std::cell::Cell<usize>,
     /// This solve takes the unloaded path (`unloaded.rs`): no external load, tensions given.
     pub(super) fast: bool,
+    /// This solve shoots on the external moment (`loaded.rs`): external loads, tensions given.
+    pub(super) loaded: bool,
+    /// The loaded solve's stability verdict, when its passes carried the Jacobi fields
+    /// (`loaded.rs`: no focal point found along the last one).
+    pub(super) loaded_focal: std::cell::Cell<Option<bool>>,
     /// The obstacles within reach and the contact feature (`contact.rs`); `None` without.
     pub(super) world: Option<RodWorld<'a>>,
 }
@@ -397,6 +402,8 @@ impl Cosserat {
             mesh: Default::default(),
             work: Default::default(),
             fast: false,
+            loaded: false,
+            loaded_focal: Default::default(),
             world: None,
         };
         for (c, cable) in robot.cables.iter().enumerate() {
@@ -406,6 +413,7 @@ impl Cosserat {
         prob.nsteps = prob.steps_per_section();
         prob.cubic = prob.route_cubics();
         prob.fast = prob.unloaded_applies();
+        prob.loaded = prob.loaded_applies();
         if self.adaptive.is_none() {
             let total: usize = prob.nsteps[1..].iter().sum();
             notes[0].push_str(&format!(

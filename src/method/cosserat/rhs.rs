@@ -88,7 +88,7 @@ impl Problem<'_> {
     ) -> State {
         let pt = self.point(y);
         let mut cables = CablePoints::new();
-        let sums = self.tendon_sums::<false>(
+        let sums = self.tendon_sums::<false, true>(
             |c| self.eval_route(c, s, sec),
             sec,
             &pt,
@@ -121,9 +121,11 @@ impl Problem<'_> {
     /// The tendon sums at a point of section `sec` whose routes `route(c)` gives, written from vectors: with `t = ṗ/|ṗ|`,
     /// `α = τ/|ṗ|`, `A_i = α (I − t tᵀ)`, `A_i r̂ = α (r̂ − t wᵀ)`, `r̂ A_i r̂ = α (r̂² + w wᵀ)`,
     /// `w = t × r`. `lr[c]` receives `|ṗ_c|`; with `KEEP` the per-cable quantities go to
-    /// `keep` for the tangents.
+    /// `keep` for the tangents; without `RATES` the terms `a`, `b` that only the strain
+    /// rates need are left zero (the balance of `unloaded.rs` and `loaded.rs` needs `A`, `G`,
+    /// `H` and the pull alone).
     #[inline(always)]
-    pub(super) fn tendon_sums<const KEEP: bool>(
+    pub(super) fn tendon_sums<const KEEP: bool, const RATES: bool>(
         &self,
         route: impl Fn(usize) -> RoutePoint,
         sec: usize,
@@ -150,7 +152,10 @@ impl Problem<'_> {
             lr[c] = nrm;
             let inv = 1.0 / nrm;
             let tt = pd * inv;
-            let q = u.cross(&pd) + u.cross(&rp.dr) + rp.ddr;
+            let q = match RATES {
+                true => u.cross(&pd) + u.cross(&rp.dr) + rp.ddr,
+                false => Vector3::zeros(),
+            };
             if KEEP {
                 keep.on[c] = true;
                 keep.r[c] = rp.r;
@@ -196,9 +201,11 @@ impl Problem<'_> {
             sh[3] -= al * (ry * ry - rr2 + wy * wy);
             sh[4] -= al * (ry * rz + wy * wz);
             sh[5] -= al * (rz * rz - rr2 + wz * wz);
-            let ai_vec = (q - tt * tt.dot(&q)) * al;
-            a += ai_vec;
-            b += rr.cross(&ai_vec);
+            if RATES {
+                let ai_vec = (q - tt * tt.dot(&q)) * al;
+                a += ai_vec;
+                b += rr.cross(&ai_vec);
+            }
         }
         TendonSums {
             am: Matrix3::new(

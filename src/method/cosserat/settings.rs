@@ -53,8 +53,10 @@ pub struct Cosserat {
     pub check_stability: bool,
     /// Take the unloaded path where it applies (`solver = auto`, default): with no external
     /// load and every tension given, the strains follow from the tendons' balance at each
-    /// point and one integration gives the shape (`unloaded.rs`). `false` (`solver =
-    /// shooting`) always shoots.
+    /// point and one integration gives the shape (`unloaded.rs`); with external loads and
+    /// every tension given, the rod shoots on its external moment with the strains from the
+    /// same balance (`loaded.rs`). `false` (`solver = shooting`) always shoots on
+    /// Rucker–Webster's strain rates.
     pub unloaded: bool,
 }
 

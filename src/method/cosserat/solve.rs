@@ -40,6 +40,7 @@ impl Method for Cosserat {
         };
         if prob.world.is_some() {
             prob.fast = false;
+            prob.loaded = false;
         }
         pushes.sort_by_key(|p| (p.touch.disk, p.touch.obstacle));
         let mut active: Vec<Touch> = pushes.iter().map(|p| p.touch).collect();
@@ -104,10 +105,20 @@ impl Method for Cosserat {
             } else {
                 None
             };
-            let mut solved = match prob.fast {
-                true => prob.solve_unloaded(&x0, &setup, &mut notes),
-                false => prob.solve_with_continuation(&x0, &setup, jac0),
+            let mut solved = if prob.fast {
+                prob.solve_unloaded(&x0, &setup, &mut notes)
+            } else if prob.loaded {
+                let cold = input.warm.is_none() && prev.is_none();
+                prob.solve_loaded(&x0, &setup, (cold, self.check_stability), &mut notes)
+            } else {
+                prob.solve_with_continuation(&x0, &setup, jac0)
             };
+            // The loaded path's Newton on the base moment did not settle: shoot instead.
+            if prob.loaded && solved.is_err() {
+                prob.loaded = false;
+                notes.push("loaded: the base moment did not settle; shooting instead".into());
+                solved = prob.solve_with_continuation(&x0, &setup, jac0);
+            }
             // The unloaded path's Newton on tensions did not settle: shoot instead.
             if prob.fast && solved.is_err() && !setup.unknown.is_empty() {
                 prob.shoot_instead();
@@ -156,6 +167,13 @@ impl Method for Cosserat {
                         .into(),
                 );
                 (Some(true), jac)
+            } else if let Some(stable) = prob.loaded_focal.get().filter(|_| prob.loaded) {
+                notes.push(
+                    "stability: focal-point test on the Jacobi fields the loaded solve's passes \
+                     carried (no extra pass)"
+                        .into(),
+                );
+                (Some(stable), jac)
             } else {
                 let (stable, exact) = prob.focal_stable(&x, &setup);
                 if stable.is_none() {

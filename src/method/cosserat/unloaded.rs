@@ -79,29 +79,41 @@ pub(super) struct Unloaded {
 /// `|e3 + r_c′|` on the straight, unloaded rod (`rest`), and, for the cables `sens` marks,
 /// the tension sensitivities `dl[i][j] = ∂|ṗ_i|/∂τ_j` (`unloaded_solve.rs`).
 pub(super) struct At {
-    lr: Buf,
+    pub(super) lr: Buf,
     rest: Buf,
     sens: [bool; MAX_CABLES],
     dl: Sens,
+    /// The balance's Hessian at the last evaluation, factored (the loaded pass's tangents).
+    pub(super) stiffness: Stiffness,
+    /// `Σ τ_i t_i` at the last evaluation (the Kirchhoff rod's force is `N − Rᵀ` of it).
+    pub(super) pull: Vector3<f64>,
 }
 
 /// One number per pair of cables.
 pub(super) type Sens = [[f64; MAX_CABLES]; MAX_CABLES];
 
 impl At {
-    fn new(sens: [bool; MAX_CABLES]) -> Self {
+    pub(super) fn new(sens: [bool; MAX_CABLES]) -> Self {
         At {
             lr: [0.0; MAX_CABLES],
             rest: [0.0; MAX_CABLES],
             sens,
             dl: [[0.0; MAX_CABLES]; MAX_CABLES],
+            stiffness: Stiffness {
+                k1inv: Matrix3::zeros(),
+                sinv: Matrix3::zeros(),
+                g: Matrix3::zeros(),
+                full: false,
+            },
+            pull: Vector3::zeros(),
         }
     }
 }
 
 /// The balance's Hessian `K = [Kse + A, G; Gᵀ, Kbt + H]` at a point, factored by blocks:
 /// `(Kse + A)⁻¹`, the Schur complement's inverse and `G` (Kirchhoff: `(Kbt + H)⁻¹` alone).
-struct Stiffness {
+#[derive(Clone, Copy)]
+pub(super) struct Stiffness {
     k1inv: Matrix3<f64>,
     sinv: Matrix3<f64>,
     g: Matrix3<f64>,
@@ -110,7 +122,11 @@ struct Stiffness {
 
 impl Stiffness {
     /// `K⁻¹ [bv; bu]` (Kirchhoff: `(Kbt + H)⁻¹ bu`, no `v` part).
-    fn solve(&self, bv: &Vector3<f64>, bu: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    pub(super) fn solve(
+        &self,
+        bv: &Vector3<f64>,
+        bu: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
         if !self.full {
             return (Vector3::zeros(), self.sinv * bu);
         }
@@ -121,9 +137,9 @@ impl Stiffness {
 
 /// The strains `(v, u)` at one point.
 #[derive(Clone, Copy)]
-struct Strains {
-    v: Vector3<f64>,
-    u: Vector3<f64>,
+pub(super) struct Strains {
+    pub(super) v: Vector3<f64>,
+    pub(super) u: Vector3<f64>,
 }
 
 impl Problem<'_> {
@@ -158,22 +174,28 @@ impl Problem<'_> {
             }
             return Shot::failed();
         }
+        if self.loaded {
+            return self.loaded_shot(n0, m0, ld, trace);
+        }
         self.shoot(n0, m0, ld, trace, None)
     }
 
     /// The strains at `s` in section `sec` from the start `z` (the neighbouring point's):
-    /// Newton on `F = 0` (module docs). `at` receives each running cable's `|ṗ_c|` there, its
+    /// Newton on `F = b` (module docs; `ext = b = (bv, bu)`, the external loads' wrench on the
+    /// part beyond `s` in the body frame, `loaded.rs`; zero here). `at` receives each running cable's `|ṗ_c|` there, its
     /// value on the straight, unloaded rod, and, if asked, their tension sensitivities
     /// ([`At`]). Returns the strains and the balance residual \[N\] of the last evaluation, or
     /// `None` if Newton does not settle (never seen for `τ ≥ 0`: `Φ` is strictly convex).
-    fn strains_at(
+    pub(super) fn strains_at(
         &self,
         s: f64,
         sec: usize,
         ld: &LoadCase,
         mut z: Strains,
+        ext: (&Vector3<f64>, &Vector3<f64>),
         at: &mut At,
     ) -> Option<(Strains, f64)> {
+        let (bv, bu) = ext;
         let full = self.set.model == RodModel::Full;
         // The routes once for all iterations, and the largest tendon offset here
         // (`|δṗ_i| ≤ |δv| + |δu| r_max`).
@@ -198,18 +220,33 @@ impl Problem<'_> {
         // balance is linear, `Kse (v − e3) = 0`, `Kbt u = 0`, and the rod is straight.
         let mut cables = self.robot.cables.iter().enumerate();
         if !cables.any(|(c, cable)| cable.ends_at >= sec && ld.tau[c] != 0.0) {
-            at.lr = at.rest;
+            // (With external loads the balance is still linear: `v = e3 + Kse⁻¹ bv`,
+            // `u = Kbt⁻¹ bu`; the running cables' rates are the ones of these strains.)
             let straight = Strains {
-                v: E3,
-                u: Vector3::zeros(),
+                v: match full {
+                    true => E3 + bv.component_div(&self.kse),
+                    false => E3,
+                },
+                u: bu.component_div(&self.kbt),
             };
+            at.lr = at.rest;
+            if *bv != Vector3::zeros() || *bu != Vector3::zeros() {
+                for (c, cable) in self.robot.cables.iter().enumerate() {
+                    if cable.ends_at >= sec {
+                        let rp = &routes[c];
+                        at.lr[c] = (straight.u.cross(&rp.r) + rp.dr + straight.v).norm();
+                    }
+                }
+            }
+            let k = Stiffness {
+                k1inv: Matrix3::from_diagonal(&self.kse.map(|x| 1.0 / x)),
+                sinv: Matrix3::from_diagonal(&self.kbt.map(|x| 1.0 / x)),
+                g: Matrix3::zeros(),
+                full,
+            };
+            at.stiffness = k;
+            at.pull = Vector3::zeros();
             if at.sens.contains(&true) {
-                let k = Stiffness {
-                    k1inv: Matrix3::from_diagonal(&self.kse.map(|x| 1.0 / x)),
-                    sinv: Matrix3::from_diagonal(&self.kbt.map(|x| 1.0 / x)),
-                    g: Matrix3::zeros(),
-                    full,
-                };
                 self.sensitivities(&straight, &routes, sec, &k, at);
             }
             return Some((straight, 0.0));
@@ -223,11 +260,18 @@ impl Problem<'_> {
                 u: z.u,
                 v,
             };
-            let sums =
-                self.tendon_sums::<false>(|c| routes[c], sec, &pt, ld, &mut at.lr, &mut keep);
+            let sums = self.tendon_sums::<false, false>(
+                |c| routes[c],
+                sec,
+                &pt,
+                ld,
+                &mut at.lr,
+                &mut keep,
+            );
             self.work.set(self.work.get() + 1);
-            let fv = self.kse.component_mul(&(v - E3)) + sums.pull;
-            let fu = self.kbt.component_mul(&z.u) + sums.twist;
+            let fv = self.kse.component_mul(&(v - E3)) + sums.pull - bv;
+            let fu = self.kbt.component_mul(&z.u) + sums.twist - bu;
+            at.pull = sums.pull;
             // (Kirchhoff: `v ≡ e3` and `n` is no strain, so the force rows are not equations.)
             let residual = match full {
                 true => fv.norm().max(fu.norm() / self.len_l),
@@ -268,6 +312,7 @@ impl Problem<'_> {
             // Converged when the balance holds to the solver's tolerance (the step just taken
             // only shrinks it further), or when the step is at rounding level.
             if residual <= self.set.tolerance || size <= STRAIN_STEP_TOL {
+                at.stiffness = k;
                 if at.sens.contains(&true) {
                     self.sensitivities(&z, &routes, sec, &k, at);
                 }
@@ -330,7 +375,9 @@ impl Problem<'_> {
             v: E3,
             u: Vector3::zeros(),
         };
-        let (z0, mut residual) = self.strains_at(0.0, 1, ld, straight, &mut a)?;
+        let zero = Vector3::zeros();
+        let none = (&zero, &zero);
+        let (z0, mut residual) = self.strains_at(0.0, 1, ld, straight, none, &mut a)?;
         // Kirchhoff: `n` is not a strain, but the same balance gives it (`−Σ τ t`).
         let n0 = match self.set.model {
             RodModel::Full => self.kse.component_mul(&(z0.v - E3)),
@@ -378,9 +425,9 @@ impl Problem<'_> {
             for j in 0..steps {
                 let s = s0 + j as f64 * h;
                 let (sa, sb) = (s + h * (0.5 - gauss), s + h * (0.5 + gauss));
-                let (z1, r1) = self.strains_at(sa, k, ld, guess.at(sa), &mut a)?;
+                let (z1, r1) = self.strains_at(sa, k, ld, guess.at(sa), none, &mut a)?;
                 guess.push(sa, z1);
-                let (z2, r2) = self.strains_at(sb, k, ld, guess.at(sb), &mut b)?;
+                let (z2, r2) = self.strains_at(sb, k, ld, guess.at(sb), none, &mut b)?;
                 guess.push(sb, z2);
                 residual = residual.max(r1).max(r2);
                 let (dp, dr) = magnus_step(h, &z1, &z2);
@@ -460,7 +507,7 @@ impl Problem<'_> {
         let mut lr = [0.0; MAX_CABLES];
         let mut keep = CablePoints::new();
         -self
-            .tendon_sums::<false>(
+            .tendon_sums::<false, false>(
                 |c| self.eval_route(c, s, sec),
                 sec,
                 &pt,

@@ -125,8 +125,14 @@ impl Problem<'_> {
     ) -> State {
         let pt = self.point(y);
         let mut cp = CablePoints::new();
-        let sums =
-            self.tendon_sums::<true>(|c| self.eval_route(c, s, sec), sec, &pt, ld, lr, &mut cp);
+        let sums = self.tendon_sums::<true, true>(
+            |c| self.eval_route(c, s, sec),
+            sec,
+            &pt,
+            ld,
+            lr,
+            &mut cp,
+        );
         let Some((dy, fac)) = self.strain_rates(&pt, &sums, ld) else {
             return State::from_element(f64::NAN);
         };

@@ -116,8 +116,9 @@ const ROD_SETTINGS: &[SettingInfo] = &[
         name: "solver",
         values: Range::Choice(&[("auto", 0), ("shooting", 1)]),
         default: "auto",
-        help: "auto: with no external load and tensions given, strains from the tendons' \
-               balance and one Magnus integration (no shooting); shooting: always shoot",
+        help: "auto: strains from the tendons' balance at each point, with no external load \
+               one Magnus integration (no shooting), with loads and tensions given shooting on \
+               the external moment; shooting: always shoot on the strain rates",
     },
 ];
 
