@@ -169,19 +169,17 @@ pub fn robot(robot: &Robot) -> String {
         no_spacer_disks,
         collision_radius,
     } = body;
-    c.text("body.tendons", tendons.name())
-        .text(
-            "body.spacer_disks",
-            if *no_spacer_disks { "no" } else { "yes" },
-        )
-        .opt("body.collision_radius", *collision_radius);
     let Loads {
         gravity,
         disk_mass,
         tip_force,
         tip_moment,
     } = loads;
-    c.vec3("loads.gravity", gravity)
+    let spacer_disks = if *no_spacer_disks { "no" } else { "yes" };
+    c.text("body.tendons", tendons.name())
+        .text("body.spacer_disks", spacer_disks)
+        .opt("body.collision_radius", *collision_radius)
+        .vec3("loads.gravity", gravity)
         .num("loads.disk_mass", *disk_mass)
         .vec3("loads.tip_force", tip_force)
         .vec3("loads.tip_moment", tip_moment);

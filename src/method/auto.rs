@@ -171,7 +171,12 @@ impl Search<'_> {
         SolveRequest::new(rung.kind)
             .with_settings(rung_settings(rung, self.base, &self.control))
             .solver()?
-            .solve_unchecked(self.robot, self.act, self.scene, warm)
+            .solve_unchecked(super::SolveInput {
+                robot: self.robot,
+                act: self.act,
+                scene: self.scene,
+                warm,
+            })
     }
 
     /// Keep `shape` if its estimate is the smallest yet; true when it meets the tolerance.
@@ -199,6 +204,14 @@ impl Search<'_> {
         against: Option<(&Rung, &Shape)>,
     ) -> Result<ErrorEstimate, SolveError> {
         let settings = rung_settings(rung, self.base, &self.control);
+        let answer = estimate::Answer {
+            kind: rung.kind,
+            settings: &settings,
+            robot: self.robot,
+            act: self.act,
+            scene: self.scene,
+            shape,
+        };
         let local = estimate::a_priori_parts(rung.kind, &settings, self.robot, shape);
         self.parts = local.as_ref().ok().cloned();
         let (disc, from, fallback) = match (local.map(|p| p.iter().sum()), against) {
@@ -212,17 +225,13 @@ impl Search<'_> {
                 (e, from.describe(), fallback)
             }
             (Err(_), None) => {
-                let est = estimate::estimate(
-                    rung.kind, &settings, self.robot, self.act, self.scene, shape,
-                )?;
+                let est = estimate::estimate(&answer)?;
                 // The companion solved, and each one that failed before it.
                 self.solves += usize::from(est.discretization_m.is_some()) + est.failed.len();
                 return Ok(est);
             }
         };
-        let (m, note) = estimate::model_estimate(
-            rung.kind, &settings, self.robot, self.act, self.scene, shape, None,
-        );
+        let (m, note) = estimate::model_estimate(&answer, None);
         Ok(ErrorEstimate {
             bound_m: m.map(|m| m + disc),
             discretization_m: Some(disc),

@@ -342,19 +342,38 @@ pub fn left_out_strain_tip(robot: &Robot, shape: &Shape, shear: bool, extension:
     moved.norm()
 }
 
+/// An answer whose error is estimated: `shape`, solved by `kind` with `settings` for `robot`
+/// under `act` in `scene` (what [`estimate`] and [`model_estimate`] read).
+#[derive(Clone, Copy)]
+pub(crate) struct Answer<'a> {
+    /// The method that solved it.
+    pub kind: MethodKind,
+    /// Its settings.
+    pub settings: &'a Settings,
+    /// The robot.
+    pub robot: &'a Robot,
+    /// The actuation.
+    pub act: &'a Actuation,
+    /// The obstacles.
+    pub scene: &'a Scene,
+    /// The answer.
+    pub shape: &'a Shape,
+}
+
 /// Estimate how far `shape` (solved by `kind` with `settings` for `robot`, `act`, `scene`)
 /// is from the converged reference rod: the discretization part read from the answer alone
 /// where it can be ([`a_priori`]), else by one extra solve (two where the first fails); the
 /// left-out strains for the model part (module docs). A failed extra solve is named in the
 /// estimate (`failed`), never an error of the answer.
-pub(crate) fn estimate(
-    kind: MethodKind,
-    settings: &Settings,
-    robot: &Robot,
-    act: &Actuation,
-    scene: &Scene,
-    shape: &Shape,
-) -> Result<ErrorEstimate, SolveError> {
+pub(crate) fn estimate(answer: &Answer<'_>) -> Result<ErrorEstimate, SolveError> {
+    let Answer {
+        kind,
+        settings,
+        robot,
+        act,
+        scene,
+        shape,
+    } = *answer;
     let t0 = Instant::now();
     let res = resolution(kind, settings);
     let mut failed = vec![];
@@ -376,7 +395,12 @@ pub(crate) fn estimate(
                     let other = super::run::SolveRequest::new(k)
                         .with_settings(s.clone())
                         .solver()?
-                        .solve_unchecked(robot, act, scene, Some(shape))?;
+                        .solve_unchecked(super::SolveInput {
+                            robot,
+                            act,
+                            scene,
+                            warm: Some(shape),
+                        })?;
                     crate::check::finite(&other)?;
                     Ok(other)
                 };
@@ -393,7 +417,7 @@ pub(crate) fn estimate(
         Resolution::Adaptive(tol) => discretization.map(|d| d.max(SAFETY * tol * robot.length())),
         _ => discretization,
     };
-    let (model, mut note) = model_estimate(kind, settings, robot, act, scene, shape, rod_gap);
+    let (model, mut note) = model_estimate(answer, rod_gap);
     if discretization.is_none() {
         note = join(
             &note,
@@ -487,15 +511,9 @@ pub(crate) fn quiet(kind: MethodKind, s: &mut Settings) {
 
 /// The model part of `kind`'s `shape` \[m\] (safety factor included) and why it is unknown
 /// when it is; `rod_gap` is the Cosserat rod's distance at the companion (for `kirchhoff`).
-pub(crate) fn model_estimate(
-    kind: MethodKind,
-    settings: &Settings,
-    robot: &Robot,
-    act: &Actuation,
-    scene: &Scene,
-    shape: &Shape,
-    rod_gap: Option<f64>,
-) -> (Option<f64>, String) {
+pub(crate) fn model_estimate(answer: &Answer<'_>, rod_gap: Option<f64>) -> (Option<f64>, String) {
+    let (kind, settings, robot) = (answer.kind, answer.settings, answer.robot);
+    let (act, scene, shape) = (answer.act, answer.scene, answer.shape);
     let mut note = String::new();
     let unmodelled = if !scene.is_empty() {
         Some("the model part next to obstacles is not estimated (the rod with contact is its reference: `ccrkit compare`, guide obstacles)")

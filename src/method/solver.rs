@@ -8,7 +8,7 @@
 //! finite, the robot not through itself). A failed gate is an error, never a shape.
 
 use super::estimate::ErrorEstimate;
-use super::{solve_stepped_prepared, Method, MethodKind, Prepared, Settings};
+use super::{solve_stepped_prepared, Method, MethodKind, Prepared, Settings, SolveInput};
 use crate::error::SolveError;
 use crate::model::actuation::Actuation;
 use crate::model::robot::Robot;
@@ -69,7 +69,14 @@ impl Solver {
         scene: &Scene,
         shape: &Shape,
     ) -> Result<ErrorEstimate, SolveError> {
-        super::estimate::estimate(self.kind(), &self.settings, robot, act, scene, shape)
+        super::estimate::estimate(&super::estimate::Answer {
+            kind: self.kind(),
+            settings: &self.settings,
+            robot,
+            act,
+            scene,
+            shape,
+        })
     }
 
     /// The method.
@@ -92,20 +99,25 @@ impl Solver {
         scene: &Scene,
         warm: Option<&Shape>,
     ) -> Result<Shape, SolveError> {
-        let shape = self.solve_unchecked(robot, act, scene, warm)?;
+        let shape = self.solve_unchecked(SolveInput {
+            robot,
+            act,
+            scene,
+            warm,
+        })?;
         crate::check::output(robot, &shape)?;
         Ok(shape)
     }
 
     /// [`Solver::solve`] without the output check: for timing loops that check the shape they
     /// keep once ([`crate::check::output`]), never for a shape handed to anyone.
-    pub(crate) fn solve_unchecked(
-        &self,
-        robot: &Robot,
-        act: &Actuation,
-        scene: &Scene,
-        warm: Option<&Shape>,
-    ) -> Result<Shape, SolveError> {
+    pub(crate) fn solve_unchecked(&self, input: SolveInput<'_>) -> Result<Shape, SolveError> {
+        let SolveInput {
+            robot,
+            act,
+            scene,
+            warm,
+        } = input;
         match warm {
             Some(w) => self.method.solve(robot, act, scene, Some(w)),
             None if self.steps > 1 => {

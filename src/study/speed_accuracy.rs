@@ -126,8 +126,12 @@ pub fn speed_accuracy(
         bar.note(|| format!("{} {}", v.method, v.setting));
         bar.advance(1);
         let (times, last) = timed(opts.repeats, || {
-            v.solver
-                .solve_unchecked(&model.robot, &model.actuation, &scene, None)
+            v.solver.solve_unchecked(crate::method::SolveInput {
+                robot: &model.robot,
+                act: &model.actuation,
+                scene: &scene,
+                warm: None,
+            })
         });
         let by_disp = v.input == Input::Shortening;
         rows.push(row(

@@ -55,3 +55,33 @@ fn generated_obstacles_lie_at_their_placed_gap_from_the_path() {
         "{kinds:?}"
     );
 }
+
+/// The scenes of `scene_speed` (seeds 1–60; 37 and 42 put a wall through the base disk before
+/// the generator kept its obstacles off it) are valid inputs: the literal method is never
+/// refused as obstructed in section 0 (the broad phase's base-disk check, independent of the
+/// generator's).
+#[test]
+fn generated_scenes_leave_the_base_disk_free() {
+    let model = Model::from_file(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/models/paper/case1.toml"
+    ))
+    .unwrap();
+    let solver = SolveRequest::new(MethodKind::Geometric).solver().unwrap();
+    let free = solver
+        .solve(&model.robot, &model.actuation, &Scene::empty(), None)
+        .unwrap();
+    let path: Vec<[f64; 3]> = free.disks.iter().map(|d| d.position.into()).collect();
+    let dir = std::env::temp_dir().join(format!("ccrkit-base-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for seed in 1..=60 {
+        let file = dir.join(format!("gen_{seed}.toml"));
+        std::fs::write(&file, near_path(&path, seed).0).unwrap();
+        let scene = Scene::from_file(&file).unwrap();
+        let answer = solver.solve(&model.robot, &model.actuation, &scene, None);
+        if let Err(e) = &answer {
+            assert!(!e.to_string().contains("section 0"), "seed {seed}: {e}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

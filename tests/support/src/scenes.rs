@@ -137,6 +137,61 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// Paper case I's base disk: radius and half thickness \[m\].
+const BASE_DISK: (f64, f64) = (0.012, 0.001);
+
+/// Spacing of the grid over the base disk's mid-plane that [`meets_base`] samples \[m\].
+const BASE_GRID: f64 = 2.5e-4;
+
+/// Whether a generated obstacle may meet the base disk (paper case I's: centre `path[0]`,
+/// normal along `path[1] − path[0]`): some point of a polar grid over the disk's mid-plane
+/// (rings and arcs at most [`BASE_GRID`] apart) is within `half thickness + BASE_GRID` of it.
+/// Every point of the disk lies within that of a grid point, so an obstacle that meets the disk
+/// is always caught (a few that pass within 1.25 mm are too).
+fn meets_base(path: &[[f64; 3]], sizes: &str, rows: [[f64; 3]; 3], centre: [f64; 3]) -> bool {
+    let (radius, half) = BASE_DISK;
+    let (c, n) = (path[0], unit(sub(path[1], path[0])));
+    let helper = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+    let e1 = unit(cross(n, helper));
+    let e2 = cross(n, e1);
+    let rings = (radius / BASE_GRID).ceil() as usize;
+    (0..=rings).any(|k| {
+        let r = radius * k as f64 / rings as f64;
+        let arcs = ((std::f64::consts::TAU * r / BASE_GRID).ceil() as usize).max(1);
+        (0..arcs).any(|j| {
+            let (sn, cs) = (std::f64::consts::TAU * j as f64 / arcs as f64).sin_cos();
+            let p = [0, 1, 2].map(|i| c[i] + r * (cs * e1[i] + sn * e2[i]));
+            base_distance(p, sizes, rows, centre) <= half + BASE_GRID
+        })
+    })
+}
+
+/// The distance from `p` to a generated obstacle — a box (`half_extents` in `sizes`) or a
+/// cylinder along its local z (`radius`, `half_height`) — with axes the columns of `rows` and
+/// centre `centre`, in closed form (0 inside).
+fn base_distance(p: [f64; 3], sizes: &str, rows: [[f64; 3]; 3], centre: [f64; 3]) -> f64 {
+    let q = sub(p, centre);
+    let l = [0, 1, 2].map(|c| (0..3).map(|r| rows[r][c] * q[r]).sum::<f64>());
+    let num = |key: &str| -> Vec<f64> {
+        let rest = sizes.split(key).nth(1).unwrap_or("");
+        let line = rest.lines().next().unwrap_or("");
+        line.trim_start_matches([' ', '=', '['])
+            .trim_end_matches(']')
+            .split(',')
+            .filter_map(|x| x.trim().parse().ok())
+            .collect()
+    };
+    if sizes.contains("half_extents") {
+        let e = num("half_extents");
+        let d = [0, 1, 2].map(|j| (l[j].abs() - e[j]).max(0.0));
+        dot(d, d).sqrt()
+    } else {
+        let (r, h) = (num("radius")[0], num("half_height")[0]);
+        let radial = (l[0].hypot(l[1]) - r).max(0.0);
+        radial.hypot((l[2].abs() - h).max(0.0))
+    }
+}
+
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -167,6 +222,9 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 ///   corner, an edge or a rim point) is `p + gap·d`: it lies beyond the plane through that
 ///   point across `d`, so that point is its nearest to `p`.
 ///
+/// No obstacle meets paper case I's base disk at the path's first point (one that may is drawn
+/// again, `meets_base`), so that no wall passes through it: every scene is a valid input.
+///
 /// Deterministic in `seed` (xorshift64). Returns the TOML text and what was placed, in the
 /// file's order.
 pub fn near_path(path: &[[f64; 3]], seed: u64) -> (String, Vec<Placed>) {
@@ -178,63 +236,71 @@ pub fn near_path(path: &[[f64; 3]], seed: u64) -> (String, Vec<Placed>) {
     let mut text = String::from("clearance = 0.0\n");
     let mut placed = vec![];
     for k in 0..n {
-        let kind = NEAR_KINDS[(rng.next() * 3.0) as usize % 3];
-        let half = path.len() / 2;
-        let i = (half + (rng.next() * (path.len() - half) as f64) as usize).min(path.len() - 1);
-        let p = path[i];
-        let t = unit(sub(p, path[i - 1]));
-        // A random direction across the path at `p`.
-        let mut d = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)];
-        let along = dot(d, t);
-        d = unit([d[0] - along * t[0], d[1] - along * t[1], d[2] - along * t[2]]);
-        let gap = rng.range(0.004, 0.018);
-        let (sizes, rows, centre) = match kind {
-            "wall" => {
-                let e = [
-                    rng.range(0.003, 0.006),
-                    rng.range(0.04, 0.12),
-                    rng.range(0.04, 0.12),
-                ];
-                // Columns d, y, z: y a random direction across d.
-                let spin = rng.range(0.0, std::f64::consts::TAU);
-                let (sn, cs) = spin.sin_cos();
-                let y = unit([
-                    t[0] * cs + cross(d, t)[0] * sn,
-                    t[1] * cs + cross(d, t)[1] * sn,
-                    t[2] * cs + cross(d, t)[2] * sn,
-                ]);
-                let z = cross(d, y);
-                let rows = [0, 1, 2].map(|r| [d[r], y[r], z[r]]);
-                let (u, v) = (rng.range(-0.6, 0.6) * e[1], rng.range(-0.6, 0.6) * e[2]);
-                let c = [0, 1, 2].map(|j| p[j] + d[j] * (gap + e[0]) + y[j] * u + z[j] * v);
-                (format!("shape = \"box\"\nhalf_extents = {e:?}\n"), rows, c)
-            }
-            _ => {
-                let rpy = [
-                    rng.range(-3.2, 3.2),
-                    rng.range(-1.5, 1.5),
-                    rng.range(-3.2, 3.2),
-                ];
-                let rows = rpy_matrix(rpy);
-                // `−d` in the obstacle's frame (Rᵀ(−d)) and the support point there.
-                let w = [0, 1, 2].map(|c| -(0..3).map(|r| rows[r][c] * d[r]).sum::<f64>());
-                let (sizes, s) = if kind == "box" {
-                    let e = [0; 3].map(|_| rng.range(0.004, 0.02));
-                    (
-                        format!("shape = \"box\"\nhalf_extents = {e:?}\n"),
-                        [0, 1, 2].map(|j| e[j] * w[j].signum()),
-                    )
-                } else {
-                    let (r, h) = (rng.range(0.004, 0.015), rng.range(0.02, 0.06));
-                    let wxy = w[0].hypot(w[1]);
-                    (
-                        format!("shape = \"cylinder\"\nradius = {r:?}\nhalf_height = {h:?}\n"),
-                        [r * w[0] / wxy, r * w[1] / wxy, h * w[2].signum()],
-                    )
-                };
-                let rs = [0, 1, 2].map(|r| dot(rows[r], s));
-                let c = [0, 1, 2].map(|j| p[j] + d[j] * gap - rs[j]);
-                (sizes, rows, c)
+        // Drawn again (the same stream, so scenes that never redraw are unchanged) while the
+        // obstacle may meet the base disk: a wall long enough to pass through it makes the scene
+        // an invalid input (`Obstructed` in section 0).
+        let (kind, i, gap, sizes, rows, centre) = loop {
+            let kind = NEAR_KINDS[(rng.next() * 3.0) as usize % 3];
+            let half = path.len() / 2;
+            let i = (half + (rng.next() * (path.len() - half) as f64) as usize).min(path.len() - 1);
+            let p = path[i];
+            let t = unit(sub(p, path[i - 1]));
+            // A random direction across the path at `p`.
+            let mut d = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)];
+            let along = dot(d, t);
+            d = unit([d[0] - along * t[0], d[1] - along * t[1], d[2] - along * t[2]]);
+            let gap = rng.range(0.004, 0.018);
+            let (sizes, rows, centre) = match kind {
+                "wall" => {
+                    let e = [
+                        rng.range(0.003, 0.006),
+                        rng.range(0.04, 0.12),
+                        rng.range(0.04, 0.12),
+                    ];
+                    // Columns d, y, z: y a random direction across d.
+                    let spin = rng.range(0.0, std::f64::consts::TAU);
+                    let (sn, cs) = spin.sin_cos();
+                    let y = unit([
+                        t[0] * cs + cross(d, t)[0] * sn,
+                        t[1] * cs + cross(d, t)[1] * sn,
+                        t[2] * cs + cross(d, t)[2] * sn,
+                    ]);
+                    let z = cross(d, y);
+                    let rows = [0, 1, 2].map(|r| [d[r], y[r], z[r]]);
+                    let (u, v) = (rng.range(-0.6, 0.6) * e[1], rng.range(-0.6, 0.6) * e[2]);
+                    let c = [0, 1, 2].map(|j| p[j] + d[j] * (gap + e[0]) + y[j] * u + z[j] * v);
+                    (format!("shape = \"box\"\nhalf_extents = {e:?}\n"), rows, c)
+                }
+                _ => {
+                    let rpy = [
+                        rng.range(-3.2, 3.2),
+                        rng.range(-1.5, 1.5),
+                        rng.range(-3.2, 3.2),
+                    ];
+                    let rows = rpy_matrix(rpy);
+                    // `−d` in the obstacle's frame (Rᵀ(−d)) and the support point there.
+                    let w = [0, 1, 2].map(|c| -(0..3).map(|r| rows[r][c] * d[r]).sum::<f64>());
+                    let (sizes, s) = if kind == "box" {
+                        let e = [0; 3].map(|_| rng.range(0.004, 0.02));
+                        (
+                            format!("shape = \"box\"\nhalf_extents = {e:?}\n"),
+                            [0, 1, 2].map(|j| e[j] * w[j].signum()),
+                        )
+                    } else {
+                        let (r, h) = (rng.range(0.004, 0.015), rng.range(0.02, 0.06));
+                        let wxy = w[0].hypot(w[1]);
+                        (
+                            format!("shape = \"cylinder\"\nradius = {r:?}\nhalf_height = {h:?}\n"),
+                            [r * w[0] / wxy, r * w[1] / wxy, h * w[2].signum()],
+                        )
+                    };
+                    let rs = [0, 1, 2].map(|r| dot(rows[r], s));
+                    let c = [0, 1, 2].map(|j| p[j] + d[j] * gap - rs[j]);
+                    (sizes, rows, c)
+                }
+            };
+            if !meets_base(path, &sizes, rows, centre) {
+                break (kind, i, gap, sizes, rows, centre);
             }
         };
         let rpy = matrix_rpy(rows);
