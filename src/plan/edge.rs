@@ -248,74 +248,171 @@ impl<'a> Checker<'a> {
         if let Some(out) = self.memo.get(&key) {
             return out.clone();
         }
-        self.stats.edges_checked += 1;
-        let mut kept = Vec::new();
-        let out = self.edge_inner(a, b, &mut kept);
-        if out == EdgeCheck::Blocked {
-            self.stats.edges_rejected += 1;
-        } else if let Some(m) = self.samples.as_mut() {
-            // Parameters from `a`; stored from the key's first end (dyadic: 1 − t is exact).
-            let forward = a.u.iter().map(|x| x.to_bits()).eq(key.0.iter().copied());
+        self.legs(&[a, b]);
+        self.memo.get(&key).cloned().unwrap_or(EdgeCheck::Blocked)
+    }
+
+    /// Whether every leg of the path through `stops` is clear ([`Checker::edge`] of each pair
+    /// in turn), checked together: the sub-intervals of all legs breadth first, so a blocked
+    /// leg anywhere is refused after the coarse midpoints of every leg, before any clear leg is
+    /// refined to its certificate (a staged path's first legs were certified in full before
+    /// its last was found blocked). Each leg finished is remembered as [`Checker::edge`]
+    /// remembers it; on a blocked leg the unfinished ones are dropped.
+    pub fn legs(&mut self, stops: &[&Node]) -> bool {
+        let mut open: Vec<Option<Leg>> = Vec::new();
+        for w in stops.windows(2) {
+            match self.memo.get(&edge_key(&w[0].u, &w[1].u)) {
+                Some(EdgeCheck::Blocked) => return false,
+                Some(EdgeCheck::Clear { .. }) => {}
+                None if open
+                    .iter()
+                    .flatten()
+                    .any(|l| l.key == edge_key(&w[0].u, &w[1].u)) => {}
+                None => {
+                    self.stats.edges_checked += 1;
+                    open.push(Some(Leg::new(w[0], w[1])));
+                }
+            }
+        }
+        if self.space.scene.is_empty() {
+            let clear = EdgeCheck::Clear {
+                certified: f64::INFINITY,
+                measured: f64::INFINITY,
+                pieces: 1,
+            };
+            for leg in open.into_iter().flatten() {
+                self.remember(leg.key, clear.clone(), (true, Vec::new()));
+            }
+            return true;
+        }
+        // Items: leg, end nodes, actuation length, parameters of the ends from the leg's start.
+        let mut queue: std::collections::VecDeque<(usize, Node, Node, f64, f64, f64)> = open
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| l.as_ref().map(|l| (i, l)))
+            .map(|(i, l)| {
+                (
+                    i,
+                    l.a.clone(),
+                    l.b.clone(),
+                    self.dist(&l.a.u, &l.b.u),
+                    0.0,
+                    1.0,
+                )
+            })
+            .collect();
+        let keep = self.samples.is_some();
+        while let Some((i, n0, n1, l, t0, t1)) = queue.pop_front() {
+            let bound = super::motion::motion(&self.space.robot, &n0.shape, &n1.shape).certified(
+                n0.clearance,
+                n1.clearance,
+                KAPPA,
+            );
+            let Some(leg) = open[i].as_mut() else {
+                continue;
+            };
+            if bound >= self.margin {
+                leg.certified = leg.certified.min(bound);
+                leg.pieces += 1;
+                leg.pending -= 1;
+                if leg.pending == 0 {
+                    if let Some(leg) = open[i].take() {
+                        let (key, clear, kept) = leg.finish();
+                        self.remember(key, clear, kept);
+                    }
+                }
+                continue;
+            }
+            let mid: Vec<f64> = n0.u.iter().zip(&n1.u).map(|(x, y)| 0.5 * (x + y)).collect();
+            let m = if l < MIN_STEP {
+                None
+            } else {
+                self.node(&mid, Some(&n0.shape))
+            };
+            let Some(m) = m else {
+                self.stats.edges_rejected += 1;
+                self.memo.insert(leg.key.clone(), EdgeCheck::Blocked);
+                return false;
+            };
+            leg.measured = leg.measured.min(m.clearance);
+            leg.pending += 1;
+            let tm = 0.5 * (t0 + t1);
+            if keep {
+                leg.kept.push((tm, m.clone()));
+            }
+            queue.push_back((i, n0, m.clone(), 0.5 * l, t0, tm));
+            queue.push_back((i, m, n1, 0.5 * l, tm, t1));
+        }
+        true
+    }
+
+    /// Remember a clear edge (and, with [`Checker::keep_samples`], its samples `kept`, whose
+    /// parameters are from the end `forward` says: the key's first end or its second).
+    fn remember(&mut self, key: EdgeKey, out: EdgeCheck, kept: Samples) {
+        let (forward, mut kept) = kept;
+        if let Some(m) = self.samples.as_mut() {
+            // Stored from the key's first end (dyadic: 1 − t is exact).
             if !forward {
                 kept.iter_mut().for_each(|(t, _)| *t = 1.0 - *t);
             }
             m.insert(key.clone(), kept);
         }
-        self.memo.insert(key, out.clone());
-        out
+        self.memo.insert(key, out);
     }
 
-    /// The check; the midpoints solved go to `kept` with their parameter from `a`.
-    fn edge_inner(&mut self, a: &Node, b: &Node, kept: &mut Vec<(f64, Node)>) -> EdgeCheck {
-        if self.space.scene.is_empty() {
-            return EdgeCheck::Clear {
-                certified: f64::INFINITY,
-                measured: f64::INFINITY,
-                pieces: 1,
-            };
+    /// Forget the edges (and their samples) not between two points `keep` accepts (bit
+    /// patterns of their actuations): what a run of many queries keeps between them.
+    pub(crate) fn retain_edges(&mut self, keep: impl Fn(&[u64]) -> bool) {
+        self.memo.retain(|k, _| keep(&k.0) && keep(&k.1));
+        if let Some(m) = self.samples.as_mut() {
+            m.retain(|k, _| keep(&k.0) && keep(&k.1));
         }
-        let len = self.dist(&a.u, &b.u);
-        let robot = &self.space.robot;
-        let mut certified = f64::INFINITY;
-        let mut measured = a.clearance.min(b.clearance);
-        let mut pieces = 0;
-        // Breadth-first over sub-intervals (midpoint, then quarters, …): a blocked edge is
-        // usually refused after a few coarse midpoints; a clear edge solves the same
-        // midpoints in any order. Owned sample nodes.
-        // Items: end nodes, actuation length, parameters of the ends from `a`.
-        let mut queue: std::collections::VecDeque<(Node, Node, f64, f64, f64)> =
-            std::collections::VecDeque::from([(a.clone(), b.clone(), len, 0.0, 1.0)]);
-        let keep = self.samples.is_some();
-        while let Some((n0, n1, l, t0, t1)) = queue.pop_front() {
-            let bound = super::motion::motion(robot, &n0.shape, &n1.shape).certified(
-                n0.clearance,
-                n1.clearance,
-                KAPPA,
-            );
-            if bound >= self.margin {
-                certified = certified.min(bound);
-                pieces += 1;
-                continue;
-            }
-            if l < MIN_STEP {
-                return EdgeCheck::Blocked;
-            }
-            let mid: Vec<f64> = n0.u.iter().zip(&n1.u).map(|(x, y)| 0.5 * (x + y)).collect();
-            let Some(m) = self.node(&mid, Some(&n0.shape)) else {
-                return EdgeCheck::Blocked;
-            };
-            measured = measured.min(m.clearance);
-            let tm = 0.5 * (t0 + t1);
-            if keep {
-                kept.push((tm, m.clone()));
-            }
-            queue.push_back((n0, m.clone(), 0.5 * l, t0, tm));
-            queue.push_back((m, n1, 0.5 * l, tm, t1));
+    }
+}
+
+/// A clear edge's solved samples with their parameters, and whether those are from the edge
+/// key's first end.
+type Samples = (bool, Vec<(f64, Node)>);
+
+/// One leg of [`Checker::legs`] being checked.
+struct Leg {
+    key: EdgeKey,
+    a: Node,
+    b: Node,
+    /// Whether `a` is the key's first end.
+    forward: bool,
+    certified: f64,
+    measured: f64,
+    pieces: usize,
+    /// Sub-intervals still queued.
+    pending: usize,
+    /// Midpoints solved, with their parameter from `a`.
+    kept: Vec<(f64, Node)>,
+}
+
+impl Leg {
+    fn new(a: &Node, b: &Node) -> Leg {
+        let key = edge_key(&a.u, &b.u);
+        Leg {
+            forward: a.u.iter().map(|x| x.to_bits()).eq(key.0.iter().copied()),
+            key,
+            a: a.clone(),
+            b: b.clone(),
+            certified: f64::INFINITY,
+            measured: a.clearance.min(b.clearance),
+            pieces: 0,
+            pending: 1,
+            kept: Vec::new(),
         }
-        EdgeCheck::Clear {
-            certified,
-            measured,
-            pieces,
-        }
+    }
+
+    /// The key, clear answer and samples of a finished leg.
+    fn finish(self) -> (EdgeKey, EdgeCheck, Samples) {
+        let clear = EdgeCheck::Clear {
+            certified: self.certified,
+            measured: self.measured,
+            pieces: self.pieces,
+        };
+        (self.key, clear, (self.forward, self.kept))
     }
 }

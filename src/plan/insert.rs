@@ -24,7 +24,7 @@
 //!
 //! Without a port none of this applies and the planners are unchanged.
 
-use super::edge::{Checker, EdgeCheck, Node};
+use super::edge::{Checker, Node};
 use super::rrt::unit;
 use crate::reach::Space;
 use rand_xorshift::XorShiftRng;
@@ -182,7 +182,9 @@ pub(crate) fn staged(ck: &mut Checker, s: &Node, g: &Node) -> Option<Vec<Node>> 
 }
 
 /// The path `s`, `stops`, `g` when every leg is clear (a stop equal to its neighbour
-/// skipped; a stop among `known` not solved again).
+/// skipped; a stop among `known` not solved again): the stops solved first, then the legs
+/// checked together ([`Checker::legs`]: a blocked leg is found before the clear ones are
+/// certified in full).
 fn along(
     ck: &mut Checker,
     s: &Node,
@@ -203,16 +205,11 @@ fn along(
                 ck.node(&u, Some(&warm))?
             }
         };
-        if ck.edge(&path[path.len() - 1], &n) == EdgeCheck::Blocked {
-            return None;
-        }
         path.push(n);
     }
-    if ck.edge(&path[path.len() - 1], g) == EdgeCheck::Blocked {
-        return None;
-    }
     path.push(g.clone());
-    Some(path)
+    let refs: Vec<&Node> = path.iter().collect();
+    ck.legs(&refs).then_some(path)
 }
 
 /// `base` (a point of `space` with a port) with a new insertion drawn uniformly within the

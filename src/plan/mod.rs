@@ -38,6 +38,7 @@ pub mod motion;
 pub mod roadmap;
 mod roadmap_build;
 mod roadmap_nodes;
+mod roadmap_query;
 mod roadmap_sample;
 pub mod roadmap_shard;
 mod rrt;
@@ -317,7 +318,7 @@ pub(crate) fn goal_actuation(
     }
 }
 
-fn check_options(o: &PlanOptions) -> Result<(), SolveError> {
+pub(crate) fn check_options(o: &PlanOptions) -> Result<(), SolveError> {
     let bad = |field: &str, reason: String| {
         Err(SolveError::InvalidInput {
             field: field.into(),
@@ -358,14 +359,13 @@ pub fn plan(
     let t0 = Instant::now();
     let space = Space::new(model, request, false)?;
     if let Some(rm) = roadmap {
-        rm.check_fits(&space, request)?;
+        return rm
+            .queries(model, request, &space, opts.margin)?
+            .plan(start, goal, opts);
     }
     let margin = opts.margin.unwrap_or(space.margin);
     let mut ck = Checker::new(&space, margin).keep_samples();
     let (s, g) = endpoints(&mut ck, model, start, goal)?;
-    if let Some(rm) = roadmap {
-        return rm.query(&mut ck, s, g, opts, t0);
-    }
     let mut rng = XorShiftRng::seed_from_u64(opts.seed);
     let range = ck.metric.largest_range(&space.lo, &space.hi);
     let found = rrt::rrt_connect(&mut ck, s, g, opts.step * range, opts.max_samples, &mut rng)

@@ -39,10 +39,9 @@
 //! along its insertion (`roadmap_sample.rs`), and a query tries the staged insert-first paths (`insert`) before the
 //! graph.
 
-use super::edge::{Checker, EdgeCheck, Node};
 use super::metric::Metric;
 pub use super::roadmap_build::build;
-use super::{finish, Plan, PlanOptions, PlanStats};
+pub use super::roadmap_query::Queries;
 use crate::error::{ModelError, SolveError};
 use crate::method::run::SolveRequest;
 use crate::model::scene::Scene;
@@ -50,8 +49,6 @@ use crate::progress::ProgressHandle;
 use crate::reach::Space;
 pub use crate::study::Shard;
 use serde::{Deserialize, Serialize};
-use std::collections::BinaryHeap;
-use std::time::Instant;
 
 /// Format tag of roadmap files.
 pub const FORMAT: &str = "ccrkit-roadmap-3";
@@ -188,52 +185,6 @@ pub(super) fn nearest(metric: &Metric, nodes: &[RoadmapNode], u: &[f64], k: usiz
     d.into_iter().map(|x| x.1).collect()
 }
 
-/// Dijkstra from node `s` to node `g` over `adj` (lengths in the planners' metric).
-fn shortest(adj: &[Vec<(usize, f64)>], s: usize, g: usize) -> Option<Vec<usize>> {
-    #[derive(PartialEq)]
-    struct Item(f64, usize);
-    impl Eq for Item {}
-    impl PartialOrd for Item {
-        fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-            Some(self.cmp(o))
-        }
-    }
-    impl Ord for Item {
-        fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-            o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
-        }
-    }
-    let mut d = vec![f64::INFINITY; adj.len()];
-    let mut prev = vec![usize::MAX; adj.len()];
-    let mut heap = BinaryHeap::new();
-    d[s] = 0.0;
-    heap.push(Item(0.0, s));
-    while let Some(Item(di, i)) = heap.pop() {
-        if i == g {
-            break;
-        }
-        if di > d[i] {
-            continue;
-        }
-        for &(j, w) in &adj[i] {
-            if di + w < d[j] {
-                d[j] = di + w;
-                prev[j] = i;
-                heap.push(Item(d[j], j));
-            }
-        }
-    }
-    if !d[g].is_finite() {
-        return None;
-    }
-    let mut path = vec![g];
-    while path[path.len() - 1] != s {
-        path.push(prev[path[path.len() - 1]]);
-    }
-    path.reverse();
-    Some(path)
-}
-
 impl Roadmap {
     /// Read a roadmap file.
     pub fn load(path: &std::path::Path) -> Result<Roadmap, ModelError> {
@@ -366,160 +317,5 @@ impl Roadmap {
             });
         }
         super::roadmap_nodes::check(self, space)
-    }
-
-    /// [`plan`](super::plan) on this roadmap, from the solved end points `s`, `g` checked by
-    /// `ck` (clock started at `t0`).
-    pub(super) fn query(
-        &self,
-        ck: &mut Checker,
-        s: Node,
-        g: Node,
-        opts: &PlanOptions,
-        t0: Instant,
-    ) -> Result<Plan, SolveError> {
-        let mut stats = PlanStats {
-            planner: "roadmap",
-            ..PlanStats::default()
-        };
-        if let EdgeCheck::Clear { .. } = ck.edge(&s, &g) {
-            return finish(ck, vec![s, g], opts, stats, t0);
-        }
-        if let Some(path) = super::insert::staged(ck, &s, &g) {
-            return finish(ck, path, opts, stats, t0);
-        }
-        let n = self.nodes.len();
-        let (si, gi) = (n, n + 1);
-        let mut adj: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n + 2];
-        // Edge weights: actuation length, lengthened near obstacles (× (1 + 1 mm / c) for the
-        // smaller clearance c of its ends), so paths keep away from them; edges near the
-        // margin also need the finest validation.
-        let clear = |i: usize| match i.checked_sub(n) {
-            None => self.nodes[i].clearance.unwrap_or(f64::INFINITY),
-            Some(0) => s.clearance,
-            Some(_) => g.clearance,
-        };
-        let metric = ck.metric.clone();
-        let link = |adj: &mut Vec<Vec<(usize, f64)>>, a: usize, b: usize| {
-            let c = clear(a).min(clear(b)).max(1e-6);
-            let w = metric.dist(self.u_of(a, &s, &g), self.u_of(b, &s, &g)) * (1.0 + 1e-3 / c);
-            adj[a].push((b, w));
-            adj[b].push((a, w));
-        };
-        for &(a, b) in &self.edges {
-            link(&mut adj, a, b);
-        }
-        // Solved roadmap nodes (lazily), `None` once refused.
-        let mut solved: Vec<Option<Option<Node>>> = vec![None; n];
-        // Each end is linked to its nearest node with a clear edge; only when the roadmap then
-        // does not join them, to up to three.
-        let mut linked: [Vec<usize>; 2] = [Vec::new(), Vec::new()];
-        let mut want = 0;
-        loop {
-            let ids = match shortest(&adj, si, gi) {
-                Some(ids) => ids,
-                None if want < 3 => {
-                    want = if want == 0 { 1 } else { 3 };
-                    for (e, (end, idx)) in [(&s, si), (&g, gi)].into_iter().enumerate() {
-                        for j in self.links(ck, &mut solved, end, want, &linked[e]) {
-                            link(&mut adj, idx, j);
-                            linked[e].push(j);
-                        }
-                    }
-                    continue;
-                }
-                None => {
-                    return Err(SolveError::NoPath {
-                        samples: self.nodes.len(),
-                        reason: "the roadmap does not connect the start to the goal".into(),
-                    })
-                }
-            };
-            stats.tree_nodes = ids.len();
-            // Solve and check the path's nodes in order, and its edges.
-            let mut path = vec![s.clone()];
-            let mut broken: Option<(usize, usize)> = None;
-            for w in ids.windows(2) {
-                let b = w[1];
-                let node = if b == gi {
-                    g.clone()
-                } else {
-                    let warm = path[path.len() - 1].shape.clone();
-                    match self.solve_node(ck, &mut solved, b, &warm) {
-                        Some(x) => x,
-                        None => {
-                            broken = Some((w[0], b));
-                            break;
-                        }
-                    }
-                };
-                if ck.edge(&path[path.len() - 1], &node) == EdgeCheck::Blocked {
-                    broken = Some((w[0], b));
-                    break;
-                }
-                path.push(node);
-            }
-            match broken {
-                None => return finish(ck, path, opts, stats, t0),
-                Some((a, b)) => {
-                    stats.edges_repaired += 1;
-                    adj[a].retain(|e| e.0 != b);
-                    adj[b].retain(|e| e.0 != a);
-                }
-            }
-        }
-    }
-
-    /// Up to `want` links in all from `end` to its nearest nodes (of the 12 nearest) by clear
-    /// edges, beyond those in `have`.
-    fn links(
-        &self,
-        ck: &mut Checker,
-        solved: &mut [Option<Option<Node>>],
-        end: &Node,
-        want: usize,
-        have: &[usize],
-    ) -> Vec<usize> {
-        let mut out = Vec::new();
-        for j in nearest(&ck.metric, &self.nodes, &end.u, 4 * 3) {
-            if have.len() + out.len() >= want {
-                break;
-            }
-            if have.contains(&j) {
-                continue;
-            }
-            let Some(nj) = self.solve_node(ck, solved, j, &end.shape) else {
-                continue;
-            };
-            if let EdgeCheck::Clear { .. } = ck.edge(end, &nj) {
-                out.push(j);
-            }
-        }
-        out
-    }
-
-    fn u_of<'a>(&'a self, i: usize, s: &'a Node, g: &'a Node) -> &'a [f64] {
-        match i.checked_sub(self.nodes.len()) {
-            None => &self.nodes[i].u,
-            Some(0) => &s.u,
-            Some(_) => &g.u,
-        }
-    }
-
-    /// Roadmap node `j` solved (warm from `warm`) and checked: its clearance measured here,
-    /// never taken from the file.
-    fn solve_node(
-        &self,
-        ck: &mut Checker,
-        solved: &mut [Option<Option<Node>>],
-        j: usize,
-        warm: &crate::shape::Shape,
-    ) -> Option<Node> {
-        if let Some(x) = &solved[j] {
-            return x.clone();
-        }
-        let out = ck.node(&self.nodes[j].u, Some(warm));
-        solved[j] = Some(out.clone());
-        out
     }
 }

@@ -450,6 +450,67 @@ fn roadmap_queries_and_repair() {
     }
 }
 
+/// One run of queries on a roadmap (`Roadmap::queries`) beside the ball answers seeded random
+/// queries as often as each query alone, every answer through the dense re-check, with fewer solves (the
+/// roadmap's nodes and edges validated by one query serve the next); a margin other than the
+/// run's is refused by name.
+#[test]
+fn a_run_of_roadmap_queries_reuses_what_it_validated() {
+    let model = ball_model();
+    let rm = build(&model, &energy(), &BuildOptions::default()).unwrap();
+    let space = Space::new(&model, &energy(), false).unwrap();
+    let ends = admissible_samples(&space, 5, 7);
+    let opts = PlanOptions::default();
+    let mut run = rm.queries(&model, &energy(), &space, None).unwrap();
+    let (mut alone, mut together, mut solves_alone, mut solves_together, mut graph) =
+        (0, 0, 0, 0, 0);
+    for i in 0..ends.len() {
+        for j in i + 1..ends.len() {
+            let (from, goal) = (Some(ends[i].clone()), Goal::Actuation(ends[j].clone()));
+            if let Ok(p) = plan(&model, &energy(), from.clone(), &goal, &opts, Some(&rm)) {
+                alone += 1;
+                solves_alone += p.stats.checks.solves;
+            }
+            if let Ok(p) = run.plan(from, &goal, &opts) {
+                assert_eq!(p.waypoints[0].u, ends[i]);
+                assert_eq!(p.waypoints[p.waypoints.len() - 1].u, ends[j]);
+                dense_recheck(&model, &p);
+                together += 1;
+                solves_together += p.stats.checks.solves;
+                graph += usize::from(p.stats.tree_nodes > 2);
+            }
+        }
+    }
+    eprintln!(
+        "{together} answered in one run ({solves_together} solves, {graph} through the graph), \
+         {alone} alone ({solves_alone} solves)"
+    );
+    assert!(
+        together >= alone && together * 100 >= 95 * 21,
+        "{together} of 21"
+    );
+    assert!(graph >= 2, "{graph} answers through the graph");
+    assert!(
+        solves_together < solves_alone,
+        "{solves_together} vs {solves_alone}"
+    );
+    let other = PlanOptions {
+        margin: Some(2.0 * space.margin + 1e-4),
+        ..PlanOptions::default()
+    };
+    match run.plan(
+        Some(ends[0].clone()),
+        &Goal::Actuation(ends[1].clone()),
+        &other,
+    ) {
+        Err(ccrkit::error::SolveError::InvalidInput { field, .. }) => assert_eq!(field, "margin"),
+        other => panic!(
+            "another margin: refused by name, got ok = {}",
+            other.is_ok()
+        ),
+    }
+}
+
 fn vessel_model() -> Model {
     let mut model = Model::from_file(format!("{ROOT}/models/plan/two_segment.toml")).unwrap();
     model
