@@ -404,7 +404,8 @@ impl Space {
     }
 
     /// Certified bounds on the clearance of `shape` from the grids of the scene's solids
-    /// ([`clearance_bounds`]: no triangle queried for them; `None` without obstacles).
+    /// ([`clearance_bounds`]: no triangle queried for them; `None` without obstacles, or with an
+    /// obstacle that has no grid).
     pub fn clearance_bounds(&self, shape: &Shape) -> Option<ClearanceBounds> {
         clearance_bounds(&self.robot, shape, &self.scene)
     }
