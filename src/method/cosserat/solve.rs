@@ -13,7 +13,7 @@ use crate::method::{Method, MethodKind, SolveInput};
 use crate::model::actuation::Drive;
 use crate::numeric::so3::gram_schmidt;
 use crate::shape::{CablePath, DiskFrame, Shape, SolveReport};
-use nalgebra::{DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Vector3};
 
 impl Method for Cosserat {
     fn kind(&self) -> MethodKind {
@@ -152,35 +152,7 @@ impl Method for Cosserat {
                 prev = Some((x, setup));
                 continue;
             }
-            // The unloaded rod's energy is strictly convex in its strains: stable with no
-            // pass (`unloaded_solve.rs`, "Stability"). Elsewhere the focal-point pass, which
-            // also gives the exact Jacobian at the answer, a better warm start than Newton's
-            // last (Broyden-updated) one. Skipped on request (`stability = skip`): `stable`
-            // stays `None`, meaning not checked.
-            let (stable, jac) = if !self.check_stability {
-                notes.push("stability not checked (stability = skip)".into());
-                (None, jac)
-            } else if prob.fast && prob.convex_stable(&x, &setup) {
-                notes.push(
-                    "stable: the unloaded rod's energy is strictly convex in its strains \
-                     (no focal-point pass)"
-                        .into(),
-                );
-                (Some(true), jac)
-            } else if let Some(stable) = prob.loaded_focal.get().filter(|_| prob.loaded) {
-                notes.push(
-                    "stability: focal-point test on the Jacobi fields the loaded solve's passes \
-                     carried (no extra pass)"
-                        .into(),
-                );
-                (Some(stable), jac)
-            } else {
-                let (stable, exact) = prob.focal_stable(&x, &setup);
-                if stable.is_none() {
-                    notes.push(prob.undecided_stability(exact.is_some()));
-                }
-                (stable, exact.or(jac))
-            };
+            let (stable, jac) = self.stability(&prob, &x, &setup, jac, &mut notes);
             let mut shape = self.build_shape(&prob, &x, &setup, total_it, res, notes);
             shape.report.stable = stable;
             if prob.world.is_some() {
@@ -199,6 +171,49 @@ impl Method for Cosserat {
         }
         let contacts = prob.world.is_some();
         Err(unsettled(name, total_it, last_res, max_rounds, contacts))
+    }
+}
+
+impl Cosserat {
+    /// The answer's stability and the Jacobian its warm start carries (module docs of
+    /// `unloaded_solve.rs`, "Stability", and `jacobian.rs`): `jac` is Newton's last.
+    fn stability(
+        &self,
+        prob: &Problem,
+        x: &DVector<f64>,
+        setup: &Setup,
+        jac: Option<DMatrix<f64>>,
+        notes: &mut Vec<String>,
+    ) -> (Option<bool>, Option<DMatrix<f64>>) {
+        // The unloaded rod's energy is strictly convex in its strains: stable with no
+        // pass (`unloaded_solve.rs`, "Stability"). Elsewhere the focal-point pass, which
+        // also gives the exact Jacobian at the answer, a better warm start than Newton's
+        // last (Broyden-updated) one. Skipped on request (`stability = skip`): `stable`
+        // stays `None`, meaning not checked.
+        if !self.check_stability {
+            notes.push("stability not checked (stability = skip)".into());
+            (None, jac)
+        } else if prob.fast && prob.convex_stable(x, setup) {
+            notes.push(
+                "stable: the unloaded rod's energy is strictly convex in its strains \
+                 (no focal-point pass)"
+                    .into(),
+            );
+            (Some(true), jac)
+        } else if let Some(stable) = prob.loaded_focal.get().filter(|_| prob.loaded) {
+            notes.push(
+                "stability: focal-point test on the Jacobi fields the loaded solve's passes \
+                 carried (no extra pass)"
+                    .into(),
+            );
+            (Some(stable), jac)
+        } else {
+            let (stable, exact) = prob.focal_stable(x, setup);
+            if stable.is_none() {
+                notes.push(prob.undecided_stability(exact.is_some()));
+            }
+            (stable, exact.or(jac))
+        }
     }
 }
 
