@@ -220,36 +220,42 @@ impl SolidField {
     /// [`SolidField::point_below`] at samples a quarter cell apart (each point of the segment
     /// within an eighth of a cell of one).
     fn segment_below(&self, a: [f64; 3], b: [f64; 3], r: f64) -> f64 {
-        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let steps = (4.0 * len / self.h).ceil().clamp(1.0, 256.0);
-        let half = 0.5 * len / steps;
-        let steps = steps as usize;
-        let mut lo = f64::INFINITY;
-        for k in 0..=steps {
-            let t = k as f64 / steps as f64;
-            let p = [a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]];
-            lo = lo.min(self.point_below(p));
-        }
+        let (lo, _, half) = self.sweep(a, b, 4.0, 256.0, |p| (self.point_below(p), f64::INFINITY));
         lo - half - r
     }
 
     /// Bounds for the capsule of radius `r` about the segment `a`–`b` (mesh frame).
     fn segment(&self, a: [f64; 3], b: [f64; 3], r: f64) -> (f64, f64) {
+        let (lo, hi, half) = self.sweep(a, b, 1.0, 64.0, |p| self.point_bounds(p));
+        (lo - half - r, hi - r)
+    }
+
+    /// The smallest of `point`'s lower and of its upper values at evenly spaced samples of the
+    /// segment `a`–`b` (mesh frame), `per_cell` samples a cell apart (between 1 and `cap`
+    /// steps, ends included), and half the spacing: every point of the segment lies within it
+    /// of a sample.
+    pub(super) fn sweep(
+        &self,
+        a: [f64; 3],
+        b: [f64; 3],
+        per_cell: f64,
+        cap: f64,
+        point: impl Fn([f64; 3]) -> (f64, f64),
+    ) -> (f64, f64, f64) {
         let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let steps = (len / self.h).ceil().clamp(1.0, 64.0);
+        let steps = (per_cell * len / self.h).ceil().clamp(1.0, cap);
         let half = 0.5 * len / steps;
-        let (mut lo, mut hi) = (f64::INFINITY, f64::INFINITY);
         let steps = steps as usize;
+        let (mut lo, mut hi) = (f64::INFINITY, f64::INFINITY);
         for k in 0..=steps {
             let t = k as f64 / steps as f64;
             let p = [a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]];
-            let (l, u) = self.point_bounds(p);
+            let (l, u) = point(p);
             lo = lo.min(l);
             hi = hi.min(u);
         }
-        (lo - half - r, hi - r)
+        (lo, hi, half)
     }
 }
 

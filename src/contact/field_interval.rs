@@ -105,19 +105,7 @@ impl SolidField {
     /// [`SolidField::feature_interval`] of the capsule of radius `r` about `a`–`b` (mesh
     /// frame).
     fn segment_interval(&self, a: [f64; 3], b: [f64; 3], r: f64) -> (f64, f64) {
-        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let steps = (2.0 * len / self.h).ceil().clamp(1.0, 256.0);
-        let half = 0.5 * len / steps;
-        let steps = steps as usize;
-        let (mut lo, mut hi) = (f64::INFINITY, f64::INFINITY);
-        for k in 0..=steps {
-            let t = k as f64 / steps as f64;
-            let p = [a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]];
-            let (l, u) = self.point_interval(p);
-            lo = lo.min(l);
-            hi = hi.min(u);
-        }
+        let (lo, hi, half) = self.sweep(a, b, 2.0, 256.0, |p| self.point_interval(p));
         (lo - half - r, hi - r)
     }
 }
