@@ -197,7 +197,7 @@ fn toml_number(x: f64) -> String {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(crate::common::fixed_seed(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() }))]
 
     /// Any number in any field of case III: validation never panics; what it refuses it
     /// refuses by naming a field of the model.

@@ -113,14 +113,14 @@ fn env_cases() -> Option<u32> {
         .and_then(|v| v.parse().ok())
 }
 
-/// `cases` robots drawn from [`robot`] (proptest's runner, seeded as proptest seeds it), each
-/// written to `dir/robot<k>.toml`.
+/// `cases` robots drawn from [`robot`] (proptest's runner with the suites' fixed seed, or
+/// `PROPTEST_RNG_SEED`'s: `crate::common::fixed_seed`), each written to `dir/robot<k>.toml`.
 fn draw_robots(dir: &std::path::Path, cases: u32) -> Vec<(RobotSpec, std::path::PathBuf)> {
-    let mut runner = TestRunner::new(Config {
+    let mut runner = TestRunner::new(crate::common::fixed_seed(Config {
         cases,
         failure_persistence: None,
         ..Config::default()
-    });
+    }));
     (0..cases)
         .map(|k| {
             let spec = robot()

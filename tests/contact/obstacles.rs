@@ -442,7 +442,7 @@ fn obstacle_strategy() -> impl Strategy<Value = String> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(crate::common::fixed_seed(ProptestConfig { cases: 48, ..ProptestConfig::default() }))]
 
     /// Random spheres and boxes around the robot's reach: either a shape without penetration
     /// whose contacts lie on both surfaces, or a named error — never a wrong shape.
@@ -702,7 +702,7 @@ fn energy_base_inside_an_obstacle_is_obstructed_at_section_0() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+    #![proptest_config(crate::common::fixed_seed(ProptestConfig { cases: 32, ..ProptestConfig::default() }))]
 
     /// The energy model on random spheres and boxes: a shape without penetration that keeps
     /// the cable lengths, or a named error.

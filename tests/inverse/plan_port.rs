@@ -256,7 +256,7 @@ fn certified_clearance_holds_along_port_edges() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(crate::common::fixed_seed(ProptestConfig::with_cases(256)))]
     /// The planners' distance over cables, insertion and rotation is a metric: zero on the
     /// diagonal, symmetric, the triangle inequality; and it is reach's effort between points.
     #[test]

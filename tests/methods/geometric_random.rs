@@ -127,7 +127,7 @@ fn check(cables: &[CableSpec]) -> Result<Outcome, TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
+    #![proptest_config(crate::common::fixed_seed(ProptestConfig { cases: 48, .. ProptestConfig::default() }))]
 
     #[test]
     fn a_shape_that_meets_its_constraints_or_a_named_error(cables in prop::collection::vec(cable(), 1..=6)) {

@@ -43,10 +43,11 @@ use super::problem::{Problem, Trace};
 use super::shooting::Setup;
 use crate::contact::features::{self, Touching};
 use crate::contact::primitives::{self, Convex};
-use crate::contact::{broad, nvec, polish, ppose, Witness};
+use crate::contact::{broad, polish, ppose, Witness};
 use crate::error::SolveError;
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
+use crate::numeric::so3::gram_schmidt;
 use crate::shape::{Contact, Shape};
 use nalgebra::{DVector, Matrix3, Vector3};
 use parry3d::math::Pose as PPose;
@@ -129,7 +130,7 @@ impl<'a> RodWorld<'a> {
     }
 
     /// The witness of the disk at `(p, r)` against obstacle `o`, or `None` beyond `margin`:
-    /// in closed form where a box face decides it (`primitives::box_witness`), else parry's
+    /// in closed form where a box face or a ball decides it (`primitives::closed_witness`), else parry's
     /// polished answer with the robot point on the disk rim exactly (`disk_support`).
     pub(super) fn witness(
         &self,
@@ -141,14 +142,27 @@ impl<'a> RodWorld<'a> {
         let ob = &self.scene.obstacles[o];
         let robot = self.robot;
         let (rd, ht) = (robot.disk_radius, robot.disk_thickness / 2.0);
+        // RK4 integrates the frame only approximately: under a hard bend (a rim pressed with
+        // kilonewtons) it drifts ~1e-3 from orthonormal, and a rim point read at the drifted
+        // frame sits micrometres off the rigid disk the answer reports (its frame projected,
+        // `gram_schmidt`). The contact is that rigid disk's: a frame whose drift moves the rim
+        // by more than a nanometre (a tenth of `PENETRATION_TOL`) is projected first.
+        let projected;
+        let drift = (r.transpose() * r - Matrix3::identity()).amax();
+        let r = if drift * rd.max(robot.body_radius()) > 0.1 * PENETRATION_TOL {
+            projected = gram_schmidt(r);
+            &projected
+        } else {
+            r
+        };
         let convex = if self.disks {
             Convex::Disk(*r, *p, rd, ht)
         } else {
             Convex::Segment(*p, *p, robot.body_radius())
         };
-        if let Some(decided) = ob.shape.as_cuboid().and_then(|c| {
-            primitives::box_witness(&nvec(c.half_extents), &ob.parry_pose, &convex, margin)
-        }) {
+        if let Some(decided) =
+            primitives::closed_witness(&*ob.shape, &ob.parry_pose, &convex, margin)
+        {
             return decided;
         }
         let g = &*self.feature;

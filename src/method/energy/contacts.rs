@@ -47,7 +47,7 @@ use super::kinematics::{sheared_exp, GL_NODES, GL_W, GL_X};
 use crate::contact::features::{self, Touching};
 use crate::contact::parry::SEPARATION_SHIFT;
 use crate::contact::primitives::{self, Convex};
-use crate::contact::{broad, nvec, polish, Witness};
+use crate::contact::{broad, polish, Witness};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Contact;
@@ -447,8 +447,8 @@ struct Collect<'w, 'a> {
 impl Collect<'_, '_> {
     /// Query feature `feat` (shape `g` at `gpose`, the same as the convex set `convex()`, inside
     /// the ball `(centre, radius)`, moving as `ends`) against every candidate obstacle: in
-    /// closed form against a box where a face decides the distance
-    /// ([`primitives::box_witness`], exact; parry's answer agrees to its own accuracy), else
+    /// closed form against a box where a face decides the distance, and against a ball
+    /// ([`primitives::closed_witness`], exact; parry's answer agrees to its own accuracy), else
     /// by parry.
     fn feature(
         &mut self,
@@ -481,9 +481,7 @@ impl Collect<'_, '_> {
                 self.clear = self.clear.min(margin);
                 continue;
             }
-            let closed = o.shape.as_cuboid().and_then(|c| {
-                primitives::box_witness(&nvec(c.half_extents), &o.parry_pose, &convex(), margin)
-            });
+            let closed = primitives::closed_witness(&*o.shape, &o.parry_pose, &convex(), margin);
             let near = self
                 .hints
                 .iter()

@@ -4,7 +4,7 @@
 
 use super::problem::Pose;
 use crate::contact::features::{self, Touching};
-use crate::contact::primitives::{box_witness, Convex};
+use crate::contact::primitives::{closed_witness, Convex};
 use crate::contact::sat;
 use crate::contact::Witness;
 use crate::contact::{nvec, pvec};
@@ -304,10 +304,9 @@ impl SectionWorld {
                 if self.distance_bound(k, &hull) > far {
                     return;
                 }
-                // A box face decides the distance in closed form where it can (the wall).
-                let closed = shape
-                    .as_cuboid()
-                    .and_then(|c| box_witness(&nvec(c.half_extents), opose, &hull, self.margin));
+                // A box face (the wall) or a ball decides the distance in closed form where it
+                // can.
+                let closed = closed_witness(&**shape, opose, &hull, self.margin);
                 // The separating-axis witness's robot point is exact (a disk's side on a
                 // cylinder's side: the crossing of the two lines, not a rim point the normal
                 // suggests); a box face's is the disk's support point, placed as parry's is.
