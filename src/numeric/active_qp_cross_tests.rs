@@ -174,3 +174,54 @@ fn one_active_bound_in_closed_form() {
     assert!((s.x[0] - 0.25).abs() < 1e-15 && (s.mu[0] - 0.75).abs() < 1e-15);
     assert_eq!(s.mu[1], 0.0);
 }
+
+/// The warm start changes nothing but the work: on the random QPs (generic, degenerate,
+/// infeasible), started from the cold solve's own active set, from that set reversed, from a
+/// random subset of the rows and from a guess with a repeated or out-of-range row, the answer
+/// is the cold one to rounding (the KKT conditions, and the same minimizer) and an infeasible
+/// QP stays infeasible; from its own active set it takes the one-solve path and returns that
+/// set, and wherever it ends on the cold solve's set its answer is the cold one to the bit.
+#[test]
+fn warm_start_gives_the_cold_answer() {
+    use super::qp6_warm;
+    let mut rng = Rng(0x51_7cc1_b727_220a);
+    let (mut same_set, mut checked) = (0, 0);
+    for case in 0..360 {
+        let kind = (case % 3) as u32;
+        let qp = random_qp(&mut rng, kind);
+        let (h, g, eq, e, gi, hi) = &qp;
+        let hp = clamped_hessian(h, 1e-10);
+        let cold = qp6_active_set(&hp, g, eq, e, gi, hi);
+        let subset: Vec<usize> = (0..gi.len()).filter(|_| rng.next() < 0.4).collect();
+        let (own, reversed) = match &cold {
+            Qp6::Solved(_, a) => (a.clone(), a.iter().rev().copied().collect()),
+            _ => (vec![], vec![]),
+        };
+        let guesses = [own.clone(), reversed, subset, vec![0, 0], vec![gi.len()]];
+        for guess in guesses {
+            let warm = qp6_warm(&hp, g, (eq, e), (gi, hi), &guess);
+            match (&cold, &warm) {
+                (Qp6::Solved(c, _), Qp6::Solved(w, active)) => {
+                    check_kkt(&qp, &w.x, &w.lambda_eq, &w.mu, case);
+                    let d = (c.x - w.x).amax() / (1e-3 + c.x.amax());
+                    assert!(d < 1e-9, "case {case}: warm differs from cold by {d}");
+                    if let (Qp6::Solved(_, ca), false) = (&cold, own.is_empty()) {
+                        if ca == active {
+                            // The same set: the same bits.
+                            assert_eq!(c.x, w.x, "case {case}");
+                            assert_eq!(c.mu, w.mu, "case {case}");
+                        }
+                    }
+                    if guess == own && !own.is_empty() {
+                        assert_eq!(active, &own, "case {case}");
+                        same_set += 1;
+                    }
+                    checked += 1;
+                }
+                (Qp6::Infeasible, Qp6::Infeasible) => {}
+                _ => panic!("case {case}: cold {cold:?}, warm {warm:?} from {guess:?}"),
+            }
+        }
+    }
+    assert!(same_set > 100 && checked > 1000, "{same_set} {checked}");
+}
