@@ -422,9 +422,13 @@ mod tests {
         g[0] = -1.0;
         let mut row = Vector6::zeros();
         row[0] = 1.0;
-        let s = qp_step6(&h, &g, &[], &[], &[row], &[0.25], 1e-12).unwrap();
+        let (s, active) = qp_step6(&h, &g, (&[], &[]), (&[row], &[0.25]), 1e-12, &[]).unwrap();
         assert!((s.x[0] - 0.25).abs() < 1e-8);
         assert!((s.mu[0] - 0.75).abs() < 1e-7);
+        assert_eq!(active, vec![0]);
+        // Warm from that set: the same step, to the bit.
+        let (w, _) = qp_step6(&h, &g, (&[], &[]), (&[row], &[0.25]), 1e-12, &active).unwrap();
+        assert_eq!((w.x, w.mu), (s.x, s.mu));
     }
 
     /// min ½|x|² s.t. x₀ + x₁ = 1, x₀ ≤ 0.2: x = (0.2, 0.8) (closed form).
