@@ -62,6 +62,8 @@ pub(super) struct Loaded {
     pub(super) jac: Matrix3<f64>,
     pub(super) residual: f64,
     pub(super) no_focal: bool,
+    /// Whether the pass carried the six Jacobi fields (else `no_focal` says nothing).
+    pub(super) checked: bool,
 }
 
 impl Problem<'_> {
@@ -245,6 +247,7 @@ impl Problem<'_> {
             jac,
             residual,
             no_focal,
+            checked: nd == 6,
         })
     }
 
@@ -364,10 +367,8 @@ impl Problem<'_> {
                 mo = m;
             }
         }
-        let (pass, iterations) = match focal {
-            true => self.newton_loaded::<7>(mo, &ld)?,
-            false => self.newton_loaded::<4>(mo, &ld)?,
-        };
+        // A cold start's first pass is never the answer's: it carries only Newton's tangents.
+        let (pass, iterations) = self.newton_loaded(mo, &ld, (focal, focal && !cold))?;
         self.loaded_focal.set(focal.then_some(pass.no_focal));
         let steps: usize = self.nsteps[1..].iter().sum();
         notes.push(format!(
@@ -391,12 +392,25 @@ impl Problem<'_> {
         ))
     }
 
-    /// Newton on `M(0)/L` from `mo` with passes of `C − 1` tangents ([`Cols`]): the last
-    /// pass and the iterations.
-    fn newton_loaded<const C: usize>(
+    /// A pass with Newton's three tangents, and with `focal` also the three more of the
+    /// focal-point test ([`Cols`]).
+    fn tangent_pass(&self, mo: &Vector3<f64>, ld: &LoadCase, focal: bool) -> Option<Loaded> {
+        match focal {
+            true => self.loaded_pass::<7>(mo, ld, None),
+            false => self.loaded_pass::<4>(mo, ld, None),
+        }
+    }
+
+    /// Newton on `M(0)/L` from `mo`: the last pass and the iterations. With `focal` the
+    /// passes carry the focal-point test's Jacobi fields and the pass returned has its
+    /// verdict, at the answer or one Newton step from it; with `first` also the first pass
+    /// (else it carries Newton's tangents alone, and should it already be the answer, one
+    /// more pass there decides).
+    fn newton_loaded(
         &self,
         mut mo: Vector3<f64>,
         ld: &LoadCase,
+        (focal, first): (bool, bool),
     ) -> Result<(Loaded, usize), Fail> {
         let fail = |iterations, residual, detail: &str| Fail {
             iterations,
@@ -405,7 +419,7 @@ impl Problem<'_> {
         };
         let unsettled = "the strains of the loaded rod did not settle at some point";
         let mut pass = self
-            .loaded_pass::<C>(&mo, ld, None)
+            .tangent_pass(&mo, ld, first)
             .ok_or_else(|| fail(0, f64::NAN, unsettled))?;
         let norm = |p: &Loaded| p.shot.resid.amax();
         let mut iterations = 0;
@@ -429,8 +443,8 @@ impl Problem<'_> {
             if last.is_finite() && r * (r / last).powi(2) <= 0.1 * self.set.tolerance {
                 let mt = mo + step * self.len_l;
                 if let Some(mut pt) = self.loaded_pass::<1>(&mt, ld, None) {
-                    if norm(&pt) <= self.set.tolerance {
-                        pt.no_focal = pass.no_focal;
+                    if norm(&pt) <= self.set.tolerance && pass.checked == focal {
+                        (pt.no_focal, pt.checked) = (pass.no_focal, pass.checked);
                         return Ok((pt, iterations));
                     }
                 }
@@ -440,7 +454,7 @@ impl Problem<'_> {
             let mut halvings = 0;
             loop {
                 let mt = mo + step * (alpha * self.len_l);
-                match self.loaded_pass::<C>(&mt, ld, None) {
+                match self.tangent_pass(&mt, ld, focal) {
                     Some(pt) if norm(&pt) < norm(&pass) => {
                         (mo, pass) = (mt, pt);
                         break;
@@ -455,6 +469,11 @@ impl Problem<'_> {
                     }
                 }
             }
+        }
+        if focal && !pass.checked {
+            pass = self
+                .tangent_pass(&mo, ld, true)
+                .ok_or_else(|| fail(iterations, f64::NAN, unsettled))?;
         }
         Ok((pass, iterations))
     }
