@@ -60,11 +60,11 @@
 //! own response, a relative error of the order of the coupling above.
 
 use super::contacts::{Ends, Kin, Pair};
-use crate::contact::features;
 use super::lengths::path_w;
 use super::problem::Problem;
 use super::problem::Target;
 use super::Energy;
+use crate::contact::features;
 use crate::error::SolveError;
 use crate::method::warm::WarmState;
 use crate::method::Method;
@@ -93,7 +93,8 @@ impl Problem<'_> {
         let mut sum = Vector3::zeros();
         let zero = Vector3::zeros();
         for j in (0..self.nsub).rev() {
-            sum += self.frame_forces.get(j + 1).unwrap_or(&zero) + extra.get(j + 1).unwrap_or(&zero);
+            sum +=
+                self.frame_forces.get(j + 1).unwrap_or(&zero) + extra.get(j + 1).unwrap_or(&zero);
             let ms = kin.m_int[j].tr_mul(&sum);
             out[j] = [ms.x, ms.y];
         }

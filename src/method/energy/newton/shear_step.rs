@@ -44,10 +44,10 @@ impl Sqp<'_, '_> {
         let forces = contact_forces(&self.pairs, &self.mu, k0.pos.len());
         let step = prob.shear_newton(&self.xi, &self.lam, Some(&k0), &forces);
         let full = step
-                .iter()
-                .zip(&prob.ell)
-                .map(|(d, l)| l * d[0].hypot(d[1]))
-                .sum::<f64>();
+            .iter()
+            .zip(&prob.ell)
+            .map(|(d, l)| l * d[0].hypot(d[1]))
+            .sum::<f64>();
         if full <= NEGLIGIBLE * prob.set.tolerance {
             self.kin = Some(k0);
             return full;
