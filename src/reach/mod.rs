@@ -52,7 +52,9 @@ mod descend;
 mod sens;
 mod solve;
 
-pub use clear::{clearance, clearance_below, clearance_hinted, Clearance, ClosestPair};
+pub use clear::{
+    clearance, clearance_below, clearance_below_hinted, clearance_hinted, Clearance, ClosestPair,
+};
 pub use clear_bounds::{clearance_bounds, ClearanceBounds};
 
 pub use answer::{CableActuation, EffortJson, Reach, ReachJson};
@@ -373,6 +375,17 @@ impl Space {
     /// `cap` from every obstacle ([`clearance_below`]: cheaper for a shape well clear).
     pub fn clearance_below(&self, shape: &Shape, cap: f64) -> Option<(Clearance, ClosestPair)> {
         clearance_below(&self.robot, shape, &self.scene, cap)
+    }
+
+    /// [`Space::clearance_below`] starting from a hinted closest pair
+    /// ([`clearance_below_hinted`]: the same answer).
+    pub fn clearance_below_hinted(
+        &self,
+        shape: &Shape,
+        cap: f64,
+        hint: Option<ClosestPair>,
+    ) -> Option<(Clearance, ClosestPair)> {
+        clearance_below_hinted(&self.robot, shape, &self.scene, cap, hint)
     }
 
     /// [`Space::clearance`] starting from a hinted closest pair, with the closest pair found
