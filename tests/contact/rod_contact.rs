@@ -206,12 +206,18 @@ fn the_rod_meets_energy_on_generated_scenes() {
             solve(&m, &sc, MethodKind::Energy, control, Some(&start))
         });
         let Ok(e) = energy else {
-            eprintln!("seed {seed}: energy {}", energy.err().map(|x| x.to_string()).unwrap_or_default());
+            eprintln!(
+                "seed {seed}: energy {}",
+                energy.err().map(|x| x.to_string()).unwrap_or_default()
+            );
             failed.push(seed);
             continue;
         };
         // A pressing chord or backbone: the rod's contacts act at its disks only.
-        if e.contacts.iter().any(|c| c.disk.is_none() && c.multiplier > 0.0) {
+        if e.contacts
+            .iter()
+            .any(|c| c.disk.is_none() && c.multiplier > 0.0)
+        {
             eprintln!("seed {seed}: energy presses a cable chord or the backbone (not in the rod)");
             chords.push(seed);
             continue;
