@@ -171,7 +171,11 @@ class Model:
         mode: str = "articulated",
         cables: bool = False,
         name: Optional[str] = None,
-    ) -> List[str]: ...
+    ) -> List[str]:
+        """Write ``shape`` (solved on this model) as URDF to ``path``, with the SRDF and the
+        joint values beside it in ``articulated`` mode; returns the paths written. Atomic,
+        folders created; an output onto one of the model's files (model, scene, mesh) or two
+        on one file is an ``InvalidInput`` with ``field == "path"``, raised before writing."""
 
     def reach(
         self,
@@ -225,8 +229,10 @@ class Model:
         **settings: _Setting,
     ) -> str:
         """A roadmap for ``plan(roadmap=…)``, as ``ccrkit roadmap build``: its JSON text, also
-        written to ``out`` when given. ``shard=(k, N)`` builds only shard ``k`` of ``N``
-        (``merge_roadmaps`` joins them into the roadmap one build gives). Releases the GIL."""
+        written to ``out`` when given (atomically; onto one of the model's files it is an
+        ``InvalidInput`` with ``field == "out"``, raised before building). ``shard=(k, N)``
+        builds only shard ``k`` of ``N`` (``merge_roadmaps`` joins them into the roadmap one
+        build gives). Releases the GIL."""
 
 class Reach:
     """The answer of ``Model.reach`` (or the closest one, ``reached == False``)."""

@@ -326,6 +326,22 @@ pub fn export_error(py: Python<'_>, e: &CoreExportError) -> PyErr {
     }
 }
 
+/// An output a call may not write (onto one of its inputs, or twice): an `InvalidInput` whose
+/// `field` is the argument that named it, `path` the file, `reason` why (`crate::files`).
+pub fn write_error(py: Python<'_>, argument: &str, e: &ccrkit::output::WriteError) -> PyErr {
+    raise::<InvalidInput>(
+        py,
+        e.to_string(),
+        Attrs {
+            kind: "invalid_input",
+            field: Some(argument.to_string()),
+            reason: e.reason(),
+            path: Some(e.path().to_string()),
+            ..Default::default()
+        },
+    )
+}
+
 /// An `InvalidInput` raised by the bindings themselves (array shapes, argument types).
 pub fn invalid(py: Python<'_>, field: &str, reason: impl Into<String>) -> PyErr {
     solve_error(

@@ -4,6 +4,7 @@
 //! only converts arguments and results and maps errors to Python exceptions.
 
 mod errors;
+mod files;
 mod inverse;
 mod model;
 mod shape;

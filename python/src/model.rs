@@ -1,10 +1,11 @@
 //! `ccrkit.Model`: a parsed, validated model file, kept with its text so that it pickles.
 
 use crate::errors::{export_error, invalid, model_error, solve_error};
+use crate::files::{claim, WITH_SCENE};
 use crate::inverse::{Plan, PlanArgs, Reach};
 use crate::shape::Shape;
 use ccrkit::batch::BatchInputs;
-use ccrkit::export::{export_urdf, UrdfOptions};
+use ccrkit::export::{export_urdf, UrdfExport, UrdfMode, UrdfOptions};
 use ccrkit::method::run::SolveRequest;
 use ccrkit::method::{MethodKind, Settings};
 use ccrkit::plan::PlanOptions;
@@ -45,7 +46,7 @@ impl Model {
         for s in &scenes {
             inner
                 .scene
-                .merge(Scene::from_file(s).map_err(|e| model_error(py, &e))?);
+                .merge(Scene::from_file_as(s, WITH_SCENE).map_err(|e| model_error(py, &e))?);
         }
         Ok(Model {
             inner,
@@ -113,18 +114,11 @@ impl Model {
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Model> {
         let path = absolute(py, &path)?;
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            model_error(
-                py,
-                &ccrkit::ModelError::Io {
-                    path: path.display().to_string(),
-                    reason: e.to_string(),
-                },
-            )
-        })?;
-        // Parsed as the command line does, so errors name the file; the same model as
-        // `from_toml_in(text, dir)`, which rebuilds it when unpickled.
-        let inner = ccrkit::Model::from_file(&path).map_err(|e| model_error(py, &e))?;
+        // Read once, capped as every model file, and parsed as the command line does, so
+        // errors name the file; the text kept is the text checked, and `from_toml_in(text,
+        // dir)` rebuilds the same model when unpickled.
+        let (inner, text) =
+            ccrkit::Model::from_file_with_text(&path).map_err(|e| model_error(py, &e))?;
         let dir = path.parent().unwrap_or(Path::new("/")).to_path_buf();
         Ok(Model {
             inner,
@@ -312,7 +306,8 @@ impl Model {
     }
 
     /// Write `shape` (solved on this model) as URDF to `path`, with the SRDF and the joint
-    /// values as JSON next to it in `articulated` mode. Returns the paths written.
+    /// values as JSON next to it in `articulated` mode. Returns the paths written. None of
+    /// them may be one of the model's files, nor two of them one file (`crate::files`).
     #[pyo3(signature = (path, shape, mode="articulated", cables=false, name=None))]
     fn export_urdf(
         &self,
@@ -323,7 +318,16 @@ impl Model {
         cables: bool,
         name: Option<String>,
     ) -> PyResult<Vec<PathBuf>> {
-        let mode = mode.parse().map_err(|e| export_error(py, &e))?;
+        let mode: UrdfMode = mode.parse().map_err(|e| export_error(py, &e))?;
+        let outputs: Vec<(String, PathBuf)> = UrdfExport::paths(mode, &path)
+            .into_iter()
+            .enumerate()
+            .map(|(k, (role, p))| match k {
+                0 => (format!("{role} (`path`)"), p),
+                _ => (format!("{role} (beside `path`)"), p),
+            })
+            .collect();
+        claim(py, &self.inner, "path", &outputs)?;
         let opts = UrdfOptions { mode, cables, name };
         let export = export_urdf(&shape.inner, &self.inner.robot, &opts)
             .map_err(|e| export_error(py, &e))?;
@@ -403,7 +407,8 @@ impl Model {
     }
 
     /// A roadmap for repeated `plan(roadmap=…)` queries, as `ccrkit roadmap build`: its JSON
-    /// text, also written to `out` when given. `shard=(k, N)` builds only shard `k` of `N`
+    /// text, also written to `out` when given (not one of the model's files: `crate::files`,
+    /// checked before building). `shard=(k, N)` builds only shard `k` of `N`
     /// (every shard samples the same nodes; `ccrkit.merge_roadmaps` joins them into the
     /// roadmap one build gives — e.g. one shard per Dask worker). Other keywords are the
     /// method's settings. Releases the GIL.
@@ -423,6 +428,14 @@ impl Model {
         shard: Option<(usize, usize)>,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<String> {
+        if let Some(out) = &out {
+            claim(
+                py,
+                &self.inner,
+                "out",
+                &[("`out` file".into(), out.clone())],
+            )?;
+        }
         let request =
             SolveRequest::new(method_kind(py, method)?).with_settings(settings_from(settings)?);
         let shard = match shard {

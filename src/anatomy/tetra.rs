@@ -40,15 +40,15 @@ fn corner(c: &Key, bits: usize) -> Key {
     ]
 }
 
-/// The six tetrahedra of a cell: paths from corner 0 to corner 7 one axis at a time.
-const TETS: [[usize; 4]; 6] = [
-    [0, 1, 3, 7],
-    [0, 1, 5, 7],
-    [0, 2, 3, 7],
-    [0, 2, 6, 7],
-    [0, 4, 5, 7],
-    [0, 4, 6, 7],
-];
+/// The six tetrahedra of a cell: the paths from corner 0 to corner 7 one axis at a time (first
+/// axis `a`, then `b`, then the third), corners by bits as in [`corner`].
+fn tets() -> impl Iterator<Item = [usize; 4]> {
+    (0..3).flat_map(|a| {
+        (0..3)
+            .filter(move |&b| b != a)
+            .map(move |b| [0, 1 << a, 1 << a | 1 << b, 7])
+    })
+}
 
 /// The signed distance of the capsules' union sampled at the grid points near them
 /// (cell `h`, grid point `k` at `h·k`).
@@ -92,7 +92,7 @@ pub fn mesh(capsules: &[Capsule], h: f64) -> (Vec<Vector3<f64>>, Vec<[u32; 3]>) 
     let mut tris: Vec<[u32; 3]> = vec![];
     let point = |k: &Key| Vector3::new(k[0] as f64, k[1] as f64, k[2] as f64) * h;
     for cell in &cells {
-        for tet in TETS {
+        for tet in tets() {
             let ks = tet.map(|b| corner(cell, b));
             let vs = ks.map(|k| value(&k));
             let inside: Vec<usize> = (0..4).filter(|&i| vs[i] < 0.0).collect();

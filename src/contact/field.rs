@@ -63,40 +63,69 @@ pub struct SolidField {
 impl SolidField {
     /// Lower and upper bounds on the signed distance (free side positive) at `p` (mesh frame).
     pub fn point_bounds(&self, p: [f64; 3]) -> (f64, f64) {
-        let mut t = [0.0; 3];
+        let Some((i, t)) = self.cell(p) else {
+            return self.beyond(p);
+        };
+        let (mut lo, mut slack) = (0.0, 0.0);
+        for (d, k) in self.corners(i) {
+            let w = if d[0] == 1 { t[0] } else { 1.0 - t[0] }
+                * if d[1] == 1 { t[1] } else { 1.0 - t[1] }
+                * if d[2] == 1 { t[2] } else { 1.0 - t[2] };
+            let v = f64::from(self.lo[k]);
+            lo += w * v;
+            // The f32 value was rounded down by less than one of its units.
+            slack += w * (self.loose_up(k) + v.abs() * f64::from(f32::EPSILON));
+        }
+        let e = HALF_DIAG * self.h;
+        (lo - e, lo + slack + e)
+    }
+
+    /// The cell holding `p` (mesh frame): its first node along each axis and `p`'s place in
+    /// it in cells (each in `[0, 1]`); `None` beyond the grid.
+    pub(super) fn cell(&self, p: [f64; 3]) -> Option<([usize; 3], [f64; 3])> {
         let mut i = [0usize; 3];
+        let mut t = [0.0; 3];
         for a in 0..3 {
             let u = (p[a] - self.origin[a]) / self.h;
             let last = (self.n[a] - 1) as f64;
             if !(0.0..=last).contains(&u) {
-                return self.beyond(p);
+                return None;
             }
-            let k = (u.floor() as usize).min(self.n[a] - 2);
-            i[a] = k;
-            t[a] = u - k as f64;
+            i[a] = (u.floor() as usize).min(self.n[a] - 2);
+            t[a] = u - i[a] as f64;
         }
-        let (sx, sy) = (1, self.n[0]);
-        let sz = self.n[0] * self.n[1];
+        Some((i, t))
+    }
+
+    /// The eight corners of the cell whose first node is `i`, by bits (x = 1, y = 2, z = 4):
+    /// each one's step from `i` along each axis and its index in `lo`.
+    pub(super) fn corners(&self, i: [usize; 3]) -> impl Iterator<Item = ([usize; 3], usize)> {
+        let (sy, sz) = (self.n[0], self.n[0] * self.n[1]);
         let base = i[0] + i[1] * sy + i[2] * sz;
-        let (mut lo, mut slack) = (0.0, 0.0);
-        for c in 0..8 {
-            let (dx, dy, dz) = (c & 1, (c >> 1) & 1, (c >> 2) & 1);
-            let w = if dx == 1 { t[0] } else { 1.0 - t[0] }
-                * if dy == 1 { t[1] } else { 1.0 - t[1] }
-                * if dz == 1 { t[2] } else { 1.0 - t[2] };
-            let k = base + dx * sx + dy * sy + dz * sz;
-            let v = f64::from(self.lo[k]);
-            lo += w * v;
-            // The f32 value was rounded down by less than one of its units.
-            let up = if self.loose[k / 64] >> (k % 64) & 1 == 1 {
-                LOOSE * self.h
-            } else {
-                0.0
-            };
-            slack += w * (up + v.abs() * f64::from(f32::EPSILON));
+        (0..8).map(move |c| {
+            let d = [c & 1, (c >> 1) & 1, (c >> 2) & 1];
+            (d, base + d[0] + d[1] * sy + d[2] * sz)
+        })
+    }
+
+    /// The distance from `p` (mesh frame) to the node `i + d`.
+    pub(super) fn node_distance(&self, p: [f64; 3], i: [usize; 3], d: [usize; 3]) -> f64 {
+        let mut r2 = 0.0;
+        for a in 0..3 {
+            let x = p[a] - (self.origin[a] + (i[a] + d[a]) as f64 * self.h);
+            r2 += x * x;
         }
-        let e = HALF_DIAG * self.h;
-        (lo - e, lo + slack + e)
+        r2.sqrt()
+    }
+
+    /// How far above its stored lower bound node `k`'s true value may be, beside the `f32`
+    /// value's rounding: `LOOSE h` for a loose node, 0 for an exact one.
+    pub(super) fn loose_up(&self, k: usize) -> f64 {
+        if self.loose[k / 64] >> (k % 64) & 1 == 1 {
+            LOOSE * self.h
+        } else {
+            0.0
+        }
     }
 
     /// Bounds beyond the grid: the distance to the mesh's bounds below, to their far corner
@@ -190,27 +219,12 @@ impl SolidField {
     /// least [`SolidField::point_bounds`]' lower bound (`max ≥ Σ w_v (lo_v − |p − v|)`, and
     /// `Σ w_v |p − v| ≤ h √3/2`), and much closer to the truth near a node.
     pub fn point_below(&self, p: [f64; 3]) -> f64 {
-        let mut i = [0usize; 3];
-        for a in 0..3 {
-            let u = (p[a] - self.origin[a]) / self.h;
-            let last = (self.n[a] - 1) as f64;
-            if !(0.0..=last).contains(&u) {
-                return self.beyond(p).0;
-            }
-            i[a] = (u.floor() as usize).min(self.n[a] - 2);
-        }
-        let sz = self.n[0] * self.n[1];
-        let base = i[0] + i[1] * self.n[0] + i[2] * sz;
+        let Some((i, _)) = self.cell(p) else {
+            return self.beyond(p).0;
+        };
         let mut best = f64::NEG_INFINITY;
-        for c in 0..8 {
-            let d = [c & 1, (c >> 1) & 1, (c >> 2) & 1];
-            let k = base + d[0] + d[1] * self.n[0] + d[2] * sz;
-            let mut r2 = 0.0;
-            for a in 0..3 {
-                let x = p[a] - (self.origin[a] + (i[a] + d[a]) as f64 * self.h);
-                r2 += x * x;
-            }
-            best = best.max(f64::from(self.lo[k]) - r2.sqrt());
+        for (d, k) in self.corners(i) {
+            best = best.max(f64::from(self.lo[k]) - self.node_distance(p, i, d));
         }
         // Round-off of the node's place and of the distance, far below the grid's error.
         best - 1e-12 * (1.0 + best.abs())

@@ -17,7 +17,7 @@
 //!   the ball about `p` reaches the surface: some point of the capsule is on it or beyond); a
 //!   disk's centre and rim points are points of it.
 
-use super::field::{SolidField, LOOSE};
+use super::field::SolidField;
 use parry3d::math::{Pose as PPose, Vector as PVec};
 use parry3d::shape::Shape as PShape;
 
@@ -26,36 +26,16 @@ impl SolidField {
     /// (module docs): each within the distance from `p` to its nearest node of the true value
     /// at exact nodes, never looser than [`SolidField::point_bounds`]' `h √3/2`.
     pub fn point_interval(&self, p: [f64; 3]) -> (f64, f64) {
-        let mut i = [0usize; 3];
-        for a in 0..3 {
-            let u = (p[a] - self.origin[a]) / self.h;
-            let last = (self.n[a] - 1) as f64;
-            if !(0.0..=last).contains(&u) {
-                return self.point_bounds(p);
-            }
-            i[a] = (u.floor() as usize).min(self.n[a] - 2);
-        }
-        let sz = self.n[0] * self.n[1];
-        let base = i[0] + i[1] * self.n[0] + i[2] * sz;
+        let Some((i, _)) = self.cell(p) else {
+            return self.point_bounds(p);
+        };
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        for c in 0..8 {
-            let d = [c & 1, (c >> 1) & 1, (c >> 2) & 1];
-            let k = base + d[0] + d[1] * self.n[0] + d[2] * sz;
-            let mut r2 = 0.0;
-            for a in 0..3 {
-                let x = p[a] - (self.origin[a] + (i[a] + d[a]) as f64 * self.h);
-                r2 += x * x;
-            }
-            let r = r2.sqrt();
+        for (d, k) in self.corners(i) {
+            let r = self.node_distance(p, i, d);
             let v = f64::from(self.lo[k]);
-            // The f32 value was rounded down by less than one of its units.
-            let up = if self.loose[k / 64] >> (k % 64) & 1 == 1 {
-                LOOSE * self.h
-            } else {
-                0.0
-            };
             lo = lo.max(v - r);
-            hi = hi.min(v + up + v.abs() * f64::from(f32::EPSILON) + r);
+            // The f32 value was rounded down by less than one of its units.
+            hi = hi.min(v + self.loose_up(k) + v.abs() * f64::from(f32::EPSILON) + r);
         }
         // Round-off of the node's place and of the distance, far below the grid's error.
         let eps = |x: f64| 1e-12 * (1.0 + x.abs());

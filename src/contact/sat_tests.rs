@@ -66,6 +66,32 @@ fn sample(n: usize, rng: &mut Rng) -> Sample {
     (feature, fshape, fpose, oshape, opose)
 }
 
+/// How far the witnesses `w` of a pair apart are from a closest pair, by parry's exact point
+/// projections (independent of the separating-axis maximum): each witness's distance from its
+/// surface, `|a − b|` against the distance, `a − b` against the normal (times the distance),
+/// and each witness against its projection from the other.
+fn closest_pair_errors(
+    fshape: &dyn PShape,
+    fpose: &PPose,
+    oshape: &dyn PShape,
+    opose: &PPose,
+    w: &Witness,
+) -> [f64; 6] {
+    let on_obstacle = oshape.distance_to_point(opose, pvec(&w.obstacle), false);
+    let on_feature = fshape.distance_to_point(fpose, pvec(&w.robot), false);
+    let back_o = nvec(oshape.project_point(opose, pvec(&w.robot), true).point);
+    let back_f = nvec(fshape.project_point(fpose, pvec(&w.obstacle), true).point);
+    let gap = w.robot - w.obstacle;
+    [
+        on_obstacle.abs(),
+        on_feature.abs(),
+        (gap.norm() - w.dist).abs(),
+        (gap / gap.norm() - w.normal).amax() * w.dist,
+        (back_o - w.obstacle).amax(),
+        (back_f - w.robot).amax(),
+    ]
+}
+
 /// On random disks, capsules and chords near randomly posed boxes and cylinders (their
 /// edges, corners, rims and faces; apart, touching and overlapping), every decided answer is
 /// checked against parry's exact point projections, independent of the maximum: apart, the
@@ -109,19 +135,7 @@ fn exact_witnesses_are_closest_pairs() {
         }
         if w.dist > 1e-6 {
             apart += 1;
-            let on_obstacle = oshape.distance_to_point(&opose, pvec(&w.obstacle), false);
-            let on_feature = fshape.distance_to_point(&fpose, pvec(&w.robot), false);
-            let back_o = nvec(oshape.project_point(&opose, pvec(&w.robot), true).point);
-            let back_f = nvec(fshape.project_point(&fpose, pvec(&w.obstacle), true).point);
-            let gap = w.robot - w.obstacle;
-            let err = [
-                on_obstacle.abs(),
-                on_feature.abs(),
-                (gap.norm() - w.dist).abs(),
-                (gap / gap.norm() - w.normal).amax() * w.dist,
-                (back_o - w.obstacle).amax(),
-                (back_f - w.robot).amax(),
-            ];
+            let err = closest_pair_errors(&*fshape, &fpose, &*oshape, &opose, &w);
             let e = err.iter().fold(0.0f64, |m, x| m.max(*x));
             assert!(e < 1e-12, "{n}: {err:?} {w:?}");
             worst = worst.max(e);
@@ -205,19 +219,7 @@ fn apart_witnesses_need_no_gjk() {
                 "{n}: {warm:?} {w:?}"
             );
         }
-        let on_obstacle = oshape.distance_to_point(&opose, pvec(&w.obstacle), false);
-        let on_feature = fshape.distance_to_point(&fpose, pvec(&w.robot), false);
-        let back_o = nvec(oshape.project_point(&opose, pvec(&w.robot), true).point);
-        let back_f = nvec(fshape.project_point(&fpose, pvec(&w.obstacle), true).point);
-        let gap = w.robot - w.obstacle;
-        let err = [
-            on_obstacle.abs(),
-            on_feature.abs(),
-            (gap.norm() - w.dist).abs(),
-            (gap / gap.norm() - w.normal).amax() * w.dist,
-            (back_o - w.obstacle).amax(),
-            (back_f - w.robot).amax(),
-        ];
+        let err = closest_pair_errors(&*fshape, &fpose, &*oshape, &opose, &w);
         assert!(err.iter().all(|e| *e < 1e-11), "{n}: {err:?} {w:?}");
     }
     eprintln!("apart {apart}: decided without GJK {decided}; overlapping {overlapping}");

@@ -77,12 +77,19 @@ pub struct Model {
 impl Model {
     /// Read and validate a model file.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Model, ModelError> {
+        Self::from_file_with_text(path).map(|(m, _)| m)
+    }
+
+    /// [`Model::from_file`] and the text it parsed, read once with the model file's cap
+    /// ([`read::MAX_TEXT_BYTES`]): a front end that keeps a model as its text (Python pickles
+    /// it so) keeps exactly the text that was checked.
+    pub fn from_file_with_text(path: impl AsRef<Path>) -> Result<(Model, String), ModelError> {
         let path = path.as_ref();
         let text = read::read_text(path, "model file")?;
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut m = Self::from_toml_named(&text, &path.display().to_string(), dir)?;
         m.source = Some(path.to_path_buf());
-        Ok(m)
+        Ok((m, text))
     }
 
     /// The files this model was read from, each with what it was: the model file (when read

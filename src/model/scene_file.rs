@@ -24,8 +24,9 @@ impl Scene {
         Self::from_file_as(path.as_ref(), "scene file")
     }
 
-    /// [`Scene::from_file`], the file listed in [`Scene::files`] as `role`.
-    pub(crate) fn from_file_as(path: &Path, role: &str) -> Result<Scene, ModelError> {
+    /// [`Scene::from_file`], the file listed in [`Scene::files`] as `role` (what it is to the
+    /// run that reads it, e.g. `scene file named in the model`).
+    pub fn from_file_as(path: &Path, role: &str) -> Result<Scene, ModelError> {
         let text = super::read::read_text(path, "scene file")?;
         let json = path
             .extension()

@@ -1,4 +1,4 @@
-//! Adversarial command lines (issue 11): absurd numbers for every bounded flag, devices and
+//! Adversarial command lines: absurd numbers for every bounded flag, devices and
 //! directories as input files, every setting on every method that does not take it, every
 //! subcommand with broken arguments — each run of the built binary under a wall-time budget,
 //! judged by `adversarial_harness` (no panic, no hang, no exit 0 with a non-finite number,
@@ -194,7 +194,7 @@ fn adversarial_command_lines_end_named_and_bounded() {
     t.report_and_assert("command lines");
 }
 
-/// Issue 11 #11: the huge step counts end quickly, with the right kind of error.
+/// Every run bounded: the huge step counts end quickly, with the right kind of error.
 #[test]
 fn huge_step_counts_are_refused_at_once_by_name() {
     let dir = scratch("steps");
@@ -217,7 +217,7 @@ fn huge_step_counts_are_refused_at_once_by_name() {
     }
 }
 
-/// Issue 11 #11: devices as model, scene or mesh end in a named size error, quickly.
+/// Every run bounded: devices as model, scene or mesh end in a named size error, quickly.
 #[test]
 fn devices_as_files_end_in_a_named_size_error() {
     let dir = scratch("devices");
@@ -252,7 +252,7 @@ fn devices_as_files_end_in_a_named_size_error() {
     t.report_and_assert("devices");
 }
 
-/// Issue 11 #4: every solve flag a method does not take is refused before solving, naming the
+/// Every solve flag a method does not take is refused before solving, naming the
 /// setting (the registry's `settings` say which methods take which).
 #[test]
 fn every_flag_a_method_does_not_take_is_refused_by_name() {

@@ -1,4 +1,4 @@
-//! Adversarial model and scene files (issue 11): every number of every committed model and
+//! Adversarial model and scene files: every number of every committed model and
 //! scene replaced by absurd values (zero, negative, NaN, infinities, 1e308, 1e-300, strings,
 //! booleans, arrays), every line deleted and every line duplicated; each mutant solved by the
 //! built binary (methods taken in turn from `MethodKind::ALL`) under a wall-time budget and
@@ -290,7 +290,7 @@ fn with_cable_fields(case: &str, extra: &str) -> String {
     case.replace("[[cables]]\n", &format!("[[cables]]\n{extra}\n"))
 }
 
-/// Issue 11 for the inputs that landed later: mutated JSON scenes (truncated, wrong types,
+/// The same for the inputs that landed later: mutated JSON scenes (truncated, wrong types,
 /// absurd and huge numbers, huge arrays, `/dev/zero`) and absurd cable `stiffness` and
 /// `pretension` on every method.
 #[test]

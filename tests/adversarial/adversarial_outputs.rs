@@ -137,6 +137,35 @@ fn an_output_onto_an_input_of_the_same_run_is_refused_by_name() {
             "v4.toml",
         ],
         &["study", "merge", "d.csv", "d.csv"],
+        // A roadmap or an actuation file the planner reads, a shard a merge reads.
+        &[
+            "plan",
+            "M.toml",
+            "--to-tip",
+            "0,0,0.1",
+            "--roadmap",
+            "plan.json",
+            "--json",
+            "plan.json",
+        ],
+        &[
+            "plan",
+            "M.toml",
+            "--to-tip",
+            "0,0,0.1",
+            "--from-actuation",
+            "plan.json",
+            "--trajectory",
+            "./plan.json",
+        ],
+        &[
+            "roadmap",
+            "merge",
+            "wall.toml",
+            "plan.json",
+            "--out",
+            "plan.json",
+        ],
     ];
     for args in cases {
         refused(&dir, args, OVER);

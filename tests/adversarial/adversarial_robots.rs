@@ -1,4 +1,4 @@
-//! Random robots × every registered method (issue 11): proptest draws robots (sections,
+//! Random robots × every registered method: proptest draws robots (sections,
 //! lengths, disks, backbone, 1–6 cables with straight, helical or per-disk routing, ends
 //! anywhere, shortenings from a payout to 99.99 %, tensions, optional loads and obstacles) and
 //! solves each with every method of `MethodKind::ALL` through the built binary under a

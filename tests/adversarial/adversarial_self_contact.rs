@@ -1,4 +1,4 @@
-//! Self-contact and bounds (issue 11, items 6 and 8), checked on the output shape by
+//! Self-contact and bounds, checked on the output shape by
 //! independent geometry (`ccrkit::check`, parry3d distances between disks and backbone
 //! capsules), and the physical ranges of model inputs.
 

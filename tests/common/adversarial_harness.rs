@@ -1,5 +1,5 @@
 //! The adversarial harness: run the built `ccrkit` binary under a wall-time budget and judge
-//! the outcome (issue 11, "Done means"):
+//! the outcome:
 //! - no panic (exit 101 or a signal), no hang (killed at the budget);
 //! - exit 0 only with finite numbers: the `--json` file parses and holds no `null` where a
 //!   number belongs (serde_json writes NaN/inf as `null`), stdout has no `NaN`/`inf`;

@@ -1,4 +1,4 @@
-//! Dense obstacle scenes (issue 11, "every run bounded"): a scene of many obstacles within
+//! Dense obstacle scenes (every run bounded): a scene of many obstacles within
 //! reach of the robot either solves or ends in the named `contact budget exceeded` error,
 //! decided by a count before any solving (`src/contact/broad.rs`, `MAX_PAIRS`); exact
 //! duplicates are merged first, so 2000 copies of one box solve as one box, to the bit.
@@ -16,7 +16,7 @@ use std::time::Duration;
 
 const BUDGET: Duration = Duration::from_secs(30);
 
-/// The box of the issue's finding: next to case I, across its whole height.
+/// The box the dense scenes repeat: next to case I, across its whole height.
 const BOX: &str =
     r#"{"shape": "box", "position": [0.055, 0.0, 0.10], "half_extents": [0.005, 0.15, 0.12]}"#;
 

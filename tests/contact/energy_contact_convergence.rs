@@ -1,4 +1,4 @@
-//! Convergence of the energy model next to obstacles (issue 16, item 3), residual per
+//! Convergence of the energy model next to obstacles, residual per
 //! iteration on the wall and the pillar: the solve stopped after `k` iterations reports its
 //! residual (`NotConverged`), the full solve its iterations.
 //!
@@ -6,8 +6,7 @@
 //! the no-tunnelling step rule of `energy/step_guard.rs`) takes at most 8 iterations, and the
 //! tail then contracts the residual by at least 2× per iteration and 4× on average down to
 //! the contact tolerance. The tail is linear, not quadratic: the contact curvature `−Σ μ ∇²d` is not in
-//! the solver's block-diagonal Hessian (see the closing note of issue 16 for the planned
-//! O(n) Riccati solve that would add it); this test prints the history to show it.
+//! the solver's block-diagonal Hessian (a planned O(n) Riccati solve would add it); this test prints the history to show it.
 
 use ccrkit::method::energy::Energy;
 use ccrkit::{Method, Model, Scene, SolveError};

@@ -1,4 +1,4 @@
-//! `geometric-squared` next to obstacles: it keeps the contact tolerance of before issue 16
+//! `geometric-squared` next to obstacles: it keeps its former contact tolerance
 //! (1e-7 on the step), because with the literal method's 1e-11 its pillar solve certified no
 //! candidate in section 5. Both contact scenes must solve, with the contacts of before.
 
@@ -24,7 +24,7 @@ fn squared_objective_solves_the_contact_scenes() {
 }
 
 /// The literal method next to the pillar turned about its axis (the wall scene's pillar with 40
-/// yaws over a turn). Contact candidates converge to a 1e-11 step since issue 16; without the
+/// yaws over a turn). Contact candidates converge to a 1e-11 step; without the
 /// retry at the former 1e-7 (`SectionData::loose_contacts`) 38 of these 40 ended
 /// `NotConverged` (the linear contact step runs out of iterations), against 18 before the
 /// tightening. Found by `tests/adversarial/adversarial_files.rs` (the pillar at yaw 1e5 rad). With the retry

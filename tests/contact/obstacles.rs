@@ -723,7 +723,7 @@ proptest! {
     }
 }
 
-// ---- large scenes (issue 16 #5: 1000 obstacles parsed and prepared in milliseconds) ----
+// ---- large scenes (1000 obstacles parsed and prepared in milliseconds) ----
 
 #[test]
 fn a_generated_scene_of_1000_obstacles_is_read_whole_with_exact_bounds() {

@@ -10,7 +10,7 @@ use super::obstacles::assert_valid;
 use crate::common::cli::root;
 use crate::common::scenes::near_path;
 
-/// Target of the issue: the rod with contact and `energy` within 0.1 mm at the tip.
+/// Target: the rod with contact and `energy` within 0.1 mm at the tip.
 const TIP_TOL: f64 = 1e-4;
 
 fn solve(

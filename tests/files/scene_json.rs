@@ -1,4 +1,4 @@
-//! JSON scene files (issue 16 #5): the same fields and checks as TOML, read into the same
+//! JSON scene files: the same fields and checks as TOML, read into the same
 //! scene. Checked against the TOML reader on a generated scene of 1000 obstacles (every
 //! field equal to the bit), on the committed wall scene through a whole solve, and on bad
 //! input, where every error names the field.

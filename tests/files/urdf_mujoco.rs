@@ -1,4 +1,4 @@
-//! Exports in MuJoCo (issue 11, item 14): every link has a physical mass and inertia (totals
+//! Exports in MuJoCo: every link has a physical mass and inertia (totals
 //! against closed forms), names are unique, and MuJoCo loads the URDF and its forward
 //! kinematics at the SRDF joint values puts every disk where the solver did, to 1e-9 m.
 //!

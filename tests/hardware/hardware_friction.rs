@@ -1,4 +1,4 @@
-//! Rigid-tendon FTDCR rows with capstan friction that ended `not_converged` (issue 15) because
+//! Rigid-tendon FTDCR rows with capstan friction that ended `not_converged` because
 //! the lagged-weight passes of `energy/friction.rs` do not contract, and now converge.
 //!
 //! On the nominal (rigid-tendon) v4 with μ = 0.1 the `all3_same_dir180_hold` rows pull the

@@ -1,4 +1,4 @@
-//! FTDCR rows that ended `not_converged` (issue 15) because the energy model's last Newton
+//! FTDCR rows that ended `not_converged` because the energy model's last Newton
 //! steps lie below the round-off of its ℓ1 merit, and now converge.
 //!
 //! With the backbone's curvature stiffening `β > 0` the energy is not quadratic, so after the

@@ -584,7 +584,7 @@ fn clearance_matches_unbounded_parry() {
     }
 }
 
-/// Issue 13's success measure in the vessel: every pair of 8 seeded random admissible
+/// The planner's success measure in the vessel: every pair of 8 seeded random admissible
 /// actuations (28 feasible queries, most of whose straight actuation path is clear, some
 /// not) is planned cold (RRT-Connect) and through a roadmap; each must succeed on ≥ 95 %,
 /// every answer start and end where asked with a certified clearance ≥ the margin, and the

@@ -96,7 +96,7 @@ fn tip_jacobian_with_compliant_cables_matches_central_differences() {
     assert!(worst < 1e-5 * scale, "relative error {:.2e}", worst / scale);
 }
 
-/// Methods without compliance refuse the file by name (the rods model it since issue 15:
+/// Methods without compliance refuse the file by name (the rods model it:
 /// `tests/methods/cosserat_compliance.rs`); bad values are refused naming the field.
 #[test]
 fn compliance_is_refused_or_validated_by_name() {

@@ -320,7 +320,7 @@ fn variational_jacobian_matches_central_differences() {
     }
 }
 
-/// Tip accuracy the default resolution is made for [m] (issue 3: 0.01 mm).
+/// Tip accuracy the default resolution is made for [m] (0.01 mm).
 const DEFAULT_TIP_ACCURACY: f64 = 1e-5;
 
 /// The default resolution (3 RK4 steps per section, more where a route bends sharply) keeps
@@ -528,7 +528,7 @@ fn warm_start_two_percent_away_needs_one_iteration() {
     }
 }
 
-/// Issue 16 #4: displacement control, warm start from the solution for shortenings 2 % lower
+/// Displacement control, warm start from the solution for shortenings 2 % lower
 /// (the displacement benchmark's warm start, `benches/cosserat.rs`): at most 2 Newton
 /// iterations, and the same answer as a cold solve.
 #[test]

@@ -2,7 +2,7 @@
 //! `kirchhoff`, displacement control), against independent truths: the series-spring identity
 //! (a compliant solve at shortening `d` equals the inextensible solve at `d + T₀/k − T/k`),
 //! the closed-form tension of three symmetric pretensioned cables, and the energy model,
-//! which honours the same fields with its own discretization and solver (issue 15 item 1).
+//! which honours the same fields with its own discretization and solver.
 
 use ccrkit::actuation::{Actuation, Input};
 use ccrkit::method::cosserat::Cosserat;

@@ -1,11 +1,11 @@
-//! The rod against references for issue 11: `--adaptive TOL` controls the error (#7),
-//! declared helices stay helices (#12), displacement control converges on the FTDCR v4
-//! hardware robot (#13), every run is bounded (#11).
+//! The rod against references: `--adaptive TOL` controls the error, declared helices stay
+//! helices, displacement control converges on the FTDCR v4 hardware robot, every run is
+//! bounded.
 
 use crate::common::{max_disk_distance, paper, solve};
 use ccrkit::method::cosserat::Cosserat;
 
-/// Issue 11 #7: on case I the disk error of the adaptive rod against an independent fine
+/// On case I the disk error of the adaptive rod against an independent fine
 /// reference (fixed RK4, 64 steps per section) falls strictly as `TOL` falls from 1e-3 to
 /// 1e-8, and stays below `TOL · L` (the tolerance bounds the scaled local error per step,
 /// positions in units of the length `L`). Newton is run to 1e-12 N so that its own error
@@ -86,7 +86,7 @@ tension = 1.324350
     ccrkit::Model::from_toml_str(&text).expect("case II variant parses")
 }
 
-/// Issue 11 #12: a declared helix is routed by its closed form, so the rod no longer depends
+/// A declared helix is routed by its closed form, so the rod no longer depends
 /// on where the holes are. Case II cut into 4× as many sections (the same helix, 16 RK4 steps
 /// per section instead of 64: the very same steps) puts every original disk where case II
 /// does to 5e-12 m (1.2e-12 measured: Newton to 1e-12 N and rounding) — the route is the exact helix at every `s`, not a spline through the
@@ -163,11 +163,11 @@ fn balanced_excess(model: &ccrkit::Model, u: &[f64]) -> Vec<f64> {
     out
 }
 
-/// Issue 11 #13: on the FTDCR v4 hardware robot (3 segments × 3 tendons tied at disks 10,
+/// On the FTDCR v4 hardware robot (3 segments × 3 tendons tied at disks 10,
 /// 20, 30), displacement-driven `cosserat` and `kirchhoff` started from the energy model's
 /// answer (its multipliers are the cable tensions, and its slack cables start slack) and
-/// cold, on 23 samples spread over the training CSV (our choice of samples: the issue does
-/// not list its 23).
+/// cold, on 23 samples spread over the training CSV (our choice of samples: the robot's data
+/// names no particular 23).
 ///
 /// Kirchhoff: a segment's three tendons are balanced (`Σ w r = 0`, `w > 0`), so every
 /// inextensible shape has `Σ w ℓ ≥ Σ w ℓ₀`; a sample whose shortenings have `Σ w d > 0` has
@@ -330,7 +330,7 @@ fn balanced_pull_is_the_null_vector_of_the_inextensible_rod() {
     }
 }
 
-/// Issue 11 #11: a 3000-section rod (case II's robot cut 333×, displacement-driven) that does
+/// Every run bounded: a 3000-section rod (case II's robot cut 333×, displacement-driven) that does
 /// not converge used to run 36 s before giving up; every solve now spends at most
 /// `WORK_BUDGET` right-hand-side evaluations and then ends in `NotConverged` with its
 /// iterations, residual and the budget named. (If it converges instead, the shape is finite.)

@@ -1,4 +1,4 @@
-//! The rod's `report.stable` (issue 11 #9): the focal-point test along the rod
+//! The rod's `report.stable`: the focal-point test along the rod
 //! (`src/method/cosserat/mod.rs`, "Stability") against Euler's closed-form buckling load and
 //! against the energy model's reduced-Hessian test on the paper cases.
 
@@ -135,7 +135,7 @@ fn balanced_tendons_do_not_buckle_the_rod_that_guides_them() {
     }
 }
 
-/// Issue 12: `stability = skip` (a rod setting, reachable as `--set stability=skip`) leaves
+/// `stability = skip` (a rod setting, reachable as `--set stability=skip`) leaves
 /// out the focal-point pass. The shape is the same to the bit (the pass only reads the
 /// answer), `stable` is `None` meaning not checked and a note says so; with `check` (the
 /// default) the same solve is `Some(true)`. A method without the test refuses the setting
@@ -219,7 +219,7 @@ fn stability_skip_leaves_the_shape_and_reports_not_checked() {
     );
 }
 
-/// An answer whose stability the rod cannot decide says so (issue 11: every doubt reported):
+/// An answer whose stability the rod cannot decide says so (every doubt is reported):
 /// adaptive steps run no variational pass, so `stable` is `None` and a note names why; the
 /// same case with fixed steps decides it and carries no such note.
 #[test]

@@ -19,11 +19,11 @@ const R_HOLE: f64 = 0.008;
 
 /// Closed forms: relative error allowed (round-off and solver tolerance only).
 const EXACT_REL: f64 = 1e-9;
-/// Cable lengths must meet their targets to this [m] (issue 4).
+/// Cable lengths must meet their targets to this [m].
 const LENGTH_TOL: f64 = 1e-9;
-/// Agreement with the Cosserat rod under displacement control (issue 4).
+/// Agreement with the Cosserat rod under displacement control [m].
 const RMS_BOUND: f64 = 0.3e-3;
-/// Relative tension agreement with the rod (issue 4).
+/// Relative tension agreement with the rod.
 const TENSION_REL: f64 = 0.02;
 /// Tensions below this are "zero" when comparing relative errors [N].
 const TENSION_FLOOR: f64 = 1e-3;

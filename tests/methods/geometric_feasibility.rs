@@ -1,4 +1,4 @@
-//! Issue 11 #3: the literal method calls an actuation `Infeasible` only with a proof. Regression
+//! The literal method calls an actuation `Infeasible` only with a proof. Regression
 //! set: the 42 points of the case III stability map (12 × 12 grid, shortenings 0–18 %) that
 //! were reported `infeasible` in islands although the energy model solves every point.
 
@@ -37,7 +37,7 @@ fn case3(a: f64, b: f64) -> Model {
 
 /// Every former island point solves, with its constraints met — B alone at 1.64 % too, since
 /// the degenerate faces of `geometric/degenerate.rs` (an unshortened cable at its length with
-/// its tension free, issue 11 #3): before them it was `NotConverged`.
+/// its tension free): before them it was `NotConverged`.
 #[test]
 fn case3_former_islands_solve_and_nothing_is_called_infeasible_without_proof() {
     let mut solved = 0;
@@ -225,7 +225,7 @@ shorten_percent = 1.0
     }
 }
 
-/// Issue 11 #9: the literal method reports `stable` from its certificate: on the paper cases
+/// The literal method reports `stable` from its certificate: on the paper cases
 /// every section's reduced Hessian is positive definite (or nothing is free), so `true`.
 #[test]
 fn paper_cases_report_a_stable_certificate() {

@@ -1,4 +1,4 @@
-//! Issue 11 #11: the literal method with many cables is bounded. Generated robots with 11, 16
+//! The literal method with many cables is bounded. Generated robots with 11, 16
 //! and 30 cables (helically routed, two shortened, the rest paid out or at their length) each
 //! end in a shape that meets its constraints or a named error, within the documented
 //! iteration budget ([`SECTION_BUDGET`] Newton iterations per section; the complete taut-set

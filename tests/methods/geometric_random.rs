@@ -1,6 +1,6 @@
 //! Random robots through the geometric section solver: every outcome is either a shape that
 //! meets its constraints (segments l0, taut cables at their length, slack ones not longer) or a
-//! named error — `Infeasible` only with a proof (issue 11 #3), `NotConverged` with its
+//! named error — `Infeasible` only with a proof, `NotConverged` with its
 //! iterations when the face search finds no certified pose (before, such robots were called
 //! infeasible; `tests/methods/geometric_feasibility.rs` shows one with an explicit feasible pose) —
 //! never a panic, a hang or a NaN shape. `not_converged_robots_stay_few` draws a fixed set of
@@ -141,8 +141,8 @@ const COUNTED_ROBOTS: u32 = 200;
 
 /// `NotConverged` outcomes among [`COUNTED_ROBOTS`] deterministic robots: the count measured
 /// on this solver (2026-11-25: 186 solved, 1 proved infeasible, 13 not converged; 2026-11-26,
-/// with the former search as a retry of the quick one, `faces.rs`: 187, 1, 12). Issue 11 #3
-/// asks for 0; each of the 12 is a section whose face search found no certified candidate (a
+/// with the former search as a retry of the quick one, `faces.rs`: 187, 1, 12). The goal
+/// is 0; each of the 12 is a section whose face search found no certified candidate (a
 /// named error, not a wrong shape). A change that fails more robots fails here; one that fails
 /// fewer lowers this number.
 const NOT_CONVERGED_CEILING: usize = 12;

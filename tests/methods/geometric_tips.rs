@@ -1,7 +1,7 @@
-//! Issue 16 #1: the literal method's answers, recorded, so that speed work cannot change them.
+//! The literal method's answers, recorded, so that speed work cannot change them.
 //! Tips (or the error kind) on the paper cases, case I in the wall and pillar scenes, and 340
 //! seeded random robots, compared to `tests/data/geometric_tips.json` to 1e-9 m. Recorded from
-//! the solver of commit "Literal method (issue 11 #11, #9)" with
+//! the literal method's first bounded solver (with its stability report) with
 //! `CCRKIT_RECORD_TIPS=1 cargo test --release --test methods geometric_tips::`.
 //! Since then one entry was recorded again, `case1-pillar` (1.06e-6 m): its disk 6 touches
 //! the pillar with its side, whose contact point was the rim point the sign of a ~5e-6 normal

@@ -5,7 +5,7 @@
 use ccrkit::prelude::*;
 use ccrkit::study::random::random_model;
 
-/// Energy with shear against the converged rod on soft rods (issue target) \[m\].
+/// Energy with shear against the converged rod on soft rods (the target) \[m\].
 const SOFT_BOUND: f64 = 0.05e-3;
 
 /// The converged rod: 20 RK4 steps per section, shooting to the reference tolerance.
@@ -126,7 +126,7 @@ tip_force = [{f}, 0.0, 0.0]
 /// Seeded random robots: energy (with and without shear, 4 and 8 sub-arcs) against the
 /// converged rod (80 RK4 steps per section), median and worst over the robots where both
 /// are stable (`cargo test --release --test methods shear::random -- --nocapture`); with
-/// shear at the default 4 sub-arcs every one within 0.1 mm (issue target).
+/// shear at the default 4 sub-arcs every one within 0.1 mm (the target).
 #[test]
 fn random_robots_energy_against_the_rod() {
     let variants: [&[(&str, &str)]; 4] = [

@@ -143,7 +143,7 @@ fn speed_accuracy_csv_has_columns_and_finite_values() {
     );
 }
 
-/// The study's adaptive rows follow their tolerance (issue 11 #7): on paper case I each
+/// The study's adaptive rows follow their tolerance: on paper case I each
 /// `adaptive` row of the rods' ladder (1e-3, 1e-5, 1e-7) is at least 10× closer to the
 /// 80-step reference than the one before. Before the rod's steps ran over stretches, one
 /// Dormand–Prince step per section already beat every tolerance above ~1e-7, and the

@@ -62,6 +62,33 @@ pub(super) struct Loaded {
     pub(super) jac: Matrix3<f64>,
     pub(super) residual: f64,
     pub(super) no_focal: bool,
+    /// Whether the pass carried the six Jacobi fields (else `no_focal` says nothing).
+    pub(super) checked: bool,
+    /// With Newton's tangents, the strains at each of the pass's points in order and their
+    /// derivatives in `M(0)/L` ([`Track`]); else empty.
+    pub(super) track: Vec<Track>,
+}
+
+/// The strains a tangent pass met at one point and their derivatives in the three
+/// components of `M(0)/L`: the next pass starts the strain Newton there from their
+/// first-order prediction `z + Σ_d ∂z/∂x_d Δx_d` (a step `Δx` of `O(r)` leaves `O(r²)`, below
+/// the tolerance near the answer: one balance evaluation at most points instead of two).
+#[derive(Clone, Copy)]
+pub(super) struct Track {
+    z: Strains,
+    dz: [Strains; 3],
+}
+
+impl Track {
+    /// The strains predicted after a step `dx` in `M(0)/L`.
+    fn predict(&self, dx: &Vector3<f64>) -> Strains {
+        let mut z = self.z;
+        for (d, dz) in self.dz.iter().enumerate() {
+            z.v += dz.v * dx[d];
+            z.u += dz.u * dx[d];
+        }
+        z
+    }
 }
 
 impl Problem<'_> {
@@ -124,7 +151,7 @@ impl Problem<'_> {
         trace: Option<&mut Trace>,
     ) -> Shot {
         let (_, mo) = self.outer_of_rod(n0, m0, ld);
-        match self.loaded_pass::<1>(&mo, ld, trace) {
+        match self.loaded_pass::<1>(&mo, ld, trace, None) {
             Some(l) => l.shot,
             None => Shot::failed(),
         }
@@ -132,12 +159,14 @@ impl Problem<'_> {
 
     /// The loaded pass from the external moment `m_out` about the base (module docs) with
     /// `C − 1` tangents ([`Cols`]: 0; 3, the Jacobian in `M(0)/L`; 6, also the focal-point
-    /// test). `None` if the strains cannot be found at some point.
+    /// test). `None` if the strains cannot be found at some point. `pred`: a previous
+    /// tangent pass's [`Track`] and the step in `M(0)/L` since, the strain guesses.
     pub(super) fn loaded_pass<const C: usize>(
         &self,
         m_out: &Vector3<f64>,
         ld: &LoadCase,
         trace: Option<&mut Trace>,
+        pred: Option<(&[Track], Vector3<f64>)>,
     ) -> Option<Loaded> {
         let nd = C - 1;
         let robot = self.robot;
@@ -151,7 +180,23 @@ impl Problem<'_> {
             u: Vector3::zeros(),
         };
         let zb = (&n_base, m_out);
-        let (z0, mut residual) = self.strains_at(0.0, 1, ld, straight, zb, &mut at)?;
+        // The strain guess at the pass's point `i`: predicted from `pred`, or `neighbour`.
+        let predicted = |i: usize, neighbour: Strains| match pred {
+            Some((t, dx)) if t.len() > i => t[i].predict(&dx),
+            _ => neighbour,
+        };
+        let (z0, mut residual) =
+            self.strains_at(0.0, 1, ld, predicted(0, straight), zb, &mut at)?;
+        let mut track = Vec::new();
+        if nd >= 3 {
+            track.reserve(1 + 4 * self.nsteps[1..].iter().sum::<usize>());
+            let mut dz = [z0; 3];
+            for (d, dzd) in dz.iter_mut().enumerate() {
+                let (dv, du) = at.stiffness.solve(&Vector3::zeros(), &(Vector3::ith(d, l)));
+                *dzd = Strains { v: dv, u: du };
+            }
+            track.push(Track { z: z0, dz });
+        }
         // The rod's base wrench (Kirchhoff: the force is what the tendons leave of `N(0)`).
         let n0 = match self.set.model {
             RodModel::Full => self.kse.component_mul(&(z0.v - E3)),
@@ -182,6 +227,7 @@ impl Problem<'_> {
         }
         let mut no_focal = true;
         let mut guess = z0;
+        let mut point = 0;
         for k in 1..=robot.sections() {
             let (s0, s1) = (robot.disk_s[k - 1], robot.disk_s[k]);
             let steps = self.nsteps[k];
@@ -192,10 +238,14 @@ impl Problem<'_> {
                 let mut fail = false;
                 y += rk4::step(s, h, y, |i, si, yi| {
                     let n = self.outer_force(si, k, lam);
-                    match self.loaded_slope(si, k, ld, yi, &n, &mut guess, &mut at) {
-                        Some((dy, res)) => {
+                    let start = predicted(1 + i + 4 * point, guess);
+                    match self.loaded_slope(si, k, ld, yi, &n, (start, &mut guess), &mut at) {
+                        Some((dy, res, dz)) => {
                             residual = residual.max(res);
                             lr[i] = at.lr;
+                            if nd >= 3 {
+                                track.push(Track { z: guess, dz });
+                            }
                             dy
                         }
                         None => {
@@ -207,6 +257,7 @@ impl Problem<'_> {
                 if fail {
                     return None;
                 }
+                point += 1;
                 self.add_rk4_lengths(&mut path, &lr, h);
                 rec.backbone
                     .push(Vector3::new(y[(0, 0)], y[(1, 0)], y[(2, 0)]));
@@ -245,12 +296,16 @@ impl Problem<'_> {
             jac,
             residual,
             no_focal,
+            checked: nd == 6,
+            track,
         })
     }
 
     /// The slope of the pass's state and of its tangents at `(s, y)` in section `sec`
-    /// (module docs), the strains from `guess` (updated), `at` receiving `|ṗ_i|`; and the
-    /// strain balance's residual. `n`: the external force beyond `s`.
+    /// (module docs), the strains from `start` (else, should they not settle from there,
+    /// from the neighbour's `guess`; `guess` receives them), `at` receiving `|ṗ_i|`; the
+    /// strain balance's residual and the first three tangents' strains (zero without them).
+    /// `n`: the external force beyond `s`.
     #[allow(clippy::too_many_arguments)]
     fn loaded_slope<const C: usize>(
         &self,
@@ -259,15 +314,22 @@ impl Problem<'_> {
         ld: &LoadCase,
         y: &Cols<C>,
         n: &Vector3<f64>,
-        guess: &mut Strains,
+        (start, guess): (Strains, &mut Strains),
         at: &mut At,
-    ) -> Option<(Cols<C>, f64)> {
+    ) -> Option<(Cols<C>, f64, [Strains; 3])> {
         let nd = C - 1;
         let r = Matrix3::from_fn(|i, j| y[(3 + 3 * j + i, 0)]);
         let m = Vector3::new(y[(12, 0)], y[(13, 0)], y[(14, 0)]);
         let (bv, bu) = (r.tr_mul(n), r.tr_mul(&m));
-        let (z, res) = self.strains_at(s, sec, ld, *guess, (&bv, &bu), at)?;
+        let (z, res) = match self.strains_at(s, sec, ld, start, (&bv, &bu), at) {
+            Some(found) => found,
+            None => self.strains_at(s, sec, ld, *guess, (&bv, &bu), at)?,
+        };
         *guess = z;
+        let mut dzs = [Strains {
+            v: Vector3::zeros(),
+            u: Vector3::zeros(),
+        }; 3];
         let full = self.set.model == RodModel::Full;
         let v = if full { z.v } else { E3 };
         let mut dy = Cols::<C>::zeros();
@@ -293,6 +355,9 @@ impl Problem<'_> {
             let dbu = dp_r.tr_mul(&m) + r.tr_mul(&dm);
             let (dv, du) = at.stiffness.solve(&dbv, &dbu);
             let dv = if full { dv } else { Vector3::zeros() };
+            if d < 3 {
+                dzs[d] = Strains { v: dv, u: du };
+            }
             let dpd = dp_r * v + r * dv;
             let drd = dp_r * hat(&z.u) + r * hat(&du);
             let dmd = -dpd.cross(n) - pd.cross(&dn);
@@ -304,7 +369,7 @@ impl Problem<'_> {
                 dy[(3 + i, 1 + d)] = *x;
             }
         }
-        Some((dy, res))
+        Some((dy, res, dzs))
     }
 
     /// The focal-point test at a disk from the six tangents of the loaded pass (module
@@ -364,10 +429,8 @@ impl Problem<'_> {
                 mo = m;
             }
         }
-        let (pass, iterations) = match focal {
-            true => self.newton_loaded::<7>(mo, &ld)?,
-            false => self.newton_loaded::<4>(mo, &ld)?,
-        };
+        // A cold start's first pass is never the answer's: it carries only Newton's tangents.
+        let (pass, iterations) = self.newton_loaded(mo, &ld, (focal, focal && !cold))?;
         self.loaded_focal.set(focal.then_some(pass.no_focal));
         let steps: usize = self.nsteps[1..].iter().sum();
         notes.push(format!(
@@ -391,12 +454,31 @@ impl Problem<'_> {
         ))
     }
 
-    /// Newton on `M(0)/L` from `mo` with passes of `C − 1` tangents ([`Cols`]): the last
-    /// pass and the iterations.
-    fn newton_loaded<const C: usize>(
+    /// A pass with Newton's three tangents, and with `focal` also the three more of the
+    /// focal-point test ([`Cols`]); strain guesses from `pred` ([`Self::loaded_pass`]).
+    fn tangent_pass(
+        &self,
+        mo: &Vector3<f64>,
+        ld: &LoadCase,
+        focal: bool,
+        pred: Option<(&[Track], Vector3<f64>)>,
+    ) -> Option<Loaded> {
+        match focal {
+            true => self.loaded_pass::<7>(mo, ld, None, pred),
+            false => self.loaded_pass::<4>(mo, ld, None, pred),
+        }
+    }
+
+    /// Newton on `M(0)/L` from `mo`: the last pass and the iterations. With `focal` the
+    /// passes carry the focal-point test's Jacobi fields and the pass returned has its
+    /// verdict, at the answer or one Newton step from it; with `first` also the first pass
+    /// (else it carries Newton's tangents alone, and should it already be the answer, one
+    /// more pass there decides).
+    fn newton_loaded(
         &self,
         mut mo: Vector3<f64>,
         ld: &LoadCase,
+        (focal, first): (bool, bool),
     ) -> Result<(Loaded, usize), Fail> {
         let fail = |iterations, residual, detail: &str| Fail {
             iterations,
@@ -405,7 +487,7 @@ impl Problem<'_> {
         };
         let unsettled = "the strains of the loaded rod did not settle at some point";
         let mut pass = self
-            .loaded_pass::<C>(&mo, ld, None)
+            .tangent_pass(&mo, ld, first, None)
             .ok_or_else(|| fail(0, f64::NAN, unsettled))?;
         let norm = |p: &Loaded| p.shot.resid.amax();
         let mut iterations = 0;
@@ -428,9 +510,10 @@ impl Problem<'_> {
             let r = norm(&pass);
             if last.is_finite() && r * (r / last).powi(2) <= 0.1 * self.set.tolerance {
                 let mt = mo + step * self.len_l;
-                if let Some(mut pt) = self.loaded_pass::<1>(&mt, ld, None) {
-                    if norm(&pt) <= self.set.tolerance {
-                        pt.no_focal = pass.no_focal;
+                let pred = Some((&pass.track[..], step));
+                if let Some(mut pt) = self.loaded_pass::<1>(&mt, ld, None, pred) {
+                    if norm(&pt) <= self.set.tolerance && pass.checked == focal {
+                        (pt.no_focal, pt.checked) = (pass.no_focal, pass.checked);
                         return Ok((pt, iterations));
                     }
                 }
@@ -440,7 +523,8 @@ impl Problem<'_> {
             let mut halvings = 0;
             loop {
                 let mt = mo + step * (alpha * self.len_l);
-                match self.loaded_pass::<C>(&mt, ld, None) {
+                let pred = Some((&pass.track[..], step * alpha));
+                match self.tangent_pass(&mt, ld, focal, pred) {
                     Some(pt) if norm(&pt) < norm(&pass) => {
                         (mo, pass) = (mt, pt);
                         break;
@@ -455,6 +539,11 @@ impl Problem<'_> {
                     }
                 }
             }
+        }
+        if focal && !pass.checked {
+            pass = self
+                .tangent_pass(&mo, ld, true, Some((&pass.track[..], Vector3::zeros())))
+                .ok_or_else(|| fail(iterations, f64::NAN, unsettled))?;
         }
         Ok((pass, iterations))
     }

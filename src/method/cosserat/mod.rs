@@ -115,7 +115,8 @@
 //! variational pass is not run (adaptive steps, point loads at inner disks, e.g. the FTDCR's
 //! ties at disks 10 and 20, when loaded and shooting on Rucker–Webster's equations). The test
 //! costs one variational pass per solve where the rod shoots on those, nothing on the
-//! unloaded path and three tangents more per pass on the loaded one (below); the setting
+//! unloaded path and three tangents more per pass but the cold start's on the loaded one
+//! (below); the setting
 //! `stability = skip` leaves it out, and `stable` is then `None` meaning *not checked* (the
 //! report's notes say `stability not checked`).
 
@@ -148,10 +149,13 @@
 //! components of `M(0)`, the residual `M(L) − M_tip`; the strains are never integrated, so
 //! their error does not pile up where a route bends, and cables tied at inner disks and disk
 //! weights need no kink solve. Newton with the exact Jacobian from tangents in the same pass
-//! (`K⁻¹` of the balance reused), from the loads' moment on the unloaded rod; the passes carry
-//! the six Jacobi fields when the stability test is asked for, and the focal-point test reads
-//! them at each disk (the conjugate momentum is `(N, M)` itself), so the test costs no pass of
-//! its own. At the default steps the paper cases under lateral gravity and a 0.05 N tip force
+//! (`K⁻¹` of the balance reused), from the loads' moment on the unloaded rod; the passes after
+//! a cold start's first carry the six Jacobi fields when the stability test is asked for, and
+//! the focal-point test reads them at each disk (the conjugate momentum is `(N, M)` itself), so
+//! the test costs no pass of its own (a start that is already the answer takes one). Each
+//! pass after the first starts the strain Newton at every point from the last tangent pass's
+//! strains there, moved by their tangents along the step (`loaded.rs` `Track`): near the
+//! answer one balance evaluation per point instead of two. At the default steps the paper cases under lateral gravity and a 0.05 N tip force
 //! meet the converged rod to 0.012 / 0.003 / 0.009 µm at the tip (shooting on the strain
 //! rates: 0.17 / 0.09 / 7.5 µm), random loaded robots to 0.2 µm
 //! (`tests/methods/cosserat_loaded.rs`). Displacement control with loads shoots on
