@@ -247,7 +247,7 @@ fn closest_triangle_is_parrys_on_a_dense_sphere() {
     let (v, t) = sphere(0.03, 56);
     assert_eq!(t.len(), 25_088);
     let mut rng = Rng(0xB0B5_1DE5);
-    let mut unit = |rng: &mut Rng| {
+    let unit = |rng: &mut Rng| {
         Vector3::new(
             rng.range(-1.0, 1.0),
             rng.range(-1.0, 1.0),
