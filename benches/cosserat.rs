@@ -6,7 +6,8 @@
 //! external load the default takes the unloaded path (under displacement control, Newton on
 //! the tensions); `displacement-shooting` rows shoot instead. `loaded`: lateral gravity and a
 //! tip force, shooting on the external moment (the default) against `loaded-shooting` on
-//! Rucker–Webster's equations. `lung`: the 24-section soft lung rod, unloaded path against
+//! Rucker–Webster's equations at the default steps and (`loaded-shooting-as-close`) at the
+//! steps that come as close to the converged rod as the default. `lung`: the 24-section soft lung rod, unloaded path against
 //! shooting.
 
 use ccrkit::actuation::{Input, Shortening};
@@ -85,6 +86,14 @@ fn bench(c: &mut Criterion) {
         c.bench_function(&format!("cosserat/case{n}/loaded-shooting/cold"), |b| {
             b.iter(|| black_box(shoot.solve(lr, la, &scene, None).expect("solves")))
         });
+        // Shooting on the strain rates as close to the converged rod as the default loaded
+        // path (0.012 / 0.003 / 0.009 µm at the tip): 6 / 7 / 16 RK4 steps per section
+        // (`docs/guide/performance.md`).
+        let close = shoot.clone().with_steps([6, 7, 16][n - 1]);
+        c.bench_function(
+            &format!("cosserat/case{n}/loaded-shooting-as-close/cold"),
+            |b| b.iter(|| black_box(close.solve(lr, la, &scene, None).expect("solves"))),
+        );
     }
 }
 

@@ -330,12 +330,7 @@ mod tests {
                 let e = Vector3::ith(k, h);
                 let d = (exp_so3(&(w + e)) - exp_so3(&(w - e))) * r0t / (2.0 * h);
                 // The skew part's axial vector.
-                let v = 0.5
-                    * Vector3::new(
-                        d[(2, 1)] - d[(1, 2)],
-                        d[(0, 2)] - d[(2, 0)],
-                        d[(1, 0)] - d[(0, 1)],
-                    );
+                let v = 0.5 * crate::numeric::so3::vee_skew(&d);
                 let j = super::left_jacobian_column(&w, k);
                 assert!((j - v).norm() < 1e-8, "w {w:?} k {k}: {j:?} against {v:?}");
                 // Not the identity's column unless ω ∥ e_k (or 0): the check can fail.

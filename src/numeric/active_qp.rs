@@ -63,23 +63,16 @@ pub fn qp6_active_set(
         // The most violated inequality, relative to the size of its terms.
         let worst = (0..in_rows.len())
             .filter(|i| !active.contains(i))
-            .map(|i| {
-                let ax = in_rows[i].dot(&x);
-                let scale = in_rows[i].abs().dot(&x.abs()) + in_rhs[i].abs();
-                (
-                    i,
-                    (ax - in_rhs[i]) / in_rows[i].norm(),
-                    ax - in_rhs[i] > 1e-13 * scale,
-                )
-            })
-            .filter(|&(_, _, violated)| violated)
+            .filter_map(|i| violation(&in_rows[i], in_rhs[i], &x).map(|v| (i, v)))
             .max_by(|a, b| a.1.total_cmp(&b.1));
-        let Some((ip, _, _)) = worst else {
+        let Some((ip, _)) = worst else {
             // Primal feasible and dual feasible: the minimizer. Solve it once more from the
-            // final active set, so it carries no accumulated rounding.
+            // final active set, so it carries no accumulated rounding; its rows in their
+            // order in `in_rows`, so the bits depend on the set alone ([`qp6_warm`]).
             if fresh {
                 return finish(x, &y0, ne, in_rows.len(), &active);
             }
+            active.sort_unstable();
             return match kkt_solve(p, g, (eq_rows, eq_rhs), (in_rows, in_rhs), &active) {
                 Some((x, y)) => finish(x, &y, ne, in_rows.len(), &active),
                 None => Qp6::Undecided,
@@ -143,6 +136,60 @@ pub fn qp6_active_set(
         }
     }
     Qp6::Undecided
+}
+
+/// How far `x` violates the inequality `row·x ≤ rhs`, relative to the row's length, when it
+/// does by more than rounding (1e-13 of the size of its terms); `None` when it holds.
+fn violation(row: &Vector6<f64>, rhs: f64, x: &Vector6<f64>) -> Option<f64> {
+    let ax = row.dot(x);
+    let scale = row.abs().dot(&x.abs()) + rhs.abs();
+    (ax - rhs > 1e-13 * scale).then(|| (ax - rhs) / row.norm())
+}
+
+/// [`qp6_active_set`] started from a guess of the active inequalities (`guess`: rows of
+/// `in_rows`, the last Newton step's active set): the equalities and the guessed rows held
+/// with equality, one KKT solve. When that point meets every other inequality (to the
+/// rounding [`qp6_active_set`] allows) and the guessed rows' multipliers are ≥ 0, it meets the
+/// KKT conditions of the QP — stationarity and the held rows by the solve, primal and dual
+/// feasibility by the checks, complementarity as the other rows' multipliers are 0 — which,
+/// `P` being positive definite, only its one minimizer does (Nocedal & Wright, *Numerical
+/// Optimization*, 2nd ed., Thm 16.4): the dual method's answer, at the cost of one of its
+/// solves, and to the bit: both solve the final set's system with its rows in their order in
+/// `in_rows`. Otherwise (an empty, repeated, out-of-range or dependent guess, a failed solve, a
+/// violated row or a negative multiplier) the dual method from the start.
+pub fn qp6_warm(
+    p: &Matrix6<f64>,
+    g: &Vector6<f64>,
+    (eq_rows, eq_rhs): (&[Vector6<f64>], &[f64]),
+    (in_rows, in_rhs): (&[Vector6<f64>], &[f64]),
+    guess: &[usize],
+) -> Qp6 {
+    let ne = eq_rows.len();
+    // More than 6 rows: not a guess (`kkt_dir` takes 6 rows at most).
+    let mut sorted: arrayvec::ArrayVec<usize, 6> = guess.iter().take(6).copied().collect();
+    sorted.sort_unstable();
+    let valid = !guess.is_empty() && ne + guess.len() <= 6;
+    let guess = &sorted[..];
+    let valid = valid
+        && guess
+            .iter()
+            .enumerate()
+            .all(|(k, &i)| i < in_rows.len() && !guess[..k].contains(&i));
+    let solved = valid
+        .then(|| stacked(eq_rows, guess.iter().map(|&i| in_rows[i])))
+        .flatten()
+        .filter(|(rows, nr)| independent(&rows[..*nr]))
+        .and_then(|_| kkt_solve(p, g, (eq_rows, eq_rhs), (in_rows, in_rhs), guess));
+    if let Some((x, y)) = solved {
+        let feasible = (0..in_rows.len())
+            .filter(|i| !guess.contains(i))
+            .all(|i| violation(&in_rows[i], in_rhs[i], &x).is_none());
+        let pressing = y[ne..ne + guess.len()].iter().all(|&u| u >= 0.0);
+        if feasible && pressing {
+            return finish(x, &y, ne, in_rows.len(), guess);
+        }
+    }
+    qp6_active_set(p, g, eq_rows, eq_rhs, in_rows, in_rhs)
 }
 
 /// The QP's step from the final active set's KKT solve; multipliers of inactive rows are 0.

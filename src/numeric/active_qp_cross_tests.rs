@@ -74,6 +74,12 @@ fn random_qp(rng: &mut Rng, kind: u32) -> Qp {
 
 /// The KKT conditions of the solved QP, to rounding relative to the problem's size.
 fn check_kkt(qp: &Qp, x: &Vector6<f64>, lam: &[f64], mu: &[f64], case: usize) {
+    check_kkt_to(qp, x, lam, mu, case, 1e-14);
+}
+
+/// [`check_kkt`] with the rows' feasibility and complementarity to `tol` (a minimizer solved
+/// from another of its active sets rounds otherwise).
+fn check_kkt_to(qp: &Qp, x: &Vector6<f64>, lam: &[f64], mu: &[f64], case: usize, tol: f64) {
     let (h, g, eq, e, gi, hi) = qp;
     let mut stat = h * x + g;
     for (r, l) in eq.iter().zip(lam) {
@@ -89,14 +95,14 @@ fn check_kkt(qp: &Qp, x: &Vector6<f64>, lam: &[f64], mu: &[f64], case: usize) {
         stat.amax()
     );
     for (r, v) in eq.iter().zip(e) {
-        assert!((r.dot(x) - v).abs() <= 1e-14, "case {case}: equality");
+        assert!((r.dot(x) - v).abs() <= tol, "case {case}: equality");
     }
     for ((r, v), m) in gi.iter().zip(hi).zip(mu) {
         let s = r.dot(x) - v;
-        assert!(s <= 1e-14, "case {case}: inequality violated by {s}");
+        assert!(s <= tol, "case {case}: inequality violated by {s}");
         assert!(*m >= 0.0, "case {case}: multiplier {m}");
         assert!(
-            (m * s).abs() <= 1e-14 * (1.0 + m),
+            (m * s).abs() <= tol * (1.0 + m),
             "case {case}: complementarity"
         );
     }
@@ -173,4 +179,58 @@ fn one_active_bound_in_closed_form() {
     assert_eq!(active, vec![0]);
     assert!((s.x[0] - 0.25).abs() < 1e-15 && (s.mu[0] - 0.75).abs() < 1e-15);
     assert_eq!(s.mu[1], 0.0);
+}
+
+/// The warm start changes nothing but the work: on the random QPs (generic, degenerate,
+/// infeasible), started from the cold solve's own active set, from that set reversed, from a
+/// random subset of the rows and from a guess with a repeated or out-of-range row, the answer
+/// is the cold one to rounding (the KKT conditions, and the same minimizer) and an infeasible
+/// QP stays infeasible; from its own active set it takes the one-solve path and returns that
+/// set, and wherever it ends on the cold solve's set its answer is the cold one to the bit.
+#[test]
+fn warm_start_gives_the_cold_answer() {
+    use super::qp6_warm;
+    let mut rng = Rng(0x51_7cc1_b727_220a);
+    let (mut same_set, mut checked, mut different) = (0, 0, 0);
+    for case in 0..360 {
+        let kind = (case % 3) as u32;
+        let qp = random_qp(&mut rng, kind);
+        let (h, g, eq, e, gi, hi) = &qp;
+        let hp = clamped_hessian(h, 1e-10);
+        let cold = qp6_active_set(&hp, g, eq, e, gi, hi);
+        let subset: Vec<usize> = (0..gi.len()).filter(|_| rng.next() < 0.4).collect();
+        let (own, reversed) = match &cold {
+            Qp6::Solved(_, a) => (a.clone(), a.iter().rev().copied().collect()),
+            _ => (vec![], vec![]),
+        };
+        let guesses = [own.clone(), reversed, subset, vec![0, 0], vec![gi.len()]];
+        for guess in guesses {
+            let warm = qp6_warm(&hp, g, (eq, e), (gi, hi), &guess);
+            match (&cold, &warm) {
+                (Qp6::Solved(c, ca), Qp6::Solved(w, active)) => {
+                    if ca == active {
+                        // The same set: the same bits.
+                        assert_eq!((c.x, &c.mu), (w.x, &w.mu), "case {case}");
+                    } else {
+                        // Another set of the same minimizer (a duplicated row in place of
+                        // its twin, a row held at a zero multiplier): the same point.
+                        assert!(w.mu.iter().all(|m| *m >= 0.0), "case {case}");
+                        different += 1;
+                    }
+                    check_kkt_to(&qp, &w.x, &w.lambda_eq, &w.mu, case, 1e-12);
+                    let d = (c.x - w.x).amax() / (1e-3 + c.x.amax());
+                    assert!(d < 1e-9, "case {case}: warm differs from cold by {d}");
+                    if guess == own && !own.is_empty() {
+                        assert_eq!(active, &own, "case {case}");
+                        same_set += 1;
+                    }
+                    checked += 1;
+                }
+                (Qp6::Infeasible, Qp6::Infeasible) => {}
+                _ => panic!("case {case}: cold {cold:?}, warm {warm:?} from {guess:?}"),
+            }
+        }
+    }
+    eprintln!("{checked} warm solves, {different} on another set of the same minimizer");
+    assert!(same_set > 100 && checked > 1000, "{same_set} {checked}");
 }

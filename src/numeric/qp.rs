@@ -8,7 +8,7 @@
 //! must descend. Equality-only steps do not come here: they use the dense nalgebra KKT step
 //! ([`crate::numeric::kkt::kkt_step6`]), which is ~100× cheaper.
 
-use crate::numeric::active_qp::{qp6_active_set, Qp6};
+use crate::numeric::active_qp::{qp6_warm, Qp6};
 use crate::numeric::dense::small_solve;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -29,24 +29,31 @@ pub struct QpStep {
 }
 
 /// Solve the QP; `None` when it is infeasible or clarabel reports anything but (almost)
-/// solved. Exact to rounding by the dual active set of [`qp6_active_set`] (the
+/// solved. Exact to rounding by the dual active set of
+/// [`qp6_active_set`](crate::numeric::active_qp::qp6_active_set) (the
 /// interior point cost half of a contact solve and left its steps accurate to ~1e-7 only);
 /// clarabel ([`qp_step6_clarabel`]) where that method makes no claim (dependent equality
 /// rows, a failed KKT solve).
+///
+/// It starts from a guess of the active inequalities (`guess`: rows of `in_rows`, the last
+/// step's; empty for none: [`qp6_warm`]) and returns with the step the active set it ends on
+/// (empty from clarabel), the next guess. The same step whatever the guess, to the bit where
+/// the dual method ends on the same set (a wrong guess costs one KKT solve).
 pub fn qp_step6(
     h: &Matrix6<f64>,
     g: &Vector6<f64>,
-    eq_rows: &[Vector6<f64>],
-    eq_rhs: &[f64],
-    in_rows: &[Vector6<f64>],
-    in_rhs: &[f64],
+    (eq_rows, eq_rhs): (&[Vector6<f64>], &[f64]),
+    (in_rows, in_rhs): (&[Vector6<f64>], &[f64]),
     reg: f64,
-) -> Option<QpStep> {
+    guess: &[usize],
+) -> Option<(QpStep, Vec<usize>)> {
     let hp = clamped_hessian(h, reg);
-    match qp6_active_set(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs) {
-        Qp6::Solved(step, _) => Some(step),
+    match qp6_warm(&hp, g, (eq_rows, eq_rhs), (in_rows, in_rhs), guess) {
+        Qp6::Solved(step, active) => Some((step, active)),
         Qp6::Infeasible => None,
-        Qp6::Undecided => qp_step6_clarabel(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs),
+        Qp6::Undecided => {
+            qp_step6_clarabel(&hp, g, eq_rows, eq_rhs, in_rows, in_rhs).map(|s| (s, vec![]))
+        }
     }
 }
 
@@ -415,9 +422,13 @@ mod tests {
         g[0] = -1.0;
         let mut row = Vector6::zeros();
         row[0] = 1.0;
-        let s = qp_step6(&h, &g, &[], &[], &[row], &[0.25], 1e-12).unwrap();
+        let (s, active) = qp_step6(&h, &g, (&[], &[]), (&[row], &[0.25]), 1e-12, &[]).unwrap();
         assert!((s.x[0] - 0.25).abs() < 1e-8);
         assert!((s.mu[0] - 0.75).abs() < 1e-7);
+        assert_eq!(active, vec![0]);
+        // Warm from that set: the same step, to the bit.
+        let (w, _) = qp_step6(&h, &g, (&[], &[]), (&[row], &[0.25]), 1e-12, &active).unwrap();
+        assert_eq!((w.x, w.mu), (s.x, s.mu));
     }
 
     /// min ½|x|² s.t. x₀ + x₁ = 1, x₀ ≤ 0.2: x = (0.2, 0.8) (closed form).

@@ -109,6 +109,25 @@ pub fn orthonormalize(r: &Matrix3<f64>) -> Matrix3<f64> {
     Rotation3::from_matrix(r).into_inner()
 }
 
+/// `v` with `[v]× = M − Mᵀ`: twice the axial vector of `M`'s skew part (the inverse of
+/// [`hat`] on skew matrices, up to the factor 2; for a rotation by `θ` about `n`, `2 sin θ n`).
+#[inline]
+pub fn vee_skew(m: &Matrix3<f64>) -> Vector3<f64> {
+    Vector3::new(
+        m[(2, 1)] - m[(1, 2)],
+        m[(0, 2)] - m[(2, 0)],
+        m[(1, 0)] - m[(0, 1)],
+    )
+}
+
+/// The angle of `Raᵀ Rb` \[rad\] (atan2 keeps small angles exact, where the acos of a cosine
+/// near 1 loses half the digits).
+pub fn angle_between(ra: &Matrix3<f64>, rb: &Matrix3<f64>) -> f64 {
+    let rel = ra.transpose() * rb;
+    let c = (rel.trace() - 1.0) / 2.0;
+    (0.5 * vee_skew(&rel).norm()).atan2(c)
+}
+
 /// `[v]×`, the skew matrix with `[v]× x = v × x`.
 #[inline]
 pub fn hat(v: &Vector3<f64>) -> Matrix3<f64> {
@@ -142,5 +161,38 @@ mod tests {
         let mut nan = r;
         nan[(1, 2)] = f64::NAN;
         assert!(rotation_defect(&nan).is_some());
+    }
+
+    /// `vee_skew` undoes `hat` (times 2) on skew matrices and ignores the symmetric part;
+    /// `angle_between` gives the rotation vector's length, against Rodrigues' `exp_so3`, at
+    /// angles from 1e-9 rad to near π, and does not depend on the frame both are seen in.
+    #[test]
+    fn vee_undoes_hat_and_the_angle_is_the_rotation_vectors_length() {
+        let mut rng = crate::numeric::test_rng::Rng(0x0050_3ee5_0a46_1e00);
+        for k in 0..200 {
+            let v = Vector3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            );
+            let sym =
+                Matrix3::new(1.0, 2.0, 3.0, 2.0, 4.0, 5.0, 3.0, 5.0, 6.0) * rng.range(-1.0, 1.0);
+            assert!(
+                (vee_skew(&(hat(&v) + sym)) - 2.0 * v).amax() < 1e-15,
+                "{v:?}"
+            );
+            let theta = 10f64.powi(-(k % 10)) * rng.range(0.1, 3.1);
+            let w = v.normalize() * theta;
+            let ra = exp_so3(&Vector3::new(
+                rng.range(-3.0, 3.0),
+                rng.range(-3.0, 3.0),
+                0.5,
+            ));
+            let got = angle_between(&ra, &(ra * exp_so3(&w)));
+            assert!(
+                (got - theta).abs() < 1e-14 * (1.0 + theta) + 1e-15,
+                "{theta} {got}"
+            );
+        }
     }
 }

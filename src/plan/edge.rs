@@ -35,6 +35,27 @@
 //! move along nearly straight lines, so their path is far shorter than twice the chord; the
 //! tests re-check every planned path on 8× finer interpolations with parry3d.
 //!
+//! # Measured as far as needed
+//!
+//! The bound is nondecreasing in `c₀` and `c₁`, so it holds with any lower bounds of the
+//! clearances in their place. A sample solved at a sub-interval's midpoint `m` is therefore
+//! measured only as far as the certificates of the two halves it makes need: with the motions
+//! from each end to `m` known once `m` is solved, the least clearance of `m` for which both
+//! halves' bounds reach the margin is `c*` (less when the other ends are clearer; `+∞` when a
+//! half cannot be certified whatever `m`'s clearance, as when it inserts too far: it is cut
+//! again, and `m` is measured exactly). The grids' certified lower bound
+//! ([`crate::reach::clearance_bounds`]) proving `c ≥ c*` costs no exact query; else the exact
+//! clearance's question bounded by `c*` ([`crate::reach::clearance_below_hinted`]: no feature
+//! whose grid bound is beyond `c*` queried, no triangle farther than `c*` visited) either
+//! proves `c ≥ c*` or returns the exact clearance below it. A sample so proved keeps its
+//! proof as its clearance ([`Node::exact`] false); should a sub-interval it ends still fall
+//! short (its other end was cut again), the end is measured exactly and the bound taken again
+//! before the sub-interval is cut — so the cuts, and the samples solved, are those of exact
+//! clearances throughout. Refusals are too: a sample is refused when its exact clearance is
+//! below the margin, and `c* ≥ margin`. Samples that become a plan's waypoints are measured
+//! exactly before the plan is returned; the smallest clearance an edge reports
+//! ([`EdgeCheck::Clear`]) is over the samples measured exactly.
+//!
 //! # In tension space
 //!
 //! The check is the same when the cables' unknowns are tensions \[N\]: nothing in it is
@@ -72,8 +93,14 @@ pub struct Node {
     pub u: Vec<f64>,
     /// Its shape.
     pub shape: Shape,
-    /// Its clearance \[m\] (`+∞` without obstacles).
+    /// Its clearance \[m\] (`+∞` without obstacles); when not [`Node::exact`], a lower bound.
     pub clearance: f64,
+    /// Whether `clearance` is the exact clearance: true for every node a planner hands out
+    /// (a plan's waypoints are measured before it is returned). False only for an edge's
+    /// bisection sample proved at least `clearance` from every obstacle, as far as the
+    /// certificates of the sub-intervals it ends needed (module docs, "Measured as far as
+    /// needed"), and not measured further.
+    pub exact: bool,
 }
 
 /// Counters of the checks made.
@@ -97,7 +124,8 @@ pub enum EdgeCheck {
     Clear {
         /// Certified lower bound \[m\].
         certified: f64,
-        /// Smallest clearance of a solved sample \[m\].
+        /// Smallest clearance of a solved sample measured exactly (its ends and the samples
+        /// [`Node::exact`]) \[m\].
         measured: f64,
         /// Sub-intervals used.
         pieces: usize,
@@ -186,31 +214,50 @@ impl<'a> Checker<'a> {
 
     /// Solve and check `u` (warm-started from `warm`); `None` when it is not admissible.
     pub fn node(&mut self, u: &[f64], warm: Option<&Shape>) -> Option<Node> {
+        self.node_within(u, warm, |_| f64::INFINITY)
+    }
+
+    /// [`Checker::node`] measured only as far as `need` of its shape asks (module docs,
+    /// "Measured as far as needed"): a shape proved at least `max(need, margin)` from every
+    /// obstacle — by the grids' lower bound, else by the exact clearance's question bounded by
+    /// it ([`Space::clearance_below_hinted`]) — keeps that proof as its clearance
+    /// (not [`Node::exact`]); a closer one gets its exact clearance, and is refused below the
+    /// margin. The same nodes are refused as by [`Checker::node`].
+    fn node_within(
+        &mut self,
+        u: &[f64],
+        warm: Option<&Shape>,
+        need: impl FnOnce(&Shape) -> f64,
+    ) -> Option<Node> {
         self.stats.solves += 1;
-        let shape = match self.space.solve(u, warm) {
-            Ok(s) => s,
-            Err(_) => {
-                self.stats.nodes_rejected += 1;
-                return None;
-            }
+        let Ok(shape) = self.space.solve(u, warm) else {
+            self.stats.nodes_rejected += 1;
+            return None;
         };
         // Too close by the grids' bounds: refused as the exact clearance would refuse it.
-        let close = self
-            .space
-            .clearance_bounds(&shape)
-            .and_then(|b| b.keeps(self.margin));
-        if close == Some(false) {
+        let bounds = self.space.clearance_bounds(&shape);
+        if bounds.and_then(|b| b.keeps(self.margin)) == Some(false)
+            || self.space.tension_violation(&shape).is_some()
+        {
             self.stats.nodes_rejected += 1;
             return None;
         }
-        let clearance = match self.space.clearance_hinted(&shape, self.hint) {
-            Some((c, pair)) => {
-                self.hint = Some(pair);
-                c.distance
+        let cap = need(&shape).max(self.margin);
+        let lower = bounds.map_or(f64::NEG_INFINITY, |b| b.lower);
+        let (clearance, exact) = if lower >= cap {
+            (lower, false)
+        } else {
+            match self.space.clearance_below_hinted(&shape, cap, self.hint) {
+                Some((c, pair)) => {
+                    self.hint = Some(pair);
+                    (c.distance, true)
+                }
+                // At least `cap` from every obstacle (nothing at all within an infinite cap).
+                None if cap.is_finite() => (cap.max(lower), false),
+                None => (f64::INFINITY, true),
             }
-            None => f64::INFINITY,
         };
-        if clearance < self.margin || self.space.tension_violation(&shape).is_some() {
+        if clearance < self.margin {
             self.stats.nodes_rejected += 1;
             return None;
         }
@@ -218,7 +265,23 @@ impl<'a> Checker<'a> {
             u: u.to_vec(),
             shape,
             clearance,
+            exact,
         })
+    }
+
+    /// Measure the clearance of `n` exactly when it holds only a lower bound ([`Node::exact`]).
+    pub fn measure(&mut self, n: &mut Node) {
+        if n.exact {
+            return;
+        }
+        n.clearance = match self.space.clearance_hinted(&n.shape, self.hint) {
+            Some((c, pair)) => {
+                self.hint = Some(pair);
+                c.distance
+            }
+            None => f64::INFINITY,
+        };
+        n.exact = true;
     }
 
     /// Why `u` (solved warm from `warm`) is not admissible: the solve's error, the clearance
@@ -302,12 +365,11 @@ impl<'a> Checker<'a> {
             })
             .collect();
         let keep = self.samples.is_some();
-        while let Some((i, n0, n1, l, t0, t1)) = queue.pop_front() {
-            let bound = super::motion::motion(&self.space.robot, &n0.shape, &n1.shape).certified(
-                n0.clearance,
-                n1.clearance,
-                KAPPA,
-            );
+        while let Some((i, mut n0, mut n1, l, t0, t1)) = queue.pop_front() {
+            if open[i].is_none() {
+                continue;
+            }
+            let bound = self.piece_bound(&mut n0, &mut n1);
             let Some(leg) = open[i].as_mut() else {
                 continue;
             };
@@ -327,14 +389,17 @@ impl<'a> Checker<'a> {
             let m = if l < MIN_STEP {
                 None
             } else {
-                self.node(&mid, Some(&n0.shape))
+                let (space, margin) = (self.space, self.margin);
+                self.node_within(&mid, Some(&n0.shape), |m| need(space, margin, &n0, m, &n1))
             };
             let Some(m) = m else {
                 self.stats.edges_rejected += 1;
                 self.memo.insert(leg.key.clone(), EdgeCheck::Blocked);
                 return false;
             };
-            leg.measured = leg.measured.min(m.clearance);
+            if m.exact {
+                leg.measured = leg.measured.min(m.clearance);
+            }
             leg.pending += 1;
             let tm = 0.5 * (t0 + t1);
             if keep {
@@ -344,6 +409,20 @@ impl<'a> Checker<'a> {
             queue.push_back((i, m, n1, 0.5 * l, tm, t1));
         }
         true
+    }
+
+    /// The clearance certified along the sub-interval from `n0` to `n1` (module docs); when it
+    /// is below the margin and an end holds only a lower bound, that end is measured exactly
+    /// first (module docs, "Measured as far as needed").
+    fn piece_bound(&mut self, n0: &mut Node, n1: &mut Node) -> f64 {
+        let motion = super::motion::motion(&self.space.robot, &n0.shape, &n1.shape);
+        let bound = motion.certified(n0.clearance, n1.clearance, KAPPA);
+        if bound >= self.margin || (n0.exact && n1.exact) {
+            return bound;
+        }
+        self.measure(n0);
+        self.measure(n1);
+        motion.certified(n0.clearance, n1.clearance, KAPPA)
     }
 
     /// Remember a clear edge (and, with [`Checker::keep_samples`], its samples `kept`, whose
@@ -368,6 +447,40 @@ impl<'a> Checker<'a> {
             m.retain(|k, _| keep(&k.0) && keep(&k.1));
         }
     }
+}
+
+/// The clearance \[m\] a sample `m` between `a` and `b` needs for both sub-intervals it cuts
+/// theirs into to be certified ([`super::motion::Motion::certified`] at least the margin, the
+/// ends' clearances as they stand), a little more for round-off; `+∞` when one of them cannot
+/// be certified whatever `m`'s clearance (it will be cut again, `m` an end of a sub-interval
+/// not known yet: measured exactly).
+fn need(space: &Space, margin: f64, a: &Node, m: &Shape, b: &Node) -> f64 {
+    // The least clearance of the end `m` of a sub-interval moving by `mv`, the other end's `other`;
+    // `m_second`: whether `m` is its second end.
+    let least = |mv: super::motion::Motion, other: f64, m_second: bool| {
+        if !mv.certifiable {
+            return f64::INFINITY;
+        }
+        let travel = KAPPA * mv.estimated + mv.exact;
+        let mut least = 2.0 * margin + travel - other;
+        if mv.insertion_change != 0.0 {
+            if (mv.insertion_change > 0.0) == m_second {
+                least = least.max(margin + travel);
+            } else if other - travel < margin {
+                return f64::INFINITY;
+            }
+        }
+        least
+    };
+    let robot = &space.robot;
+    let first = least(super::motion::motion(robot, &a.shape, m), a.clearance, true);
+    let second = least(
+        super::motion::motion(robot, m, &b.shape),
+        b.clearance,
+        false,
+    );
+    let least = first.max(second);
+    least + 1e-9 * least.abs() + 1e-12
 }
 
 /// A clear edge's solved samples with their parameters, and whether those are from the edge
@@ -399,7 +512,11 @@ impl Leg {
             a: a.clone(),
             b: b.clone(),
             certified: f64::INFINITY,
-            measured: a.clearance.min(b.clearance),
+            measured: [a, b]
+                .iter()
+                .filter(|n| n.exact)
+                .map(|n| n.clearance)
+                .fold(f64::INFINITY, f64::min),
             pieces: 0,
             pending: 1,
             kept: Vec::new(),

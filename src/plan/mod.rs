@@ -287,6 +287,7 @@ pub(crate) fn endpoint(ck: &mut Checker, u: &[f64], field: &str) -> Result<Node,
         u: u.to_vec(),
         shape,
         clearance: c.map_or(f64::INFINITY, |c| c.distance),
+        exact: true,
     })
 }
 
@@ -472,7 +473,9 @@ pub(crate) fn finish(
             }
         }
     }
-    for n in &out {
+    // Waypoints taken from an edge's samples may hold a lower bound only: measured now.
+    for n in &mut out {
+        ck.measure(n);
         measured = measured.min(n.clearance);
     }
     stats.checks = ck.stats.clone();

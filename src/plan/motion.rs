@@ -80,6 +80,7 @@
 //! (`plan_tension::an_edge_out_of_the_port_is_certified_by_its_deeper_end`).
 
 use crate::model::robot::Robot;
+use crate::numeric::so3::angle_between;
 use crate::shape::Shape;
 use nalgebra::{Isometry3, Matrix3, Vector3};
 
@@ -139,7 +140,7 @@ pub fn motion(robot: &Robot, a: &Shape, b: &Shape) -> Motion {
     let qr: Matrix3<f64> = q.rotation.to_rotation_matrix().into_inner();
     let disks = a.disks.iter().zip(&b.disks).map(|(x, y)| {
         let yp = q.transform_point(&y.position.into()).coords;
-        (yp - x.position).norm() + rho * angle(&x.rotation, &(qr * y.rotation))
+        (yp - x.position).norm() + rho * angle_between(&x.rotation, &(qr * y.rotation))
     });
     let bb_b: Vec<Vector3<f64>> = b
         .backbone
@@ -172,18 +173,6 @@ pub fn motion(robot: &Robot, a: &Shape, b: &Shape) -> Motion {
     }
 }
 
-/// Angle of `Raᵀ Rb` \[rad\] (atan2 keeps small angles exact).
-fn angle(ra: &Matrix3<f64>, rb: &Matrix3<f64>) -> f64 {
-    let rel = ra.transpose() * rb;
-    let c = (rel.trace() - 1.0) / 2.0;
-    let v = Vector3::new(
-        rel[(2, 1)] - rel[(1, 2)],
-        rel[(0, 2)] - rel[(2, 0)],
-        rel[(1, 0)] - rel[(0, 1)],
-    );
-    (0.5 * v.norm()).atan2(c)
-}
-
 /// The largest curvature between consecutive disks \[1/m\] (module docs).
 fn curvature(robot: &Robot, s: &Shape) -> f64 {
     s.disks
@@ -192,7 +181,7 @@ fn curvature(robot: &Robot, s: &Shape) -> f64 {
         .map(|(f, ds)| {
             let h = (ds[1] - ds[0]).abs();
             if h > 0.0 {
-                angle(&f[0].rotation, &f[1].rotation) / h
+                angle_between(&f[0].rotation, &f[1].rotation) / h
             } else {
                 0.0
             }

@@ -37,8 +37,9 @@ pub struct Queries<'a> {
     ck: Checker<'a>,
     /// Roadmap nodes solved in this run (lazily), `Some(None)` once refused.
     solved: Vec<Option<Option<Node>>>,
-    /// The roadmap's edges not found blocked in this run, with their search weights.
-    adj: Vec<Vec<(usize, f64)>>,
+    /// The roadmap's edges not found blocked in this run, with their search weights; made
+    /// when a query first searches the graph (most in an airway are answered before it).
+    adj: Option<Vec<Vec<(usize, f64)>>>,
     /// Bit patterns of the nodes' actuations: the edges between two of them are kept.
     keys: HashSet<Vec<u64>>,
 }
@@ -57,10 +58,23 @@ impl Roadmap {
         self.check_fits(space, request)?;
         let ck = Checker::new(space, margin.unwrap_or(space.margin)).keep_samples();
         let n = self.nodes.len();
-        let mut adj: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+        let bits = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        Ok(Queries {
+            roadmap: self,
+            model,
+            ck,
+            solved: vec![None; n],
+            adj: None,
+            keys: self.nodes.iter().map(|x| bits(&x.u)).collect(),
+        })
+    }
+
+    /// Every edge's search weight, both ways, by node.
+    fn adjacency(&self, ck: &Checker) -> Vec<Vec<(usize, f64)>> {
+        let mut adj: Vec<Vec<(usize, f64)>> = vec![Vec::new(); self.nodes.len()];
         for &(a, b) in &self.edges {
             let w = weight(
-                &ck,
+                ck,
                 &self.nodes[a].u,
                 &self.nodes[b].u,
                 [a, b].map(|i| self.clear(i)),
@@ -68,15 +82,7 @@ impl Roadmap {
             adj[a].push((b, w));
             adj[b].push((a, w));
         }
-        let bits = |u: &[f64]| u.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        Ok(Queries {
-            roadmap: self,
-            model,
-            ck,
-            solved: vec![None; n],
-            adj,
-            keys: self.nodes.iter().map(|x| bits(&x.u)).collect(),
-        })
+        adj
     }
 
     /// The clearance node `i` was built with: a search weight only.
@@ -152,7 +158,9 @@ impl Queries<'_> {
     fn search(&mut self, s: &Node, g: &Node, stats: &mut PlanStats) -> Option<Vec<Node>> {
         let n = self.roadmap.nodes.len();
         let (si, gi) = (n, n + 1);
-        let mut adj = self.adj.clone();
+        let roadmap = self.roadmap;
+        let kept = self.adj.get_or_insert_with(|| roadmap.adjacency(&self.ck));
+        let mut adj = kept.clone();
         adj.extend([Vec::new(), Vec::new()]);
         // Each end is linked to its nearest node with a clear edge; only when the roadmap then
         // does not join them, to up to three.
@@ -202,7 +210,7 @@ impl Queries<'_> {
                 return Some(path);
             };
             stats.edges_repaired += 1;
-            for adj in [&mut adj, &mut self.adj] {
+            for adj in [Some(&mut adj), self.adj.as_mut()].into_iter().flatten() {
                 if let Some(x) = adj.get_mut(a) {
                     x.retain(|e| e.0 != b);
                 }

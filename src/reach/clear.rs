@@ -237,15 +237,35 @@ pub fn clearance_below(
     scene: &Scene,
     cap: f64,
 ) -> Option<(Clearance, ClosestPair)> {
+    clearance_below_hinted(robot, shape, scene, cap, None)
+}
+
+/// [`clearance_below`], starting from a hinted closest pair (the same answer): the hinted
+/// pair's distance, when below `cap`, bounds the one pass's queries instead of `cap` (module
+/// docs, "A hint from a nearby shape"). A hint out of range is ignored.
+pub fn clearance_below_hinted(
+    robot: &Robot,
+    shape: &Shape,
+    scene: &Scene,
+    cap: f64,
+    hint: Option<ClosestPair>,
+) -> Option<(Clearance, ClosestPair)> {
     if !cap.is_finite() {
-        return clearance_hinted(robot, shape, scene, None).filter(|c| c.0.distance < cap);
+        return clearance_hinted(robot, shape, scene, hint).filter(|c| c.0.distance < cap);
     }
     if scene.is_empty() {
         return None;
     }
     let feats = features_of(robot, shape);
     let bounds = grid_bounds(&feats, scene);
-    let (d, f, k) = pass(&feats, scene, cap, &bounds)?;
+    let mut bound = cap;
+    if let Some((f, k)) = hint.filter(|&(f, k)| f < feats.len() && k < scene.obstacles.len()) {
+        // Some pair's distance: the clearance is at most it, so a pass within it finds it.
+        if let Some(d) = pair(&feats[f], scene, k, cap) {
+            bound = bound.min(d.max(0.0) * (1.0 + 1e-9) + 1e-12);
+        }
+    }
+    let (d, f, k) = pass(&feats, scene, bound, &bounds)?;
     let c = Clearance {
         distance: d,
         obstacle: scene.obstacles[k].name.clone(),

@@ -52,7 +52,9 @@ mod descend;
 mod sens;
 mod solve;
 
-pub use clear::{clearance, clearance_below, clearance_hinted, Clearance, ClosestPair};
+pub use clear::{
+    clearance, clearance_below, clearance_below_hinted, clearance_hinted, Clearance, ClosestPair,
+};
 pub use clear_bounds::{clearance_bounds, ClearanceBounds};
 
 pub use answer::{CableActuation, EffortJson, Reach, ReachJson};
@@ -66,8 +68,8 @@ use crate::model::actuation::{Actuation, CableDrive, Input, Shortening};
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::model::Model;
+use crate::numeric::so3::angle_between;
 use crate::shape::Shape;
-use nalgebra::Vector3;
 use std::f64::consts::PI;
 
 /// Scale of the insertion in the effort \[m of cable per m of insertion\] (module docs,
@@ -375,6 +377,17 @@ impl Space {
         clearance_below(&self.robot, shape, &self.scene, cap)
     }
 
+    /// [`Space::clearance_below`] starting from a hinted closest pair
+    /// ([`clearance_below_hinted`]: the same answer).
+    pub fn clearance_below_hinted(
+        &self,
+        shape: &Shape,
+        cap: f64,
+        hint: Option<ClosestPair>,
+    ) -> Option<(Clearance, ClosestPair)> {
+        clearance_below_hinted(&self.robot, shape, &self.scene, cap, hint)
+    }
+
     /// [`Space::clearance`] starting from a hinted closest pair, with the closest pair found
     /// ([`clearance_hinted`]: the same answer).
     pub fn clearance_hinted(
@@ -443,15 +456,7 @@ impl Space {
 pub fn motion_bound(robot: &Robot, a: &Shape, b: &Shape) -> f64 {
     let rho = robot.disk_radius.hypot(robot.disk_thickness / 2.0);
     let disks = a.disks.iter().zip(&b.disks).map(|(x, y)| {
-        let rel = x.rotation.transpose() * y.rotation;
-        let c = (rel.trace() - 1.0) / 2.0;
-        let v = Vector3::new(
-            rel[(2, 1)] - rel[(1, 2)],
-            rel[(0, 2)] - rel[(2, 0)],
-            rel[(1, 0)] - rel[(0, 1)],
-        );
-        // atan2 keeps small angles exact (acos of a cosine near 1 loses half the digits).
-        (y.position - x.position).norm() + rho * (0.5 * v.norm()).atan2(c)
+        (y.position - x.position).norm() + rho * angle_between(&x.rotation, &y.rotation)
     });
     let bb = a
         .backbone

@@ -153,3 +153,88 @@ fn grid_bounds_contain_the_exact_clearance_in_an_airway() {
         3 * shapes
     );
 }
+
+/// An edge's bisection samples measured only as far as their sub-intervals' certificates need
+/// (`src/plan/edge.rs`, "Measured as far as needed") make the cuts exact clearances make, in
+/// seed 11's airway: on the staged legs to its first targets, every sample's clearance is at
+/// most its exact clearance (equal where it says exact); with exact clearances every final
+/// sub-interval is certified and every sub-interval that was cut is not — and some samples
+/// were not measured to the end (measured: 6 clear edges, 50 samples, 26 of them).
+#[test]
+fn edge_samples_measured_as_far_as_needed_cut_as_exact_clearances_do() {
+    use airway_tasks::Setup;
+    use ccrkit::plan::motion::motion;
+    use ccrkit::plan::{edge::KAPPA, Checker, EdgeCheck, Node};
+    let dir = std::env::temp_dir().join(format!("ccrkit-airway-legs-{}", std::process::id()));
+    let setup = Setup::new(11, GENERATIONS, &dir).expect("the airway and the catheter load");
+    let space = setup.space().expect("the space");
+    let tasks = setup.tasks(&space, 11, 3, 1, 600);
+    std::fs::remove_dir_all(&dir).ok();
+    let k = space.cables();
+    let margin = space.margin;
+    let mut ck = Checker::new(&space, margin).keep_samples();
+    let s = ck.node(&setup.retracted(&space), None).expect("the start");
+    let exact = |n: &Node| space.clearance(&n.shape).expect("an obstacle").distance;
+    let certified = |a: (&Node, f64), b: (&Node, f64)| {
+        motion(&space.robot, &a.0.shape, &b.0.shape).certified(a.1, b.1, KAPPA)
+    };
+    let (mut clear, mut samples, mut bounded) = (0, 0, 0);
+    for task in &tasks {
+        let g = ck.node(&task.u, None).expect("the goal");
+        // Straight in halfway to the goal's depth; the goal backed out by 5 mm, or turned.
+        let moved = |from: &Node, i: usize, to: f64| {
+            let mut u = from.u.clone();
+            u[i] = to;
+            u
+        };
+        let ends = [
+            (s.clone(), moved(&s, k, 0.5 * (s.u[k] + g.u[k]))),
+            (g.clone(), moved(&g, k, g.u[k] - 5e-3)),
+            (g.clone(), moved(&g, k + 1, g.u[k + 1] + 0.3)),
+        ];
+        for (a, u) in &ends {
+            let Some(b) = ck.node(u, Some(&a.shape)) else {
+                continue;
+            };
+            let (a, b) = (a, &b);
+            if !matches!(ck.edge(a, b), EdgeCheck::Clear { .. }) {
+                continue;
+            }
+            clear += 1;
+            let mut along: Vec<(f64, Node, f64)> = vec![(0.0, a.clone(), exact(a))];
+            for (t, n) in ck.samples_along(&a.u, &b.u) {
+                let e = exact(n);
+                assert!(n.clearance <= e + 1e-12, "{} > exact {e}", n.clearance);
+                if n.exact {
+                    assert_eq!(n.clearance.to_bits(), e.to_bits());
+                } else {
+                    bounded += 1;
+                }
+                assert!(n.clearance >= margin);
+                along.push((t, n.clone(), e));
+            }
+            along.push((1.0, b.clone(), exact(b)));
+            samples += along.len() - 2;
+            for w in along.windows(2) {
+                let c = certified((&w[0].1, w[0].2), (&w[1].1, w[1].2));
+                assert!(c >= margin, "a final sub-interval certified {c} < {margin}");
+            }
+            // Each sample cut the sub-interval of dyadic half-width 2^-j about it.
+            let at = |t: f64| along.iter().find(|x| x.0 == t).expect("an end of a cut");
+            for x in &along[1..along.len() - 1] {
+                let j = (1..60)
+                    .find(|&j| (x.0 * f64::powi(2.0, j)).fract() == 0.0)
+                    .expect("dyadic");
+                let h = f64::powi(2.0, -j);
+                let (lo, hi) = (at(x.0 - h), at(x.0 + h));
+                let c = certified((&lo.1, lo.2), (&hi.1, hi.2));
+                assert!(c < margin, "cut a sub-interval certified {c} ≥ {margin}");
+            }
+        }
+    }
+    println!("{clear} clear edges, {samples} samples, {bounded} not measured to the end");
+    assert!(
+        clear >= 4 && bounded >= 10,
+        "{clear} clear, {bounded} bounded"
+    );
+}

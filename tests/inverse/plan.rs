@@ -170,6 +170,16 @@ fn clearance_hint_changes_nothing() {
                     (&plain[k].0.obstacle, &plain[k].0.feature)
                 );
                 assert_eq!(h.1, plain[k].1, "hint {hint:?}");
+                // The bounded question too: the same answer below each cap, none at or above.
+                let d = plain[k].0.distance;
+                for cap in [0.5 * d, d, 1.5 * d + 1e-4, f64::INFINITY] {
+                    let b = space.clearance_below_hinted(s, cap, Some(hint));
+                    assert_eq!(b.is_some(), d < cap, "cap {cap}, clearance {d}");
+                    if let Some(b) = b {
+                        assert_eq!(b.0.distance.to_bits(), d.to_bits());
+                        assert_eq!(b.1, plain[k].1);
+                    }
+                }
             }
         }
     }

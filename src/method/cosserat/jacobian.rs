@@ -11,6 +11,7 @@ use super::{rot_of, v3, Cosserat, JacobianCheck, RodModel, State, E3};
 use crate::error::SolveError;
 use crate::model::actuation::{Actuation, Drive};
 use crate::model::robot::Robot;
+use crate::numeric::so3::vee_skew;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3};
 
 /// Residual, exact Jacobian, tip, and "no focal point found" of one variational pass.
@@ -38,11 +39,7 @@ impl Problem<'_> {
             let ty = vr.y[d];
             let dr_m = Matrix3::from_column_slice(&ty.as_slice()[3..12]);
             let om = dr_m * r.transpose();
-            let dth = Vector3::new(
-                om[(2, 1)] - om[(1, 2)],
-                om[(0, 2)] - om[(2, 0)],
-                om[(1, 0)] - om[(0, 1)],
-            ) * 0.5;
+            let dth = vee_skew(&om) * 0.5;
             let (dn, dm) = if tip {
                 let e = vr.resid[d];
                 (

@@ -40,7 +40,7 @@ use super::unloaded::{At, Strains};
 use super::{RodModel, E3, MAX_CABLES};
 use crate::model::actuation::LengthMeasure;
 use crate::numeric::ode::rk4;
-use crate::numeric::so3::hat;
+use crate::numeric::so3::{hat, vee_skew};
 use nalgebra::{DVector, Matrix3, Matrix6, SMatrix, Vector3, Vector6};
 
 /// The pass's state in column 0, `[p, R (column-major), M]`, and `C − 1` tangents in the
@@ -388,11 +388,7 @@ impl Problem<'_> {
         ] {
             let dr_m = Matrix3::from_fn(|i, j| y[(3 + 3 * j + i, t)]);
             let om = dr_m * r.transpose();
-            let dth = Vector3::new(
-                om[(2, 1)] - om[(1, 2)],
-                om[(0, 2)] - om[(2, 0)],
-                om[(1, 0)] - om[(0, 1)],
-            ) * 0.5;
+            let dth = vee_skew(&om) * 0.5;
             let mut dn = Vector3::zeros();
             if col < 3 {
                 dn[col] = 1.0;

@@ -92,6 +92,9 @@ pub(super) struct Tally {
     pub(super) count: usize,
     /// Smallest residual of a rejected Newton run.
     pub(super) closest: f64,
+    /// Every certified candidate with its taut set, the lowest of a set or not: where no
+    /// set's lowest passes the pull-only check, [`Geometric::lowest_pulling`] looks here.
+    pub(super) certified: Vec<(Candidate, Vec<usize>)>,
 }
 
 impl Tally {
@@ -138,6 +141,7 @@ impl Geometric {
             iterations: 0,
             count: 0,
             closest: f64::INFINITY,
+            certified: vec![],
         };
         let mut found = None;
         // The quick search (small nudges, runs given up after 2 short line searches); when it
@@ -166,7 +170,7 @@ impl Geometric {
                 break;
             }
         }
-        let Some((best, taut)) = found else {
+        let Some((best, taut)) = found.or_else(|| self.lowest_pulling(data, &tally)) else {
             return Err(self.section_failure(data, i, &tally));
         };
         let angles = data.term_angles(&best.pose);
@@ -391,6 +395,7 @@ impl Geometric {
                 Ok((cand, it)) => {
                     tally.iterations += it;
                     tally.count += 1;
+                    tally.certified.push((cand.clone(), taut.to_vec()));
                     if best
                         .as_ref()
                         .is_none_or(|b| cand.objective < b.objective - 1e-12)
@@ -413,6 +418,24 @@ impl Geometric {
             }
         }
         best
+    }
+
+    /// Where every search ended without an accepted pose: the lowest certified candidate of
+    /// any taut set that passes the pull-only check, though not the lowest of its set.
+    ///
+    /// The search judges a taut set by its lowest certified candidate alone. Beside obstacles
+    /// a set has several certified minima (the body pressed on either side of an edge, or
+    /// clear of it), and the lowest may ask a taut cable to push or stretch a slack one where a
+    /// higher one does neither: such a pose is a certified minimum of its face with every
+    /// cable pulling, which is what the section's answer must be. Asked only after the
+    /// searches fail, so no section they solve changes.
+    fn lowest_pulling(&self, data: &SectionData, tally: &Tally) -> Option<(Candidate, Vec<usize>)> {
+        tally
+            .certified
+            .iter()
+            .filter(|(c, set)| matches!(self.taut_set_move(data, set, c), TautMove::Accept))
+            .min_by(|a, b| a.0.objective.total_cmp(&b.0.objective))
+            .cloned()
     }
 
     /// Pull-only check of a candidate: drop the taut cable that would push most, or add the

@@ -3,7 +3,7 @@
 
 use super::contact_curvature::Pressed;
 use super::faces::{Candidate, Rejected, Step};
-use super::obstacles::{penetration_of, worst_gap, Pair};
+use super::obstacles::{penetration_of, worst_gap, Feature, Pair};
 use super::problem::{Pose, SectionData};
 use super::{Geometric, Objective};
 use crate::contact::CONTACT_TOL;
@@ -164,6 +164,7 @@ impl Geometric {
         let mut pressed = Pressed::default();
         let mut pairs_at_hand = false;
         let mut floor = NoiseFloor::default();
+        let mut qp_active = QpActive::new();
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
                 Err(Rejected {
@@ -202,7 +203,7 @@ impl Geometric {
             let (step, mu) = if pairs.is_empty() {
                 (self.step(&h, &g, &rows, &cv, data.gram_schmidt), vec![])
             } else {
-                match self.contact_step(&h, &g, &rows, &cv, &pairs, data) {
+                match self.contact_step(&h, &g, &rows, &cv, &pairs, data, &mut qp_active) {
                     Some(s) => s,
                     None => return reject(last_res),
                 }
@@ -310,6 +311,9 @@ impl Geometric {
     /// One step with obstacle pairs near: a convex QP with the pairs as linearized
     /// inequalities, then, once feasible to 1e-8, an exact Newton–KKT polish with the active
     /// contacts as equalities (its rows split as `data.gram_schmidt` says). Returns the step and the pairs' multipliers (≥ 0 when pressing).
+    /// The QP starts from the pairs its last solve in this run ended active on (`qp_active`,
+    /// updated): the same step, usually in one KKT solve instead of one per row added.
+    #[allow(clippy::too_many_arguments)]
     fn contact_step(
         &self,
         h: &Matrix6<f64>,
@@ -318,12 +322,15 @@ impl Geometric {
         cv: &[f64],
         pairs: &[Pair],
         data: &SectionData,
+        qp_active: &mut QpActive,
     ) -> Option<(Step, Vec<f64>)> {
         let clearance = data.world.as_ref().map_or(0.0, |w| w.clearance);
         let in_rows: Vec<Vector6<f64>> = pairs.iter().map(|p| -p.grad).collect();
         let in_rhs: Vec<f64> = pairs.iter().map(|p| p.dist - clearance).collect();
         let eq_rhs: Vec<f64> = cv.iter().map(|x| -x).collect();
-        let q = qp_step6(h, g, rows, &eq_rhs, &in_rows, &in_rhs, 1e-10)?;
+        let guess = qp_active.rows_in(pairs);
+        let (q, active) = qp_step6(h, g, (rows, &eq_rhs), (&in_rows, &in_rhs), 1e-10, &guess)?;
+        qp_active.keep(pairs, &active);
         let res0 = cv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let gap0 = pairs
             .iter()
@@ -402,6 +409,35 @@ impl Geometric {
             lambda: s.lambda.as_slice().to_vec(),
             min_reduced_eigenvalue: s.min_reduced_eigenvalue,
         }
+    }
+}
+
+/// The pairs (obstacle, feature) a run's last contact QP ended active on, in its order: the
+/// next QP's guess ([`qp_step6`]). Pairs are found afresh at each iterate, so they are
+/// named, not numbered.
+struct QpActive(Vec<(usize, Feature)>);
+
+impl QpActive {
+    fn new() -> QpActive {
+        QpActive(Vec::new())
+    }
+
+    /// The guess as rows of `pairs`: the named pairs still among them, in order.
+    fn rows_in(&self, pairs: &[Pair]) -> Vec<usize> {
+        self.0
+            .iter()
+            .filter_map(|&(o, f)| pairs.iter().position(|p| p.obstacle == o && p.feature == f))
+            .collect()
+    }
+
+    /// Remember the pairs of rows `active` of `pairs`.
+    fn keep(&mut self, pairs: &[Pair], active: &[usize]) {
+        self.0.clear();
+        self.0.extend(
+            active
+                .iter()
+                .map(|&j| (pairs[j].obstacle, pairs[j].feature)),
+        );
     }
 }
 
