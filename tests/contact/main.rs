@@ -15,4 +15,5 @@ mod generated_scenes;
 mod geometric_contact;
 mod obstacles;
 mod rod_contact;
+mod shear_contact;
 mod solid_mesh;

@@ -176,11 +176,17 @@ fn the_approach_does_not_pass_through_a_thin_wall() {
 
 /// Seeded scenes of one to three walls, pillars and boxes beside case I's free path
 /// (`ccrkit_test_support::scenes::near_path`, gaps 4–18 mm from the backbone, so the disks
-/// press on them): where both models solve cold, the rod with contact against `energy`.
-/// Measured on 16 seeds: 3 solved by both, all within 0.1 mm (0.008, 0.016, 0.034 mm). The rod
-/// fails on the rest: its straight start already crosses a large wall (5 seeds; `energy` is
-/// `obstructed` on 4 of them), a cable chord crosses a wall between disks (2, `obstructed`:
-/// chords are not modelled), or Newton's forward-difference steps stall near full load (5).
+/// press on them): the rod with contact against `energy` wherever both reach an answer. Each
+/// starts cold; where that fails, `energy` starts from the section solver's shape (whose
+/// sections never cross an obstacle) and the rod from `energy`'s answer. Only 3 of the 16 both
+/// solve cold, and that is the whole gap between the two: measured on the 16 seeds, 9 reach
+/// an answer in both and all 9 agree within 0.1 mm (largest 0.034 mm). The rest are named:
+/// the walls stand beside the *bent* path and the straight start crosses them (energy is
+/// `obstructed` and the rod's load steps stall at load factor 0: seeds 4, 8, 10, 11, …), the
+/// rod's cold load steps stall near full load where its warm start converges (1, 5, 7, 9), or
+/// `energy`'s answer presses a cable chord on an obstacle, which the rod does not model (its
+/// contacts act at the disks: seeds 1, 12, 13 — a model difference, not compared here; on seed
+/// 16 the rod started there slides to another equilibrium 75 mm away).
 #[test]
 fn the_rod_meets_energy_on_generated_scenes() {
     let m = case1();
@@ -188,16 +194,43 @@ fn the_rod_meets_energy_on_generated_scenes() {
     let path: Vec<[f64; 3]> = free.disks.iter().map(|d| d.position.into()).collect();
     let dir = std::env::temp_dir().join(format!("ccrkit-rod-contact-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let (mut tips, mut failed) = (vec![], vec![]);
+    let (mut tips, mut cold, mut chords, mut failed) = (vec![], 0, vec![], vec![]);
     for seed in 0..SEEDS {
         let (text, _) = near_path(&path, seed);
         let file = dir.join(format!("gen_{seed}.toml"));
         std::fs::write(&file, &text).expect("scene file");
         let sc = Scene::from_file(&file).expect("scene");
-        let energy = solve(&m, &sc, MethodKind::Energy, "displacement", None);
-        let rod = solve(&m, &sc, MethodKind::Cosserat, "displacement", None);
-        match (energy, rod) {
-            (Ok(e), Ok(r)) => {
+        let control = "displacement";
+        let energy = solve(&m, &sc, MethodKind::Energy, control, None).or_else(|_| {
+            let start = solve(&m, &sc, MethodKind::Geometric, "", None)?;
+            solve(&m, &sc, MethodKind::Energy, control, Some(&start))
+        });
+        let Ok(e) = energy else {
+            eprintln!(
+                "seed {seed}: energy {}",
+                energy.err().map(|x| x.to_string()).unwrap_or_default()
+            );
+            failed.push(seed);
+            continue;
+        };
+        // A pressing chord or backbone: the rod's contacts act at its disks only.
+        if e.contacts
+            .iter()
+            .any(|c| c.disk.is_none() && c.multiplier > 0.0)
+        {
+            eprintln!("seed {seed}: energy presses a cable chord or the backbone (not in the rod)");
+            chords.push(seed);
+            continue;
+        }
+        let rod = match solve(&m, &sc, MethodKind::Cosserat, control, None) {
+            Ok(r) => {
+                cold += 1;
+                Ok(r)
+            }
+            Err(_) => solve(&m, &sc, MethodKind::Cosserat, control, Some(&e)),
+        };
+        match rod {
+            Ok(r) => {
                 assert_valid(&m, &r, &sc);
                 let d = (r.tip() - e.tip()).norm();
                 eprintln!(
@@ -208,12 +241,8 @@ fn the_rod_meets_energy_on_generated_scenes() {
                 );
                 tips.push(d);
             }
-            (e, r) => {
-                let why = |x: &Result<Shape, SolveError>| match x {
-                    Ok(_) => "ok".to_string(),
-                    Err(err) => err.to_string(),
-                };
-                eprintln!("seed {seed}: energy {}; rod {}", why(&e), why(&r));
+            Err(err) => {
+                eprintln!("seed {seed}: rod {err}");
                 failed.push(seed);
             }
         }
@@ -222,13 +251,14 @@ fn the_rod_meets_energy_on_generated_scenes() {
     tips.sort_by(f64::total_cmp);
     let within = tips.iter().filter(|&&d| d < TIP_TOL).count();
     eprintln!(
-        "generated scenes: {} of {SEEDS} solved by both, {within} within 0.1 mm, median {:.4} mm, \
-         largest {:.4} mm; not both: {failed:?}",
+        "generated scenes: {} of {SEEDS} solved by both ({cold} with the rod cold), {within} \
+         within 0.1 mm, median {:.4} mm, largest {:.4} mm; chord contacts {chords:?}; \
+         not both: {failed:?}",
         tips.len(),
         tips.get(tips.len() / 2).copied().unwrap_or(f64::NAN) * 1e3,
         tips.last().copied().unwrap_or(f64::NAN) * 1e3
     );
-    assert!(tips.len() >= 3, "{failed:?}");
+    assert!(tips.len() >= 9, "{failed:?}");
     assert!(tips.iter().all(|&d| d < TIP_TOL), "{tips:?}");
 }
 

@@ -212,7 +212,8 @@ pub struct Energy {
     pub sensitivity: bool,
     /// Model the backbone's shear (`v = (γx, γy, 1 + ε)`, `GA |γ|²` in the energy, the
     /// Cosserat rod's continuum): the shear condensed from its equilibrium between Newton
-    /// solves (`energy/shear.rs`). Path measure only, without obstacles or capstan friction.
+    /// solves (`energy/shear.rs`; next to obstacles the pressing contacts load it and its step
+    /// is guarded: `newton/shear_step.rs`). Path measure only, without capstan friction.
     pub shear: bool,
 }
 
@@ -400,7 +401,7 @@ impl ReadyEnergy<'_> {
             &self.part.len0,
         )?;
         let capstan = friction::coefficients(act);
-        set.check_shear(&prob, capstan.is_some())?;
+        set.check_shear(capstan.is_some())?;
         let per = if set.section_sub_arcs.is_empty() {
             set.sub_arcs.to_string()
         } else {

@@ -9,6 +9,7 @@
 mod curved;
 mod iterate;
 mod line_search;
+mod shear_step;
 mod step;
 #[cfg(test)]
 mod tests;
@@ -137,14 +138,9 @@ impl Energy {
         // (rather than starting across an obstacle).
         let mut start_clear = true;
         for it in 0..=self.max_iterations {
-            // The shear's Newton step on its own equilibrium at the iterate (`energy/shear.rs`),
-            // then the SQP's linearization at fixed shear.
-            let shear_move = if self.shear {
-                prob.condense_shear(&sqp.xi, &sqp.lam)
-            } else {
-                0.0
-            };
-            sqp.linearize();
+            // The shear's Newton step on its own equilibrium at the iterate (`energy/shear.rs`,
+            // `newton/shear_step.rs`), then the SQP's linearization at fixed shear.
+            let shear_move = sqp.shear_and_linearize();
             // A start across a solid mesh's wall cannot come back (module docs): refused now.
             if it == 0 {
                 if let Some(e) = self.across_solid(&sqp) {

@@ -49,18 +49,22 @@
 //! `Σ ℓ_j |δγ_j|`): the stationarity then holds in every strain, the discrete Cosserat rod.
 //! Measured on the paper's cases: one pass over the cables' Gauss nodes per iterate, and at
 //! most one iteration more (module docs of [`super`], "Accuracy").
-//! Shear is refused with obstacles (a shear change between iterates could push a touching
-//! feature into an obstacle past the step guard), capstan friction and the chord measure
-//! (whose chords would need the sheared exponential's AD).
+//! Next to obstacles the pressing contacts' reactions `μ n̂` load the shear as dead loads at
+//! their witnesses do (`∂d/∂γ_a = n̂ · M_j e_a` for a witness beyond sub-arc `j`, as for `ε`:
+//! [`contact_forces`]), and the shear's step, which moves every frame beyond it, passes the
+//! line search's step guard (halved until it does), so no feature crosses an obstacle between
+//! iterates (`newton/shear_step.rs`). Shear is refused with capstan friction and the chord
+//! measure (whose chords would need the sheared exponential's AD).
 //!
 //! The tip Jacobian (`report.jacobian`) is taken at fixed shear: it leaves out the shear's
 //! own response, a relative error of the order of the coupling above.
 
-use super::contacts::Kin;
+use super::contacts::{Ends, Kin, Pair};
 use super::lengths::path_w;
 use super::problem::Problem;
 use super::problem::Target;
 use super::Energy;
+use crate::contact::features;
 use crate::error::SolveError;
 use crate::method::warm::WarmState;
 use crate::method::Method;
@@ -78,16 +82,19 @@ impl Problem<'_> {
             .sum()
     }
 
-    /// The generalized force of the dead loads on the shear of every sub-arc,
-    /// `(M_jᵀ S_j)_⊥` (module docs; empty without loads); `kin` with integrals.
-    fn shear_loads(&self, kin: Option<&Kin>) -> Vec<[f64; 2]> {
-        let Some(kin) = kin.filter(|_| !self.frame_forces.is_empty()) else {
+    /// The generalized force of the dead loads and of `extra` (forces at the frames, e.g. the
+    /// pressing contacts': [`contact_forces`]) on the shear of every sub-arc, `(M_jᵀ S_j)_⊥`
+    /// (module docs; empty without either); `kin` with integrals.
+    fn shear_loads(&self, kin: Option<&Kin>, extra: &[Vector3<f64>]) -> Vec<[f64; 2]> {
+        let Some(kin) = kin.filter(|_| !self.frame_forces.is_empty() || !extra.is_empty()) else {
             return vec![];
         };
         let mut out = vec![[0.0; 2]; self.nsub];
         let mut sum = Vector3::zeros();
+        let zero = Vector3::zeros();
         for j in (0..self.nsub).rev() {
-            sum += self.frame_forces[j + 1];
+            sum +=
+                self.frame_forces.get(j + 1).unwrap_or(&zero) + extra.get(j + 1).unwrap_or(&zero);
             let ms = kin.m_int[j].tr_mul(&sum);
             out[j] = [ms.x, ms.y];
         }
@@ -96,14 +103,16 @@ impl Problem<'_> {
 
     /// Gradient and Hessian (xx, xy, yy) of the total potential in the shear of every
     /// sub-arc (module docs) at the strains `xi`, with cable weights `wgt` (multipliers of
-    /// the length-driven cables, input tensions) and the loads' frames `kin` (integrals).
+    /// the length-driven cables, input tensions), the loads' frames `kin` (integrals) and the
+    /// forces `extra` at the frames ([`Problem::shear_loads`]).
     pub(super) fn shear_derivatives(
         &self,
         xi: &[f64],
         wgt: &[f64],
         kin: Option<&Kin>,
+        extra: &[Vector3<f64>],
     ) -> Vec<([f64; 2], [f64; 3])> {
-        let loads = self.shear_loads(kin);
+        let loads = self.shear_loads(kin, extra);
         let shear = self.shear.borrow();
         let mut out: Vec<([f64; 2], [f64; 3])> = (0..shear.len())
             .map(|j| {
@@ -138,28 +147,71 @@ impl Problem<'_> {
     }
 
     /// One Newton step `δγ_j = −H_j⁻¹ ∇_j` on the shear equilibrium of every sub-arc at the
-    /// strains `xi` and multipliers `lam` (module docs), taken; returns the bound
-    /// `Σ ℓ_j |δγ_j|` on how far it moved any point \[m\].
-    pub(super) fn condense_shear(&self, xi: &[f64], lam: &[f64]) -> f64 {
+    /// strains `xi` and multipliers `lam` (module docs), with the forces `extra` at the frames
+    /// `kin` (the pressing contacts'; `kin` is computed here when `None` and loads need it).
+    pub(super) fn shear_newton(
+        &self,
+        xi: &[f64],
+        lam: &[f64],
+        kin: Option<&Kin>,
+        extra: &[Vector3<f64>],
+    ) -> Vec<[f64; 2]> {
         let wgt: Vec<f64> = (0..lam.len())
             .map(|c| self.cable_weight(c, lam[c]))
             .collect();
-        let kin = (!self.frame_forces.is_empty()).then(|| self.kin(xi, true));
-        let derivs = self.shear_derivatives(xi, &wgt, kin.as_ref());
+        let own = (kin.is_none() && !self.frame_forces.is_empty()).then(|| self.kin(xi, true));
+        let derivs = self.shear_derivatives(xi, &wgt, kin.or(own.as_ref()), extra);
+        derivs
+            .iter()
+            .map(|(r, h)| {
+                // The 2×2 Hessian is positive definite (GA > 0, the cables convex).
+                let det = h[0] * h[2] - h[1] * h[1];
+                [
+                    -(h[2] * r[0] - h[1] * r[1]) / det,
+                    -(h[0] * r[1] - h[1] * r[0]) / det,
+                ]
+            })
+            .collect()
+    }
+
+    /// Add `scale · step` to the shear; returns the bound `Σ ℓ_j |δγ_j|` on how far it moved
+    /// any point \[m\] (a shear change translates the frames beyond it by `M_j δγ_j`, and
+    /// `|M_j e_a| ≤ ℓ_j`; it turns none).
+    pub(super) fn add_shear(&self, step: &[[f64; 2]], scale: f64) -> f64 {
         let mut moved = 0.0;
-        for (j, (g, (r, h))) in self.shear.borrow_mut().iter_mut().zip(&derivs).enumerate() {
-            // The 2×2 Hessian is positive definite (GA > 0, the cables convex).
-            let det = h[0] * h[2] - h[1] * h[1];
-            let d = [
-                -(h[2] * r[0] - h[1] * r[1]) / det,
-                -(h[0] * r[1] - h[1] * r[0]) / det,
-            ];
-            g[0] += d[0];
-            g[1] += d[1];
-            moved += self.ell[j] * d[0].hypot(d[1]);
+        for (j, (g, d)) in self.shear.borrow_mut().iter_mut().zip(step).enumerate() {
+            g[0] += scale * d[0];
+            g[1] += scale * d[1];
+            moved += self.ell[j] * (scale * d[0]).hypot(scale * d[1]);
         }
         moved
     }
+
+    /// [`Problem::shear_newton`] without obstacles, taken: the bound of [`Problem::add_shear`].
+    pub(super) fn condense_shear(&self, xi: &[f64], lam: &[f64]) -> f64 {
+        let step = self.shear_newton(xi, lam, None, &[]);
+        self.add_shear(&step, 1.0)
+    }
+}
+
+/// The forces the pressing pairs (`pairs` with multipliers `mu`, the reaction `μ n̂` at the
+/// witness) put on the frames of `nframes` sub-arc ends, as [`Problem::shear_loads`] reads
+/// them: a disk's on its frame, a segment's witness at fraction `t` split `(1 − t, t)` over
+/// its end frames (the way the point moves with them, `energy/contacts.rs`).
+pub(super) fn contact_forces(pairs: &[Pair], mu: &[f64], nframes: usize) -> Vec<Vector3<f64>> {
+    let mut out = vec![Vector3::zeros(); nframes];
+    for (p, &m) in pairs.iter().zip(mu).filter(|(_, &m)| m > 0.0) {
+        let f = p.normal * m;
+        match p.ends {
+            Ends::Rigid(k) => out[k] += f,
+            Ends::Segment((fa, pa), (fb, pb)) => {
+                let t = features::segment_fraction(&p.point_robot, &pa, &pb);
+                out[fa] += f * (1.0 - t);
+                out[fb] += f * t;
+            }
+        }
+    }
+    out
 }
 
 impl Energy {
@@ -174,13 +226,11 @@ impl Energy {
     }
 
     /// Refuse what shear does not support (module docs), naming it.
-    pub(super) fn check_shear(&self, prob: &Problem, friction: bool) -> Result<(), SolveError> {
+    pub(super) fn check_shear(&self, friction: bool) -> Result<(), SolveError> {
         if !self.shear {
             return Ok(());
         }
-        let why = if prob.world.is_some() {
-            "obstacles within reach"
-        } else if friction {
+        let why = if friction {
             "capstan friction"
         } else if self.cable_length != crate::model::actuation::LengthMeasure::Path {
             "the chord cable length (use length = path)"
@@ -205,6 +255,8 @@ fn warm_shear(warm: Option<&Shape>, nsub: usize) -> Option<Vec<[f64; 2]>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::actuation::Actuation;
+    use crate::model::scene::Scene;
     use crate::model::Model;
 
     /// The lung rod (helical tendons: the cables pull across the backbone) with gravity and
@@ -255,8 +307,8 @@ mod tests {
                 + p.load_potential(Some(&kin))
         };
         let kin = prob.kin(&xi, true);
-        let derivs = |p: &Problem| p.shear_derivatives(&xi, &wgt, Some(&kin));
-        assert_eq!(prob.shear_loads(Some(&kin)).len(), prob.nsub, "loads");
+        let derivs = |p: &Problem| p.shear_derivatives(&xi, &wgt, Some(&kin), &[]);
+        assert_eq!(prob.shear_loads(Some(&kin), &[]).len(), prob.nsub, "loads");
         let base = derivs(&prob);
         let h = 1e-6;
         for j in [0, prob.nsub / 2, prob.nsub - 1] {
@@ -289,5 +341,72 @@ mod tests {
                 }
             }
         }
+    }
+    /// The reaction of one contact as a load on the shear ([`contact_forces`], read by
+    /// [`Problem::shear_loads`]) is the gradient of its distance in the shear strains,
+    /// `∂d/∂γ_a = n̂ · M_j e_a`: against central differences of the queried distance, for
+    /// backbone, disk and cable-chord pairs of paper case II bent beside a box, a ball and a
+    /// capsule.
+    #[test]
+    fn contact_reactions_load_the_shear_as_their_distance_gradient() {
+        use crate::method::energy::contacts::Feat;
+        use crate::method::energy::test_fixture::{bent_state, case2_beside, world, Third};
+        let model = case2_beside(Third::Capsule);
+        let set = Energy {
+            shear: true,
+            ..Energy::default()
+        };
+        let (act, empty) = (Actuation::free(&model.robot), Scene::empty());
+        let prob = set.setup(&model.robot, &act, &empty).expect("setup");
+        let world = world(&model, set.sub_arcs);
+        *prob.shear.borrow_mut() = (0..prob.nsub)
+            .map(|j| [2e-3 * (j as f64).sin(), -1e-3 * (j as f64).cos()])
+            .collect();
+        let xi = bent_state(prob.nvar());
+        let kin = prob.kin(&xi, true);
+        let (pairs, _) = world.pairs(&kin);
+        for kind in ["backbone", "disk", "cable"] {
+            let has = |f: &Feat| match f {
+                Feat::Backbone(_) => kind == "backbone",
+                Feat::Disk(_) => kind == "disk",
+                Feat::Cable(..) => kind == "cable",
+            };
+            assert!(pairs.iter().any(|p| has(&p.feat)), "no {kind} pair");
+        }
+        let dist_at = |j: usize, a: usize, d: f64, key| {
+            let g0 = prob.shear_at(j);
+            prob.shear.borrow_mut()[j][a] = g0[a] + d;
+            let found = world.pairs(&prob.kin(&xi, false)).0;
+            prob.shear.borrow_mut()[j] = g0;
+            found
+                .into_iter()
+                .find(|p| p.key() == key)
+                .map(|p| p.dist)
+                .expect("pair still present")
+        };
+        let h = 1e-4;
+        let mut checked = 0;
+        for (i, p) in pairs.iter().enumerate() {
+            let mut mu = vec![0.0; pairs.len()];
+            mu[i] = 1.0;
+            let forces = contact_forces(&pairs, &mu, prob.nsub + 1);
+            let gen = prob.shear_loads(Some(&kin), &forces);
+            let scale = gen.iter().flatten().fold(0.0f64, |m, g| m.max(g.abs()));
+            assert!(scale > 0.0, "{:?}", p.feat);
+            for j in (0..prob.nsub).step_by(3) {
+                for a in 0..2 {
+                    let fd = (dist_at(j, a, h, p.key()) - dist_at(j, a, -h, p.key())) / (2.0 * h);
+                    // The polished normals' noise (`contacts.rs` tests) times the lever.
+                    assert!(
+                        (fd - gen[j][a]).abs() <= 2e-5 * scale,
+                        "{:?}: ∂d/∂γ[{j}][{a}] {} vs fd {fd}",
+                        p.feat,
+                        gen[j][a]
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 50, "{checked}");
     }
 }

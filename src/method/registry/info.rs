@@ -69,7 +69,7 @@ const ENERGY_SETTINGS: &[SettingInfo] = &[
         values: common::SWITCH,
         default: "off",
         help: "the backbone's shear (GA, the Cosserat rod's continuum; path length, no \
-               obstacles or friction): for soft rods",
+               capstan friction): for soft rods",
     },
 ];
 
