@@ -63,6 +63,9 @@ pub const ROADMAP_SAMPLES: Count = count("samples", "roadmap build --samples", 1
 pub const ROADMAP_EXPAND: Count = count("expand", "roadmap build --expand", 0, 100_000);
 /// Neighbours each roadmap node tries.
 pub const ROADMAP_NEIGHBOURS: Count = count("neighbours", "roadmap build --neighbours", 1, 256);
+/// Shards of one roadmap build (`k/N`: N), in a build's options and in a shard file read back
+/// (a merge keeps one flag per shard).
+pub const ROADMAP_SHARDS: Count = count("shard", "roadmap build --shard k/N", 1, 10_000);
 /// Samples of the planner before it gives up.
 pub const PLAN_SAMPLES: Count = count("max_samples", "plan --max-samples", 1, 1_000_000);
 /// Shortcut edge checks of the planner.
@@ -132,6 +135,7 @@ pub const COUNTS: &[Count] = &[
     ROADMAP_SAMPLES,
     ROADMAP_EXPAND,
     ROADMAP_NEIGHBOURS,
+    ROADMAP_SHARDS,
     PLAN_SAMPLES,
     PLAN_SHORTCUTS,
     FIT_ITERATIONS,

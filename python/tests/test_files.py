@@ -138,3 +138,18 @@ def test_a_device_as_model_file_ends_in_a_named_error():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=120, preexec_fn=limit, env=env)
     assert "refused: larger than the 64 MiB limit" in out.stdout, out.stdout + out.stderr
+
+
+def test_a_shard_of_an_absurd_count_is_refused_by_name(case1):
+    """`build_roadmap(shard=(0, 10**18))` built a shard no merge could hold, and
+    `merge_roadmaps` of it aborted the interpreter (one flag per shard: 10¹⁸ bytes)."""
+    tiny = dict(samples=2, expand=0, neighbours=1)
+    with pytest.raises(ccrkit.InvalidInput) as e:
+        case1.build_roadmap(shard=(0, 10**18), **tiny)
+    assert e.value.field == "shard" and "10000" in e.value.reason
+    part = case1.build_roadmap(shard=(0, 2), **tiny)
+    lie = part.replace('"count":2', '"count":1000000000000000000')
+    assert lie != part
+    with pytest.raises(ccrkit.ModelError) as e:
+        ccrkit.merge_roadmaps([lie])
+    assert e.value.field == "shard" and "10000" in e.value.reason

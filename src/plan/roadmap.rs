@@ -185,6 +185,22 @@ pub(super) fn nearest(metric: &Metric, nodes: &[RoadmapNode], u: &[f64], k: usiz
     d.into_iter().map(|x| x.1).collect()
 }
 
+/// A shard `s` a roadmap says it is (`p` names where it came from): `k/N` with `0 <= k < N`
+/// and N within [`crate::counts::ROADMAP_SHARDS`], else `Invalid` naming `shard`.
+pub(super) fn check_shard(s: Shard, p: &str) -> Result<(), ModelError> {
+    let n = crate::counts::ROADMAP_SHARDS;
+    if s.index < s.count && n.check(s.count).is_ok() {
+        return Ok(());
+    }
+    Err(ModelError::invalid(
+        "shard",
+        format!(
+            "`{p}` says shard {}/{}: expected k/N with 0 <= k < N <= {}",
+            s.index, s.count, n.max
+        ),
+    ))
+}
+
 impl Roadmap {
     /// Read a roadmap file.
     pub fn load(path: &std::path::Path) -> Result<Roadmap, ModelError> {
@@ -210,14 +226,8 @@ impl Roadmap {
                 ),
             ));
         }
-        if let Some(s) = r.shard.filter(|s| s.count == 0 || s.index >= s.count) {
-            return Err(ModelError::invalid(
-                "shard",
-                format!(
-                    "`{p}` says shard {}/{}: expected k/N with 0 <= k < N",
-                    s.index, s.count
-                ),
-            ));
+        if let Some(s) = r.shard {
+            check_shard(s, p)?;
         }
         let n = r.nodes.len();
         if let Some(e) = r.edges.iter().find(|e| e.0 >= n || e.1 >= n) {

@@ -27,6 +27,9 @@ pub fn build(
     crate::counts::ROADMAP_SAMPLES.check(opts.samples)?;
     crate::counts::ROADMAP_EXPAND.check(opts.expand)?;
     crate::counts::ROADMAP_NEIGHBOURS.check(opts.neighbours)?;
+    if let Some(s) = opts.shard {
+        crate::counts::ROADMAP_SHARDS.check(s.count)?;
+    }
     if !(opts.spread.is_finite() && opts.spread > 0.0 && opts.spread <= 1.0) {
         return Err(SolveError::InvalidInput {
             field: "spread".into(),

@@ -31,11 +31,15 @@ pub fn merge(mut parts: Vec<Roadmap>) -> Result<Roadmap, ModelError> {
             "the first file is a whole roadmap, not a shard".into(),
         );
     };
-    let mut seen = vec![false; count];
+    let mut seen = Vec::new();
     for (k, p) in parts.iter().enumerate() {
         let Some(s) = p.shard else {
             return bad("shard", format!("file {k} is a whole roadmap, not a shard"));
         };
+        // Read files are checked already; a roadmap made in code is checked here, before
+        // one flag per shard is allocated.
+        super::roadmap::check_shard(s, &format!("file {k}"))?;
+        seen.resize(count, false);
         if s.count != count || s.index >= count {
             return bad(
                 "shard",

@@ -91,6 +91,18 @@ fn absurd_counts_on_the_command_line_are_refused_by_name_at_once() {
                 &plan,
                 "--out",
                 "r.json",
+                "--shard",
+                "0/1000000000",
+            ],
+            "shard",
+        ),
+        (
+            vec![
+                "roadmap",
+                "build",
+                &plan,
+                "--out",
+                "r.json",
                 "--neighbours",
                 huge,
             ],

@@ -284,3 +284,43 @@ fn clearances_in_a_roadmap_file_are_measured_again_never_believed() {
     // The honest roadmap's plan measures the same kind of numbers.
     assert!(honest.min_clearance_m < 0.05);
 }
+
+/// A roadmap shard that says it is one of 10¹⁸ is refused by name when read (`shard`), and a
+/// merge of such a shard built in code is refused too: the merge allocated one flag per shard
+/// and aborted the process (`memory allocation of 1000000000000000000 bytes failed`).
+#[test]
+fn a_shard_of_an_absurd_count_is_refused_by_name() {
+    use ccrkit::plan::roadmap::{build, BuildOptions, Roadmap, Shard};
+    use ccrkit::plan::roadmap_shard::merge;
+    let model = ball_model(0.008);
+    let tiny = |count| BuildOptions {
+        samples: 2,
+        expand: 0,
+        neighbours: 1,
+        shard: Some(Shard { index: 0, count }),
+        ..BuildOptions::default()
+    };
+    let part = build(&model, &energy(), &tiny(2)).expect("a shard");
+    let text = part.to_json("part").expect("json");
+    let huge = text.replace("\"count\":2", "\"count\":1000000000000000000");
+    assert_ne!(huge, text, "the shard count is in the file");
+    let says_shard = |e: ModelError| match e {
+        ModelError::Invalid { field, reason } => {
+            assert_eq!(field, "shard", "{reason}");
+            assert!(reason.contains("10000"), "{reason}");
+        }
+        other => panic!("expected the shard refused by name, got {other:?}"),
+    };
+    says_shard(Roadmap::from_json(&huge, "part").expect_err("refused"));
+    let mut lie = part.clone();
+    lie.shard = Some(Shard {
+        index: 0,
+        count: 1_000_000_000_000_000_000,
+    });
+    says_shard(merge(vec![lie]).expect_err("refused"));
+    // A build asked for it is refused before any solve.
+    match build(&model, &energy(), &tiny(1_000_000_000_000_000_000)) {
+        Err(ccrkit::SolveError::InvalidInput { field, .. }) => assert_eq!(field, "shard"),
+        other => panic!("expected `shard` refused, got {:?}", other.map(|r| r.shard)),
+    }
+}

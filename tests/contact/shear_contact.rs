@@ -25,7 +25,7 @@ fn solve(m: &Model, scene: &Scene, kind: MethodKind, shear: &str) -> Result<Shap
 
 /// The lung rod (no spacer disks: the rod touches the world with a ball of its body radius at
 /// each station, `energy` with its backbone capsules) pulled by its straight tendon towards a
-/// wall that stops its tip short of its free place. Target of the issue: `energy` within
+/// wall that stops its tip short of its free place. Target: `energy` within
 /// 0.05 mm of the rod on soft rods, now next to obstacles too.
 #[test]
 fn sheared_energy_meets_the_rod_on_a_soft_rod_pressed_on_a_wall() {

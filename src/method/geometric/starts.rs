@@ -61,7 +61,7 @@ impl Geometric {
 }
 
 /// A start moved slightly off every kink (deterministic): ~1.5e-4 of the section length and
-/// ~1.6e-4 rad. Issue 16 measured the size (Newton iterations, same certified answers on
+/// ~1.6e-4 rad. The size is measured (Newton iterations, same certified answers on
 /// `tests/methods/geometric_tips.rs`): the former 10× larger nudge (~1.5e-3) cost case I / II / III
 /// 515 / 1542 / 1703 iterations and case I cut into 72 sections 2559; this one 475 / 1497 /
 /// 1628 and 1059 (a nudge large against a short section's bend starts far from its
