@@ -1,7 +1,8 @@
 //! Obstacle cost of the geometric section solver and of the energy model on the paper's case-1
 //! robot: no obstacles, 1000 obstacles out of reach (broad phase only), 1000 small obstacles in
 //! reach but clear of the shape (broad + narrow phase), and pressing on one wall or a pillar
-//! (contacts active); and the literal method beside seeded generated scenes (`near_path`, as
+//! (contacts active), and the energy model next to a 25 344-triangle mesh from outside and
+//! inside (`energy_organ_25k`, `energy_lumen_25k`); and the literal method beside seeded generated scenes (`near_path`, as
 //! `examples/scene_speed.rs`): the scenes of seeds 1–20 that take the median and the most
 //! Newton iterations.
 //!
@@ -10,7 +11,7 @@
 use ccrkit::method::energy::Energy;
 use ccrkit::method::geometric::Geometric;
 use ccrkit::{Method, Model, Scene};
-use ccrkit_test_support::scenes::near_path;
+use ccrkit_test_support::scenes::{near_path, uv_sphere_obj};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -112,6 +113,39 @@ fn bench(c: &mut Criterion) {
         }
         grp.bench_function(format!("energy_{name}"), |b| {
             b.iter(|| black_box(e.solve(&model.robot, &model.actuation, scene, None)))
+        });
+    }
+    // Next to a 25 344-triangle mesh (a UV sphere of 100 × 128 quads), cold starts: case I's
+    // disk 9 pressing on a ball of 30 mm from outside (`free = "outside"`), and on the sphere
+    // of 100 mm it lies in (`free = "inside"`). The mesh is read and its grid made before.
+    let dir = root().join("target/bench_obstacles");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, r, centre, free) in [
+        ("organ_25k", 0.03, [0.07735, 0.11064, 0.10], "outside"),
+        ("lumen_25k", 0.1, [0.0, 0.0, 0.09], "inside"),
+    ] {
+        std::fs::write(
+            dir.join(format!("{name}.obj")),
+            uv_sphere_obj(r, centre, 100, 128),
+        )
+        .unwrap();
+        let body = format!(
+            "[[obstacles]]\nname = \"{name}\"\nshape = \"mesh\"\npath = \"{name}.obj\"\nfree = \"{free}\"\n"
+        );
+        let file = dir.join(format!("{name}.toml"));
+        std::fs::write(&file, body).unwrap();
+        let scene = Scene::from_file(&file).unwrap();
+        let _ = scene.obstacles[0].field();
+        let s = e
+            .solve(&model.robot, &model.actuation, &scene, None)
+            .unwrap();
+        eprintln!(
+            "energy {name}: {} contacts, {} iterations",
+            s.contacts.len(),
+            s.report.iterations
+        );
+        grp.bench_function(format!("energy_{name}"), |b| {
+            b.iter(|| black_box(e.solve(&model.robot, &model.actuation, &scene, None)))
         });
     }
     grp.finish();

@@ -34,6 +34,16 @@ pub(crate) fn solid(shape: &dyn PShape) -> Option<&TriMesh> {
         .filter(|m| m.pseudo_normals_if_oriented().is_some())
 }
 
+/// Whether `shape` is a mesh without a declared free side (a surface) that is nevertheless
+/// closed ([`crate::model::mesh_check::closed`]): a feature across it is across for good, as
+/// across a solid's wall. Linear in the triangles; asked only of a mesh a start crosses.
+pub(crate) fn closed_surface(shape: &dyn PShape) -> bool {
+    shape
+        .as_trimesh()
+        .filter(|m| m.pseudo_normals_if_oriented().is_none())
+        .is_some_and(|m| crate::model::mesh_check::closed(m.vertices().len(), m.indices()))
+}
+
 /// Whether the world point `p` lies in the obstacle region of the solid `mesh` at `pose`
 /// (behind the pseudo-normal of its closest surface point).
 pub(crate) fn in_obstacle(mesh: &TriMesh, pose: &PPose, p: PVec) -> bool {
@@ -202,13 +212,17 @@ fn inside_face(tri: &parry3d::shape::Triangle, n: PVec, y: PVec) -> bool {
 mod tests;
 
 /// parry's closest contact of feature `g` with the triangles of `mesh` within `margin`
-/// (what `parry3d::query::contact` against the whole mesh answers: the smallest distance,
-/// ties to the earlier triangle of its tree), found with fewer triangle queries: parry's tree
-/// is walked only into nodes whose bounds come within `margin` of the feature (their bounding
-/// ball's distance from it), each triangle there gets a lower bound (the gap between the
-/// feature's extent along the triangle's normal and the triangle's plane, and its bounding
-/// ball's distance), and parry's triangle query runs in the order of those bounds until the
-/// next bound is above the best distance found.
+/// (what `parry3d::query::contact` against the whole mesh answers: the smallest distance; of
+/// triangles at exactly that distance, the first one reached), found by branch and bound over
+/// parry's tree: nodes are visited nearer child first ([`parry3d::partitioning::Bvh::find_best`])
+/// and only while their lower bound — the larger of the gap between their box and the
+/// feature's and, when apart, the gap from their bounding ball — is below the best distance
+/// found so far; a triangle there gets a lower bound too (the gap between the feature's extent
+/// along the triangle's normal and the triangle's plane, and its bounding ball's gap), and is
+/// queried by parry's triangle query only when that bound is below the best. Every triangle
+/// closer than the answer has bounds below it all the way down, so it is queried: the answer
+/// is the closest triangle's, exactly. Near the wall the best distance is small at once and
+/// only the triangles under the feature are reached.
 pub(crate) fn closest_triangle(
     gpose: &PPose,
     g: &dyn PShape,
@@ -216,65 +230,79 @@ pub(crate) fn closest_triangle(
     mesh: &TriMesh,
     margin: f64,
 ) -> Option<PContact> {
-    use parry3d::bounding_volume::BoundingVolume;
-    let sm = g.as_support_map()?;
+    use parry3d::partitioning::BvhLeafCost;
     use parry3d::query::{DefaultQueryDispatcher, QueryDispatcher};
+    /// A triangle's contact, ranked by its distance.
+    struct Found(PContact);
+    impl BvhLeafCost for Found {
+        fn cost(&self) -> f64 {
+            self.0.dist
+        }
+    }
+    let sm = g.as_support_map()?;
     // The feature in the mesh's frame, composed as parry's composite query composes it, and
     // each triangle queried as it queries it (triangle first), so the answers agree.
     let rel = gpose.inv_mul(opose).inverse();
-    let reach = g.compute_aabb(&rel).loosened(margin);
-    let gap = |c: PVec, radius: f64| g.distance_to_point(&rel, c, true) - radius;
-    // (A node's ball farther than `margin` from the feature: nothing in it is within it.)
-    let mut cands: Vec<(f64, usize, u32)> = Vec::new();
-    let leaves = mesh.bvh().leaves(|node| {
+    let fbox = g.compute_aabb(&rel);
+    // Round-off of parry's own distance: a bound this close to the best is not trusted.
+    let slack = |lb: f64| lb - 1e-9 * (1.0 + lb.abs());
+    // The ball `(c, radius)`'s gap from the feature, when the two are apart (a lower bound on
+    // the distance of anything in it); `f64::MIN` (no bound) when they meet.
+    let ball = |c: PVec, radius: f64| {
+        let gap = g.distance_to_point(&rel, c, true) - radius;
+        if gap < 0.0 {
+            f64::MIN
+        } else {
+            gap
+        }
+    };
+    let node_bound = |node: &parry3d::partitioning::BvhNode, best: f64| {
         let b = node.aabb();
-        b.intersects(&reach) && gap(b.center(), b.half_extents().length()) <= margin
-    });
-    for (order, t) in leaves.enumerate() {
+        let gap = (b.mins - fbox.maxs)
+            .max(fbox.mins - b.maxs)
+            .max(PVec::ZERO)
+            .length();
+        // (Boxes apart: everything in the node is at least `gap` away.)
+        if gap > 0.0 && slack(gap) >= best {
+            return f64::MAX;
+        }
+        // Boxes that meet bound nothing below (a triangle across the feature has a negative
+        // distance); the ball does when it is apart.
+        let ball = ball(b.center(), b.half_extents().length());
+        if gap > 0.0 {
+            slack(gap.max(ball))
+        } else {
+            slack(ball)
+        }
+    };
+    let leaf = |t: u32, best: f64| {
         let tri = mesh.triangle(t);
         let c = (tri.a + tri.b + tri.c) / 3.0;
         let radius = [tri.a, tri.b, tri.c]
             .iter()
             .map(|v| (*v - c).length())
             .fold(0.0, f64::max);
-        // The ball's gap bounds the distance only when the two are apart.
-        let mut lb = gap(c, radius).max(f64::MIN);
-        if lb < 0.0 {
-            lb = f64::MIN;
-        }
+        let mut lb = ball(c, radius);
         if let Some(n) = tri.normal() {
             let p = n.dot(tri.a);
             let lo = n.dot(sm.support_point(&rel, -n));
             let hi = n.dot(sm.support_point(&rel, n));
             lb = lb.max(lo - p).max(p - hi);
         }
-        // Round-off of parry's own distance: a bound this close to the best is queried.
-        let lb = lb - 1e-9 * (1.0 + lb.abs());
-        if lb <= margin {
-            cands.push((lb, order, t));
+        if slack(lb) >= best {
+            return None;
         }
-    }
-    cands.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut best: Option<(usize, u32, PContact)> = None;
-    for (lb, order, t) in cands {
-        if best.as_ref().is_some_and(|(_, _, b)| lb > b.dist) {
-            break;
+        match DefaultQueryDispatcher.contact(&rel, &tri, g, margin) {
+            Ok(Some(ct)) => Some(Found(ct)),
+            _ => None,
         }
-        let tri = mesh.triangle(t);
-        let Ok(Some(ct)) = DefaultQueryDispatcher.contact(&rel, &tri, g, margin) else {
-            continue;
-        };
-        let better = best
-            .as_ref()
-            .is_none_or(|(o, _, b)| ct.dist < b.dist || (ct.dist == b.dist && order < *o));
-        if better {
-            best = Some((order, t, ct));
-        }
-    }
-    best.map(|(_, t, mut ct)| {
-        ct.subshape1 = t;
-        let mut ct = ct.flipped();
-        ct.transform_by_mut(gpose, opose);
-        ct
-    })
+    };
+    // Every contact parry returns is within `margin`; the search admits exactly those.
+    let limit = margin + 1e-12 * (1.0 + margin.abs());
+    let (t, Found(ct)) = mesh.bvh().find_best(limit, node_bound, leaf)?;
+    let mut ct = ct;
+    ct.subshape1 = t;
+    let mut ct = ct.flipped();
+    ct.transform_by_mut(gpose, opose);
+    Some(ct)
 }

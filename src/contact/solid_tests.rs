@@ -236,3 +236,77 @@ fn a_feature_beyond_a_thin_wall_is_seen() {
     let across = query(&pose, &cap, &pose, &lumen, 0.01, None).unwrap().dist;
     assert!((across + 0.002 + rb).abs() < 1e-9, "{across}");
 }
+
+/// The branch and bound of `closest_triangle` finds parry's closest triangle against the whole
+/// mesh (its distance to round-off, its witness to GJK's accuracy) on a 25 088-triangle sphere,
+/// for capsules and disks touching it (where many triangles are within a hair of the best),
+/// near it, across its wall and deep inside, seen from either side, and nothing beyond the
+/// margin alike.
+#[test]
+fn closest_triangle_is_parrys_on_a_dense_sphere() {
+    let (v, t) = sphere(0.03, 56);
+    assert_eq!(t.len(), 25_088);
+    let mut rng = Rng(0xB0B5_1DE5);
+    let unit = |rng: &mut Rng| {
+        Vector3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        )
+        .normalize()
+    };
+    let (mut found, mut none, mut touching) = (0, 0, 0);
+    for free in [Free::Inside, Free::Outside] {
+        let m = solid_trimesh(&v, &t, Some(free)).unwrap();
+        let opose = PPose::from_translation(PVec::new(0.01, -0.02, 0.03));
+        for k in 0..200 {
+            let dir = unit(&mut rng);
+            let axis = unit(&mut rng);
+            // Distance of the feature's nearest point from the sphere: touching (a third of
+            // them), near, across the wall, or far inside / outside.
+            let gap = match k % 6 {
+                0 | 1 => 0.0,
+                2 => rng.range(0.0, 0.004),
+                3 => -rng.range(0.0, 0.003),
+                4 => rng.range(-0.03, 0.03),
+                _ => rng.range(0.004, 0.02),
+            };
+            let margin = [0.002, 0.01, 0.05][k % 3];
+            let radius = 0.0015;
+            let cap_centre = dir * (0.03 + gap + radius);
+            let cap = Capsule::new(
+                pvec(&(cap_centre - 0.004 * axis)),
+                pvec(&(cap_centre + 0.004 * axis)),
+                radius,
+            );
+            let disk = parry3d::shape::Cylinder::new(0.001, 0.008);
+            let rot = nalgebra::Rotation3::rotation_between(&Vector3::y(), &axis)
+                .unwrap_or_else(nalgebra::Rotation3::identity);
+            let dpose = crate::contact::ppose(rot.matrix(), &(dir * (0.03 + gap + 0.008)));
+            let shift = |p: &PPose| PPose::from_translation(opose.translation) * *p;
+            let shapes: [(&dyn PShape, PPose); 2] =
+                [(&cap, shift(&PPose::IDENTITY)), (&disk, shift(&dpose))];
+            for (g, gpose) in shapes {
+                let want = parry3d::query::contact(&gpose, g, &opose, &m, margin).unwrap();
+                let got = closest_triangle(&gpose, g, &opose, &m, margin);
+                match (want, got) {
+                    (None, None) => none += 1,
+                    (Some(a), Some(b)) => {
+                        let scale = 1e-12 * (1.0 + a.dist.abs());
+                        assert!((a.dist - b.dist).abs() <= scale, "{} {}", a.dist, b.dist);
+                        assert!((a.point1 - b.point1).length() <= 1e-6);
+                        assert!((a.point2 - b.point2).length() <= 1e-6);
+                        touching += usize::from(a.dist.abs() < 5e-4);
+                        found += 1;
+                    }
+                    (a, b) => panic!("{free:?} {k}: {a:?} against {b:?}"),
+                }
+            }
+        }
+    }
+    eprintln!("found {found}, none {none}, touching {touching}");
+    assert!(
+        found > 400 && none > 40 && touching > 60,
+        "{found} {none} {touching}"
+    );
+}

@@ -176,6 +176,13 @@ pub fn solid(
     })
 }
 
+/// Whether the triangles form a closed surface: every edge used by exactly two triangles,
+/// once in each direction (what [`solid`] asks of a mesh before its volume). Such a surface
+/// separates space, so a robot body across it cannot come back without passing through it.
+pub(crate) fn closed(vertices: usize, triangles: &[[u32; 3]]) -> bool {
+    edges(vertices, triangles).is_ok()
+}
+
 /// The one of `a` and `b` with the smaller directed edge.
 fn earlier<T>(a: Option<((u32, u32), T)>, b: Option<((u32, u32), T)>) -> Option<((u32, u32), T)> {
     match (a, b) {

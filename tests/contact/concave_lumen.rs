@@ -6,42 +6,11 @@
 //! as a primitive.
 
 use crate::common;
+use ccrkit_test_support::scenes::uv_sphere_obj;
 
-use ccrkit::mesh::to_obj;
 use ccrkit::prelude::*;
 use ccrkit::reach::clearance;
 use nalgebra::Vector3;
-
-/// A sphere of radius `r` about `c` as `stacks` × `slices` quads (poles as fans).
-fn uv_sphere(r: f64, c: Vector3<f64>, stacks: usize, slices: usize) -> String {
-    use std::f64::consts::{PI, TAU};
-    let mut v = vec![c + Vector3::new(0.0, 0.0, r)];
-    for i in 1..stacks {
-        let t = PI * i as f64 / stacks as f64;
-        for j in 0..slices {
-            let p = TAU * j as f64 / slices as f64;
-            v.push(c + r * Vector3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos()));
-        }
-    }
-    v.push(c - Vector3::new(0.0, 0.0, r));
-    let south = (v.len() - 1) as u32;
-    let at = |i: usize, j: usize| (1 + (i - 1) * slices + j % slices) as u32;
-    let mut t = vec![];
-    for j in 0..slices {
-        t.push([0, at(1, j), at(1, j + 1)]);
-    }
-    for i in 1..stacks - 1 {
-        for j in 0..slices {
-            let (a, b, cc, d) = (at(i, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1));
-            t.push([a, cc, d]);
-            t.push([a, d, b]);
-        }
-    }
-    for j in 0..slices {
-        t.push([south, at(stacks - 1, j + 1), at(stacks - 1, j)]);
-    }
-    to_obj(&v, &t)
-}
 
 /// The scene of one meshed sphere (`stacks` × `slices`), free side `free`, written as `name`.
 fn sphere_scene(
@@ -54,7 +23,7 @@ fn sphere_scene(
     common::scene_file(
         "concave_lumen",
         &format!("{name}.obj"),
-        &uv_sphere(r, c, stacks, slices),
+        &uv_sphere_obj(r, [c.x, c.y, c.z], stacks, slices),
     );
     let body = format!(
         "[[obstacles]]\nname = \"{name}\"\nshape = \"mesh\"\npath = \"{name}.obj\"\n\

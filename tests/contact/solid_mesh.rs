@@ -211,3 +211,40 @@ fn a_start_across_the_wall_is_refused() {
         }
     }
 }
+
+/// The same box as a surface (no `free`): closed, so the start across its end wall is refused
+/// before the first step too (it took 60 iterations before, 20–30 s on a 25 000-triangle
+/// sphere); the box without its bottom face is open (a feature could slide off its edge), so
+/// it is not refused at once.
+#[test]
+fn a_start_across_a_closed_surface_is_refused_at_once() {
+    let model = straight();
+    let closed = box_mesh([-0.03, -0.03, -0.01], [0.03, 0.03, 0.1]);
+    let surface = scene("end_surface", &closed, "").unwrap();
+    let solver = SolveRequest::new(MethodKind::Energy).solver().unwrap();
+    let e = solver
+        .solve(&model.robot, &model.actuation, &surface, None)
+        .expect_err("no shape across the surface");
+    assert!(
+        matches!(&e, SolveError::Obstructed { obstacle, .. } if obstacle == "end_surface"),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("across this closed surface mesh"),
+        "{e}"
+    );
+    // The bottom face (z = −0.01, the first two triangles) left out: a hole.
+    let open: String = closed
+        .lines()
+        .filter(|l| !l.starts_with("f ") || !l.ends_with("1 3 4") && !l.ends_with("1 4 2"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert_eq!(open.lines().count() + 2, closed.lines().count(), "{open}");
+    let surface = scene("end_open", &open, "").unwrap();
+    let r = solver.solve(&model.robot, &model.actuation, &surface, None);
+    eprintln!("open: {r:?}");
+    assert!(
+        !r.is_err_and(|e| e.to_string().contains("closed surface")),
+        "an open surface is not closed"
+    );
+}

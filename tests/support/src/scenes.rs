@@ -316,3 +316,45 @@ pub fn near_path(path: &[[f64; 3]], seed: u64) -> (String, Vec<Placed>) {
     }
     (text, placed)
 }
+
+/// A sphere of radius `r` about `c` as `stacks` × `slices` quads, poles as fans, wound outward,
+/// as OBJ text: a closed mesh of `2 slices (stacks − 1)` triangles (100 × 128: 25 344), the
+/// organ or lumen of the concave-wall tests and of the `obstacles` bench's 25k-mesh rows.
+pub fn uv_sphere_obj(r: f64, c: [f64; 3], stacks: usize, slices: usize) -> String {
+    use std::f64::consts::{PI, TAU};
+    use std::fmt::Write;
+    let mut v = vec![[c[0], c[1], c[2] + r]];
+    for i in 1..stacks {
+        let t = PI * i as f64 / stacks as f64;
+        for j in 0..slices {
+            let p = TAU * j as f64 / slices as f64;
+            let d = [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()];
+            v.push([c[0] + r * d[0], c[1] + r * d[1], c[2] + r * d[2]]);
+        }
+    }
+    v.push([c[0], c[1], c[2] - r]);
+    let south = v.len() - 1;
+    let at = |i: usize, j: usize| 1 + (i - 1) * slices + j % slices;
+    let mut t = vec![];
+    for j in 0..slices {
+        t.push([0, at(1, j), at(1, j + 1)]);
+    }
+    for i in 1..stacks - 1 {
+        for j in 0..slices {
+            let (a, b, cc, d) = (at(i, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1));
+            t.push([a, cc, d]);
+            t.push([a, d, b]);
+        }
+    }
+    for j in 0..slices {
+        t.push([south, at(stacks - 1, j + 1), at(stacks - 1, j)]);
+    }
+    let mut s = String::new();
+    for p in &v {
+        let _ = writeln!(s, "v {:.9} {:.9} {:.9}", p[0], p[1], p[2]);
+    }
+    for f in &t {
+        let _ = writeln!(s, "f {} {} {}", f[0] + 1, f[1] + 1, f[2] + 1);
+    }
+    s
+}
