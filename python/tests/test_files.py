@@ -120,9 +120,11 @@ def test_a_model_file_is_read_capped(tmp_path):
 
 
 @pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="no /dev/zero")
-def test_a_device_as_model_file_ends_in_a_named_error():
+def test_a_device_as_model_file_ends_in_a_named_error(tmp_path):
     """`Model.load("/dev/zero")` in a child with 2 GiB of address space: a named error, not
-    an exhausted memory."""
+    an exhausted memory. The child runs in a scratch folder: `python -c` puts its working
+    directory first on `sys.path`, and from `python/` that is the source tree's `ccrkit`
+    without its compiled module, not the installed package."""
     code = textwrap.dedent("""
         import ccrkit
         try:
@@ -136,7 +138,7 @@ def test_a_device_as_model_file_ends_in_a_named_error():
 
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         timeout=120, preexec_fn=limit, env=env)
+                         timeout=120, preexec_fn=limit, env=env, cwd=tmp_path)
     assert "refused: larger than the 64 MiB limit" in out.stdout, out.stdout + out.stderr
 
 

@@ -184,6 +184,17 @@ mod tests {
     use crate::numeric::test_rng::Rng;
     use parry3d::shape::{Cuboid, Cylinder, Shape as PShape};
 
+    /// The segment `a → b` swept by `r` as a feature and its parry shape: a capsule (the
+    /// backbone's) for `r > 0`, else a chord.
+    fn segment(a: Vector3<f64>, b: Vector3<f64>, r: f64) -> (Convex, Box<dyn PShape>, PPose) {
+        let shape: Box<dyn PShape> = if r > 0.0 {
+            Box::new(features::backbone(&a, &b, r))
+        } else {
+            Box::new(features::chord(&a, &b))
+        };
+        (Convex::Segment(a, b, r), shape, PPose::IDENTITY)
+    }
+
     /// On 3000 random capsules, segments and disks placed at a known depth off a face of a
     /// randomly posed box (the wall's size) — separated, touching and penetrating — the
     /// distance equals the placed depth to 1e-12 m, and agrees with parry's (the polished
@@ -231,12 +242,7 @@ mod tests {
                     let lo = on + Vector3::x() * (depth + r);
                     let d = if d.x < 0.0 { -d } else { d };
                     let (a, b) = (orot * lo + oc, orot * (lo + d * l) + oc);
-                    let shape: Box<dyn PShape> = if r > 0.0 {
-                        Box::new(features::backbone(&a, &b, r))
-                    } else {
-                        Box::new(features::chord(&a, &b))
-                    };
-                    (Convex::Segment(a, b, r), shape, PPose::IDENTITY)
+                    segment(a, b, r)
                 }
                 _ => {
                     let (rd, ht) = (0.006, 0.001);
@@ -331,12 +337,7 @@ mod tests {
                     let r = if n % 3 == 0 { 0.0005 } else { 0.0 };
                     let d = rot.column(1) * rng.range(0.001, 0.01);
                     let (a, b) = (x - d, x + d);
-                    let shape: Box<dyn PShape> = if r > 0.0 {
-                        Box::new(features::backbone(&a, &b, r))
-                    } else {
-                        Box::new(features::chord(&a, &b))
-                    };
-                    (Convex::Segment(a, b, r), shape, PPose::IDENTITY)
+                    segment(a, b, r)
                 }
                 _ => {
                     let (rd, ht) = (0.006, 0.001);
