@@ -56,12 +56,9 @@ fn generated_obstacles_lie_at_their_placed_gap_from_the_path() {
     );
 }
 
-/// The scenes of `scene_speed` (seeds 1–60; 37 and 42 put a wall through the base disk before
-/// the generator kept its obstacles off it) are valid inputs: the literal method is never
-/// refused as obstructed in section 0 (the broad phase's base-disk check, independent of the
-/// generator's).
-#[test]
-fn generated_scenes_leave_the_base_disk_free() {
+/// Paper case I, the literal method's solver, its shape without obstacles and that shape's
+/// disk centres (the path the scene generator places obstacles near).
+fn case1_free() -> (Model, Solver, Shape, Vec<[f64; 3]>) {
     let model = Model::from_file(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/models/paper/case1.toml"
@@ -72,6 +69,16 @@ fn generated_scenes_leave_the_base_disk_free() {
         .solve(&model.robot, &model.actuation, &Scene::empty(), None)
         .unwrap();
     let path: Vec<[f64; 3]> = free.disks.iter().map(|d| d.position.into()).collect();
+    (model, solver, free, path)
+}
+
+/// The scenes of `scene_speed` (seeds 1–60; 37 and 42 put a wall through the base disk before
+/// the generator kept its obstacles off it) are valid inputs: the literal method is never
+/// refused as obstructed in section 0 (the broad phase's base-disk check, independent of the
+/// generator's).
+#[test]
+fn generated_scenes_leave_the_base_disk_free() {
+    let (model, solver, _, path) = case1_free();
     let dir = std::env::temp_dir().join(format!("ccrkit-base-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     for seed in 1..=60 {
@@ -96,16 +103,7 @@ fn generated_scenes_leave_the_base_disk_free() {
 /// of its set or not, has every cable pulling.)
 #[test]
 fn every_taut_set_minimum_is_judged_not_only_the_lowest() {
-    let model = Model::from_file(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/models/paper/case1.toml"
-    ))
-    .unwrap();
-    let solver = SolveRequest::new(MethodKind::Geometric).solver().unwrap();
-    let free = solver
-        .solve(&model.robot, &model.actuation, &Scene::empty(), None)
-        .unwrap();
-    let path: Vec<[f64; 3]> = free.disks.iter().map(|d| d.position.into()).collect();
+    let (model, solver, free, path) = case1_free();
     // Case I's cables run straight and parallel to the backbone when unbent: their rest length
     // is the robot's.
     let rest = free.disks.last().unwrap().s;
