@@ -50,6 +50,17 @@ fn absurd_counts_on_the_command_line_are_refused_by_name_at_once() {
         path("models/hardware/data/v4/tdcr_sysid_20260511-183002_val.csv"),
     );
     let huge = "1000000000";
+    let build = |flag: &'static str, value: &'static str| {
+        vec![
+            "roadmap",
+            "build",
+            plan.as_str(),
+            "--out",
+            "r.json",
+            flag,
+            value,
+        ]
+    };
     let jobs: Vec<(Vec<&str>, &str)> = vec![
         (
             vec!["reach", &plan, "--tip", "0,0.02,0.1", "--starts", huge],
@@ -66,48 +77,10 @@ fn absurd_counts_on_the_command_line_are_refused_by_name_at_once() {
             ],
             "max_samples",
         ),
-        (
-            vec![
-                "roadmap",
-                "build",
-                &plan,
-                "--out",
-                "r.json",
-                "--samples",
-                huge,
-            ],
-            "samples",
-        ),
-        (
-            vec![
-                "roadmap", "build", &plan, "--out", "r.json", "--expand", huge,
-            ],
-            "expand",
-        ),
-        (
-            vec![
-                "roadmap",
-                "build",
-                &plan,
-                "--out",
-                "r.json",
-                "--shard",
-                "0/1000000000",
-            ],
-            "shard",
-        ),
-        (
-            vec![
-                "roadmap",
-                "build",
-                &plan,
-                "--out",
-                "r.json",
-                "--neighbours",
-                huge,
-            ],
-            "neighbours",
-        ),
+        (build("--samples", huge), "samples"),
+        (build("--expand", huge), "expand"),
+        (build("--shard", "0/1000000000"), "shard"),
+        (build("--neighbours", huge), "neighbours"),
         (
             vec![
                 "calibrate",
