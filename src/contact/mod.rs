@@ -12,7 +12,7 @@
 //! * [`curvature`]: the Hessian of an obstacle's distance function (its surface curvature),
 //!   for the second derivative of a feature–obstacle distance;
 //! * [`primitives`]: closed-form distances of the features to a box where one of its faces
-//!   decides them (parry otherwise);
+//!   decides them, and to a ball whose centre lies off the feature's core (parry otherwise);
 //! * [`sat`]: the exact distance, normal and witnesses of a feature and a box or cylinder where
 //!   an edge, corner, rim or side decides them — the separating-axis maximum over their support
 //!   functions, started from parry's answer (the geometric method's contact normals);
