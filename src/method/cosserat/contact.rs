@@ -120,6 +120,13 @@ impl<'a> RodWorld<'a> {
         self.scene.clearance
     }
 
+    /// The farthest a point of the contact feature lies from its frame's centre (the disk
+    /// radius, or the body radius of a rod without disks): what a turn of the frame moves it
+    /// by, per radian \[m\].
+    fn reach(&self) -> f64 {
+        self.robot.disk_radius.max(self.robot.body_radius())
+    }
+
     /// The feature's parry pose at a disk frame `(p, r)`.
     fn pose(&self, p: &Vector3<f64>, r: &Matrix3<f64>) -> PPose {
         if self.disks {
@@ -149,7 +156,7 @@ impl<'a> RodWorld<'a> {
         // by more than a nanometre (a tenth of `PENETRATION_TOL`) is projected first.
         let projected;
         let drift = (r.transpose() * r - Matrix3::identity()).amax();
-        let r = if drift * rd.max(robot.body_radius()) > 0.1 * PENETRATION_TOL {
+        let r = if drift * self.reach() > 0.1 * PENETRATION_TOL {
             projected = gram_schmidt(r);
             &projected
         } else {
@@ -218,7 +225,7 @@ impl<'a> RodWorld<'a> {
         b: &[(Vector3<f64>, Matrix3<f64>)],
         active: &[Touch],
     ) -> Option<usize> {
-        let r = self.robot.disk_radius.max(self.robot.body_radius());
+        let r = self.reach();
         let clearance = self.clearance();
         for (k, ((pa, ra), (pb, rb))) in a.iter().zip(b).enumerate().skip(1) {
             let moved = (pb - pa).norm() + r * (rb - ra).norm();

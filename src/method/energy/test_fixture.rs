@@ -3,7 +3,7 @@
 //! third tilted obstacle, and a bent, twisted, stretched state of its strains, so that the
 //! backbone, the disks and the cable chords all come near an obstacle.
 
-use super::contacts::World;
+use super::contacts::{Kin, PairKey, World};
 use crate::model::robot::Robot;
 use crate::model::Model;
 
@@ -82,4 +82,16 @@ pub(super) fn bent_state(nv: usize) -> Vec<f64> {
             _ => -2e-3,
         })
         .collect()
+}
+
+/// The distance of pair `key` among the pairs `world` finds at `kin` (a perturbed state of a
+/// finite-difference check); the pair must still be found there.
+pub(super) fn pair_dist(world: &World, kin: &Kin, key: PairKey) -> f64 {
+    world
+        .pairs(kin)
+        .0
+        .into_iter()
+        .find(|p| p.key() == key)
+        .map(|p| p.dist)
+        .expect("pair still present")
 }

@@ -82,13 +82,7 @@ fn distance_gradients_match_finite_differences() {
     assert!(kinds.iter().any(|f| matches!(f, Feat::Disk(_))));
     assert!(kinds.iter().any(|f| matches!(f, Feat::Cable(..))));
     let dist_at = |x: &[f64], key: PairKey| -> f64 {
-        world
-            .pairs(&kinematics(x, &ell, false))
-            .0
-            .into_iter()
-            .find(|p| p.key() == key)
-            .map(|p| p.dist)
-            .expect("pair still present")
+        super::super::test_fixture::pair_dist(&world, &kinematics(x, &ell, false), key)
     };
     let h = 1e-4;
     let mut checked = 0;
