@@ -6,8 +6,8 @@
 
 use super::random::random_model;
 use super::{num, StudyError};
-use crate::method::run::SolveRequest;
 use crate::error::SolveError;
+use crate::method::run::SolveRequest;
 use crate::method::{MethodKind, Settings};
 use crate::progress::ProgressHandle;
 use crate::shape::Shape;

@@ -488,10 +488,14 @@ angles = { straight = 6.076985508985371e0 }
 tension = 5.080729865129206e0
 "#;
     let model = ccrkit::Model::from_toml_str(toml).expect("the drawn robot is valid");
-    let e = match ccrkit::prelude::SolveRequest::new(ccrkit::prelude::MethodKind::Energy).run(&model) {
-        Ok(s) => panic!("a cable shortened by 99.99 % solved: tip {:?}", s.shape.tip()),
-        Err(e) => e,
-    };
+    let e =
+        match ccrkit::prelude::SolveRequest::new(ccrkit::prelude::MethodKind::Energy).run(&model) {
+            Ok(s) => panic!(
+                "a cable shortened by 99.99 % solved: tip {:?}",
+                s.shape.tip()
+            ),
+            Err(e) => e,
+        };
     let msg = e.to_string();
     let non_finite = msg
         .split(|c: char| !c.is_alphanumeric())
