@@ -122,6 +122,27 @@ fn a_data_csv_with_a_tip_or_a_cable_beyond_a_kilometre_is_refused_by_row_and_col
     assert_eq!(ds.tips.map(|t| t[0].x), Some(1e3));
 }
 
+/// A workspace sweep whose tip lies beyond where a shape can lie (`1e308` m) is refused by
+/// `view --sweep` naming its line and column (it was drawn, the page's view box with it); a
+/// tip at the edge is read.
+#[test]
+fn a_sweep_with_a_tip_beyond_any_shape_is_refused_by_line_and_column() {
+    use ccrkit::export::view::read_sweep;
+    let edge = ccrkit::shape::MAX_EXTENT;
+    let text =
+        |x: f64| format!("sample,tip_x_m,tip_y_m,tip_z_m,status\n0,0,0,0.1,ok\n1,{x:e},0,0.1,ok\n");
+    for x in [1e308, -1e308, 2.0 * edge] {
+        match read_sweep(&text(x)) {
+            Err(ccrkit::export::ExportError::Input { field, reason }) => {
+                assert_eq!(field, "sweep line 3, column `tip_x_m`", "{reason}");
+            }
+            other => panic!("{x:e}: expected a named refusal, got {other:?}"),
+        }
+    }
+    let read = read_sweep(&text(-edge)).expect("a tip at the edge is read");
+    assert_eq!(read.tips[1][0], -edge);
+}
+
 /// RFC 4180 quoting: a quoted label holding a comma and doubled quotes, a quoted number, are
 /// one field each (they were split at the comma and the row refused as ragged); a column named
 /// twice is still refused when one of the two is quoted.

@@ -2,6 +2,7 @@
 //! `csv` crate.
 
 use super::ExportError;
+use crate::shape::MAX_EXTENT;
 use serde::Serialize;
 
 /// A sweep read from CSV: tips and the other columns.
@@ -40,7 +41,9 @@ fn bad(field: impl Into<String>, reason: impl Into<String>) -> ExportError {
     }
 }
 
-/// Read a workspace CSV (header `sample,…,tip_x_m,tip_y_m,tip_z_m,…`).
+/// Read a workspace CSV (header `sample,…,tip_x_m,tip_y_m,tip_z_m,…`). Each tip coordinate is
+/// finite and within ±[`MAX_EXTENT`] (a tip at `1e308` m was drawn, and the page's view box
+/// with it).
 pub fn read_sweep(text: &str) -> Result<Sweep, ExportError> {
     let mut rd = csv::ReaderBuilder::new().from_reader(text.as_bytes());
     let header: Vec<String> = rd
@@ -75,11 +78,14 @@ pub fn read_sweep(text: &str) -> Result<Sweep, ExportError> {
             tip[a] = s
                 .parse::<f64>()
                 .ok()
-                .filter(|x| x.is_finite())
+                .filter(|x| x.is_finite() && x.abs() <= MAX_EXTENT)
                 .ok_or_else(|| {
                     bad(
                         format!("sweep line {line}, column `{}`", header[i]),
-                        format!("`{s}` is not a finite number"),
+                        format!(
+                            "`{s}` is not a finite number within ±{MAX_EXTENT} m (where a \
+                             shape lies)"
+                        ),
                     )
                 })?;
         }
