@@ -94,7 +94,10 @@ fn the_rod_from_energys_answer_meets_it_on_generated_scenes() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
-    eprintln!("the rod from energy's answer: {} within 0.1 mm: {met:?}", met.len());
+    eprintln!(
+        "the rod from energy's answer: {} within 0.1 mm: {met:?}",
+        met.len()
+    );
     assert!(met.starts_with(&[0, 2, 14]), "{met:?}");
     assert!(met.len() >= 17, "{met:?}");
 }
@@ -116,7 +119,11 @@ fn a_warm_start_the_rod_cannot_take_falls_back_to_the_approach() {
     }
     let rod = solve(&m, &sc, MethodKind::Cosserat, Some(&bad)).expect("rod from a poor start");
     eprintln!("notes: {:?}", rod.report.notes);
-    assert!(rod.report.notes.iter().any(|n| n.contains("warm start did not converge")));
+    assert!(rod
+        .report
+        .notes
+        .iter()
+        .any(|n| n.contains("warm start did not converge")));
     assert!((rod.tip() - e.tip()).norm() < TIP_TOL);
     assert_valid(&m, &rod, &sc);
 }

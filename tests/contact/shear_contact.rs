@@ -72,8 +72,15 @@ fn cold_energy_in_one_step_meets_the_rod_beside_a_wall() {
         assert!(d < tol, "shear {shear}: {d:e} m from the rod");
         // Each station's ball of the body radius stays on the near side of the face.
         let r = m.robot.body_radius();
-        let deepest = e.disks.iter().map(|k| k.position.x + r).fold(f64::MIN, f64::max);
-        assert!(deepest < face + 1e-6, "a station reaches x = {deepest}, the face is at {face}");
+        let deepest = e
+            .disks
+            .iter()
+            .map(|k| k.position.x + r)
+            .fold(f64::MIN, f64::max);
+        assert!(
+            deepest < face + 1e-6,
+            "a station reaches x = {deepest}, the face is at {face}"
+        );
     }
 }
 

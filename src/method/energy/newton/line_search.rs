@@ -61,11 +61,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
         let Some(wd) = self.world else {
             return true;
         };
-        let deepest = |ps: &[Pair], clear: f64| {
-            ps.iter()
-                .map(|p| p.dist)
-                .fold(clear, f64::min)
-        };
+        let deepest = |ps: &[Pair], clear: f64| ps.iter().map(|p| p.dist).fold(clear, f64::min);
         let now = self.clearance - deepest(&self.pairs, self.clear);
         let allowed = now.max(PENETRATION_STEP * (wd.margin() - self.clearance));
         self.clearance - deepest(ps, clear) <= allowed
