@@ -4,10 +4,10 @@
 
 use super::problem::Pose;
 use crate::contact::features::{self, Touching};
+use crate::contact::parry::SEPARATION_SHIFT;
 use crate::contact::primitives::{closed_witness, Convex};
 use crate::contact::sat;
 use crate::contact::Witness;
-use crate::contact::parry::SEPARATION_SHIFT;
 use crate::contact::{nvec, pvec};
 use crate::model::robot::Robot;
 use crate::model::scene::{aabb_ball_distance, aabb_gap, Scene};
@@ -508,7 +508,10 @@ mod tests {
                 let pen = penetration_of(&all, w.clearance);
                 // Equal values; a sum with no term is −0.0 where the unpruned one adds +0.0
                 // terms (the merit adds it to Σ|c|, so the merit is the same to the bit).
-                assert_eq!(Some(pen), w.penetration(&pose, &mut vec![], &|_| false, &[]));
+                assert_eq!(
+                    Some(pen),
+                    w.penetration(&pose, &mut vec![], &|_| false, &[])
+                );
                 // A stop rule gives up exactly when the whole sum meets it, else changes nothing
                 // (to the bit: the sum without a rule).
                 let full = w.penetration(&pose, &mut vec![], &|_| false, &[]);
@@ -636,7 +639,12 @@ mod tests {
         move |m: &Vector3<f64>| {
             let m = m.normalize();
             let sf = nvec(g.as_support_map().unwrap().support_point(&gpose, pvec(&-m)));
-            let so = nvec(shape.as_support_map().unwrap().support_point(&opose, pvec(&m)));
+            let so = nvec(
+                shape
+                    .as_support_map()
+                    .unwrap()
+                    .support_point(&opose, pvec(&m)),
+            );
             m.dot(&(sf - so))
         }
     }
