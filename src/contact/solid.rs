@@ -100,7 +100,7 @@ fn across(
         .as_support_map()
         .map_or(fallback, |sm| sm.support_point(gpose, -n));
     let s = n.dot(x - w).min(cap);
-    PContact::new(x, w, -n, n, s)
+    PContact::new(x, w, -n, n, s).with_subshapes(0, tri)
 }
 
 /// The signed contact of a feature that parry finds intersecting the solid's surface but for
@@ -216,19 +216,32 @@ mod tests;
 /// triangles at exactly that distance, the first one reached), found by branch and bound over
 /// parry's tree: nodes are visited nearer child first ([`parry3d::partitioning::Bvh::find_best`])
 /// and only while their lower bound — the larger of the gap between their box and the
-/// feature's and, when apart, the gap from their bounding ball — is below the best distance
-/// found so far; a triangle there gets a lower bound too (the gap between the feature's extent
-/// along the triangle's normal and the triangle's plane, and its bounding ball's gap), and is
+/// feature's and the gap along the axis from the feature to the box's centre — is below the
+/// best distance found so far; a triangle there gets a lower bound too (the gap between the
+/// feature's extent along the triangle's normal and the triangle's plane, and the gap along
+/// the axis from the feature to its centroid), and is
 /// queried by parry's triangle query only when that bound is below the best. Every triangle
 /// closer than the answer has bounds below it all the way down, so it is queried: the answer
 /// is the closest triangle's, exactly. Near the wall the best distance is small at once and
 /// only the triangles under the feature are reached.
+///
+/// `hint`, a triangle near the answer (the one a nearby state found), starts the search from
+/// its own distance `p` instead of the margin: the search then admits only costs up to
+/// `p` (the next float above it, so a triangle tied with it is still found), which every
+/// triangle the cold search could return meets. Nodes are visited in the same order (their
+/// order does not depend on the best so far, only whether they are pruned does), and a
+/// node or triangle pruned here holds nothing at or below `p`, so the same triangle is
+/// reached first among those of the smallest distance: the answer is the cold search's, to
+/// the bit, and far fewer nodes are opened. Any triangle (or none, or an index out of range)
+/// may be given.
+/// The contact's `subshape2` is the triangle.
 pub(crate) fn closest_triangle(
     gpose: &PPose,
     g: &dyn PShape,
     opose: &PPose,
     mesh: &TriMesh,
     margin: f64,
+    hint: Option<u32>,
 ) -> Option<PContact> {
     use parry3d::partitioning::BvhLeafCost;
     use parry3d::query::{DefaultQueryDispatcher, QueryDispatcher};
@@ -246,10 +259,21 @@ pub(crate) fn closest_triangle(
     let fbox = g.compute_aabb(&rel);
     // Round-off of parry's own distance: a bound this close to the best is not trusted.
     let slack = |lb: f64| lb - 1e-9 * (1.0 + lb.abs());
-    // The ball `(c, radius)`'s gap from the feature, when the two are apart (a lower bound on
-    // the distance of anything in it); `f64::MIN` (no bound) when they meet.
-    let ball = |c: PVec, radius: f64| {
-        let gap = g.distance_to_point(&rel, c, true) - radius;
+    // A separating-axis bound on the distance from the feature to anything within
+    // `extent(m)` of the point `c` along `m` (a box's or a triangle's vertices): along the
+    // direction `m` from the feature's point nearest `c` towards `c`, the gap between the
+    // feature's support `h(m)` and the set's lowest point `m · c − extent(m)` (any unit `m`
+    // bounds the distance so; this one is at least the gap of the set's bounding ball, and
+    // near the answer's when the set lies across `m`, as the facets of a wall do).
+    // `f64::MIN` (no bound) when `c` is in the feature or the set reaches across the axis's
+    // gap (a depth is parry's EPA's, not held to the gap's round-off).
+    let axis = |c: PVec, extent: &dyn Fn(PVec) -> f64| {
+        let p = g.project_point(&rel, c, true);
+        let m = (c - p.point).normalize_or_zero();
+        if p.is_inside || m == PVec::ZERO {
+            return f64::MIN;
+        }
+        let gap = m.dot(c) - extent(m) - m.dot(sm.support_point(&rel, m));
         if gap < 0.0 {
             f64::MIN
         } else {
@@ -267,22 +291,25 @@ pub(crate) fn closest_triangle(
             return f64::MAX;
         }
         // Boxes that meet bound nothing below (a triangle across the feature has a negative
-        // distance); the ball does when it is apart.
-        let ball = ball(b.center(), b.half_extents().length());
+        // distance); the axis does when it separates the feature from the box.
+        let half = b.half_extents();
+        let axis = axis(b.center(), &|m: PVec| m.abs().dot(half));
         if gap > 0.0 {
-            slack(gap.max(ball))
+            slack(gap.max(axis))
         } else {
-            slack(ball)
+            slack(axis)
         }
     };
     let leaf = |t: u32, best: f64| {
         let tri = mesh.triangle(t);
         let c = (tri.a + tri.b + tri.c) / 3.0;
-        let radius = [tri.a, tri.b, tri.c]
-            .iter()
-            .map(|v| (*v - c).length())
-            .fold(0.0, f64::max);
-        let mut lb = ball(c, radius);
+        let extent = |m: PVec| {
+            [tri.a, tri.b, tri.c]
+                .iter()
+                .map(|v| m.dot(c - *v))
+                .fold(0.0, f64::max)
+        };
+        let mut lb = axis(c, &extent);
         if let Some(n) = tri.normal() {
             let p = n.dot(tri.a);
             let lo = n.dot(sm.support_point(&rel, -n));
@@ -299,7 +326,11 @@ pub(crate) fn closest_triangle(
     };
     // Every contact parry returns is within `margin`; the search admits exactly those.
     let limit = margin + 1e-12 * (1.0 + margin.abs());
-    let (t, Found(ct)) = mesh.bvh().find_best(limit, node_bound, leaf)?;
+    let start = hint
+        .filter(|t| (*t as usize) < mesh.indices().len())
+        .and_then(|t| leaf(t, limit))
+        .map_or(limit, |Found(ct)| limit.min(ct.dist.next_up()));
+    let (t, Found(ct)) = mesh.bvh().find_best(start, node_bound, leaf)?;
     let mut ct = ct;
     ct.subshape1 = t;
     let mut ct = ct.flipped();
