@@ -216,10 +216,9 @@ mod tests;
 /// triangles at exactly that distance, the first one reached), found by branch and bound over
 /// parry's tree: nodes are visited nearer child first ([`parry3d::partitioning::Bvh::find_best`])
 /// and only while their lower bound — the larger of the gap between their box and the
-/// feature's and the gap along the axis from the feature to the box's centre — is below the
-/// best distance found so far; a triangle there gets a lower bound too (the gap between the
-/// feature's extent along the triangle's normal and the triangle's plane, and the gap along
-/// the axis from the feature to its centroid), and is
+/// feature's and, when apart, the gap from their bounding ball — is below the best distance
+/// found so far; a triangle there gets a lower bound too (the gap between the feature's extent
+/// along the triangle's normal and the triangle's plane, and its bounding ball's gap), and is
 /// queried by parry's triangle query only when that bound is below the best. Every triangle
 /// closer than the answer has bounds below it all the way down, so it is queried: the answer
 /// is the closest triangle's, exactly. Near the wall the best distance is small at once and
@@ -233,8 +232,7 @@ mod tests;
 /// node or triangle pruned here holds nothing at or below `p`, so the same triangle is
 /// reached first among those of the smallest distance: the answer is the cold search's, to
 /// the bit, and far fewer nodes are opened. Any triangle (or none, or an index out of range)
-/// may be given.
-/// The contact's `subshape2` is the triangle.
+/// may be given. The contact's `subshape2` is the triangle.
 pub(crate) fn closest_triangle(
     gpose: &PPose,
     g: &dyn PShape,
@@ -259,21 +257,43 @@ pub(crate) fn closest_triangle(
     let fbox = g.compute_aabb(&rel);
     // Round-off of parry's own distance: a bound this close to the best is not trusted.
     let slack = |lb: f64| lb - 1e-9 * (1.0 + lb.abs());
-    // A separating-axis bound on the distance from the feature to anything within
-    // `extent(m)` of the point `c` along `m` (a box's or a triangle's vertices): along the
-    // direction `m` from the feature's point nearest `c` towards `c`, the gap between the
-    // feature's support `h(m)` and the set's lowest point `m · c − extent(m)` (any unit `m`
-    // bounds the distance so; this one is at least the gap of the set's bounding ball, and
-    // near the answer's when the set lies across `m`, as the facets of a wall do).
-    // `f64::MIN` (no bound) when `c` is in the feature or the set reaches across the axis's
-    // gap (a depth is parry's EPA's, not held to the gap's round-off).
-    let axis = |c: PVec, extent: &dyn Fn(PVec) -> f64| {
-        let p = g.project_point(&rel, c, true);
-        let m = (c - p.point).normalize_or_zero();
-        if p.is_inside || m == PVec::ZERO {
-            return f64::MIN;
+    // A capsule's or a segment's axis (in the mesh's frame) and radius: its distance to a point
+    // and its extent along a direction in closed form (parry's answers, to round-off), as the
+    // bounds below ask them hundreds of times per query.
+    let core = g
+        .as_capsule()
+        .map(|c| (c.segment.a, c.segment.b, c.radius))
+        .or_else(|| g.as_segment().map(|s| (s.a, s.b, 0.0)))
+        .map(|(a, b, r)| (rel.transform_point(a), rel.transform_point(b), r));
+    // The feature's distance to the point `c` (0 inside it).
+    let to_point = |c: PVec| match core {
+        Some((a, b, r)) => {
+            let ab = b - a;
+            let l2 = ab.length_squared();
+            let t = if l2 > 0.0 {
+                ((c - a).dot(ab) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            ((c - (a + t * ab)).length() - r).max(0.0)
         }
-        let gap = m.dot(c) - extent(m) - m.dot(sm.support_point(&rel, m));
+        None => g.distance_to_point(&rel, c, true),
+    };
+    // The feature's extent `(min, max)` of `n · x` along the unit vector `n`.
+    let extent = |n: PVec| match core {
+        Some((a, b, r)) => {
+            let (x, y) = (n.dot(a), n.dot(b));
+            (x.min(y) - r, x.max(y) + r)
+        }
+        None => (
+            n.dot(sm.support_point(&rel, -n)),
+            n.dot(sm.support_point(&rel, n)),
+        ),
+    };
+    // The ball `(c, radius)`'s gap from the feature, when the two are apart (a lower bound on
+    // the distance of anything in it); `f64::MIN` (no bound) when they meet.
+    let ball = |c: PVec, radius: f64| {
+        let gap = to_point(c) - radius;
         if gap < 0.0 {
             f64::MIN
         } else {
@@ -291,29 +311,25 @@ pub(crate) fn closest_triangle(
             return f64::MAX;
         }
         // Boxes that meet bound nothing below (a triangle across the feature has a negative
-        // distance); the axis does when it separates the feature from the box.
-        let half = b.half_extents();
-        let axis = axis(b.center(), &|m: PVec| m.abs().dot(half));
+        // distance); the ball does when it is apart.
+        let ball = ball(b.center(), b.half_extents().length());
         if gap > 0.0 {
-            slack(gap.max(axis))
+            slack(gap.max(ball))
         } else {
-            slack(axis)
+            slack(ball)
         }
     };
     let leaf = |t: u32, best: f64| {
         let tri = mesh.triangle(t);
         let c = (tri.a + tri.b + tri.c) / 3.0;
-        let extent = |m: PVec| {
-            [tri.a, tri.b, tri.c]
-                .iter()
-                .map(|v| m.dot(c - *v))
-                .fold(0.0, f64::max)
-        };
-        let mut lb = axis(c, &extent);
+        let radius = [tri.a, tri.b, tri.c]
+            .iter()
+            .map(|v| (*v - c).length())
+            .fold(0.0, f64::max);
+        let mut lb = ball(c, radius);
         if let Some(n) = tri.normal() {
             let p = n.dot(tri.a);
-            let lo = n.dot(sm.support_point(&rel, -n));
-            let hi = n.dot(sm.support_point(&rel, n));
+            let (lo, hi) = extent(n);
             lb = lb.max(lo - p).max(p - hi);
         }
         if slack(lb) >= best {
