@@ -174,6 +174,7 @@ impl Problem<'_> {
         let l = self.len_l;
         let lam = ld.lam;
         let mut at = At::new([false; MAX_CABLES]);
+        at.quadratic = true;
         let n_base = self.outer_force(0.0, 1, lam);
         let straight = Strains {
             v: E3,
@@ -221,6 +222,9 @@ impl Problem<'_> {
             }
         }
         let (mut path, mut chord) = ([0.0; MAX_CABLES], [0.0; MAX_CABLES]);
+        // The rest lengths beside, from each point's `|e3 + r_i′|` by the same quadrature: what
+        // a pass at zero load gives bit for bit (its strains are the straight rod's there).
+        let mut path0 = [0.0; MAX_CABLES];
         let mut prev = [Vector3::zeros(); MAX_CABLES];
         for (c, cable) in robot.cables.iter().enumerate() {
             prev[c] = cable.hole(0);
@@ -235,6 +239,7 @@ impl Problem<'_> {
             for j in 0..steps {
                 let s = s0 + j as f64 * h;
                 let mut lr = [[0.0; MAX_CABLES]; 4];
+                let mut lr0 = lr;
                 let mut fail = false;
                 y += rk4::step(s, h, y, |i, si, yi| {
                     let n = self.outer_force(si, k, lam);
@@ -243,6 +248,7 @@ impl Problem<'_> {
                         Some((dy, res, dz)) => {
                             residual = residual.max(res);
                             lr[i] = at.lr;
+                            lr0[i] = at.rest;
                             if nd >= 3 {
                                 track.push(Track { z: guess, dz });
                             }
@@ -259,6 +265,7 @@ impl Problem<'_> {
                 }
                 point += 1;
                 self.add_rk4_lengths(&mut path, &lr, h);
+                self.add_rk4_lengths(&mut path0, &lr0, h);
                 rec.backbone
                     .push(Vector3::new(y[(0, 0)], y[(1, 0)], y[(2, 0)]));
             }
@@ -275,6 +282,10 @@ impl Problem<'_> {
             LengthMeasure::Chord => chord,
         };
         rec.len.extend_from_slice(&len[..nc]);
+        // (Chords: the rest lengths take the pass at zero load, `solve.rs`.)
+        if self.set.length == LengthMeasure::Path {
+            rec.rest.extend_from_slice(&path0[..nc]);
+        }
         // After the tip: the force left is `N(L⁻) − w − F_tip = 0` by construction.
         let mm = (Vector3::new(y[(12, 0)], y[(13, 0)], y[(14, 0)]) - self.tip_m * lam) / l;
         let mut jac = Matrix3::zeros();

@@ -80,13 +80,17 @@ pub(super) struct Unloaded {
 /// the tension sensitivities `dl[i][j] = ∂|ṗ_i|/∂τ_j` (`unloaded_solve.rs`).
 pub(super) struct At {
     pub(super) lr: Buf,
-    rest: Buf,
+    pub(super) rest: Buf,
     sens: [bool; MAX_CABLES],
     dl: Sens,
     /// The balance's Hessian at the last evaluation, factored (the loaded pass's tangents).
     pub(super) stiffness: Stiffness,
     /// `Σ τ_i t_i` at the last evaluation (the Kirchhoff rod's force is `N − Rᵀ` of it).
     pub(super) pull: Vector3<f64>,
+    /// Take a point after a Newton step whose second-order remainder bounds the balance
+    /// below the tolerance, without evaluating it again ([`Problem::strains_at`]; the loaded
+    /// pass's, whose starts are predicted close).
+    pub(super) quadratic: bool,
 }
 
 /// One number per pair of cables.
@@ -106,6 +110,7 @@ impl At {
                 full: false,
             },
             pull: Vector3::zeros(),
+            quadratic: false,
         }
     }
 }
@@ -307,6 +312,7 @@ impl Problem<'_> {
             } else {
                 1.0
             };
+            let before = z;
             z.v += dv * scale;
             z.u += du * scale;
             // Converged when the balance holds to the solver's tolerance (the step just taken
@@ -318,8 +324,61 @@ impl Problem<'_> {
                 }
                 return Some((z, residual));
             }
+            if at.quadratic && scale == 1.0 {
+                let bound = self.remainder_bound(sec, ld, size, rmax, at);
+                if bound <= self.set.tolerance {
+                    at.stiffness = k;
+                    self.moved_to_first_order(&before, (&dv, &du), &routes, sec, &sums, at);
+                    return Some((z, bound));
+                }
+            }
         }
         None
+    }
+
+    /// A bound on the balance left after a full Newton step that moves no tendon's `ṗ_i` by
+    /// more than `size`: the step zeroes the linear model, and `F` is linear but for the
+    /// tendons' `τ_i t_i(ṗ_i)`, whose second derivative is at most `3/|ṗ_i|²` in norm, so each
+    /// leaves at most `3/2 τ_i size² / (|ṗ_i| − size)²` in the force rows (the moment rows:
+    /// `r_i ×` it, over `L`). Infinite where the step is not small against `|ṗ_i|`.
+    fn remainder_bound(&self, sec: usize, ld: &LoadCase, size: f64, rmax: f64, at: &At) -> f64 {
+        let mut sum = 0.0;
+        for (c, cable) in self.robot.cables.iter().enumerate() {
+            if cable.ends_at < sec || ld.tau[c] == 0.0 {
+                continue;
+            }
+            let gap = at.lr[c] - size;
+            if gap <= 0.5 * at.lr[c] {
+                return f64::INFINITY;
+            }
+            sum += 1.5 * ld.tau[c] * (size / gap).powi(2);
+        }
+        sum * (rmax / self.len_l).max(1.0)
+    }
+
+    /// After a point taken on the remainder bound ([`At::quadratic`]): each running cable's
+    /// `|ṗ_c|` and the pull moved by the step `(dv, du)` from the strains `before` to first
+    /// order (`δ|ṗ_c| = t_cᵀ (δv + δu × r_c)`, `δ pull = A δv + G δu`), leaving `O(size²)`.
+    fn moved_to_first_order(
+        &self,
+        before: &Strains,
+        (dv, du): (&Vector3<f64>, &Vector3<f64>),
+        routes: &[RoutePoint; MAX_CABLES],
+        sec: usize,
+        sums: &super::rhs::TendonSums,
+        at: &mut At,
+    ) {
+        let full = self.set.model == RodModel::Full;
+        let v = if full { before.v } else { E3 };
+        for (c, cable) in self.robot.cables.iter().enumerate() {
+            if cable.ends_at < sec {
+                continue;
+            }
+            let rp = &routes[c];
+            let pd = before.u.cross(&rp.r) + rp.dr + v;
+            at.lr[c] += pd.dot(&(dv + du.cross(&rp.r))) / at.lr[c];
+        }
+        at.pull += sums.am * dv + sums.gm * du;
     }
 
     /// The tension sensitivities of the running cables' `|ṗ_i|` among those asked for (`at.sens`) at strains `z` (into
