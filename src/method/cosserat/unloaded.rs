@@ -106,7 +106,7 @@ impl At {
             stiffness: Stiffness {
                 k1inv: Matrix3::zeros(),
                 sinv: Matrix3::zeros(),
-                g: Matrix3::zeros(),
+                p: Matrix3::zeros(),
                 full: false,
             },
             pull: Vector3::zeros(),
@@ -116,17 +116,19 @@ impl At {
 }
 
 /// The balance's Hessian `K = [Kse + A, G; Gᵀ, Kbt + H]` at a point, factored by blocks:
-/// `(Kse + A)⁻¹`, the Schur complement's inverse and `G` (Kirchhoff: `(Kbt + H)⁻¹` alone).
+/// `(Kse + A)⁻¹`, the Schur complement's inverse and `P = (Kse + A)⁻¹ G` (Kirchhoff:
+/// `(Kbt + H)⁻¹` alone).
 #[derive(Clone, Copy)]
 pub(super) struct Stiffness {
     k1inv: Matrix3<f64>,
     sinv: Matrix3<f64>,
-    g: Matrix3<f64>,
+    p: Matrix3<f64>,
     full: bool,
 }
 
 impl Stiffness {
-    /// `K⁻¹ [bv; bu]` (Kirchhoff: `(Kbt + H)⁻¹ bu`, no `v` part).
+    /// `K⁻¹ [bv; bu]` (Kirchhoff: `(Kbt + H)⁻¹ bu`, no `v` part): `xu = S⁻¹ (bu − Pᵀ bv)`,
+    /// `xv = (Kse + A)⁻¹ bv − P xu`, four products with a 3×3 matrix.
     pub(super) fn solve(
         &self,
         bv: &Vector3<f64>,
@@ -135,8 +137,8 @@ impl Stiffness {
         if !self.full {
             return (Vector3::zeros(), self.sinv * bu);
         }
-        let xu = self.sinv * (bu - self.g.transpose() * (self.k1inv * bv));
-        (self.k1inv * (bv - self.g * xu), xu)
+        let xu = self.sinv * (bu - self.p.tr_mul(bv));
+        (self.k1inv * bv - self.p * xu, xu)
     }
 }
 
@@ -246,7 +248,7 @@ impl Problem<'_> {
             let k = Stiffness {
                 k1inv: Matrix3::from_diagonal(&self.kse.map(|x| 1.0 / x)),
                 sinv: Matrix3::from_diagonal(&self.kbt.map(|x| 1.0 / x)),
-                g: Matrix3::zeros(),
+                p: Matrix3::zeros(),
                 full,
             };
             at.stiffness = k;
@@ -285,12 +287,12 @@ impl Problem<'_> {
             let k = if full {
                 let k1 = Matrix3::from_diagonal(&self.kse) + sums.am;
                 let k1inv = sym_inverse(&k1)?;
-                let schur = Matrix3::from_diagonal(&self.kbt) + sums.hm
-                    - sums.gm.transpose() * k1inv * sums.gm;
+                let p = k1inv * sums.gm;
+                let schur = Matrix3::from_diagonal(&self.kbt) + sums.hm - sums.gm.tr_mul(&p);
                 Stiffness {
                     k1inv,
                     sinv: sym_inverse(&schur)?,
-                    g: sums.gm,
+                    p,
                     full,
                 }
             } else {
@@ -298,7 +300,7 @@ impl Problem<'_> {
                 Stiffness {
                     k1inv: Matrix3::zeros(),
                     sinv: sym_inverse(&m)?,
-                    g: Matrix3::zeros(),
+                    p: Matrix3::zeros(),
                     full,
                 }
             };
@@ -425,6 +427,18 @@ impl Problem<'_> {
         trace: Option<&mut Trace>,
         sens: Option<(&mut Sens, [bool; MAX_CABLES])>,
     ) -> Option<Unloaded> {
+        self.unloaded_pass_steps(ld, trace, sens, &self.nsteps)
+    }
+
+    /// [`Self::unloaded_pass`] with `steps[k]` Magnus steps in section `k` (a loaded solve's
+    /// cold start takes one per section: `loaded.rs`).
+    pub(super) fn unloaded_pass_steps(
+        &self,
+        ld: &LoadCase,
+        trace: Option<&mut Trace>,
+        sens: Option<(&mut Sens, [bool; MAX_CABLES])>,
+        nsteps: &[usize],
+    ) -> Option<Unloaded> {
         let robot = self.robot;
         let nc = robot.cables.len();
         let asked = sens.as_ref().map_or([false; MAX_CABLES], |s| s.1);
@@ -479,7 +493,7 @@ impl Problem<'_> {
             {
                 guess.forget();
             }
-            let steps = self.nsteps[k];
+            let steps = nsteps[k];
             let h = (s1 - s0) / steps as f64;
             for j in 0..steps {
                 let s = s0 + j as f64 * h;
