@@ -67,7 +67,10 @@ fn loaded_paper_cases_meet_the_converged_rod_to_a_micrometre() {
             // against the reference's pass at zero load.
             for (a, b) in fast.cables.iter().zip(&reference.cables) {
                 let (a, b) = (a.shortening.expect("path"), b.shortening.expect("path"));
-                assert!((a - b).abs() <= 1e-6, "case {n}: shortening {a} against {b}");
+                assert!(
+                    (a - b).abs() <= 1e-6,
+                    "case {n}: shortening {a} against {b}"
+                );
             }
         }
     }
