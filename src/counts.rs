@@ -76,6 +76,10 @@ pub const FIT_ITERATIONS: Count = count("max_iterations", "calibrate --max-itera
 pub const PREDICT_CHUNK: Count = count("chunk", "predict --chunk", 1, crate::batch::MAX_CHUNK);
 /// Solves per setting of the speed–accuracy study.
 pub const STUDY_REPEATS: Count = count("repeats", "study speed-accuracy --repeats", 1, 1000);
+/// Random robots of the `auto` study (each one a converged reference and every rung solved).
+pub const STUDY_AUTO_ROBOTS: Count = count("robots", "study auto --robots", 1, 100_000);
+/// Timed runs per solve of the `auto` study.
+pub const STUDY_AUTO_REPEATS: Count = count("repeats", "study auto --repeats", 1, 1000);
 /// Grid points per axis of the stability study (the sweep solves 4 grid² points per method).
 pub const STUDY_GRID: Count = count("grid", "study stability --grid", 2, 500);
 /// Samples of the workspace study.
@@ -141,6 +145,8 @@ pub const COUNTS: &[Count] = &[
     FIT_ITERATIONS,
     PREDICT_CHUNK,
     STUDY_REPEATS,
+    STUDY_AUTO_ROBOTS,
+    STUDY_AUTO_REPEATS,
     STUDY_GRID,
     STUDY_SAMPLES,
     STUDY_CHUNK,

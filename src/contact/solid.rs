@@ -246,10 +246,43 @@ pub(crate) fn closest_triangle(
     let fbox = g.compute_aabb(&rel);
     // Round-off of parry's own distance: a bound this close to the best is not trusted.
     let slack = |lb: f64| lb - 1e-9 * (1.0 + lb.abs());
+    // A capsule's or a segment's axis (in the mesh's frame) and radius: its distance to a point
+    // and its extent along a direction in closed form (parry's answers, to round-off), as the
+    // bounds below ask them hundreds of times per query.
+    let core = g
+        .as_capsule()
+        .map(|c| (c.segment.a, c.segment.b, c.radius))
+        .or_else(|| g.as_segment().map(|s| (s.a, s.b, 0.0)))
+        .map(|(a, b, r)| (rel.transform_point(a), rel.transform_point(b), r));
+    // The feature's distance to the point `c` (0 inside it).
+    let to_point = |c: PVec| match core {
+        Some((a, b, r)) => {
+            let ab = b - a;
+            let l2 = ab.length_squared();
+            let t = if l2 > 0.0 {
+                ((c - a).dot(ab) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            ((c - (a + t * ab)).length() - r).max(0.0)
+        }
+        None => g.distance_to_point(&rel, c, true),
+    };
+    // The feature's extent `(min, max)` of `n · x` along the unit vector `n`.
+    let extent = |n: PVec| match core {
+        Some((a, b, r)) => {
+            let (x, y) = (n.dot(a), n.dot(b));
+            (x.min(y) - r, x.max(y) + r)
+        }
+        None => (
+            n.dot(sm.support_point(&rel, -n)),
+            n.dot(sm.support_point(&rel, n)),
+        ),
+    };
     // The ball `(c, radius)`'s gap from the feature, when the two are apart (a lower bound on
     // the distance of anything in it); `f64::MIN` (no bound) when they meet.
     let ball = |c: PVec, radius: f64| {
-        let gap = g.distance_to_point(&rel, c, true) - radius;
+        let gap = to_point(c) - radius;
         if gap < 0.0 {
             f64::MIN
         } else {
@@ -285,8 +318,7 @@ pub(crate) fn closest_triangle(
         let mut lb = ball(c, radius);
         if let Some(n) = tri.normal() {
             let p = n.dot(tri.a);
-            let lo = n.dot(sm.support_point(&rel, -n));
-            let hi = n.dot(sm.support_point(&rel, n));
+            let (lo, hi) = extent(n);
             lb = lb.max(lo - p).max(p - hi);
         }
         if slack(lb) >= best {

@@ -239,7 +239,7 @@ fn a_feature_beyond_a_thin_wall_is_seen() {
 
 /// The branch and bound of `closest_triangle` finds parry's closest triangle against the whole
 /// mesh (its distance to round-off, its witness to GJK's accuracy) on a 25 088-triangle sphere,
-/// for capsules and disks touching it (where many triangles are within a hair of the best),
+/// for capsules, disks and chords touching it (where many triangles are within a hair of the best),
 /// near it, across its wall and deep inside, seen from either side, and nothing beyond the
 /// margin alike.
 #[test]
@@ -284,8 +284,13 @@ fn closest_triangle_is_parrys_on_a_dense_sphere() {
                 .unwrap_or_else(nalgebra::Rotation3::identity);
             let dpose = crate::contact::ppose(rot.matrix(), &(dir * (0.03 + gap + 0.008)));
             let shift = |p: &PPose| PPose::from_translation(opose.translation) * *p;
-            let shapes: [(&dyn PShape, PPose); 2] =
-                [(&cap, shift(&PPose::IDENTITY)), (&disk, shift(&dpose))];
+            // A chord: the capsule's axis, touching or crossing where the capsule does.
+            let chord = parry3d::shape::Segment::new(cap.segment.a, cap.segment.b);
+            let shapes: [(&dyn PShape, PPose); 3] = [
+                (&cap, shift(&PPose::IDENTITY)),
+                (&disk, shift(&dpose)),
+                (&chord, shift(&PPose::IDENTITY)),
+            ];
             for (g, gpose) in shapes {
                 let want = parry3d::query::contact(&gpose, g, &opose, &m, margin).unwrap();
                 let got = closest_triangle(&gpose, g, &opose, &m, margin);

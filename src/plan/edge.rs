@@ -41,9 +41,11 @@
 //! clearances in their place. A sample solved at a sub-interval's midpoint `m` is therefore
 //! measured only as far as the certificates of the two halves it makes need: with the motions
 //! from each end to `m` known once `m` is solved, the least clearance of `m` for which both
-//! halves' bounds reach the margin is `c*` (less when the other ends are clearer; `+∞` when a
+//! halves' bounds reach the margin is `c*` (less when the other ends are clearer; none when a
 //! half cannot be certified whatever `m`'s clearance, as when it inserts too far: it is cut
-//! again, and `m` is measured exactly). The grids' certified lower bound
+//! again, and `m` keeps the grids' proof of the margin when they give one, else is measured
+//! exactly — its clearance is asked again, by the sub-intervals it ends, once they are known).
+//! The grids' certified lower bound
 //! ([`crate::reach::clearance_bounds`]) proving `c ≥ c*` costs no exact query; else the exact
 //! clearance's question bounded by `c*` ([`crate::reach::clearance_below_hinted`]: no feature
 //! whose grid bound is beyond `c*` queried, no triangle farther than `c*` visited) either
@@ -51,7 +53,8 @@
 //! proof as its clearance ([`Node::exact`] false); should a sub-interval it ends still fall
 //! short (its other end was cut again), the end is measured exactly and the bound taken again
 //! before the sub-interval is cut — so the cuts, and the samples solved, are those of exact
-//! clearances throughout. Refusals are too: a sample is refused when its exact clearance is
+//! clearances throughout. A sample ends two sub-intervals and is held once for both, so it is
+//! measured exactly at most once. Refusals are too: a sample is refused when its exact clearance is
 //! below the margin, and `c* ≥ margin`. Samples that become a plan's waypoints are measured
 //! exactly before the plan is returned; the smallest clearance an edge reports
 //! ([`EdgeCheck::Clear`]) is over the samples measured exactly.
@@ -214,7 +217,7 @@ impl<'a> Checker<'a> {
 
     /// Solve and check `u` (warm-started from `warm`); `None` when it is not admissible.
     pub fn node(&mut self, u: &[f64], warm: Option<&Shape>) -> Option<Node> {
-        self.node_within(u, warm, |_| f64::INFINITY)
+        self.node_within(u, warm, |_| Some(f64::INFINITY))
     }
 
     /// [`Checker::node`] measured only as far as `need` of its shape asks (module docs,
@@ -222,12 +225,13 @@ impl<'a> Checker<'a> {
     /// obstacle — by the grids' lower bound, else by the exact clearance's question bounded by
     /// it ([`Space::clearance_below_hinted`]) — keeps that proof as its clearance
     /// (not [`Node::exact`]); a closer one gets its exact clearance, and is refused below the
-    /// margin. The same nodes are refused as by [`Checker::node`].
+    /// margin. A `need` of `None` (not known yet) is met by the grids' proof of the margin, else
+    /// the exact clearance. The same nodes are refused as by [`Checker::node`].
     fn node_within(
         &mut self,
         u: &[f64],
         warm: Option<&Shape>,
-        need: impl FnOnce(&Shape) -> f64,
+        need: impl FnOnce(&Shape) -> Option<f64>,
     ) -> Option<Node> {
         self.stats.solves += 1;
         let Ok(shape) = self.space.solve(u, warm) else {
@@ -242,9 +246,10 @@ impl<'a> Checker<'a> {
             self.stats.nodes_rejected += 1;
             return None;
         }
-        let cap = need(&shape).max(self.margin);
+        let want = need(&shape);
+        let cap = want.unwrap_or(f64::INFINITY).max(self.margin);
         let lower = bounds.map_or(f64::NEG_INFINITY, |b| b.lower);
-        let (clearance, exact) = if lower >= cap {
+        let (clearance, exact) = if lower >= cap || (want.is_none() && lower >= self.margin) {
             (lower, false)
         } else {
             match self.space.clearance_below_hinted(&shape, cap, self.hint) {
@@ -348,28 +353,26 @@ impl<'a> Checker<'a> {
             }
             return true;
         }
-        // Items: leg, end nodes, actuation length, parameters of the ends from the leg's start.
-        let mut queue: std::collections::VecDeque<(usize, Node, Node, f64, f64, f64)> = open
-            .iter()
-            .enumerate()
-            .filter_map(|(i, l)| l.as_ref().map(|l| (i, l)))
-            .map(|(i, l)| {
-                (
-                    i,
-                    l.a.clone(),
-                    l.b.clone(),
-                    self.dist(&l.a.u, &l.b.u),
-                    0.0,
-                    1.0,
-                )
-            })
-            .collect();
+        // The sub-intervals' ends, each held once (a sample ends two sub-intervals: measured
+        // exactly for one, it is for the other too). Items: leg, end nodes (indices into
+        // `nodes`), actuation length, parameters of the ends from the leg's start.
+        let mut nodes: Vec<Node> = Vec::new();
+        let mut queue: std::collections::VecDeque<(usize, [usize; 2], f64, f64, f64)> =
+            std::collections::VecDeque::new();
+        for (i, l) in open.iter_mut().enumerate() {
+            let Some(l) = l.as_mut() else { continue };
+            l.ends = [nodes.len(), nodes.len() + 1];
+            let l_len = self.metric.dist(&l.a.u, &l.b.u);
+            nodes.push(l.a.clone());
+            nodes.push(l.b.clone());
+            queue.push_back((i, l.ends, l_len, 0.0, 1.0));
+        }
         let keep = self.samples.is_some();
-        while let Some((i, mut n0, mut n1, l, t0, t1)) = queue.pop_front() {
+        while let Some((i, [i0, i1], l, t0, t1)) = queue.pop_front() {
             if open[i].is_none() {
                 continue;
             }
-            let bound = self.piece_bound(&mut n0, &mut n1);
+            let bound = self.piece_bound(&mut nodes, i0, i1);
             let Some(leg) = open[i].as_mut() else {
                 continue;
             };
@@ -379,50 +382,50 @@ impl<'a> Checker<'a> {
                 leg.pending -= 1;
                 if leg.pending == 0 {
                     if let Some(leg) = open[i].take() {
-                        let (key, clear, kept) = leg.finish();
+                        let (key, clear, kept) = leg.finish(&nodes);
                         self.remember(key, clear, kept);
                     }
                 }
                 continue;
             }
+            let (n0, n1) = (&nodes[i0], &nodes[i1]);
             let mid: Vec<f64> = n0.u.iter().zip(&n1.u).map(|(x, y)| 0.5 * (x + y)).collect();
             let m = if l < MIN_STEP {
                 None
             } else {
                 let (space, margin) = (self.space, self.margin);
-                self.node_within(&mid, Some(&n0.shape), |m| need(space, margin, &n0, m, &n1))
+                self.node_within(&mid, Some(&n0.shape), |m| need(space, margin, n0, m, n1))
             };
             let Some(m) = m else {
                 self.stats.edges_rejected += 1;
                 self.memo.insert(leg.key.clone(), EdgeCheck::Blocked);
                 return false;
             };
-            if m.exact {
-                leg.measured = leg.measured.min(m.clearance);
-            }
             leg.pending += 1;
             let tm = 0.5 * (t0 + t1);
+            let im = nodes.len();
+            nodes.push(m);
             if keep {
-                leg.kept.push((tm, m.clone()));
+                leg.kept.push((tm, im));
             }
-            queue.push_back((i, n0, m.clone(), 0.5 * l, t0, tm));
-            queue.push_back((i, m, n1, 0.5 * l, tm, t1));
+            queue.push_back((i, [i0, im], 0.5 * l, t0, tm));
+            queue.push_back((i, [im, i1], 0.5 * l, tm, t1));
         }
         true
     }
 
-    /// The clearance certified along the sub-interval from `n0` to `n1` (module docs); when it
-    /// is below the margin and an end holds only a lower bound, that end is measured exactly
-    /// first (module docs, "Measured as far as needed").
-    fn piece_bound(&mut self, n0: &mut Node, n1: &mut Node) -> f64 {
-        let motion = super::motion::motion(&self.space.robot, &n0.shape, &n1.shape);
-        let bound = motion.certified(n0.clearance, n1.clearance, KAPPA);
-        if bound >= self.margin || (n0.exact && n1.exact) {
+    /// The clearance certified along the sub-interval from `nodes[i0]` to `nodes[i1]` (module
+    /// docs); when it is below the margin and an end holds only a lower bound, that end is
+    /// measured exactly first (module docs, "Measured as far as needed").
+    fn piece_bound(&mut self, nodes: &mut [Node], i0: usize, i1: usize) -> f64 {
+        let motion = super::motion::motion(&self.space.robot, &nodes[i0].shape, &nodes[i1].shape);
+        let bound = motion.certified(nodes[i0].clearance, nodes[i1].clearance, KAPPA);
+        if bound >= self.margin || (nodes[i0].exact && nodes[i1].exact) {
             return bound;
         }
-        self.measure(n0);
-        self.measure(n1);
-        motion.certified(n0.clearance, n1.clearance, KAPPA)
+        self.measure(&mut nodes[i0]);
+        self.measure(&mut nodes[i1]);
+        motion.certified(nodes[i0].clearance, nodes[i1].clearance, KAPPA)
     }
 
     /// Remember a clear edge (and, with [`Checker::keep_samples`], its samples `kept`, whose
@@ -451,10 +454,10 @@ impl<'a> Checker<'a> {
 
 /// The clearance \[m\] a sample `m` between `a` and `b` needs for both sub-intervals it cuts
 /// theirs into to be certified ([`super::motion::Motion::certified`] at least the margin, the
-/// ends' clearances as they stand), a little more for round-off; `+∞` when one of them cannot
+/// ends' clearances as they stand), a little more for round-off; `None` when one of them cannot
 /// be certified whatever `m`'s clearance (it will be cut again, `m` an end of a sub-interval
-/// not known yet: measured exactly).
-fn need(space: &Space, margin: f64, a: &Node, m: &Shape, b: &Node) -> f64 {
+/// not known yet).
+fn need(space: &Space, margin: f64, a: &Node, m: &Shape, b: &Node) -> Option<f64> {
     // The least clearance of the end `m` of a sub-interval moving by `mv`, the other end's `other`;
     // `m_second`: whether `m` is its second end.
     let least = |mv: super::motion::Motion, other: f64, m_second: bool| {
@@ -480,7 +483,9 @@ fn need(space: &Space, margin: f64, a: &Node, m: &Shape, b: &Node) -> f64 {
         false,
     );
     let least = first.max(second);
-    least + 1e-9 * least.abs() + 1e-12
+    least
+        .is_finite()
+        .then(|| least + 1e-9 * least.abs() + 1e-12)
 }
 
 /// A clear edge's solved samples with their parameters, and whether those are from the edge
@@ -495,12 +500,13 @@ struct Leg {
     /// Whether `a` is the key's first end.
     forward: bool,
     certified: f64,
-    measured: f64,
     pieces: usize,
     /// Sub-intervals still queued.
     pending: usize,
-    /// Midpoints solved, with their parameter from `a`.
-    kept: Vec<(f64, Node)>,
+    /// Its ends among the nodes of [`Checker::legs`].
+    ends: [usize; 2],
+    /// Midpoints solved, with their parameter from `a`, among the nodes of [`Checker::legs`].
+    kept: Vec<(f64, usize)>,
 }
 
 impl Leg {
@@ -512,24 +518,34 @@ impl Leg {
             a: a.clone(),
             b: b.clone(),
             certified: f64::INFINITY,
-            measured: [a, b]
-                .iter()
-                .filter(|n| n.exact)
-                .map(|n| n.clearance)
-                .fold(f64::INFINITY, f64::min),
             pieces: 0,
             pending: 1,
+            ends: [0, 0],
             kept: Vec::new(),
         }
     }
 
-    /// The key, clear answer and samples of a finished leg.
-    fn finish(self) -> (EdgeKey, EdgeCheck, Samples) {
+    /// The key, clear answer and samples of a finished leg, its nodes among `nodes`: the
+    /// smallest clearance measured is over its ends and samples measured exactly by then.
+    fn finish(self, nodes: &[Node]) -> (EdgeKey, EdgeCheck, Samples) {
+        let measured = self
+            .ends
+            .iter()
+            .chain(self.kept.iter().map(|(_, i)| i))
+            .map(|&i| &nodes[i])
+            .filter(|n| n.exact)
+            .map(|n| n.clearance)
+            .fold(f64::INFINITY, f64::min);
         let clear = EdgeCheck::Clear {
             certified: self.certified,
-            measured: self.measured,
+            measured,
             pieces: self.pieces,
         };
-        (self.key, clear, (self.forward, self.kept))
+        let kept = self
+            .kept
+            .into_iter()
+            .map(|(t, i)| (t, nodes[i].clone()))
+            .collect();
+        (self.key, clear, (self.forward, kept))
     }
 }

@@ -193,8 +193,16 @@ pub fn clearance_hinted(
     let start = (2.0 * scene.clearance.max(5e-4)).min(within);
     let mut cap = start;
     if let Some((f, k)) = hint.filter(|&(f, k)| f < feats.len() && k < scene.obstacles.len()) {
-        // The hinted pair's own distance, by the same growing bound.
-        if let Some(d) = pair_grown(&feats[f], scene, k, start) {
+        // The hinted pair's own distance, by the same growing bound, started at the pair's
+        // grid upper bound when it has a positive one (its distance is at most that: found by
+        // the first query instead of after a few doublings from `start`).
+        let upper = bounds[f * scene.obstacles.len() + k].1;
+        let first = if upper > 0.0 && upper.is_finite() {
+            upper * (1.0 + 1e-9) + 1e-12
+        } else {
+            start
+        };
+        if let Some(d) = pair_grown(&feats[f], scene, k, first) {
             cap = d.max(0.0) * (1.0 + 1e-9) + 1e-12;
         }
     }

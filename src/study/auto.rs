@@ -6,6 +6,7 @@
 
 use super::random::random_model;
 use super::{num, StudyError};
+use crate::error::SolveError;
 use crate::method::run::SolveRequest;
 use crate::method::{MethodKind, Settings};
 use crate::progress::ProgressHandle;
@@ -109,12 +110,56 @@ fn rungs(model: &crate::Model, truth: &Shape, repeats: usize) -> Vec<(String, f6
     out
 }
 
+/// The options refused by name before any work: the robots and repeats within their counts
+/// ([`crate::counts`]), the last seed a `u64`, and each tolerance a positive length asked once
+/// (the same tolerance twice would count each robot twice).
+fn check(opts: &AutoStudyOptions) -> Result<std::ops::Range<u64>, SolveError> {
+    let robots = usize::try_from(opts.robots).unwrap_or(usize::MAX);
+    crate::counts::STUDY_AUTO_ROBOTS.check(robots)?;
+    crate::counts::STUDY_AUTO_REPEATS.check(opts.repeats)?;
+    let bad = |field: &str, reason: String| SolveError::InvalidInput {
+        field: field.into(),
+        reason,
+    };
+    let end = opts.first_seed.checked_add(opts.robots).ok_or_else(|| {
+        bad(
+            "first_seed",
+            format!(
+                "{} robots from seed {} run past the largest seed {}",
+                opts.robots,
+                opts.first_seed,
+                u64::MAX
+            ),
+        )
+    })?;
+    if opts.tolerances.is_empty() {
+        return Err(bad("tolerances", "name at least one tolerance".into()));
+    }
+    for (k, &t) in opts.tolerances.iter().enumerate() {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(bad(
+                "tolerances",
+                format!("each must be a positive length in metres, got {t}"),
+            ));
+        }
+        if opts.tolerances[..k].contains(&t) {
+            return Err(bad(
+                "tolerances",
+                format!("{t} m is asked twice (each robot would count twice)"),
+            ));
+        }
+    }
+    Ok(opts.first_seed..end)
+}
+
 /// The study (module docs): one row per robot with a converged reference and tolerance.
+/// Options out of range are refused by name before any solve ([`SolveError::InvalidInput`]).
 pub fn auto_study(opts: &AutoStudyOptions) -> Result<Vec<AutoStudyRow>, StudyError> {
+    let seeds = check(opts)?;
     let bar = &opts.progress;
     bar.start("auto", Some(opts.robots));
     let mut rows = vec![];
-    for seed in opts.first_seed..opts.first_seed + opts.robots {
+    for seed in seeds {
         bar.advance(1);
         let model = random_model(seed).map_err(|e| StudyError::Invalid(e.to_string()))?;
         let reference = SolveRequest::new(MethodKind::Cosserat).with_settings(

@@ -132,6 +132,8 @@ fn absurd_counts_on_the_command_line_are_refused_by_name_at_once() {
             vec!["study", "workspace", &case1, "--out", "s", "--chunk", huge],
             "chunk",
         ),
+        (vec!["study", "auto", "--robots", huge], "robots"),
+        (vec!["study", "auto", "--repeats", huge], "repeats"),
         (vec!["solve", &case1, "--steps", huge], "steps"),
         (vec!["solve", &case1, "--repeat", huge], "repeat"),
     ];
@@ -154,6 +156,58 @@ fn absurd_counts_on_the_command_line_are_refused_by_name_at_once() {
             t.elapsed()
         );
     }
+}
+
+/// The `auto` study refuses, by name and before any solve, what it cannot run: a tolerance
+/// that is not a positive length (it once printed a row of `NaN mm` and counted the robot as an
+/// answer), a tolerance asked twice (each robot counted twice), none at all, and seeds past
+/// `u64::MAX` (`first_seed + robots` wrapped to an empty study in release builds and
+/// panicked in debug ones).
+#[test]
+fn the_auto_study_refuses_tolerances_and_seeds_it_cannot_run_by_name() {
+    use ccrkit::study::{auto_study, AutoStudyOptions, StudyError};
+    let refused = |opts: AutoStudyOptions, field: &str| {
+        let t = Instant::now();
+        match auto_study(&opts) {
+            Err(StudyError::Solve(ccrkit::SolveError::InvalidInput { field: f, reason })) => {
+                assert_eq!(f, field, "{reason}");
+                assert!(!reason.is_empty());
+            }
+            other => panic!("{field}: {other:?}"),
+        }
+        // Refused before the first robot's reference solve.
+        assert!(t.elapsed() < Duration::from_millis(100), "{field}");
+    };
+    let with = |tolerances: Vec<f64>| AutoStudyOptions {
+        robots: 1,
+        tolerances,
+        ..AutoStudyOptions::default()
+    };
+    for bad in [f64::NAN, 0.0, -1e-3, f64::INFINITY, f64::NEG_INFINITY] {
+        refused(with(vec![1e-3, bad]), "tolerances");
+    }
+    refused(with(vec![]), "tolerances");
+    refused(with(vec![1e-3, 1e-4, 1e-3]), "tolerances");
+    let past_the_last_seed = AutoStudyOptions {
+        robots: 2,
+        first_seed: u64::MAX,
+        ..AutoStudyOptions::default()
+    };
+    refused(past_the_last_seed, "first_seed");
+    refused(
+        AutoStudyOptions {
+            robots: 0,
+            ..AutoStudyOptions::default()
+        },
+        "robots",
+    );
+    refused(
+        AutoStudyOptions {
+            repeats: 0,
+            ..AutoStudyOptions::default()
+        },
+        "repeats",
+    );
 }
 
 /// Each count's check takes its whole range and refuses one past either end by its field.

@@ -439,3 +439,80 @@ fn random_robots_checked_for_other_equilibria_report_consistently() {
     );
     println!("multiplicity: {checked} answers checked, {several} with more than one equilibrium");
 }
+
+/// A drawn robot (`PROPTEST_RNG_SEED=230542268`, robot 62 of 200, its ball left out) whose
+/// cable `c1` is shortened by 99.99 %: `energy`'s KKT step left the finite numbers after some
+/// fifty iterations, a step length of zero still moved the iterate by `0 · NaN`, and the run
+/// ended "infeasible: axial stretch 1+ε = NaN". Now the run ends on its last finite iterate,
+/// and the error names a finite stretch (or a residual said in words), never `NaN`.
+#[test]
+fn a_step_that_leaves_the_finite_numbers_ends_on_the_last_finite_iterate() {
+    let toml = r#"name = "random"
+[robot]
+sections = 2
+section_length = 5.161105315732944e-2
+disk_radius = 2.3933632344559603e-2
+disk_thickness = 1.3476482149063437e-2
+backbone = { youngs_modulus = 1.1e9, poisson_ratio = 0.3, diameter = 8.731342962173712e-3 }
+[[cables]]
+name = "c0"
+radius = 1.2469984261485004e-2
+ends_at = 1
+angles = { helix = { start = -6.768612524157321e-1, per_disk = -9.545375246075412e-1 } }
+shorten_percent = 8.96795095391081e1
+[[cables]]
+name = "c1"
+radius = 1.6920970273478667e-2
+ends_at = 1
+angles = { helix = { start = 6.1878079746188135e0, per_disk = 7.859146294282829e-1 } }
+shorten_percent = 9.999e1
+[[cables]]
+name = "c2"
+radius = 1.6258790618528127e-2
+ends_at = 1
+angles = { helix = { start = 4.454795675662674e0, per_disk = -1.1524633930914763e-1 } }
+shorten_percent = -4.953266048112315e0
+tension = 7.294986288157921e0
+[[cables]]
+name = "c3"
+radius = 1.6907771731288712e-2
+ends_at = 1
+angles = [-1.9044062340441128e0, -1.8734708387637309e0]
+shorten_percent = -3.4094174388039025e0
+tension = 2.2669599805429668e0
+[[cables]]
+name = "c4"
+radius = 1.8641375020497345e-2
+ends_at = 1
+angles = { straight = 6.076985508985371e0 }
+tension = 5.080729865129206e0
+"#;
+    let model = ccrkit::Model::from_toml_str(toml).expect("the drawn robot is valid");
+    let e =
+        match ccrkit::prelude::SolveRequest::new(ccrkit::prelude::MethodKind::Energy).run(&model) {
+            Ok(s) => panic!(
+                "a cable shortened by 99.99 % solved: tip {:?}",
+                s.shape.tip()
+            ),
+            Err(e) => e,
+        };
+    let msg = e.to_string();
+    let non_finite = msg
+        .split(|c: char| !c.is_alphanumeric())
+        .any(|w| matches!(w.to_lowercase().as_str(), "nan" | "inf" | "infinity"));
+    assert!(!non_finite, "a non-finite number in `{msg}`");
+    match e {
+        ccrkit::SolveError::Infeasible { reason, .. } => {
+            // The stretch it names is a number below the floor of 0.5.
+            let s: f64 = reason
+                .split("1+ε = ")
+                .nth(1)
+                .and_then(|r| r.split(' ').next())
+                .and_then(|x| x.parse().ok())
+                .unwrap_or_else(|| panic!("no stretch in `{reason}`"));
+            assert!(s.is_finite() && s < 0.5, "{reason}");
+        }
+        ccrkit::SolveError::NotConverged { .. } => {}
+        other => panic!("unexpected {other:?}"),
+    }
+}

@@ -208,6 +208,13 @@ impl Energy {
                     }
                 }));
             };
+            // A step that is not finite (an ill-conditioned KKT system far from any
+            // equilibrium) would carry the iterate with it even at a step length of zero
+            // (`0 · NaN`): the run ends on the last finite iterate, whose stretch or residual
+            // names the failure.
+            if !(sqp.dxi.iter().chain(&lam_new).all(|v| v.is_finite())) {
+                break;
+            }
             let alpha = sqp.line_search(&lam_new);
             sqp.take_step(alpha, &lam_new);
         }
@@ -378,8 +385,16 @@ impl Energy {
             .map(|j| (j, 1.0 + xi[4 * j + 3]))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .unwrap_or((0, 1.0));
-        let bad = smin.is_nan() || smin < self.min_stretch || xi.iter().any(|v| !v.is_finite());
-        if !bad {
+        if xi.iter().any(|v| !v.is_finite()) {
+            return Err(SolveError::NotConverged {
+                method: self.name().into(),
+                section: Some(prob.section_of(jmin)),
+                iterations: self.max_iterations,
+                residual: f64::INFINITY,
+                detail: "the strains left the finite numbers".into(),
+            });
+        }
+        if smin >= self.min_stretch {
             return Ok(());
         }
         let c = (0..lam.len())
