@@ -51,6 +51,9 @@ type Cols<const C: usize> = SMatrix<f64, 15, C>;
 /// Halvings of a Newton step before the loaded solve gives up (and the rod shoots).
 const MAX_HALVINGS: usize = 12;
 
+/// Magnus steps per section of the cold start's unloaded pass ([`Problem::unloaded_moment`]).
+const START_STEPS: usize = 1;
+
 /// One loaded pass: the shot (`resid = [N(L⁺), (M(L⁺))/L]` after the tip loads: zero force
 /// by construction), the rod's base wrench, the Jacobian of the moment rows in `M(0)/L`, the
 /// largest strain-balance residual, and whether the focal-point test found no focal point.
@@ -565,7 +568,7 @@ impl Problem<'_> {
     /// trapezoid rule over the pass's steps); `None` if that pass fails.
     fn unloaded_moment(&self, ld: &LoadCase) -> Option<Vector3<f64>> {
         let mut probe = Trace::default();
-        let steps = vec![1; self.nsteps.len()];
+        let steps = vec![START_STEPS; self.nsteps.len()];
         self.unloaded_pass_steps(ld, Some(&mut probe), None, &steps)?;
         let robot = self.robot;
         let lam = ld.lam;
@@ -576,8 +579,8 @@ impl Problem<'_> {
         }
         let mut at = 0;
         for k in 1..=robot.sections() {
-            let h = (robot.disk_s[k] - robot.disk_s[k - 1]) / steps[k] as f64;
-            for _ in 0..steps[k] {
+            let h = (robot.disk_s[k] - robot.disk_s[k - 1]) / START_STEPS as f64;
+            for _ in 0..START_STEPS {
                 let (a, b) = (probe.backbone.get(at)?, probe.backbone.get(at + 1)?);
                 m += ((a + b) * (0.5 * h)).cross(&self.f_dist) * lam;
                 at += 1;

@@ -483,7 +483,7 @@ impl Problem<'_> {
         }
         let gauss = 3f64.sqrt() / 6.0;
         let mut guess = Guess::new(0.0, z0);
-        for k in 1..=robot.sections() {
+        for (k, &steps) in nsteps.iter().enumerate().take(robot.sections() + 1).skip(1) {
             let (s0, s1) = (robot.disk_s[k - 1], robot.disk_s[k]);
             // The strains jump where a pulled tendon is tied: no extrapolation across.
             let tied = robot.cables.iter().enumerate();
@@ -493,7 +493,6 @@ impl Problem<'_> {
             {
                 guess.forget();
             }
-            let steps = nsteps[k];
             let h = (s1 - s0) / steps as f64;
             for j in 0..steps {
                 let s = s0 + j as f64 * h;
