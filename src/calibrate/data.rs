@@ -10,6 +10,7 @@
 //! [`DataOptions::unit`] (mm for the FTDCR files) and converted to metres here, once.
 
 use crate::error::ModelError;
+use crate::model::bounds;
 use nalgebra::Vector3;
 use std::path::Path;
 
@@ -169,17 +170,10 @@ impl Dataset {
                     format!("has {} fields, the header {}", f.len(), header.len()),
                 ));
             }
-            let num = |i: usize| -> Result<f64, ModelError> {
-                f[i].parse::<f64>()
-                    .ok()
-                    .filter(|x| x.is_finite())
-                    .map(|x| x * opts.unit)
-                    .ok_or_else(|| {
-                        ModelError::invalid(
-                            format!("{name} row {} column {}", r + 1, header[i]),
-                            format!("`{}` is not a finite number", f[i]),
-                        )
-                    })
+            let num = |i: usize| {
+                number(f[i], opts.unit, || {
+                    format!("{name} row {} column {}", r + 1, header[i])
+                })
             };
             ds.commands
                 .push(cols.iter().map(|&i| num(i)).collect::<Result<_, _>>()?);
@@ -195,6 +189,30 @@ impl Dataset {
         }
         Ok(ds)
     }
+}
+
+/// A data field `text` in the data's `unit`, in metres: a finite number within ±1 km
+/// ([`bounds::COORDINATE`]; no tip or cable of a robot moves farther, and a tip at `1e308` mm
+/// once made the summary's tip errors `inf`). Errors name `field()`.
+fn number(text: &str, unit: f64, field: impl Fn() -> String) -> Result<f64, ModelError> {
+    let x = text
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| ModelError::invalid(field(), format!("`{text}` is not a finite number")))?;
+    let m = x * unit;
+    if !bounds::COORDINATE.accepts(m) {
+        return Err(ModelError::invalid(
+            field(),
+            format!(
+                "`{text}` is {m:e} m, beyond [{:e}, {:e}] m: no tip or cable of a robot moves \
+                 that far",
+                bounds::COORDINATE.lo,
+                bounds::COORDINATE.hi
+            ),
+        ));
+    }
+    Ok(m)
 }
 
 /// The pattern family of an FTDCR label: the label without its repetition prefix (`rep1_`),

@@ -54,7 +54,9 @@
 //! short (its other end was cut again), the end is measured exactly and the bound taken again
 //! before the sub-interval is cut — so the cuts, and the samples solved, are those of exact
 //! clearances throughout. A sample ends two sub-intervals and is held once for both, so it is
-//! measured exactly at most once. Refusals are too: a sample is refused when its exact clearance is
+//! measured exactly at most once. Without grids (a convex obstacle, a surface mesh) a sample is
+//! measured exactly at once: there the bounded question, when it fell short, was asked again
+//! exactly (the vessel's 28 roadmap queries: 961 M instructions so, 918 M measured at once). Refusals are too: a sample is refused when its exact clearance is
 //! below the margin, and `c* ≥ margin`. Samples that become a plan's waypoints are measured
 //! exactly before the plan is returned; the smallest clearance an edge reports
 //! ([`EdgeCheck::Clear`]) is over the samples measured exactly.
@@ -246,7 +248,11 @@ impl<'a> Checker<'a> {
             self.stats.nodes_rejected += 1;
             return None;
         }
-        let want = need(&shape);
+        // Without grids a sample is measured exactly at once (module docs).
+        let want = match bounds {
+            Some(_) => need(&shape),
+            None => Some(f64::INFINITY),
+        };
         let cap = want.unwrap_or(f64::INFINITY).max(self.margin);
         let lower = bounds.map_or(f64::NEG_INFINITY, |b| b.lower);
         let (clearance, exact) = if lower >= cap || (want.is_none() && lower >= self.margin) {

@@ -293,7 +293,7 @@ fn every_flag_a_method_does_not_take_is_refused_by_name() {
 }
 
 /// `--set stability=…` with bad values on every method, and `predict`/`calibrate` with absurd
-/// data CSVs (empty, header only, non-numeric, 1e308, NaN, missing columns, ragged rows,
+/// data CSVs (empty, header only, non-numeric, 1e308 cables and tips, NaN, missing columns, ragged rows,
 /// devices) and absurd options: each run named and bounded, never exit 0 with a non-finite
 /// number (the `predict` CSV is checked for `NaN`/`inf` too).
 #[test]
@@ -362,6 +362,20 @@ fn stability_setting_and_data_csvs_end_named_and_bounded() {
             .collect();
         format!("{header}\n{}\n", rows.join("\n"))
     };
+    let with_last_cell = |v: &str| -> String {
+        // The last cell (the tip's z) of every row replaced by `v`.
+        let rows: Vec<String> = body
+            .iter()
+            .map(|r| {
+                let mut c: Vec<&str> = r.split(',').collect();
+                if let Some(last) = c.last_mut() {
+                    *last = v;
+                }
+                c.join(",")
+            })
+            .collect();
+        format!("{header}\n{}\n", rows.join("\n"))
+    };
     let without = |col: &str| -> String {
         let cols: Vec<&str> = header.split(',').collect();
         let k = cols.iter().position(|c| *c == col).expect("column");
@@ -390,6 +404,7 @@ fn stability_setting_and_data_csvs_end_named_and_bounded() {
         ("no_servo", without("servo_4_mm")),
         ("no_label", without("pattern_label")),
         ("binary", "\u{0}\u{1}\u{ff}".into()),
+        ("tip_huge", with_last_cell("1e308")),
         (
             "tip_nan",
             real.lines()

@@ -90,6 +90,38 @@ fn a_data_csv_naming_a_column_twice_or_part_of_the_tip_is_refused_by_name() {
     assert_eq!(ds.tips.map(|t| t.len()), Some(1));
 }
 
+/// A data CSV whose tip or cable lies beyond a kilometre (`1e308` mm, or `2e3` in metres) is
+/// refused naming its row and column: a tip at `1e308` mm was read and made `predict`'s
+/// summary print `rmse inf` with exit 0. A kilometre itself is read.
+#[test]
+fn a_data_csv_with_a_tip_or_a_cable_beyond_a_kilometre_is_refused_by_row_and_column() {
+    let header = "servo_1,servo_2,tip_x,tip_y,tip_z";
+    let mm = DataOptions::default();
+    let metres = DataOptions {
+        unit: 1.0,
+        ..DataOptions::default()
+    };
+    for (row, opts, column) in [
+        ("1,2,3,4,1e308", &mm, "tip_z"),
+        ("1,2,-1e308,4,5", &mm, "tip_x"),
+        ("1e308,2,3,4,5", &mm, "servo_1"),
+        ("1,-1e7,3,4,5", &mm, "servo_2"),
+        ("1,2,3,2e3,5", &metres, "tip_y"),
+    ] {
+        let text = format!("{header}\n0,0,0,0,0\n{row}\n");
+        match Dataset::from_csv_str(&text, "d.csv", opts) {
+            Err(ModelError::Invalid { field, reason }) => {
+                assert_eq!(field, format!("d.csv row 2 column {column}"), "{reason}");
+                assert!(reason.contains("beyond"), "{row}: {reason}");
+            }
+            other => panic!("{row}: expected a named refusal, got {other:?}"),
+        }
+    }
+    let at_the_edge = format!("{header}\n1e6,-1e6,1e6,-1e6,1e6\n");
+    let ds = Dataset::from_csv_str(&at_the_edge, "d.csv", &mm).expect("a kilometre is read");
+    assert_eq!(ds.tips.map(|t| t[0].x), Some(1e3));
+}
+
 /// RFC 4180 quoting: a quoted label holding a comma and doubled quotes, a quoted number, are
 /// one field each (they were split at the comma and the row refused as ragged); a column named
 /// twice is still refused when one of the two is quoted.

@@ -15,5 +15,6 @@ mod generated_scenes;
 mod geometric_contact;
 mod obstacles;
 mod rod_contact;
+mod rod_warm;
 mod shear_contact;
 mod solid_mesh;

@@ -30,7 +30,9 @@
 //! the columns `∂(residual, g)/∂λ` the brief of the method asks for.
 //!
 //! **Active set** (outer loop, as the slack cables'): start from none (or the contacts of a
-//! warm shape); after each converged solve drop the pair with the most negative `λ`, else add
+//! warm shape, whose forces and moment about the base then join the base wrench's start; a
+//! warm start Newton cannot take is dropped for the cold start's approach); after each
+//! converged solve drop the pair with the most negative `λ`, else add
 //! every pair whose disk lies deeper than [`PENETRATION_TOL`] in an obstacle; stop when
 //! neither happens. Each change is one Newton solve from the last answer.
 //!
@@ -305,8 +307,14 @@ impl<'a> RodWorld<'a> {
     }
 
     /// The active set a warm shape's disk contacts give (obstacles matched by name among
-    /// those within reach), with their multipliers as the forces' start.
-    pub(super) fn warm_contacts(&self, contacts: &[Contact]) -> Vec<Push> {
+    /// those within reach), with their multipliers as the forces' start, and the force and
+    /// moment about the base \[N, N m\] those forces put on the rod at the shape's contact
+    /// points (the base wrench's start: `Warm::with_contacts`).
+    pub(super) fn warm_contacts(
+        &self,
+        contacts: &[Contact],
+    ) -> (Vec<Push>, Vector3<f64>, Vector3<f64>) {
+        let (mut f, mut m) = (Vector3::zeros(), Vector3::zeros());
         let mut out: Vec<Push> = vec![];
         for c in contacts {
             let Some(disk) = c.disk.filter(|&k| k >= 1 && k <= self.robot.sections()) else {
@@ -325,11 +333,14 @@ impl<'a> RodWorld<'a> {
                     } else {
                         0.0
                     };
+                    let load = Vector3::from(c.normal) * force;
+                    f += load;
+                    m += Vector3::from(c.point_robot).cross(&load);
                     out.push(Push { touch, force });
                 }
             }
         }
-        out
+        (out, f, m)
     }
 
     /// The contact a shape reports for `push` at its witness `w`.

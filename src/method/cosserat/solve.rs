@@ -34,9 +34,9 @@ impl Method for Cosserat {
         let in_newtons = |w: &Shape| {
             MethodKind::from_name(&w.method).is_some_and(|k| k.info().contact_unit == "N")
         };
-        let mut pushes = match (&prob.world, warm) {
+        let (mut pushes, push_f, push_m) = match (&prob.world, warm) {
             (Some(world), Some(w)) if in_newtons(w) => world.warm_contacts(&w.contacts),
-            _ => vec![],
+            _ => (vec![], Vector3::zeros(), Vector3::zeros()),
         };
         if prob.world.is_some() {
             prob.fast = false;
@@ -68,16 +68,17 @@ impl Method for Cosserat {
         let max_rounds = 2 * nc + 3 + contact_rounds;
         let mut prev: Option<(DVector<f64>, Setup)> = None;
         let mut last_res = f64::NAN;
-        // Cold next to obstacles: raise the loads in steps no disk can cross an obstacle in
-        // (`approach.rs`); a warm shape is trusted to start clear of them.
-        if prob.world.is_some() && input.warm.is_none() {
-            let unknown = length_cables.iter().copied().filter(|&c| !slack[c]);
-            let a = prob.approach_start(unknown.collect(), &slack, &name, &mut notes)?;
-            total_it += a.iterations;
-            active.clone_from(&a.contacts);
-            prev = Some((a.x, a.setup));
-        }
+        let mut retried = false;
         for _round in 0..max_rounds {
+            // Cold next to obstacles: raise the loads in steps no disk can cross an obstacle
+            // in (`approach.rs`); a warm shape is trusted to start clear of them.
+            if prob.world.is_some() && prev.is_none() && (input.warm.is_none() || retried) {
+                let unknown = length_cables.iter().copied().filter(|&c| !slack[c]);
+                let a = prob.approach_start(unknown.collect(), &slack, &name, &mut notes)?;
+                total_it += a.iterations;
+                active.clone_from(&a.contacts);
+                prev = Some((a.x, a.setup));
+            }
             let unknown: Vec<usize> = length_cables
                 .iter()
                 .copied()
@@ -93,6 +94,7 @@ impl Method for Cosserat {
                 Some((xp, ps)) => carry(xp, ps, &setup, &mut x0),
                 None => {
                     warm.start(&prob, &setup, &mut x0);
+                    warm.with_contacts(&prob, (&push_f, &push_m), &mut x0);
                     let c0 = setup.first_contact();
                     for (i, p) in pushes.iter().enumerate() {
                         x0[c0 + i] = p.force;
@@ -124,6 +126,14 @@ impl Method for Cosserat {
                 prob.shoot_instead();
                 notes.push("unloaded: tensions did not settle; shooting instead".into());
                 solved = prob.solve_with_continuation(&x0, &setup, jac0);
+            }
+            // A warm start beside obstacles that Newton cannot take (nor its load steps from
+            // zero, with the warm contacts held: they stall at load factor 0) is dropped for
+            // the cold start's approach, so a warm start converges wherever a cold one does.
+            if solved.is_err() && warm_failed_once(&prob, input.warm, &prev, &mut retried) {
+                total_it += solved.err().map_or(0, |e| e.iterations);
+                notes.push("warm start did not converge: approached from the straight rod".into());
+                continue;
             }
             let (sol, load_steps) = solved.map_err(|e| SolveError::NotConverged {
                 method: name.clone(),
@@ -215,6 +225,19 @@ impl Cosserat {
             (stable, exact.or(jac))
         }
     }
+}
+
+/// Whether a failed first round of a warm start beside obstacles is retried once from the
+/// cold start's approach (`retried` set when so).
+fn warm_failed_once(
+    prob: &Problem,
+    warm: Option<&Shape>,
+    prev: &Option<(DVector<f64>, Setup)>,
+    retried: &mut bool,
+) -> bool {
+    let retry = prob.world.is_some() && warm.is_some() && prev.is_none() && !*retried;
+    *retried |= retry;
+    retry
 }
 
 /// The `NotConverged` of active sets that did not settle in `rounds` rounds.

@@ -135,6 +135,27 @@ impl Warm {
         }
     }
 
+    /// The warm contacts' force `f` and moment `m` about the base \[N, N m\] added to the base
+    /// wrench of a start from another model's shape, which [`Warm::start`] took from the
+    /// global balance of the straight rod without contacts: at the warm shape the rod's
+    /// internal wrench at the base carries the reactions too (a rod's own shape brings its
+    /// base wrench whole). Without it, Newton from the energy model's answer beside the
+    /// obstacles started a full reaction's moment away and did not converge.
+    pub(super) fn with_contacts(
+        &self,
+        prob: &Problem,
+        (f, m): (&Vector3<f64>, &Vector3<f64>),
+        x0: &mut DVector<f64>,
+    ) {
+        if self.x.is_some() {
+            return;
+        }
+        for i in 0..3 {
+            x0[i] += f[i];
+            x0[3 + i] += m[i] / prob.len_l;
+        }
+    }
+
     /// The start `x0` of the first active-set round: the warm base wrench and tensions; with
     /// no shape-dependent external load, the global balance at the new tensions plus the warm
     /// solution's offset from it, scaled by the load ratio `ρ` (and the tendon part of the

@@ -9,6 +9,11 @@ use crate::method::energy::contacts::{self, Kin, Pair};
 use crate::method::energy::problem::Target;
 use std::cell::OnceCell;
 
+/// The fraction of the pair margin beyond the clearance (half the longest section) a line
+/// search's trial may take a feature deeper into an obstacle than the iterate's deepest pair
+/// ([`Sqp::depth_allowed`]).
+const PENETRATION_STEP: f64 = 0.5;
+
 impl<'p, 'a> Sqp<'p, 'a> {
     /// Summed violation of the constraints at lengths `len` and pairs `ps` \[m\] (compliant
     /// cables are springs in the merit, not constraints).
@@ -41,6 +46,25 @@ impl<'p, 'a> Sqp<'p, 'a> {
     /// The ℓ1 merit: [`Sqp::smooth_merit`] `+ pen · violation`.
     fn merit(&self, x: &[f64], kin: Option<&Kin>, len: &[f64], ps: &[Pair], pen: f64) -> f64 {
         self.smooth_merit(x, kin, len) + pen * self.violation(len, ps)
+    }
+
+    /// Whether a trial with pairs `ps` (and distance `clear` beyond them) stays within the
+    /// depth a step may take a feature into an obstacle: no deeper than the iterate's deepest
+    /// pair or [`PENETRATION_STEP`] of the pair margin beyond the clearance, whichever is
+    /// more. A feature that ends inside a convex obstacle is seen by the merit (the step
+    /// guard's rule 3), but only while it has not crossed the obstacle's middle: beyond it the
+    /// distance is to the far face, the normal turns over and the iterations push the feature
+    /// through. A cold soft rod's first Newton step put its backbone 13.5 mm into a 20 mm
+    /// wall, where the iterations never settled; halved to this depth, the step ends near the
+    /// face and the next steps hold the pair by its linearized constraint.
+    fn depth_allowed(&self, ps: &[Pair], clear: f64) -> bool {
+        let Some(wd) = self.world else {
+            return true;
+        };
+        let deepest = |ps: &[Pair], clear: f64| ps.iter().map(|p| p.dist).fold(clear, f64::min);
+        let now = self.clearance - deepest(&self.pairs, self.clear);
+        let allowed = now.max(PENETRATION_STEP * (wd.margin() - self.clearance));
+        self.clearance - deepest(ps, clear) <= allowed
     }
 
     /// Backtracking on the ℓ1 merit along `dxi` (every pair re-queried at the trial point);
@@ -135,7 +159,7 @@ impl<'p, 'a> Sqp<'p, 'a> {
                 }
                 _ => true,
             };
-            if near_enough {
+            if near_enough && self.depth_allowed(&trial_pairs, trial_clear) {
                 let phi = merit(&trial_pairs);
                 if phi.is_finite() && (tiny || phi <= bound || within(phi)) {
                     self.stalled = false;
