@@ -75,23 +75,25 @@ pub(crate) fn witness(
     )
 }
 
-/// [`witness`] of a pair that was near touching a moment ago with `(normal, distance)` `near`
-/// (normal from the obstacle towards the robot): parry's answer from [`query_near`], else
-/// from [`query`].
+/// [`witness`] from what a nearby state found for the same pair (a line search's trial and
+/// its iterate), with the triangle of a solid mesh its witness lies on: `near`, the
+/// `(normal, distance)` of a pair that was near touching there (normal from the obstacle
+/// towards the robot), asks [`query_near`] first; `hint`, the triangle found there, starts
+/// the closest-triangle search ([`super::parry::query_hinted`]: the same answer).
 pub(crate) fn witness_near(
-    g: &dyn PShape,
-    gpose: &PPose,
-    shape: &dyn PShape,
-    opose: &PPose,
+    (g, gpose): (&dyn PShape, &PPose),
+    (shape, opose): (&dyn PShape, &PPose),
     margin: f64,
-    near: (&Vector3<f64>, f64),
+    (near, hint): (Option<(&Vector3<f64>, f64)>, Option<u32>),
     field: Option<&super::field::SolidField>,
-) -> Option<(Witness, f64)> {
-    let ct = match query_near(gpose, g, opose, shape, margin, near) {
+) -> Option<(Witness, f64, Option<u32>)> {
+    let ct = match near.and_then(|n| query_near(gpose, g, opose, shape, margin, n)) {
         Some(answer) => answer?,
-        None => query(gpose, g, opose, shape, margin, field)?,
+        None => super::parry::query_hinted(gpose, g, opose, shape, margin, field, hint)?,
     };
-    witness_of(g, gpose, shape, opose, ct)
+    let triangle = super::solid::solid(shape).map(|_| ct.subshape2);
+    let (w, dist) = witness_of(g, gpose, shape, opose, ct)?;
+    Some((w, dist, triangle))
 }
 
 /// The polished witness of parry's contact `ct` and parry's distance.
@@ -312,7 +314,8 @@ mod tests {
             let eps = if k % 2 == 0 { 1e-3 } else { 1e-6 };
             let hint = (want.normal + gen.vec(eps)).normalize();
             let old = want.dist + gen.range(-1e-5, 1e-5);
-            let (got, _) = witness_near(&*g, &pose, &*o, &opose, margin, (&hint, old), None)
+            let near = (Some((&hint, old)), None);
+            let (got, ..) = witness_near((&*g, &pose), (&*o, &opose), margin, near, None)
                 .expect("near pair found");
             // Both shapes' separation along a direction (support functions) is a lower bound
             // on the signed distance that only the contact normal attains.

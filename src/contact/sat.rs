@@ -30,6 +30,7 @@
 //! (the optimality condition of the concave, piecewise smooth `φ`). The answer is used only
 //! when it agrees with parry's (the start) to parry's accuracy; `None` otherwise.
 
+use super::parry::SEPARATION_SHIFT;
 use super::Witness;
 use arrayvec::ArrayVec;
 use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
@@ -43,6 +44,10 @@ const MAX_KINKS: usize = 4;
 
 /// A kink term starts active when `|n·v|` is below this at parry's normal.
 const START_ACTIVE: f64 = 1e-6;
+
+/// [`near_witness`] moves the feature again along the moved pair's normal where it differs
+/// from the hint by more than this (as [`super::parry::query_near`] does).
+const NORMAL_KEPT: f64 = 1e-6;
 
 /// A rim term `ρ|P n|` this close to its kink (a cap seen face on) is left to parry.
 const RIM_KINK: f64 = 1e-6;
@@ -263,6 +268,45 @@ pub(crate) fn sat_apart(
     let pair = pair_of(feature, obstacle)?;
     let w = answer(&pair, &maximize(&pair, &n0.normalize())?)?;
     (w.dist > 0.0).then_some(w)
+}
+
+/// The witness of `feature` and `obstacle` touching or overlapping, from the normal `hint`
+/// (obstacle towards feature) and distance `hint_dist` of the same pair a moment ago, without
+/// parry: the route of [`super::parry::query_near`] with exact answers. The feature is moved
+/// clear along `hint` by [`SEPARATION_SHIFT`] plus the old depth, where the moved pair is apart
+/// and [`sat_apart`] gives its distance whatever the start; once more along that answer's
+/// normal where it turned by more than [`NORMAL_KEPT`]; moved back, that answer is the start of
+/// [`sat_witness`] on the pair itself, kept where the two agree (as parry's shifted answer is).
+///
+/// Moving a convex feature by `s` along a direction `ε` off the contact normal changes the
+/// distance by `s` to within `s (1 − cos ε)`, so the start is within that of the pair's; the
+/// maximum from it is the local maximum parry's route ends in where the two starts lie in its
+/// basin. `None` where this does not decide (the moved pair still overlaps, a cap seen face
+/// on, no agreement): ask parry.
+pub(crate) fn near_witness(
+    feature: &SupportShape,
+    obstacle: &SupportShape,
+    (hint, hint_dist): (&Vector3<f64>, f64),
+) -> Option<Witness> {
+    let mut n = hint.normalize();
+    let mut shift = SEPARATION_SHIFT + (-hint_dist).max(0.0);
+    for round in 0..2 {
+        let mut moved = feature.clone();
+        moved.centre += shift * n;
+        let w = sat_apart(&moved, obstacle, &n)?;
+        let start = Witness {
+            robot: w.robot - shift * n,
+            obstacle: w.obstacle,
+            normal: w.normal,
+            dist: w.dist - shift,
+        };
+        if round == 1 || (w.normal - n).norm() <= NORMAL_KEPT {
+            return sat_witness(feature, obstacle, &start);
+        }
+        shift = SEPARATION_SHIFT + (-start.dist).max(0.0);
+        n = w.normal;
+    }
+    None
 }
 
 /// The kinks' signs at `n`.

@@ -231,3 +231,70 @@ fn apart_witnesses_need_no_gjk() {
         "{decided} of {apart}"
     );
 }
+
+/// Touching or overlapping, the exact witness from a normal of a moment ago
+/// ([`near_witness`]: the feature moved clear along it, no parry) is the one parry's route
+/// ends in (EPA, the shifted GJK, then [`sat_witness`]): on the sample of [`sample`], hints
+/// the route's normal turned by up to 0.03 rad and its distance off by up to 0.1 mm, every
+/// pair both decide agrees to 1e-12 m and 1e-9 in the normal; the separating-axis value by
+/// parry's support maps is the distance at its normal and no larger near it. It decides most
+/// of the pairs parry's route does (427 of 559 when written, all deeper than 1 µm; the rest
+/// go to parry, as in the solvers).
+#[test]
+fn near_witnesses_are_parrys_without_parry() {
+    let mut rng = Rng(0x6e65_6172_0005_a700);
+    let (mut both, mut route, mut overlapping) = (0, 0, 0);
+    for n in 0..6000 {
+        let (feature, fshape, fpose, oshape, opose) = sample(n, &mut rng);
+        let Some((rough, _)) = features::witness(&*fshape, &fpose, &*oshape, &opose, 0.01, None)
+        else {
+            continue;
+        };
+        if rough.dist > 1e-9 {
+            continue;
+        }
+        let (Some(o), Some(f)) = (
+            obstacle_support(&*oshape, &opose),
+            feature_support(&feature),
+        ) else {
+            panic!("supported shapes");
+        };
+        let Some(old) = sat_witness(&f, &o, &rough) else {
+            continue;
+        };
+        route += 1;
+        overlapping += usize::from(old.dist < -1e-6);
+        let turn = Vector3::new(
+            rng.range(-0.03, 0.03),
+            rng.range(-0.03, 0.03),
+            rng.range(-0.03, 0.03),
+        );
+        let hint = nalgebra::Rotation3::new(turn) * old.normal;
+        let Some(w) = near_witness(&f, &o, (&hint, old.dist + rng.range(-1e-4, 1e-4))) else {
+            continue;
+        };
+        both += 1;
+        assert!((w.dist - old.dist).abs() < 1e-12, "{n}: {w:?} {old:?}");
+        assert!((w.normal - old.normal).amax() < 1e-9, "{n}: {w:?} {old:?}");
+        assert!((w.robot - old.robot).amax() < 1e-9, "{n}: {w:?} {old:?}");
+        let (fs, os) = (
+            fshape.as_support_map().unwrap(),
+            oshape.as_support_map().unwrap(),
+        );
+        let phi = |m: &Vector3<f64>| {
+            let m = m.normalize();
+            let sf = nvec(fs.support_point(&fpose, pvec(&-m)));
+            let so = nvec(os.support_point(&opose, pvec(&m)));
+            m.dot(&(sf - so))
+        };
+        assert!((phi(&w.normal) - w.dist).abs() < 1e-13, "{n}: {w:?}");
+        for k in 0..60 {
+            let r = Vector3::from_fn(|_, _| rng.range(-1.0, 1.0));
+            let m = w.normal + r * 10f64.powi(-3 - k % 5);
+            assert!(phi(&m) <= w.dist + 1e-13, "{n}: {} > {}", phi(&m), w.dist);
+        }
+    }
+    eprintln!("parry's route decided {route} touching or overlapping ({overlapping} deeper than 1 µm); the hinted route {both}");
+    assert!(route >= 100 && overlapping >= 30, "{route} {overlapping}");
+    assert!(both as f64 >= 0.7 * route as f64, "{both} of {route}");
+}

@@ -100,7 +100,7 @@ fn across(
         .as_support_map()
         .map_or(fallback, |sm| sm.support_point(gpose, -n));
     let s = n.dot(x - w).min(cap);
-    PContact::new(x, w, -n, n, s)
+    PContact::new(x, w, -n, n, s).with_subshapes(0, tri)
 }
 
 /// The signed contact of a feature that parry finds intersecting the solid's surface but for
@@ -223,12 +223,23 @@ mod tests;
 /// closer than the answer has bounds below it all the way down, so it is queried: the answer
 /// is the closest triangle's, exactly. Near the wall the best distance is small at once and
 /// only the triangles under the feature are reached.
+///
+/// `hint`, a triangle near the answer (the one a nearby state found), starts the search from
+/// its own distance `p` instead of the margin: the search then admits only costs up to
+/// `p` (the next float above it, so a triangle tied with it is still found), which every
+/// triangle the cold search could return meets. Nodes are visited in the same order (their
+/// order does not depend on the best so far, only whether they are pruned does), and a
+/// node or triangle pruned here holds nothing at or below `p`, so the same triangle is
+/// reached first among those of the smallest distance: the answer is the cold search's, to
+/// the bit, and far fewer nodes are opened. Any triangle (or none, or an index out of range)
+/// may be given. The contact's `subshape2` is the triangle.
 pub(crate) fn closest_triangle(
     gpose: &PPose,
     g: &dyn PShape,
     opose: &PPose,
     mesh: &TriMesh,
     margin: f64,
+    hint: Option<u32>,
 ) -> Option<PContact> {
     use parry3d::partitioning::BvhLeafCost;
     use parry3d::query::{DefaultQueryDispatcher, QueryDispatcher};
@@ -331,7 +342,11 @@ pub(crate) fn closest_triangle(
     };
     // Every contact parry returns is within `margin`; the search admits exactly those.
     let limit = margin + 1e-12 * (1.0 + margin.abs());
-    let (t, Found(ct)) = mesh.bvh().find_best(limit, node_bound, leaf)?;
+    let start = hint
+        .filter(|t| (*t as usize) < mesh.indices().len())
+        .and_then(|t| leaf(t, limit))
+        .map_or(limit, |Found(ct)| limit.min(ct.dist.next_up()));
+    let (t, Found(ct)) = mesh.bvh().find_best(start, node_bound, leaf)?;
     let mut ct = ct;
     ct.subshape1 = t;
     let mut ct = ct.flipped();

@@ -293,7 +293,17 @@ fn closest_triangle_is_parrys_on_a_dense_sphere() {
             ];
             for (g, gpose) in shapes {
                 let want = parry3d::query::contact(&gpose, g, &opose, &m, margin).unwrap();
-                let got = closest_triangle(&gpose, g, &opose, &m, margin);
+                let got = closest_triangle(&gpose, g, &opose, &m, margin, None);
+                // Started from any triangle — the answer's, its neighbour, one far away, one
+                // out of range — the search returns the cold answer, to the bit.
+                let near = got.map_or(0, |c| c.subshape2);
+                for hint in [near, near + 1, near / 2, 7 * k as u32, u32::MAX] {
+                    let warm = closest_triangle(&gpose, g, &opose, &m, margin, Some(hint));
+                    let bits = |c: Option<PContact>| {
+                        c.map(|c| (c.dist.to_bits(), c.point1, c.point2, c.normal1, c.subshape2))
+                    };
+                    assert_eq!(bits(warm), bits(got), "{free:?} {k}: hint {hint}");
+                }
                 match (want, got) {
                     (None, None) => none += 1,
                     (Some(a), Some(b)) => {

@@ -182,7 +182,7 @@ fn the_approach_does_not_pass_through_a_thin_wall() {
 /// solve cold, and that is the whole gap between the two: measured on the 16 seeds, 9 reach
 /// an answer in both and all 9 agree within 0.1 mm (largest 0.034 mm). The rest are named:
 /// the walls stand beside the *bent* path and the straight start crosses them (energy is
-/// `obstructed` and the rod's load steps stall at load factor 0: seeds 4, 8, 10, 11, …), the
+/// `obstructed`, and so is the rod, naming its straight disk deep in the wall: seeds 4, 6, 8, 10), the
 /// rod's cold load steps stall near full load where its warm start converges (1, 5, 7, 9), or
 /// `energy`'s answer presses a cable chord on an obstacle, which the rod does not model (its
 /// contacts act at the disks: seeds 1, 12, 13 — a model difference, not compared here; on seed

@@ -127,3 +127,43 @@ fn a_warm_start_the_rod_cannot_take_falls_back_to_the_approach() {
     assert!((rod.tip() - e.tip()).norm() < TIP_TOL);
     assert_valid(&m, &rod, &sc);
 }
+
+/// A cold start whose straight rod already has a disk deep in an obstacle (the generated
+/// walls stand beside the *bent* path): no load step can move that disk (the approach's guard),
+/// so the load steps stalled at load factor 0 after 23 iterations (seeds 4, 6, 8, 10). It is
+/// now the named `obstructed` of that obstacle and disk before any step, whose straight place
+/// (checked here from the obstacle's bounds) is within a disk radius of the obstacle, and the
+/// rod from `energy`'s clear answer converges there.
+#[test]
+fn a_straight_start_through_an_obstacle_is_named() {
+    let m = case1();
+    let dir = temp("rod-inside");
+    for seed in [4, 6, 8, 10] {
+        let sc = seeded(&m, &dir, seed);
+        let rod = solve(&m, &sc, MethodKind::Cosserat, None);
+        eprintln!("seed {seed}: {:?}", rod.as_ref().err());
+        let Err(SolveError::Obstructed {
+            obstacle, section, ..
+        }) = &rod
+        else {
+            panic!("seed {seed}: {:?}", rod.err());
+        };
+        let o = sc
+            .obstacles
+            .iter()
+            .find(|o| &o.name == obstacle)
+            .expect("named");
+        let centre = nalgebra::Vector3::new(0.0, 0.0, m.robot.disk_s[*section]);
+        let (lo, hi) = &o.aabb;
+        let outside = (lo - centre)
+            .sup(&(centre - hi))
+            .sup(&nalgebra::Vector3::zeros());
+        assert!(
+            outside.norm() < m.robot.disk_radius,
+            "seed {seed}: disk {section}"
+        );
+        let clear = energy(&m, &sc).expect("energy from the section solver's shape");
+        solve(&m, &sc, MethodKind::Cosserat, Some(&clear)).expect("the rod from energy");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -102,6 +102,16 @@ impl Problem<'_> {
         name: &str,
         notes: &mut Vec<String>,
     ) -> Result<Approach, SolveError> {
+        // A straight start with a disk deep in an obstacle is named, not stalled on.
+        let straight = Setup {
+            unknown: unknown.clone(),
+            slack: slack.to_vec(),
+            contacts: vec![],
+        };
+        let at = self.frames(&DVector::zeros(6 + unknown.len()), &straight, 0.0);
+        if let Some(err) = self.world.as_ref().and_then(|w| w.start_inside(&at)) {
+            return Err(err);
+        }
         let a = self
             .approach(&unknown, slack)
             .map_err(|e| SolveError::NotConverged {

@@ -218,6 +218,35 @@ impl<'a> RodWorld<'a> {
         out.map(|(t, _)| t)
     }
 
+    /// The `Obstructed` error of a start whose disk lies deeper than [`STEP_DEPTH`] inside
+    /// the clearance of an obstacle at the frames `at` (the deepest such disk), if any: no
+    /// load step can move it ([`RodWorld::guard`]), so the approach could only stall at load
+    /// factor 0.
+    pub(super) fn start_inside(&self, at: &[(Vector3<f64>, Matrix3<f64>)]) -> Option<SolveError> {
+        let mut deepest: Option<(usize, usize, f64)> = None;
+        for (k, (p, r)) in at.iter().enumerate().skip(1) {
+            for &o in &self.near {
+                let Some(w) = self.witness(o, p, r, self.clearance()) else {
+                    continue;
+                };
+                let depth = self.clearance() - w.dist;
+                if depth > STEP_DEPTH && deepest.is_none_or(|(_, _, d)| depth > d) {
+                    deepest = Some((k, o, depth));
+                }
+            }
+        }
+        let (k, o, depth) = deepest?;
+        Some(SolveError::Obstructed {
+            obstacle: self.scene.obstacles[o].name.clone(),
+            section: k,
+            reason: format!(
+                "the straight start's disk {k} lies {depth:.3e} m inside the clearance, and no \
+                 load step can move it out; start from a shape that is clear of it (e.g. \
+                 --warm-from energy or geometric)"
+            ),
+        })
+    }
+
     /// The first disk not in `active` that moved from the frames `a` to `b` farther than its
     /// distance to an obstacle at `a` plus [`STEP_DEPTH`] (`approach.rs`), if any. A disk's
     /// move is bounded by `|Δp| + r |ΔR|_F`, `r` the disk (or body) radius.

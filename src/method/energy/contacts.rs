@@ -91,6 +91,10 @@ pub(super) struct Pair {
     /// one of its face contacts ([`crate::contact::solid::face_contacts`]; the closest pair is
     /// then the one of smallest distance among them, or a `None` pair closer still).
     pub part: Option<u32>,
+    /// The triangle of a solid mesh the obstacle's witness lies on (the face's for a face
+    /// contact), `None` for other obstacles: where the next query of this feature starts
+    /// its closest-triangle search ([`crate::contact::parry::query_hinted`]).
+    pub triangle: Option<u32>,
 }
 
 /// Identity of a pair across iterations: obstacle, feature, face ([`Pair::part`]).
@@ -485,23 +489,25 @@ impl Collect<'_, '_> {
             let near = self
                 .hints
                 .iter()
-                .find(|h| h.key() == (k, feat, None) && h.dist < SEPARATION_SHIFT);
-            let found = match (closed, near) {
-                (Some(decided), _) => decided.map(|w| (w, w.dist)),
-                (None, Some(h)) => features::witness_near(
-                    g,
-                    gpose,
-                    &*o.shape,
-                    &o.parry_pose,
+                .find(|h| h.key() == (k, feat, None) && h.dist < SEPARATION_SHIFT)
+                .map(|h| (&h.normal, h.dist));
+            // The triangle this feature's first pair lay on at the nearby state.
+            let hint = self
+                .hints
+                .iter()
+                .find(|h| h.obstacle == k && h.feat == feat)
+                .and_then(|h| h.triangle);
+            let found = match closed {
+                Some(decided) => decided.map(|w| (w, w.dist, None)),
+                None => features::witness_near(
+                    (g, gpose),
+                    (&*o.shape, &o.parry_pose),
                     margin,
-                    (&h.normal, h.dist),
+                    (near, hint),
                     o.field(),
                 ),
-                (None, None) => {
-                    features::witness(g, gpose, &*o.shape, &o.parry_pose, margin, o.field())
-                }
             };
-            let Some((mut w, raw)) = found else {
+            let Some((mut w, raw, triangle)) = found else {
                 self.clear = self.clear.min(margin);
                 continue;
             };
@@ -562,7 +568,7 @@ impl Collect<'_, '_> {
                 .first()
                 .is_some_and(|(_, f)| f.dist <= w.dist + 1e-9 * (1.0 + w.dist.abs()));
             if !closest_is_face {
-                self.push(k, feat, ends, None, &w, a, grad);
+                self.push(k, feat, ends, (None, triangle), &w, a, grad);
             }
             for (t, f) in faces {
                 if self.stopped {
@@ -573,20 +579,21 @@ impl Collect<'_, '_> {
                 } else {
                     World::grad(kin, ends, &f.robot, &f.normal)
                 };
-                self.push(k, feat, ends, Some(t), &f, f.robot, grad);
+                self.push(k, feat, ends, (Some(t), Some(t)), &f, f.robot, grad);
             }
         }
     }
 
-    /// Add the pair of feature `feat` (moving as `ends`) with obstacle `k` (face `part`) at
-    /// witness `w` (robot point `a`, gradient `grad`), and ask the stop rule if it violates.
+    /// Add the pair of feature `feat` (moving as `ends`) with obstacle `k` (face `part`, on
+    /// mesh triangle `triangle`) at witness `w` (robot point `a`, gradient `grad`), and ask
+    /// the stop rule if it violates.
     #[allow(clippy::too_many_arguments)]
     fn push(
         &mut self,
         k: usize,
         feat: Feat,
         ends: Ends,
-        part: Option<u32>,
+        (part, triangle): (Option<u32>, Option<u32>),
         w: &Witness,
         a: Vector3<f64>,
         grad: Vec<f64>,
@@ -602,6 +609,7 @@ impl Collect<'_, '_> {
             normal: w.normal,
             ends,
             part,
+            triangle,
         });
         if let Some(st) = violates {
             self.stopped = (st.rejects)(&self.out);

@@ -264,7 +264,7 @@ impl Geometric {
                 };
                 let rejects =
                     |pen: f64| !tiny && merit(ft, &trial_cons, pen).partial_cmp(&m0) != Some(Less);
-                w.penetration(trial, &mut trial_pairs, &rejects)
+                w.penetration(trial, &mut trial_pairs, &rejects, &pairs)
                     .map_or(f64::NAN, |pen| merit(ft, &trial_cons, pen))
             });
             short_steps = if alpha < SHORT_STEP {
