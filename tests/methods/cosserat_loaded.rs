@@ -48,7 +48,8 @@ fn worst_disk(a: &Shape, b: &Shape) -> f64 {
 /// The paper cases under lateral gravity and a tip force, force control, at the default
 /// settings: every disk within 1 µm of the converged rod (shooting at the old default, 3 RK4
 /// steps per section, missed case III's tip by 7.5 µm), for the full and the inextensible
-/// rod, stable as the converged rod's focal-point test says.
+/// rod, stable as the converged rod's focal-point test says, and every cable's shortening
+/// within 1 µm of the converged rod's.
 #[test]
 fn loaded_paper_cases_meet_the_converged_rod_to_a_micrometre() {
     for n in 1..=3 {
@@ -62,6 +63,15 @@ fn loaded_paper_cases_meet_the_converged_rod_to_a_micrometre() {
             let worst = worst_disk(&fast, &reference);
             assert!(worst <= 1e-6, "case {n} {}: {worst:e} m", m.name());
             assert_eq!(fast.report.stable, reference.report.stable, "case {n}");
+            // The shortenings reported: the loaded pass's rest lengths beside its lengths
+            // against the reference's pass at zero load.
+            for (a, b) in fast.cables.iter().zip(&reference.cables) {
+                let (a, b) = (a.shortening.expect("path"), b.shortening.expect("path"));
+                assert!(
+                    (a - b).abs() <= 1e-6,
+                    "case {n}: shortening {a} against {b}"
+                );
+            }
         }
     }
 }

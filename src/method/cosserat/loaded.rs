@@ -40,7 +40,7 @@ use super::unloaded::{At, Strains};
 use super::{RodModel, E3, MAX_CABLES};
 use crate::model::actuation::LengthMeasure;
 use crate::numeric::ode::rk4;
-use crate::numeric::so3::{hat, vee_skew};
+use crate::numeric::so3::{mul_hat, vee_skew};
 use nalgebra::{DVector, Matrix3, Matrix6, SMatrix, Vector3, Vector6};
 
 /// The pass's state in column 0, `[p, R (column-major), M]`, and `C − 1` tangents in the
@@ -50,6 +50,9 @@ type Cols<const C: usize> = SMatrix<f64, 15, C>;
 
 /// Halvings of a Newton step before the loaded solve gives up (and the rod shoots).
 const MAX_HALVINGS: usize = 12;
+
+/// Magnus steps per section of the cold start's unloaded pass ([`Problem::unloaded_moment`]).
+const START_STEPS: usize = 1;
 
 /// One loaded pass: the shot (`resid = [N(L⁺), (M(L⁺))/L]` after the tip loads: zero force
 /// by construction), the rod's base wrench, the Jacobian of the moment rows in `M(0)/L`, the
@@ -174,6 +177,7 @@ impl Problem<'_> {
         let l = self.len_l;
         let lam = ld.lam;
         let mut at = At::new([false; MAX_CABLES]);
+        at.quadratic = true;
         let n_base = self.outer_force(0.0, 1, lam);
         let straight = Strains {
             v: E3,
@@ -221,6 +225,9 @@ impl Problem<'_> {
             }
         }
         let (mut path, mut chord) = ([0.0; MAX_CABLES], [0.0; MAX_CABLES]);
+        // The rest lengths beside, from each point's `|e3 + r_i′|` by the same quadrature: what
+        // a pass at zero load gives bit for bit (its strains are the straight rod's there).
+        let mut path0 = [0.0; MAX_CABLES];
         let mut prev = [Vector3::zeros(); MAX_CABLES];
         for (c, cable) in robot.cables.iter().enumerate() {
             prev[c] = cable.hole(0);
@@ -235,6 +242,7 @@ impl Problem<'_> {
             for j in 0..steps {
                 let s = s0 + j as f64 * h;
                 let mut lr = [[0.0; MAX_CABLES]; 4];
+                let mut lr0 = lr;
                 let mut fail = false;
                 y += rk4::step(s, h, y, |i, si, yi| {
                     let n = self.outer_force(si, k, lam);
@@ -243,6 +251,7 @@ impl Problem<'_> {
                         Some((dy, res, dz)) => {
                             residual = residual.max(res);
                             lr[i] = at.lr;
+                            lr0[i] = at.rest;
                             if nd >= 3 {
                                 track.push(Track { z: guess, dz });
                             }
@@ -259,6 +268,7 @@ impl Problem<'_> {
                 }
                 point += 1;
                 self.add_rk4_lengths(&mut path, &lr, h);
+                self.add_rk4_lengths(&mut path0, &lr0, h);
                 rec.backbone
                     .push(Vector3::new(y[(0, 0)], y[(1, 0)], y[(2, 0)]));
             }
@@ -275,6 +285,10 @@ impl Problem<'_> {
             LengthMeasure::Chord => chord,
         };
         rec.len.extend_from_slice(&len[..nc]);
+        // (Chords: the rest lengths take the pass at zero load, `solve.rs`.)
+        if self.set.length == LengthMeasure::Path {
+            rec.rest.extend_from_slice(&path0[..nc]);
+        }
         // After the tip: the force left is `N(L⁻) − w − F_tip = 0` by construction.
         let mm = (Vector3::new(y[(12, 0)], y[(13, 0)], y[(14, 0)]) - self.tip_m * lam) / l;
         let mut jac = Matrix3::zeros();
@@ -334,7 +348,7 @@ impl Problem<'_> {
         let v = if full { z.v } else { E3 };
         let mut dy = Cols::<C>::zeros();
         let pd = r * v;
-        let rd = r * hat(&z.u);
+        let rd = mul_hat(&r, &z.u);
         let md = -pd.cross(n);
         for i in 0..3 {
             dy[(i, 0)] = pd[i];
@@ -346,21 +360,24 @@ impl Problem<'_> {
         for d in 0..nd {
             let dp_r = Matrix3::from_fn(|i, j| y[(3 + 3 * j + i, 1 + d)]);
             let dm = Vector3::new(y[(12, 1 + d)], y[(13, 1 + d)], y[(14, 1 + d)]);
-            // Directions 3..6 move `N(0)`, hence `N` along the rod, by a unit vector.
-            let mut dn = Vector3::zeros();
-            if d >= 3 {
-                dn[d - 3] = 1.0;
-            }
-            let dbv = dp_r.tr_mul(n) + r.tr_mul(&dn);
+            // Directions 3..6 move `N(0)`, hence `N` along the rod, by a unit vector `e_k`
+            // (`Rᵀ e_k` is `R`'s row `k`; the other directions skip the products with zero).
+            let mut dbv = dp_r.tr_mul(n);
             let dbu = dp_r.tr_mul(&m) + r.tr_mul(&dm);
+            if d >= 3 {
+                dbv += r.row(d - 3).transpose();
+            }
             let (dv, du) = at.stiffness.solve(&dbv, &dbu);
             let dv = if full { dv } else { Vector3::zeros() };
             if d < 3 {
                 dzs[d] = Strains { v: dv, u: du };
             }
             let dpd = dp_r * v + r * dv;
-            let drd = dp_r * hat(&z.u) + r * hat(&du);
-            let dmd = -dpd.cross(n) - pd.cross(&dn);
+            let drd = mul_hat(&dp_r, &z.u) + mul_hat(&r, &du);
+            let mut dmd = -dpd.cross(n);
+            if d >= 3 {
+                dmd -= pd.cross(&Vector3::ith(d - 3, 1.0));
+            }
             for i in 0..3 {
                 dy[(i, 1 + d)] = dpd[i];
                 dy[(12 + i, 1 + d)] = dmd[i];
@@ -545,12 +562,14 @@ impl Problem<'_> {
     }
 
     /// The external moment about the base of the loads on the unloaded rod (its shape under
-    /// the tensions of `ld` alone, one unloaded pass): the start of a cold loaded solve.
-    /// `M_tip + p_L × F_tip + Σ p_k × w + ∫ p × f ds` (the trapezoid rule over the pass's
-    /// steps); `None` if that pass fails.
+    /// the tensions of `ld` alone, one unloaded pass of one Magnus step per section: a start
+    /// needs no more, its error is far below the loads' own share of the first residual): the
+    /// start of a cold loaded solve. `M_tip + p_L × F_tip + Σ p_k × w + ∫ p × f ds` (the
+    /// trapezoid rule over the pass's steps); `None` if that pass fails.
     fn unloaded_moment(&self, ld: &LoadCase) -> Option<Vector3<f64>> {
         let mut probe = Trace::default();
-        self.unloaded_pass(ld, Some(&mut probe), None)?;
+        let steps = vec![START_STEPS; self.nsteps.len()];
+        self.unloaded_pass_steps(ld, Some(&mut probe), None, &steps)?;
         let robot = self.robot;
         let lam = ld.lam;
         let tip = probe.disks.last()?.0;
@@ -560,8 +579,8 @@ impl Problem<'_> {
         }
         let mut at = 0;
         for k in 1..=robot.sections() {
-            let h = (robot.disk_s[k] - robot.disk_s[k - 1]) / self.nsteps[k] as f64;
-            for _ in 0..self.nsteps[k] {
+            let h = (robot.disk_s[k] - robot.disk_s[k - 1]) / START_STEPS as f64;
+            for _ in 0..START_STEPS {
                 let (a, b) = (probe.backbone.get(at)?, probe.backbone.get(at + 1)?);
                 m += ((a + b) * (0.5 * h)).cross(&self.f_dist) * lam;
                 at += 1;

@@ -67,8 +67,9 @@ pub(super) struct Trace {
     pub(super) key: Vec<f64>,
     /// Integrated by the unloaded path (`unloaded.rs`), not by shooting.
     pub(super) fast: bool,
-    /// The unloaded path's rest lengths: the straight rod's, in the same measure and by the
-    /// same quadrature as `len` (empty for shooting, whose rest lengths take a pass at zero load).
+    /// The rest lengths the unloaded and loaded paths compute beside `len`: the straight
+    /// rod's, in the same measure and by the same quadrature (empty for shooting, and for the
+    /// loaded path's chords, whose rest lengths take a pass at zero load).
     pub(super) rest: Vec<f64>,
 }
 

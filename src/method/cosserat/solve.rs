@@ -355,13 +355,13 @@ impl Cosserat {
             trace = probe;
         }
         // Undeformed lengths, for the shortenings reported: computed by the solve when a
-        // cable was length-driven, by the unloaded path beside its lengths, else here (one
-        // unloaded pass, the same quadrature).
+        // cable was length-driven, by the unloaded or loaded path beside its lengths, else
+        // here (one pass at zero load, the same quadrature).
         let computed =
             (0..robot.cables.len()).any(|c| matches!(prob.modes[c], Drive::Shorten { .. }));
         let len0 = if computed {
             prob.len0
-        } else if trace.fast && trace.rest.len() == robot.cables.len() {
+        } else if trace.rest.len() == robot.cables.len() {
             let mut len0 = [0.0; MAX_CABLES];
             len0[..trace.rest.len()].copy_from_slice(&trace.rest);
             len0

@@ -80,13 +80,17 @@ pub(super) struct Unloaded {
 /// the tension sensitivities `dl[i][j] = ∂|ṗ_i|/∂τ_j` (`unloaded_solve.rs`).
 pub(super) struct At {
     pub(super) lr: Buf,
-    rest: Buf,
+    pub(super) rest: Buf,
     sens: [bool; MAX_CABLES],
     dl: Sens,
     /// The balance's Hessian at the last evaluation, factored (the loaded pass's tangents).
     pub(super) stiffness: Stiffness,
     /// `Σ τ_i t_i` at the last evaluation (the Kirchhoff rod's force is `N − Rᵀ` of it).
     pub(super) pull: Vector3<f64>,
+    /// Take a point after a Newton step whose second-order remainder bounds the balance
+    /// below the tolerance, without evaluating it again ([`Problem::strains_at`]; the loaded
+    /// pass's, whose starts are predicted close).
+    pub(super) quadratic: bool,
 }
 
 /// One number per pair of cables.
@@ -102,26 +106,29 @@ impl At {
             stiffness: Stiffness {
                 k1inv: Matrix3::zeros(),
                 sinv: Matrix3::zeros(),
-                g: Matrix3::zeros(),
+                p: Matrix3::zeros(),
                 full: false,
             },
             pull: Vector3::zeros(),
+            quadratic: false,
         }
     }
 }
 
 /// The balance's Hessian `K = [Kse + A, G; Gᵀ, Kbt + H]` at a point, factored by blocks:
-/// `(Kse + A)⁻¹`, the Schur complement's inverse and `G` (Kirchhoff: `(Kbt + H)⁻¹` alone).
+/// `(Kse + A)⁻¹`, the Schur complement's inverse and `P = (Kse + A)⁻¹ G` (Kirchhoff:
+/// `(Kbt + H)⁻¹` alone).
 #[derive(Clone, Copy)]
 pub(super) struct Stiffness {
     k1inv: Matrix3<f64>,
     sinv: Matrix3<f64>,
-    g: Matrix3<f64>,
+    p: Matrix3<f64>,
     full: bool,
 }
 
 impl Stiffness {
-    /// `K⁻¹ [bv; bu]` (Kirchhoff: `(Kbt + H)⁻¹ bu`, no `v` part).
+    /// `K⁻¹ [bv; bu]` (Kirchhoff: `(Kbt + H)⁻¹ bu`, no `v` part): `xu = S⁻¹ (bu − Pᵀ bv)`,
+    /// `xv = (Kse + A)⁻¹ bv − P xu`, four products with a 3×3 matrix.
     pub(super) fn solve(
         &self,
         bv: &Vector3<f64>,
@@ -130,8 +137,8 @@ impl Stiffness {
         if !self.full {
             return (Vector3::zeros(), self.sinv * bu);
         }
-        let xu = self.sinv * (bu - self.g.transpose() * (self.k1inv * bv));
-        (self.k1inv * (bv - self.g * xu), xu)
+        let xu = self.sinv * (bu - self.p.tr_mul(bv));
+        (self.k1inv * bv - self.p * xu, xu)
     }
 }
 
@@ -241,7 +248,7 @@ impl Problem<'_> {
             let k = Stiffness {
                 k1inv: Matrix3::from_diagonal(&self.kse.map(|x| 1.0 / x)),
                 sinv: Matrix3::from_diagonal(&self.kbt.map(|x| 1.0 / x)),
-                g: Matrix3::zeros(),
+                p: Matrix3::zeros(),
                 full,
             };
             at.stiffness = k;
@@ -280,12 +287,12 @@ impl Problem<'_> {
             let k = if full {
                 let k1 = Matrix3::from_diagonal(&self.kse) + sums.am;
                 let k1inv = sym_inverse(&k1)?;
-                let schur = Matrix3::from_diagonal(&self.kbt) + sums.hm
-                    - sums.gm.transpose() * k1inv * sums.gm;
+                let p = k1inv * sums.gm;
+                let schur = Matrix3::from_diagonal(&self.kbt) + sums.hm - sums.gm.tr_mul(&p);
                 Stiffness {
                     k1inv,
                     sinv: sym_inverse(&schur)?,
-                    g: sums.gm,
+                    p,
                     full,
                 }
             } else {
@@ -293,7 +300,7 @@ impl Problem<'_> {
                 Stiffness {
                     k1inv: Matrix3::zeros(),
                     sinv: sym_inverse(&m)?,
-                    g: Matrix3::zeros(),
+                    p: Matrix3::zeros(),
                     full,
                 }
             };
@@ -307,6 +314,7 @@ impl Problem<'_> {
             } else {
                 1.0
             };
+            let before = z;
             z.v += dv * scale;
             z.u += du * scale;
             // Converged when the balance holds to the solver's tolerance (the step just taken
@@ -318,8 +326,61 @@ impl Problem<'_> {
                 }
                 return Some((z, residual));
             }
+            if at.quadratic && scale == 1.0 {
+                let bound = self.remainder_bound(sec, ld, size, rmax, at);
+                if bound <= self.set.tolerance {
+                    at.stiffness = k;
+                    self.moved_to_first_order(&before, (&dv, &du), &routes, sec, &sums, at);
+                    return Some((z, bound));
+                }
+            }
         }
         None
+    }
+
+    /// A bound on the balance left after a full Newton step that moves no tendon's `ṗ_i` by
+    /// more than `size`: the step zeroes the linear model, and `F` is linear but for the
+    /// tendons' `τ_i t_i(ṗ_i)`, whose second derivative is at most `3/|ṗ_i|²` in norm, so each
+    /// leaves at most `3/2 τ_i size² / (|ṗ_i| − size)²` in the force rows (the moment rows:
+    /// `r_i ×` it, over `L`). Infinite where the step is not small against `|ṗ_i|`.
+    fn remainder_bound(&self, sec: usize, ld: &LoadCase, size: f64, rmax: f64, at: &At) -> f64 {
+        let mut sum = 0.0;
+        for (c, cable) in self.robot.cables.iter().enumerate() {
+            if cable.ends_at < sec || ld.tau[c] == 0.0 {
+                continue;
+            }
+            let gap = at.lr[c] - size;
+            if gap <= 0.5 * at.lr[c] {
+                return f64::INFINITY;
+            }
+            sum += 1.5 * ld.tau[c] * (size / gap).powi(2);
+        }
+        sum * (rmax / self.len_l).max(1.0)
+    }
+
+    /// After a point taken on the remainder bound ([`At::quadratic`]): each running cable's
+    /// `|ṗ_c|` and the pull moved by the step `(dv, du)` from the strains `before` to first
+    /// order (`δ|ṗ_c| = t_cᵀ (δv + δu × r_c)`, `δ pull = A δv + G δu`), leaving `O(size²)`.
+    fn moved_to_first_order(
+        &self,
+        before: &Strains,
+        (dv, du): (&Vector3<f64>, &Vector3<f64>),
+        routes: &[RoutePoint; MAX_CABLES],
+        sec: usize,
+        sums: &super::rhs::TendonSums,
+        at: &mut At,
+    ) {
+        let full = self.set.model == RodModel::Full;
+        let v = if full { before.v } else { E3 };
+        for (c, cable) in self.robot.cables.iter().enumerate() {
+            if cable.ends_at < sec {
+                continue;
+            }
+            let rp = &routes[c];
+            let pd = before.u.cross(&rp.r) + rp.dr + v;
+            at.lr[c] += pd.dot(&(dv + du.cross(&rp.r))) / at.lr[c];
+        }
+        at.pull += sums.am * dv + sums.gm * du;
     }
 
     /// The tension sensitivities of the running cables' `|ṗ_i|` among those asked for (`at.sens`) at strains `z` (into
@@ -366,6 +427,18 @@ impl Problem<'_> {
         trace: Option<&mut Trace>,
         sens: Option<(&mut Sens, [bool; MAX_CABLES])>,
     ) -> Option<Unloaded> {
+        self.unloaded_pass_steps(ld, trace, sens, &self.nsteps)
+    }
+
+    /// [`Self::unloaded_pass`] with `steps[k]` Magnus steps in section `k` (a loaded solve's
+    /// cold start takes one per section: `loaded.rs`).
+    pub(super) fn unloaded_pass_steps(
+        &self,
+        ld: &LoadCase,
+        trace: Option<&mut Trace>,
+        sens: Option<(&mut Sens, [bool; MAX_CABLES])>,
+        nsteps: &[usize],
+    ) -> Option<Unloaded> {
         let robot = self.robot;
         let nc = robot.cables.len();
         let asked = sens.as_ref().map_or([false; MAX_CABLES], |s| s.1);
@@ -410,7 +483,7 @@ impl Problem<'_> {
         }
         let gauss = 3f64.sqrt() / 6.0;
         let mut guess = Guess::new(0.0, z0);
-        for k in 1..=robot.sections() {
+        for (k, &steps) in nsteps.iter().enumerate().take(robot.sections() + 1).skip(1) {
             let (s0, s1) = (robot.disk_s[k - 1], robot.disk_s[k]);
             // The strains jump where a pulled tendon is tied: no extrapolation across.
             let tied = robot.cables.iter().enumerate();
@@ -420,7 +493,6 @@ impl Problem<'_> {
             {
                 guess.forget();
             }
-            let steps = self.nsteps[k];
             let h = (s1 - s0) / steps as f64;
             for j in 0..steps {
                 let s = s0 + j as f64 * h;
@@ -590,6 +662,80 @@ fn se3_exp(rho: &Vector3<f64>, phi: &Vector3<f64>) -> (Vector3<f64>, Matrix3<f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::method::cosserat::Cosserat;
+    use crate::method::Method;
+    use crate::model::Model;
+
+    /// The remainder bound ([`At::quadratic`]) against the balance evaluated again: on case
+    /// I's first section, from the strains there moved by a range of sizes, a point taken
+    /// after one evaluation has a balance no larger than the residual returned and the
+    /// evaluation's rounding, and within the tolerance (evaluated at
+    /// the strains returned, which then need no step) and its `|ṗ_c|` moved to first order
+    /// within 1e-12 of the evaluated ones; and some sizes that take two evaluations without
+    /// the bound are taken on it.
+    #[test]
+    fn a_point_taken_on_the_remainder_bound_meets_it() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/models/paper/case1.toml");
+        let model = Model::from_file(path).expect("case I");
+        for set in [Cosserat::full(), Cosserat::kirchhoff()] {
+            let (prob, _) = set
+                .problem(&model.robot, &model.actuation)
+                .expect("problem");
+            let mut tau = [0.0; MAX_CABLES];
+            for (c, t) in tau.iter_mut().enumerate().take(prob.robot.cables.len()) {
+                *t = 2.0 + c as f64;
+            }
+            let ld = LoadCase::new(tau, 1.0);
+            let zero = Vector3::zeros();
+            let (s, sec) = (0.5 * prob.robot.disk_s[1], 1);
+            let straight = Strains { v: E3, u: zero };
+            let mut plain = At::new([false; MAX_CABLES]);
+            let found = prob.strains_at(s, sec, &ld, straight, (&zero, &zero), &mut plain);
+            let (z, _) = found.expect("strains");
+            let mut taken = 0;
+            for size in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7] {
+                let mut start = z;
+                start.u += Vector3::new(1.0, -2.0, 0.5) * size;
+                start.v += Vector3::new(-0.5, 1.0, 0.2) * (1e-3 * size);
+                let mut at = At::new([false; MAX_CABLES]);
+                at.quadratic = true;
+                let before = prob.work.get();
+                let got = prob.strains_at(s, sec, &ld, start, (&zero, &zero), &mut at);
+                let (zq, bound) = got.expect("strains");
+                if prob.work.get() - before != 1 {
+                    continue;
+                }
+                // Without the bound the same start takes a second evaluation?
+                let mut checked = At::new([false; MAX_CABLES]);
+                let before = prob.work.get();
+                prob.strains_at(s, sec, &ld, start, (&zero, &zero), &mut checked);
+                let on_bound = prob.work.get() - before >= 2;
+                // One evaluation from there: the balance there, ≤ the tolerance if it ends.
+                let mut again = At::new([false; MAX_CABLES]);
+                let before = prob.work.get();
+                let got = prob.strains_at(s, sec, &ld, zq, (&zero, &zero), &mut again);
+                let (_, residual) = got.expect("strains");
+                assert_eq!(prob.work.get() - before, 1, "{} size {size}", set.name());
+                // (Plus the evaluation's rounding: `Kse (v − e3)` with `v ≈ e3`.)
+                let floor = 4.0 * f64::EPSILON * (prob.kse.amax() + tau.iter().sum::<f64>());
+                assert!(
+                    residual <= bound + floor,
+                    "{residual:e} > {bound:e} + {floor:e}"
+                );
+                assert!(residual <= set.tolerance, "{residual:e}");
+                for c in 0..prob.robot.cables.len() {
+                    let gap = (at.lr[c] - again.lr[c]).abs();
+                    assert!(
+                        gap <= 1e-12,
+                        "{} size {size}: |ṗ| off by {gap:e}",
+                        set.name()
+                    );
+                }
+                taken += usize::from(on_bound);
+            }
+            assert!(taken >= 1, "{}: no size taken on the bound", set.name());
+        }
+    }
 
     #[test]
     fn magnus_is_exact_for_a_constant_twist() {
