@@ -89,7 +89,7 @@ pub(crate) fn witness_near(
 ) -> Option<(Witness, f64, Option<u32>)> {
     let ct = match near.and_then(|n| query_near(gpose, g, opose, shape, margin, n)) {
         Some(answer) => answer?,
-        None => super::parry::query_hinted(gpose, g, opose, shape, margin, field, hint)?,
+        None => super::parry::query_hinted((g, gpose), (shape, opose), (margin, field, hint))?,
     };
     let triangle = super::solid::solid(shape).map(|_| ct.subshape2);
     let (w, dist) = witness_of(g, gpose, shape, opose, ct)?;

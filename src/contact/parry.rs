@@ -63,7 +63,7 @@ pub(crate) fn query(
     margin: f64,
     field: Option<&super::field::SolidField>,
 ) -> Option<PContact> {
-    query_hinted(gpose, g, opose, shape, margin, field, None)
+    query_hinted((g, gpose), (shape, opose), (margin, field, None))
 }
 
 /// [`query`] with the triangle of a solid mesh that a nearby state found closest, `hint`,
@@ -71,13 +71,9 @@ pub(crate) fn query(
 /// answer, to the bit, from fewer nodes). For a solid mesh the contact's `subshape2` is the
 /// triangle of its witness.
 pub(crate) fn query_hinted(
-    gpose: &PPose,
-    g: &dyn PShape,
-    opose: &PPose,
-    shape: &dyn PShape,
-    margin: f64,
-    field: Option<&super::field::SolidField>,
-    hint: Option<u32>,
+    (g, gpose): (&dyn PShape, &PPose),
+    (shape, opose): (&dyn PShape, &PPose),
+    (margin, field, hint): (f64, Option<&super::field::SolidField>, Option<u32>),
 ) -> Option<PContact> {
     // A solid mesh: parry's closest triangle, signed by the side the feature is on.
     if let Some(mesh) = super::solid::solid(shape) {

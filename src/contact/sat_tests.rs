@@ -20,6 +20,34 @@ fn rotation(rng: &mut Rng) -> Matrix3<f64> {
 /// shape and pose).
 type Sample = (Convex, Box<dyn PShape>, PPose, Box<dyn PShape>, PPose);
 
+/// The support maps of a sampled feature and obstacle, `(feature, obstacle)`: every shape
+/// [`sample`] draws has one.
+fn supports(feature: &Convex, oshape: &dyn PShape, opose: &PPose) -> (SupportShape, SupportShape) {
+    match (feature_support(feature), obstacle_support(oshape, opose)) {
+        (Some(f), Some(o)) => (f, o),
+        _ => panic!("a sampled shape without a support map"),
+    }
+}
+
+/// The separating-axis value along `m` (normalized) by parry's support maps, independent of
+/// `sat.rs`: `m · (s_f(−m) − s_o(m))`, the feature's extent towards the obstacle's; the
+/// signed distance is its maximum over directions.
+fn separation(
+    fshape: &dyn PShape,
+    fpose: &PPose,
+    oshape: &dyn PShape,
+    opose: &PPose,
+    m: &Vector3<f64>,
+) -> f64 {
+    let (Some(fs), Some(os)) = (fshape.as_support_map(), oshape.as_support_map()) else {
+        panic!("a sampled shape without parry's support map");
+    };
+    let m = m.normalize();
+    let sf = nvec(fs.support_point(fpose, pvec(&-m)));
+    let so = nvec(os.support_point(opose, pvec(&m)));
+    m.dot(&(sf - so))
+}
+
 /// Pair `n` of the sample: a box (even `n`) or cylinder at a random pose and a disk,
 /// capsule or chord (`n % 3`) centred on a sphere around it at about its size (edges,
 /// corners, rims and faces; apart, touching and overlapping).
@@ -115,12 +143,7 @@ fn exact_witnesses_are_closest_pairs() {
         else {
             continue;
         };
-        let (Some(o), Some(f)) = (
-            obstacle_support(&*oshape, &opose),
-            feature_support(&feature),
-        ) else {
-            panic!("supported shapes");
-        };
+        let (f, o) = supports(&feature, &*oshape, &opose);
         let Some(w) = sat_witness(&f, &o, &rough) else {
             continue;
         };
@@ -144,16 +167,7 @@ fn exact_witnesses_are_closest_pairs() {
         }
         // The separating-axis value by parry's support maps: at the normal it is the
         // distance, and no direction near it or anywhere gives more.
-        let (fs, os) = (
-            fshape.as_support_map().unwrap(),
-            oshape.as_support_map().unwrap(),
-        );
-        let phi = |m: &Vector3<f64>| {
-            let m = m.normalize();
-            let sf = nvec(fs.support_point(&fpose, pvec(&-m)));
-            let so = nvec(os.support_point(&opose, pvec(&m)));
-            m.dot(&(sf - so))
-        };
+        let phi = |m: &Vector3<f64>| separation(&*fshape, &fpose, &*oshape, &opose, m);
         assert!((phi(&w.normal) - w.dist).abs() < 1e-13, "{n}: {w:?}");
         for k in 0..200 {
             let r = Vector3::new(
@@ -206,12 +220,7 @@ fn apart_witnesses_need_no_gjk() {
         };
         decided += 1;
         assert!((w.dist - rough.dist).abs() < 1e-6, "{n}: {w:?} {rough:?}");
-        let (Some(o), Some(f)) = (
-            obstacle_support(&*oshape, &opose),
-            feature_support(&feature),
-        ) else {
-            panic!("supported shapes");
-        };
+        let (f, o) = supports(&feature, &*oshape, &opose);
         if let Some(warm) = sat_witness(&f, &o, &rough) {
             assert!((warm.dist - w.dist).abs() < 1e-14, "{n}: {warm:?} {w:?}");
             assert!(
@@ -253,12 +262,7 @@ fn near_witnesses_are_parrys_without_parry() {
         if rough.dist > 1e-9 {
             continue;
         }
-        let (Some(o), Some(f)) = (
-            obstacle_support(&*oshape, &opose),
-            feature_support(&feature),
-        ) else {
-            panic!("supported shapes");
-        };
+        let (f, o) = supports(&feature, &*oshape, &opose);
         let Some(old) = sat_witness(&f, &o, &rough) else {
             continue;
         };
@@ -277,16 +281,7 @@ fn near_witnesses_are_parrys_without_parry() {
         assert!((w.dist - old.dist).abs() < 1e-12, "{n}: {w:?} {old:?}");
         assert!((w.normal - old.normal).amax() < 1e-9, "{n}: {w:?} {old:?}");
         assert!((w.robot - old.robot).amax() < 1e-9, "{n}: {w:?} {old:?}");
-        let (fs, os) = (
-            fshape.as_support_map().unwrap(),
-            oshape.as_support_map().unwrap(),
-        );
-        let phi = |m: &Vector3<f64>| {
-            let m = m.normalize();
-            let sf = nvec(fs.support_point(&fpose, pvec(&-m)));
-            let so = nvec(os.support_point(&opose, pvec(&m)));
-            m.dot(&(sf - so))
-        };
+        let phi = |m: &Vector3<f64>| separation(&*fshape, &fpose, &*oshape, &opose, m);
         assert!((phi(&w.normal) - w.dist).abs() < 1e-13, "{n}: {w:?}");
         for k in 0..60 {
             let r = Vector3::from_fn(|_, _| rng.range(-1.0, 1.0));

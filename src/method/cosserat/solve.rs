@@ -4,7 +4,7 @@
 use super::contact::{RodWorld, Touch};
 use super::inextensible::{slack_start, Group};
 use super::problem::{LoadCase, Problem, Trace};
-use super::shooting::{Newton, Setup};
+use super::shooting::{Fail, Newton, Setup};
 use super::warm::Warm;
 use super::{Cosserat, RodModel, MAX_CABLES};
 use crate::error::SolveError;
@@ -107,26 +107,8 @@ impl Method for Cosserat {
             } else {
                 None
             };
-            let mut solved = if prob.fast {
-                prob.solve_unloaded(&x0, &setup, &mut notes)
-            } else if prob.loaded {
-                let cold = input.warm.is_none() && prev.is_none();
-                prob.solve_loaded(&x0, &setup, (cold, self.check_stability), &mut notes)
-            } else {
-                prob.solve_with_continuation(&x0, &setup, jac0)
-            };
-            // The loaded path's Newton on the base moment did not settle: shoot instead.
-            if prob.loaded && solved.is_err() {
-                prob.loaded = false;
-                notes.push("loaded: the base moment did not settle; shooting instead".into());
-                solved = prob.solve_with_continuation(&x0, &setup, jac0);
-            }
-            // The unloaded path's Newton on tensions did not settle: shoot instead.
-            if prob.fast && solved.is_err() && !setup.unknown.is_empty() {
-                prob.shoot_instead();
-                notes.push("unloaded: tensions did not settle; shooting instead".into());
-                solved = prob.solve_with_continuation(&x0, &setup, jac0);
-            }
+            let cold = input.warm.is_none() && prev.is_none();
+            let solved = self.solve_round(&mut prob, &x0, &setup, (jac0, cold), &mut notes);
             // A warm start beside obstacles that Newton cannot take (nor its load steps from
             // zero, with the warm contacts held: they stall at load factor 0) is dropped for
             // the cold start's approach, so a warm start converges wherever a cold one does.
@@ -185,6 +167,40 @@ impl Method for Cosserat {
 }
 
 impl Cosserat {
+    /// One active set's solve by the problem's path — unloaded (no shooting), loaded (shooting
+    /// on the base moment) or shooting on the strain rates with continuation — falling back to
+    /// shooting when a faster path's Newton does not settle (a note says so). `cold`: no warm
+    /// shape and no previous active set started it; `jac0`: the warm Jacobian, if any.
+    fn solve_round(
+        &self,
+        prob: &mut Problem<'_>,
+        x0: &DVector<f64>,
+        setup: &Setup,
+        (jac0, cold): (Option<&DMatrix<f64>>, bool),
+        notes: &mut Vec<String>,
+    ) -> Result<(Newton, usize), Fail> {
+        let mut solved = if prob.fast {
+            prob.solve_unloaded(x0, setup, notes)
+        } else if prob.loaded {
+            prob.solve_loaded(x0, setup, (cold, self.check_stability), notes)
+        } else {
+            prob.solve_with_continuation(x0, setup, jac0)
+        };
+        // The loaded path's Newton on the base moment did not settle: shoot instead.
+        if prob.loaded && solved.is_err() {
+            prob.loaded = false;
+            notes.push("loaded: the base moment did not settle; shooting instead".into());
+            solved = prob.solve_with_continuation(x0, setup, jac0);
+        }
+        // The unloaded path's Newton on tensions did not settle: shoot instead.
+        if prob.fast && solved.is_err() && !setup.unknown.is_empty() {
+            prob.shoot_instead();
+            notes.push("unloaded: tensions did not settle; shooting instead".into());
+            solved = prob.solve_with_continuation(x0, setup, jac0);
+        }
+        solved
+    }
+
     /// The answer's stability and the Jacobian its warm start carries (module docs of
     /// `unloaded_solve.rs`, "Stability", and `jacobian.rs`): `jac` is Newton's last.
     fn stability(
