@@ -41,6 +41,13 @@ pub(crate) fn nvec(v: PVec) -> Vector3<f64> {
     Vector3::new(v.x, v.y, v.z)
 }
 
+/// `x` raised past the round-off of the distance queries that produced it (1e-9 relative,
+/// 1e-12 m absolute): as a query's margin, a bound of `x` that is sure to admit a distance
+/// found equal to `x`.
+pub(crate) fn past_roundoff(x: f64) -> f64 {
+    x * (1.0 + 1e-9) + 1e-12
+}
+
 /// Signed distance, witness points and normal (`normal1`, from the robot feature `g` towards
 /// the obstacle) of one feature–obstacle pair, or `None` beyond `margin`.
 ///
@@ -89,7 +96,7 @@ pub(crate) fn query_hinted(
             Some((lo, _)) if lo > margin => return None,
             // Wholly on the free side: its closest triangle is within its upper bound, so
             // parry's answer with that margin is the same (module docs of `field.rs`).
-            Some((lo, hi)) if lo > 0.0 => margin.min(hi * (1.0 + 1e-9) + 1e-12),
+            Some((lo, hi)) if lo > 0.0 => margin.min(past_roundoff(hi)),
             _ => margin,
         };
         let closest = if field.is_some() {

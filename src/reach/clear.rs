@@ -29,6 +29,7 @@
 //! Labels are formatted for the closest pair only.
 
 use crate::contact::features;
+use crate::contact::parry::past_roundoff;
 use crate::model::robot::Robot;
 use crate::model::scene::Scene;
 use crate::shape::Shape;
@@ -188,7 +189,7 @@ pub fn clearance_hinted(
     let within = bounds
         .iter()
         .filter(|b| b.0 > 0.0)
-        .map(|b| b.1 * (1.0 + 1e-9) + 1e-12)
+        .map(|b| past_roundoff(b.1))
         .fold(f64::INFINITY, f64::min);
     let start = (2.0 * scene.clearance.max(5e-4)).min(within);
     let mut cap = start;
@@ -198,12 +199,12 @@ pub fn clearance_hinted(
         // the first query instead of after a few doublings from `start`).
         let upper = bounds[f * scene.obstacles.len() + k].1;
         let first = if upper > 0.0 && upper.is_finite() {
-            upper * (1.0 + 1e-9) + 1e-12
+            past_roundoff(upper)
         } else {
             start
         };
         if let Some(d) = pair_grown(&feats[f], scene, k, first) {
-            cap = d.max(0.0) * (1.0 + 1e-9) + 1e-12;
+            cap = past_roundoff(d.max(0.0));
         }
     }
     loop {
@@ -270,7 +271,7 @@ pub fn clearance_below_hinted(
     if let Some((f, k)) = hint.filter(|&(f, k)| f < feats.len() && k < scene.obstacles.len()) {
         // Some pair's distance: the clearance is at most it, so a pass within it finds it.
         if let Some(d) = pair(&feats[f], scene, k, cap) {
-            bound = bound.min(d.max(0.0) * (1.0 + 1e-9) + 1e-12);
+            bound = bound.min(past_roundoff(d.max(0.0)));
         }
     }
     let (d, f, k) = pass(&feats, scene, bound, &bounds)?;
@@ -365,7 +366,7 @@ fn pair(f: &Feature, scene: &Scene, k: usize, bound: f64) -> Option<f64> {
                         .parry_pose
                         .inverse_transform_point(crate::contact::pvec(&f.centre));
                     let (lo, _) = fd.point_bounds([c.x, c.y, c.z]);
-                    lo.abs() * (1.0 + 1e-9) + 1e-12
+                    past_roundoff(lo.abs())
                 });
                 query(corner.min(near)).map(|c| c.dist)
             }
