@@ -77,7 +77,7 @@ pub(super) fn solve_through(
     let act = sub_actuation(robot, input.act, b);
     let scene = input.scene.transformed(&cut.base.inverse());
     kind.check_support(&sub, &scene)?;
-    let warm = input.warm.and_then(|w| warm_in(robot, w, &cut, b, &sub));
+    let warm = input.warm.and_then(|w| warm_in(robot, w, b, &sub));
     let shape = solve(SolveInput {
         robot: &sub,
         act: &act,
@@ -213,7 +213,7 @@ fn behind_cables(
 
 /// A warm start for the robot beyond the port from a shape of the whole robot, when the port
 /// cut that shape's robot the same way (same first disk out, same snapping).
-fn warm_in(robot: &Robot, w: &Shape, cut: &Cut, b: &Beyond, sub: &Robot) -> Option<Shape> {
+fn warm_in(robot: &Robot, w: &Shape, b: &Beyond, sub: &Robot) -> Option<Shape> {
     let ws = w.port.as_ref()?;
     let wb = port::beyond(robot, ws.insertion).ok()??;
     if (wb.offset, wb.snapped) != (b.offset, b.snapped) || w.disks.len() != robot.disk_s.len() {
@@ -248,7 +248,6 @@ fn warm_in(robot: &Robot, w: &Shape, cut: &Cut, b: &Beyond, sub: &Robot) -> Opti
             ..w.cables[c].clone()
         })
         .collect();
-    let _ = cut;
     Some(Shape {
         method: w.method.clone(),
         disks,
