@@ -560,4 +560,4 @@ pub(crate) fn apart_witness(
 
 #[cfg(test)]
 #[path = "sat_tests.rs"]
-mod tests;
+pub(crate) mod tests;

@@ -32,7 +32,7 @@ fn supports(feature: &Convex, oshape: &dyn PShape, opose: &PPose) -> (SupportSha
 /// The separating-axis value along `m` (normalized) by parry's support maps, independent of
 /// `sat.rs`: `m · (s_f(−m) − s_o(m))`, the feature's extent towards the obstacle's; the
 /// signed distance is its maximum over directions.
-fn separation(
+pub(crate) fn separation(
     fshape: &dyn PShape,
     fpose: &PPose,
     oshape: &dyn PShape,

@@ -609,8 +609,8 @@ mod tests {
     }
 
     /// The separating-axis value `m ↦ m̂·(s_F(−m̂) − s_O(m̂))` of pair `p` at `pose` by parry's
-    /// support maps (independent of `contact/sat.rs`): the signed distance at the pair's
-    /// normal, no more anywhere.
+    /// support maps (`sat::tests::separation`, independent of the solver under test): the
+    /// signed distance at the pair's normal, no more anywhere.
     fn support_value<'a>(
         w: &'a SectionWorld,
         pose: &Pose,
@@ -636,16 +636,6 @@ mod tests {
             }
         };
         let (shape, opose) = (&w.shapes[p.obstacle].0, w.shapes[p.obstacle].1);
-        move |m: &Vector3<f64>| {
-            let m = m.normalize();
-            let sf = nvec(g.as_support_map().unwrap().support_point(&gpose, pvec(&-m)));
-            let so = nvec(
-                shape
-                    .as_support_map()
-                    .unwrap()
-                    .support_point(&opose, pvec(&m)),
-            );
-            m.dot(&(sf - so))
-        }
+        move |m: &Vector3<f64>| sat::tests::separation(&*g, &gpose, &**shape, &opose, m)
     }
 }
