@@ -211,6 +211,40 @@ fn a_sweep_with_a_bad_value_in_any_column_is_refused_by_line_and_column() {
     assert!(ccrkit::study::merge_csv(&[row(8, "-1e9")]).is_ok());
 }
 
+/// `--columns` naming one column for two cables was read (both cables took its displacement,
+/// the other cable's column was never read), and a tip column or the label as a cable too;
+/// each is refused naming `columns` and the column.
+#[test]
+fn data_columns_named_twice_or_off_the_cables_are_refused_by_name() {
+    let text = "pattern_label,servo_1,servo_2,tip_x,tip_y,tip_z\nplain,1,2,3,4,5\n";
+    let with = |cols: &[&str]| DataOptions {
+        columns: cols.iter().map(|c| c.to_string()).collect(),
+        ..DataOptions::default()
+    };
+    for (cols, says) in [
+        (&["servo_1", "servo_1"][..], "`servo_1` is named twice"),
+        (
+            &["servo_2", "servo_1", "servo_2"][..],
+            "`servo_2` is named twice",
+        ),
+        (&["servo_1", "tip_x"][..], "`tip_x` is not a cable's column"),
+        (
+            &["pattern_label", "servo_1"][..],
+            "`pattern_label` is not a cable's column",
+        ),
+    ] {
+        match Dataset::from_csv_str(text, "d.csv", &with(cols)) {
+            Err(ModelError::Invalid { field, reason }) => {
+                assert_eq!(field, "columns", "{reason}");
+                assert!(reason.contains(says), "{cols:?}: {reason}");
+            }
+            other => panic!("{cols:?}: expected a named refusal, got {other:?}"),
+        }
+    }
+    let ds = Dataset::from_csv_str(text, "d.csv", &with(&["servo_2", "servo_1"])).expect("read");
+    assert_eq!(ds.commands[0], vec![2e-3, 1e-3]);
+}
+
 /// RFC 4180 quoting: a quoted label holding a comma and doubled quotes, a quoted number, are
 /// one field each (they were split at the comma and the row refused as ragged); a column named
 /// twice is still refused when one of the two is quoted.
