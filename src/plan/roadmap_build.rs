@@ -75,6 +75,7 @@ pub fn build(
         margin,
         scene: scene_fingerprint(&space.scene),
         seed: opts.seed,
+        neighbours: opts.neighbours,
         nodes: plain,
         edges,
         edge_clearance,
