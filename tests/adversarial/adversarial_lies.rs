@@ -186,7 +186,7 @@ fn a_sweep_with_a_bad_value_in_any_column_is_refused_by_line_and_column() {
             }
             other => panic!("`{v}` in `{name}`: expected a named refusal, got {other:?}"),
         }
-        let merged = ccrkit::study::merge_csv(&[text.clone()]);
+        let merged = ccrkit::study::merge_csv(std::slice::from_ref(&text));
         let e = merged
             .expect_err(&format!("`{v}` in `{name}` merged"))
             .to_string();
