@@ -25,20 +25,25 @@ use super::{dot, Sqp};
 use crate::method::energy::curvature::LowRank;
 use nalgebra::DMatrix;
 
-/// Gap \[m\] beyond which a pressing pair's curvature `−μ ∇²d` stays out of the Hessian.
+/// Gap \[m\] beyond which a solid mesh's pressing pair leaves its curvature `−μ ∇²d` out of
+/// the Hessian.
 ///
-/// A pair still apart gets its multiplier from the step's linearization, not from a touch:
-/// approaching a concave faceted wall (paper case I inside a meshed sphere of 100 mm) the step's
-/// QP gave a disk 6 mm from the wall a multiplier, its curvature made the Hessian indefinite
-/// beyond what the penalty repairs, the fallback's shift grew the next multipliers with it
-/// (about ×10 per iteration, to 1e7) and the steps shortened. Left out, the Hessian of such an
-/// iterate is the energy's and the contacts' that touch; a pair within `CURVED_GAP` keeps its
-/// curvature, and at a converged answer every pressing pair touches (gap ≤ 1e-8 m), so the
-/// last iterations are Newton's as before and the answer the same. Measured (case I–III in
-/// spheres of 60 × 80 to 200 × 256 quads, radius 95–110 mm): 37 → 24 iterations in the
-/// 25 344-triangle sphere, no other case more than one iteration apart; with 0 (no curvature of
-/// a pair apart at all) three lumens that ran out of iterations converge but every other case
-/// takes more (31 in the 25k sphere).
+/// A pair still apart gets its multiplier from the step's linearization, not from a touch, and
+/// a faceted wall's distance curvature at it is that of the edge or vertex its witness is on
+/// now (differenced from the mesh's normals), not of the face it will touch. Approaching a
+/// concave faceted wall (paper case I inside a meshed sphere of 100 mm) the step's QP gave a
+/// disk 6 mm from the wall a multiplier, that curvature made the Hessian indefinite beyond what
+/// the penalty repairs, the fallback's shift grew the next multipliers with it (about ×10 per
+/// iteration, to 1e7) and the steps shortened. Left out, such an iterate's Hessian is the
+/// energy's and the touching contacts'; a pair within `CURVED_GAP` keeps its curvature, and at
+/// a converged answer every pressing pair touches (gap ≤ 1e-8 m), so the last iterations are
+/// Newton's as before and the answer the same. Measured (cases I–III in spheres of 60 × 80 to
+/// 200 × 256 quads, radius 95–110 mm): 37 → 24 iterations in the 25 344-triangle sphere, no
+/// other case more than one iteration apart; with 0 three lumens that ran out of iterations
+/// converge but every other case takes more (31 in the 25k sphere). Smooth obstacles (boxes,
+/// cylinders, balls) keep every pressing pair's exact curvature: left out there, the committed
+/// wall and pillar lose their superlinear last iterations (the pillar ends at 6.5e-11, not
+/// 1e-12; `newton/tests.rs`).
 const CURVED_GAP: f64 = 1e-5;
 
 impl Sqp<'_, '_> {
@@ -50,11 +55,11 @@ impl Sqp<'_, '_> {
         self.curved = None;
         self.penalty.clear();
         let kin = self.kin.as_ref().filter(|k| k.m_int.len() == prob.nsub)?;
-        // The curvature of pairs pressing within `CURVED_GAP` of touching only (its docs).
+        // A solid mesh's pairs pressing within `CURVED_GAP` of touching only (its docs).
         let clearance = self.clearance;
         let pressing: Vec<_> = super::iterate::pressing(&self.pairs, &self.mu)
             .into_iter()
-            .filter(|(p, _)| p.dist - clearance < CURVED_GAP)
+            .filter(|(p, _)| p.triangle.is_none() || p.dist - clearance < CURVED_GAP)
             .collect();
         let (loads, low) = prob.curvature_terms(kin, &pressing)?;
         // Built once: each try below adds only its penalty term (the same matrix as a whole
