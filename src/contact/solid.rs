@@ -274,7 +274,7 @@ fn face_side(mesh: &TriMesh, t: u32, tri: &parry3d::shape::Triangle, n: PVec, y:
 
 #[cfg(test)]
 #[path = "solid_tests.rs"]
-mod tests;
+pub(crate) mod tests;
 
 /// parry's closest contact of feature `g` with the triangles of `mesh` within `margin`
 /// (what `parry3d::query::contact` against the whole mesh answers: the smallest distance; of
@@ -300,13 +300,19 @@ mod tests;
 /// reached first among those of the smallest distance: the answer is the cold search's, to
 /// the bit, and far fewer nodes are opened. Any triangle (or none, or an index out of range)
 /// may be given. The contact's `subshape2` is the triangle.
+///
+/// `free`: the feature is wholly on the free side (the grid proves it), so the closed form
+/// may answer. Elsewhere every triangle goes to parry: a feature across the wall is given its
+/// depth from the closest triangle's plane ([`signed`]), and among triangles tied to round-off
+/// (the closed form exact, GJK within its tolerance) the two would take different ones and
+/// different depths (0.86 mm apart on a feature across a sphere's wall).
 pub(crate) fn closest_triangle(
     gpose: &PPose,
     g: &dyn PShape,
     opose: &PPose,
     mesh: &TriMesh,
-    margin: f64,
-    hint: Option<u32>,
+    (margin, hint): (f64, Option<u32>),
+    free: bool,
 ) -> Option<PContact> {
     use parry3d::partitioning::BvhLeafCost;
     use parry3d::query::{DefaultQueryDispatcher, QueryDispatcher};
@@ -399,7 +405,7 @@ pub(crate) fn closest_triangle(
             let (lo, hi) = extent(n);
             lb = lb.max(lo - p).max(p - hi);
             // A core apart from the triangle: its distance and witnesses in closed form.
-            if let Some((a, b, r)) = core.filter(|_| slack(lb) < best) {
+            if let Some((a, b, r)) = core.filter(|_| free && slack(lb) < best) {
                 if let Some(ct) = core_contact((a, b, r), &tri, (n, p), &rel) {
                     return (ct.dist <= margin).then_some(Found(ct));
                 }

@@ -294,12 +294,12 @@ fn closest_triangle_is_parrys_on_a_dense_sphere() {
             ];
             for (g, gpose) in shapes {
                 let want = parry3d::query::contact(&gpose, g, &opose, &m, margin).unwrap();
-                let got = closest_triangle(&gpose, g, &opose, &m, margin, None);
+                let got = closest_triangle(&gpose, g, &opose, &m, (margin, None), true);
                 // Started from any triangle — the answer's, its neighbour, one far away, one
                 // out of range — the search returns the cold answer, to the bit.
                 let near = got.map_or(0, |c| c.subshape2);
                 for hint in [near, near + 1, near / 2, 7 * k as u32, u32::MAX] {
-                    let warm = closest_triangle(&gpose, g, &opose, &m, margin, Some(hint));
+                    let warm = closest_triangle(&gpose, g, &opose, &m, (margin, Some(hint)), true);
                     let bits = |c: Option<PContact>| {
                         c.map(|c| (c.dist.to_bits(), c.point1, c.point2, c.normal1, c.subshape2))
                     };
@@ -403,7 +403,7 @@ fn searched(p: PVec, q: PVec, r: f64, tri: &parry3d::shape::Triangle) -> f64 {
 /// The exact distance from the capsule about `pq` (radius `r`, mesh frame) to `mesh`, given
 /// that it is at most `upto`: the least over the triangles within reach of the distance
 /// searched along the core.
-fn exact_distance(mesh: &TriMesh, p: PVec, q: PVec, r: f64, upto: f64) -> f64 {
+pub(crate) fn exact_distance(mesh: &TriMesh, p: PVec, q: PVec, r: f64, upto: f64) -> f64 {
     use parry3d::bounding_volume::{Aabb, BoundingVolume};
     let reach = Aabb::new(p.min(q), p.max(q)).loosened(r + upto.max(0.0) + 1e-6);
     mesh.bvh()
@@ -562,10 +562,11 @@ fn fans_give_the_exact_distance() {
                     let bits = |c: Option<PContact>| {
                         c.map(|c| (c.dist.to_bits(), c.point1, c.point2, c.normal1, c.subshape2))
                     };
-                    let got = closest_triangle(&gpose, g, &opose, &m, margin, None);
+                    let got = closest_triangle(&gpose, g, &opose, &m, (margin, None), true);
                     let near = got.map_or(0, |c| c.subshape2);
                     for hint in [near, near ^ 1, 2 * n - 1] {
-                        let warm = closest_triangle(&gpose, g, &opose, &m, margin, Some(hint));
+                        let warm =
+                            closest_triangle(&gpose, g, &opose, &m, (margin, Some(hint)), true);
                         assert_eq!(bits(warm), bits(got), "{n} {free:?} {k}: hint {hint}");
                     }
                     let want = parry3d::query::contact(&gpose, g, &opose, &m, margin).unwrap();
