@@ -100,7 +100,7 @@ pub(crate) fn query_hinted(
             _ => margin,
         };
         let closest = if field.is_some() {
-            super::solid::closest_triangle(gpose, g, opose, mesh, margin, hint)
+            super::solid::closest_triangle(gpose, g, opose, mesh, (margin, hint), free)
         } else {
             parry3d::query::contact(gpose, g, opose, shape, margin).ok()?
         };

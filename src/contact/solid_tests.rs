@@ -238,10 +238,11 @@ fn a_feature_beyond_a_thin_wall_is_seen() {
 }
 
 /// The branch and bound of `closest_triangle` finds parry's closest triangle against the whole
-/// mesh (its distance to round-off, its witness to GJK's accuracy) on a 25 088-triangle sphere,
-/// for capsules, disks and chords touching it (where many triangles are within a hair of the best),
-/// near it, across its wall and deep inside, seen from either side, and nothing beyond the
-/// margin alike.
+/// mesh on a 25 088-triangle sphere (its distance to round-off, its witness to GJK's accuracy;
+/// for a capsule or chord apart, the exact distance — never above parry's GJK — with witnesses
+/// on the triangle and the feature), for capsules, disks and chords touching it (where many
+/// triangles are within a hair of the best), near it, across its wall and deep inside, seen
+/// from either side, and nothing beyond the margin alike.
 #[test]
 fn closest_triangle_is_parrys_on_a_dense_sphere() {
     let (v, t) = sphere(0.03, 56);
@@ -293,12 +294,12 @@ fn closest_triangle_is_parrys_on_a_dense_sphere() {
             ];
             for (g, gpose) in shapes {
                 let want = parry3d::query::contact(&gpose, g, &opose, &m, margin).unwrap();
-                let got = closest_triangle(&gpose, g, &opose, &m, margin, None);
+                let got = closest_triangle(&gpose, g, &opose, &m, (margin, None), true);
                 // Started from any triangle — the answer's, its neighbour, one far away, one
                 // out of range — the search returns the cold answer, to the bit.
                 let near = got.map_or(0, |c| c.subshape2);
                 for hint in [near, near + 1, near / 2, 7 * k as u32, u32::MAX] {
-                    let warm = closest_triangle(&gpose, g, &opose, &m, margin, Some(hint));
+                    let warm = closest_triangle(&gpose, g, &opose, &m, (margin, Some(hint)), true);
                     let bits = |c: Option<PContact>| {
                         c.map(|c| (c.dist.to_bits(), c.point1, c.point2, c.normal1, c.subshape2))
                     };
@@ -307,10 +308,37 @@ fn closest_triangle_is_parrys_on_a_dense_sphere() {
                 match (want, got) {
                     (None, None) => none += 1,
                     (Some(a), Some(b)) => {
-                        let scale = 1e-12 * (1.0 + a.dist.abs());
-                        assert!((a.dist - b.dist).abs() <= scale, "{} {}", a.dist, b.dist);
-                        assert!((a.point1 - b.point1).length() <= 1e-6);
-                        assert!((a.point2 - b.point2).length() <= 1e-6);
+                        // A capsule or chord apart: the exact distance (below GJK's by up to
+                        // its tolerance); otherwise parry's.
+                        let exact = g.as_capsule().map_or(0.0, |c| c.radius);
+                        let exact = (g.shape_type() != parry3d::shape::ShapeType::Cylinder)
+                            .then(|| {
+                                // (The feature's pose is the mesh's shift: its points are
+                                // in the mesh's frame.)
+                                exact_distance(&m, cap.segment.a, cap.segment.b, exact, b.dist)
+                            })
+                            .filter(|d| *d > 1e-6);
+                        let (want, close) = exact.map_or((a.dist, 1e-6), |d| (d, 1e-15));
+                        let scale = 1e-12 * (1.0 + want.abs());
+                        assert!((want - b.dist).abs() <= scale, "{} {}", want, b.dist);
+                        assert!(b.dist <= a.dist + scale, "{} {}", a.dist, b.dist);
+                        if exact.is_some() {
+                            // The exact witnesses (GJK's lie within the square root of its
+                            // tolerance along a capsule tangent to the sphere): on the
+                            // triangle, on the capsule, the distance apart.
+                            use parry3d::query::PointQuery;
+                            let on = m.triangle(b.subshape2);
+                            let shift = opose.translation;
+                            assert!(on.distance_to_local_point(b.point2 - shift, true) <= close);
+                            let r = g.as_capsule().map_or(0.0, |c| c.radius);
+                            let core = parry3d::shape::Segment::new(cap.segment.a, cap.segment.b);
+                            let off = core.distance_to_local_point(b.point1 - shift, true);
+                            assert!((off - r).abs() <= close, "{off} {r}");
+                            assert!(((b.point1 - b.point2).length() - b.dist).abs() <= close);
+                        } else {
+                            assert!((a.point1 - b.point1).length() <= 1e-6);
+                            assert!((a.point2 - b.point2).length() <= 1e-6);
+                        }
                         touching += usize::from(a.dist.abs() < 5e-4);
                         found += 1;
                     }
@@ -323,5 +351,269 @@ fn closest_triangle_is_parrys_on_a_dense_sphere() {
     assert!(
         found > 400 && none > 40 && touching > 60,
         "{found} {none} {touching}"
+    );
+}
+
+/// A closed double cone: `n` ring vertices of radius `rho` at height 0 and two apexes of
+/// valence `n`, at `-low` and `high` on z, outward; coordinates rounded to 1e-9 m as an OBJ
+/// file holds them (so the fan's triangles tie only to round-off). With `low = 0.0157 rho` the
+/// low apex is a UV sphere's pole seen from inside.
+fn bicone(n: u32, rho: f64, low: f64, high: f64) -> (Vec<Vector3<f64>>, Vec<[u32; 3]>) {
+    let round = |v: Vector3<f64>| v.map(|x| (x * 1e9).round() / 1e9);
+    let mut v: Vec<Vector3<f64>> = (0..n)
+        .map(|i| {
+            let p = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+            round(Vector3::new(rho * p.cos(), rho * p.sin(), 0.0))
+        })
+        .collect();
+    v.push(Vector3::new(0.0, 0.0, high));
+    v.push(Vector3::new(0.0, 0.0, -low));
+    let mut t = vec![];
+    for i in 0..n {
+        let j = (i + 1) % n;
+        t.push([i, j, n]);
+        t.push([j, i, n + 1]);
+    }
+    (v, t)
+}
+
+/// The minimum of a convex function on `[0, 1]` by golden-section search (to ~1e-15 in the
+/// argument): the oracle for the closed-form distances below.
+fn convex_min(f: impl Fn(f64) -> f64) -> f64 {
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    for _ in 0..80 {
+        let (x, y) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if f(x) <= f(y) {
+            hi = y;
+        } else {
+            lo = x;
+        }
+    }
+    f(0.0).min(f(1.0)).min(f((lo + hi) / 2.0))
+}
+
+/// The distance from the segment `pq` (radius `r` about it) to the triangle, searched along
+/// the segment (convex along it) with parry's point projection: the oracle for the closed form.
+fn searched(p: PVec, q: PVec, r: f64, tri: &parry3d::shape::Triangle) -> f64 {
+    use parry3d::query::PointQuery;
+    convex_min(|s| tri.distance_to_local_point(p + s * (q - p), true)) - r
+}
+
+/// The exact distance from the capsule about `pq` (radius `r`, mesh frame) to `mesh`, given
+/// that it is at most `upto`: the least over the triangles within reach of the distance
+/// searched along the core.
+pub(crate) fn exact_distance(mesh: &TriMesh, p: PVec, q: PVec, r: f64, upto: f64) -> f64 {
+    use parry3d::bounding_volume::{Aabb, BoundingVolume};
+    let reach = Aabb::new(p.min(q), p.max(q)).loosened(r + upto.max(0.0) + 1e-6);
+    mesh.bvh()
+        .leaves(|node| node.aabb().intersects(&reach))
+        .map(|t| searched(p, q, r, &mesh.triangle(t)))
+        .fold(f64::MAX, f64::min)
+}
+
+/// The closed forms of `segment_pair` and `core_contact` are the minimum found by searching
+/// along the segment, to round-off: near-parallel segments (or parallel: left to GJK), crossing
+/// ones, segments ending on an edge; the witnesses are that far apart, on the triangle and
+/// on the capsule.
+#[test]
+fn the_core_contact_is_the_searched_distance() {
+    use parry3d::query::PointQuery;
+    let mut rng = Rng(0x07A1_10E5);
+    let point = |rng: &mut Rng, s: f64| {
+        pvec(&Vector3::new(
+            rng.range(-s, s),
+            rng.range(-s, s),
+            rng.range(-s, s),
+        ))
+    };
+    let (mut pairs, mut closed, mut left) = (0, 0, 0);
+    for k in 0..3000 {
+        let (p, u, v) = (
+            point(&mut rng, 0.01),
+            point(&mut rng, 0.01),
+            point(&mut rng, 0.01),
+        );
+        let mut q = point(&mut rng, 0.01);
+        if k % 5 == 0 {
+            // Parallel to a few parts in 10⁴, or exactly.
+            let tilt = [0.0, 1e-4, 3e-3][k % 3];
+            q = p + (v - u) * rng.range(0.2, 2.0) + point(&mut rng, tilt * 0.01);
+        }
+        let along = |a: PVec, b: PVec, x: PVec| {
+            let ab = b - a;
+            let t = ((x - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+            (x - (a + t * ab)).length()
+        };
+        if let Some((x, y)) = segment_pair(p, q, u, v) {
+            let want = convex_min(|s| along(u, v, p + s * (q - p)));
+            assert!(
+                ((x - y).length() - want).abs() <= 1e-13,
+                "{k}: {x} {y} {want}"
+            );
+            assert!(along(p, q, x) <= 1e-15 && along(u, v, y) <= 1e-15);
+            pairs += 1;
+        }
+        // A triangle with `uv` as an edge, and a capsule about `pq`.
+        let tri = parry3d::shape::Triangle::new(u, v, point(&mut rng, 0.01));
+        let Some(n) = tri.normal() else { continue };
+        let r = [0.0, 0.001][k % 2];
+        let rel = PPose::from_translation(PVec::new(0.1, 0.2, -0.3));
+        match core_contact((p, q, r), &tri, (n, n.dot(u)), &rel) {
+            Some(ct) => {
+                let want = searched(p, q, r, &tri);
+                assert!(
+                    (ct.dist - want).abs() <= 1e-13,
+                    "{k}: {} vs {want}",
+                    ct.dist
+                );
+                let on_capsule = rel.transform_point(ct.point2);
+                assert!(tri.distance_to_local_point(ct.point1, true) <= 1e-15);
+                assert!((along(p, q, on_capsule) - r).abs() <= 1e-15);
+                assert!(((on_capsule - ct.point1).length() - ct.dist).abs() <= 1e-15);
+                assert!((on_capsule - ct.point1).dot(ct.normal1) > 0.0);
+                closed += 1;
+            }
+            None => left += 1,
+        }
+    }
+    assert!(
+        pairs > 2000 && closed > 1000 && left > 300,
+        "{pairs} {closed} {left}"
+    );
+}
+
+/// Over fans of 3 to 512 triangles sharing an apex (a UV sphere's pole from inside, a sharp
+/// cone's tip from outside), capsules and chords whose nearest point is on or beside the apex,
+/// on a ring vertex, on an apex edge, or across the wall: the search's distance is the exact
+/// one (searched along the core, triangle by triangle) to round-off where apart, never above
+/// parry's whole-mesh query (GJK, a micrometre above it on some fans) and parry's to round-off
+/// where touching or across; the witnesses are on the answer's triangle and the feature,
+/// that far apart; started from any triangle the search returns the cold answer, to the bit.
+#[test]
+fn fans_give_the_exact_distance() {
+    use parry3d::query::PointQuery;
+    let mut rng = Rng(0xFA_0A9E);
+    let unit = |rng: &mut Rng| {
+        Vector3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        )
+        .normalize()
+    };
+    let (mut apart, mut across, mut ties) = (0, 0, 0);
+    for n in [3, 8, 128, 512] {
+        let rho = 0.01;
+        for (low, high, free) in [
+            (0.0157 * rho, 30.0 * rho, Free::Inside),
+            (3.0 * rho, 3.0 * rho, Free::Outside),
+        ] {
+            let (v, t) = bicone(n, rho, low, high);
+            let m = solid_trimesh(&v, &t, Some(free)).unwrap();
+            let opose = PPose::from_translation(PVec::new(0.01, -0.02, 0.03));
+            let shift = |p: Vector3<f64>| p + nvec(opose.translation);
+            for k in 0..60 {
+                // Where the nearest point is: the low apex, beside it by a hair, a ring
+                // vertex, a point of an apex edge.
+                let apex = Vector3::new(0.0, 0.0, -low);
+                let ring = v[k % n as usize];
+                let target = match k % 4 {
+                    0 => apex,
+                    1 => apex + Vector3::new(rng.range(-1e-9, 1e-9), rng.range(-1e-9, 1e-9), 0.0),
+                    2 => ring,
+                    _ => apex + rng.range(0.0, 1.0) * (ring - apex),
+                };
+                // Towards the free side: up into the cone from the low apex inside, down
+                // away from it outside; tilted, or straight along the axis.
+                let mut dir = if k % 3 == 0 {
+                    Vector3::z()
+                } else {
+                    unit(&mut rng)
+                };
+                dir.z = match free {
+                    Free::Inside => dir.z.abs() + 0.5,
+                    Free::Outside => -dir.z.abs() - 0.5,
+                };
+                let dir = dir.normalize();
+                let gap = match k % 5 {
+                    0 | 1 => rng.range(0.0, 0.002),
+                    2 => 0.0,
+                    3 => -rng.range(0.0, 0.0005),
+                    _ => rng.range(0.002, 0.01),
+                };
+                let radius = [0.0015, 0.0004][k % 2];
+                let axis = unit(&mut rng);
+                let centre = target + dir * (gap + radius);
+                let ends = if k % 2 == 0 {
+                    (
+                        centre,
+                        centre + 0.006 * axis.cross(&dir).normalize() + 0.006 * dir,
+                    )
+                } else {
+                    (centre - 0.003 * axis, centre + 0.003 * axis)
+                };
+                let cap = Capsule::new(pvec(&shift(ends.0)), pvec(&shift(ends.1)), radius);
+                let chord = parry3d::shape::Segment::new(cap.segment.a, cap.segment.b);
+                let shapes: [(&dyn PShape, f64); 2] = [(&cap, radius), (&chord, 0.0)];
+                for (g, r) in shapes {
+                    let gpose = PPose::IDENTITY;
+                    let margin = 0.02;
+                    let bits = |c: Option<PContact>| {
+                        c.map(|c| (c.dist.to_bits(), c.point1, c.point2, c.normal1, c.subshape2))
+                    };
+                    let got = closest_triangle(&gpose, g, &opose, &m, (margin, None), true);
+                    let near = got.map_or(0, |c| c.subshape2);
+                    for hint in [near, near ^ 1, 2 * n - 1] {
+                        let warm =
+                            closest_triangle(&gpose, g, &opose, &m, (margin, Some(hint)), true);
+                        assert_eq!(bits(warm), bits(got), "{n} {free:?} {k}: hint {hint}");
+                    }
+                    let want = parry3d::query::contact(&gpose, g, &opose, &m, margin).unwrap();
+                    let (Some(a), Some(b)) = (want, got) else {
+                        panic!("{n} {free:?} {k}: {want:?} against {got:?}");
+                    };
+                    // The exact distance, triangle by triangle (mesh frame: less the shift).
+                    let (p, q) = (
+                        cap.segment.a - opose.translation,
+                        cap.segment.b - opose.translation,
+                    );
+                    let dists: Vec<f64> = (0..m.indices().len() as u32)
+                        .map(|t| searched(p, q, r, &m.triangle(t)))
+                        .collect();
+                    let exact = dists.iter().copied().fold(f64::MAX, f64::min);
+                    if exact > 1e-6 {
+                        assert!(
+                            (b.dist - exact).abs() <= 1e-12,
+                            "{n} {free:?} {k}: {} vs {exact}",
+                            b.dist
+                        );
+                        assert!(
+                            b.dist <= a.dist + 1e-12,
+                            "{n} {free:?} {k}: {} vs {}",
+                            b.dist,
+                            a.dist
+                        );
+                        let tri = m.triangle(b.subshape2);
+                        let on_mesh = b.point2 - opose.translation;
+                        assert!(tri.distance_to_local_point(on_mesh, true) <= 1e-15);
+                        assert!(((b.point1 - b.point2).length() - b.dist).abs() <= 1e-15);
+                        apart += 1;
+                        ties +=
+                            usize::from(dists.iter().filter(|d| **d < exact + 1e-9).count() >= 8);
+                    } else {
+                        assert!((a.dist - b.dist).abs() <= 1e-12 * (1.0 + a.dist.abs()));
+                        assert!((a.point1 - b.point1).length() <= 1e-6);
+                        assert!((a.point2 - b.point2).length() <= 1e-6);
+                        across += 1;
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("apart {apart}, touching or across {across}, fans tied {ties}");
+    assert!(
+        apart > 400 && across > 100 && ties > 100,
+        "{apart} {across} {ties}"
     );
 }
