@@ -69,11 +69,28 @@ fn check(opts: &AirwayOptions) -> Result<(), AirwayError> {
         );
     }
     if let Some(c) = opts.cell {
-        if !(c.is_finite() && c > 0.0) {
-            return bad("cell", format!("{c} is not a positive length"));
-        }
+        check_cell(c, opts)?;
     }
     Ok(())
+}
+
+/// Finest grid cell \[m\] (below it the grid's count is beyond any bound, its estimate too).
+pub const MIN_CELL: f64 = 1e-9;
+
+/// A grid cell (given or the default) that resolves the narrowest branch: from [`MIN_CELL`]
+/// to half the smallest diameter (a coarser grid drew every branch as one 24-triangle box).
+fn check_cell(cell: f64, opts: &AirwayOptions) -> Result<(), AirwayError> {
+    let most = smallest_diameter(opts) / 2.0;
+    if cell.is_finite() && (MIN_CELL..=most).contains(&cell) {
+        return Ok(());
+    }
+    Err(AirwayError {
+        field: "cell",
+        reason: format!(
+            "{cell:e} m is not in [{MIN_CELL:e}, {most:.3e}] m (half the smallest branch's \
+             diameter: a coarser grid cannot draw it)"
+        ),
+    })
 }
 
 /// The smallest diameter of a tree `opts` describes: the minor child's at the last generation.
@@ -85,6 +102,7 @@ fn smallest_diameter(opts: &AirwayOptions) -> f64 {
 pub fn generate(opts: &AirwayOptions) -> Result<Airway, AirwayError> {
     check(opts)?;
     let cell = opts.cell.unwrap_or(smallest_diameter(opts) / 4.0);
+    check_cell(cell, opts)?;
     let branches = airway::tree(opts);
     let capsules: Vec<tetra::Capsule> = branches
         .iter()
@@ -109,7 +127,7 @@ pub fn generate(opts: &AirwayOptions) -> Result<Airway, AirwayError> {
         return Err(AirwayError {
             field: "cell",
             reason: format!(
-                "{cell} m samples about {points:.1e} grid points, more than {MAX_GRID_POINTS:.0e}: use a larger cell or fewer generations"
+                "{cell:e} m samples about {points:.1e} grid points, more than {MAX_GRID_POINTS:.0e}: use a larger cell or fewer generations"
             ),
         });
     }

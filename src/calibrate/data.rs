@@ -137,6 +137,7 @@ impl Dataset {
                 })
                 .collect::<Result<_, _>>()?
         };
+        check_named_columns(&opts.columns)?;
         if cols.is_empty() {
             return Err(ModelError::invalid(
                 "columns",
@@ -228,6 +229,27 @@ pub fn family(label: &str) -> String {
         Some(i) if s[i + 4..].chars().all(|c| c.is_ascii_digit()) => s[..i].to_string(),
         _ => s.to_string(),
     }
+}
+
+/// The cable columns named (`--columns`), each a cable's own: a column named twice (two
+/// cables read the same displacement, and the column meant for one of them is never read) or
+/// a tip column or the label read as a cable is refused by name.
+fn check_named_columns(columns: &[String]) -> Result<(), ModelError> {
+    for (k, c) in columns.iter().enumerate() {
+        if let Some(j) = columns[..k].iter().position(|p| p == c) {
+            return Err(ModelError::invalid(
+                "columns",
+                format!("`{c}` is named twice (cables {} and {})", j + 1, k + 1),
+            ));
+        }
+        if matches!(c.as_str(), "tip_x" | "tip_y" | "tip_z" | "pattern_label") {
+            return Err(ModelError::invalid(
+                "columns",
+                format!("`{c}` is not a cable's column (cable {})", k + 1),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A header names each column once, and gives the tip as all of `tip_x`, `tip_y`, `tip_z` or

@@ -379,6 +379,21 @@ fn refined(counts: &[usize], parts: &[f64], room: f64, order: f64, cap: usize) -
     out
 }
 
+/// A tip distance `metres` for people, in millimetres: four decimals, or four significant
+/// digits in scientific notation below a micrometre (a tolerance of a picometre is not
+/// `0.0000 mm`). Every such distance is finite ([`crate::model::bounds::TIP_DISTANCE`]);
+/// another prints as `—`.
+pub fn mm(metres: f64) -> String {
+    let x = metres * 1e3;
+    if !x.is_finite() {
+        "— mm".to_string()
+    } else if x == 0.0 || x.abs() >= 1e-3 {
+        format!("{x:.4} mm")
+    } else {
+        format!("{x:.3e} mm")
+    }
+}
+
 /// The cheapest answer whose estimated tip distance from the converged rod is within
 /// `tolerance` \[m\] (module docs): the shape, with `report.error_estimate` and `report.auto`
 /// filled and a note naming the choice. `base` settings are passed to the rungs of the
@@ -391,12 +406,7 @@ pub fn choose(
     tolerance: f64,
     base: &Settings,
 ) -> Result<Shape, SolveError> {
-    if !(tolerance.is_finite() && tolerance > 0.0) {
-        return Err(SolveError::InvalidInput {
-            field: "tolerance".into(),
-            reason: format!("auto needs a positive tolerance in metres, got {tolerance}"),
-        });
-    }
+    crate::model::bounds::TIP_DISTANCE.check("tolerance", tolerance)?;
     let t0 = Instant::now();
     let mut search = Search {
         robot,
@@ -446,11 +456,11 @@ pub fn choose(
     est.cost_s = cost;
     let bound = est.known_parts_m();
     shape.report.notes.push(format!(
-        "auto: {} {setting}, estimated {:.4} mm {} the tolerance {:.4} mm; {solves} solves in {:.1} µs{}",
+        "auto: {} {setting}, estimated {} {} the tolerance {}; {solves} solves in {:.1} µs{}",
         shape.method,
-        bound * 1e3,
+        mm(bound),
         if met { "within" } else { "above" },
-        tolerance * 1e3,
+        mm(tolerance),
         cost * 1e6,
         if est.model_m.is_none() {
             " (model part unknown: only the discretization part is held to it)"
@@ -493,4 +503,16 @@ pub fn settled(shape: &Shape, base: &Settings) -> Option<SolveRequest> {
     };
     let control = base.get("control").unwrap_or("displacement");
     Some(SolveRequest::new(kind).with_settings(rung_settings(&rung, base, control)))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn tip_distances_print_with_their_digits() {
+        assert_eq!(super::mm(1e-4), "0.1000 mm");
+        assert_eq!(super::mm(0.0), "0.0000 mm");
+        assert_eq!(super::mm(1e-12), "1.000e-9 mm");
+        assert_eq!(super::mm(100.0), "100000.0000 mm");
+        assert_eq!(super::mm(f64::INFINITY), "— mm");
+    }
 }

@@ -100,8 +100,15 @@ pub const COORDINATE: Range = range(-1e3, 1e3, "m");
 pub const OBSTACLE_SIZE: Range = range(1e-9, 1e3, "m");
 /// Mesh scale factors: 10⁻⁹ to 10⁶ (vertices must still land within [`COORDINATE`]).
 pub const MESH_SCALE: Range = range(1e-9, 1e6, "-");
-/// Clearance kept from obstacles: 0 to 1 m.
+/// Clearance kept from obstacles: 0 to 1 m (a scene's `clearance`, and the `margin` of
+/// `reach`, `plan` and roadmaps).
 pub const CLEARANCE: Range = range(0.0, 1.0, "m");
+/// A tip distance asked for: the tolerance of `auto`, of `reach`, of `study auto`, and the
+/// distance at which `compare` flags two methods. From a picometre (the round-off of a tip
+/// on the longest backbone, 100 m × 1e-14, lies below it) to the longest backbone
+/// ([`ROBOT_LENGTH`]): beyond it every answer is within, and `1e308` m was printed as
+/// `inf mm`.
+pub const TIP_DISTANCE: Range = range(1e-12, 100.0, "m");
 /// Most cables in one model (each method may refuse fewer, by name).
 pub const MAX_CABLES: usize = 256;
 

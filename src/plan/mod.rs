@@ -335,9 +335,7 @@ pub(crate) fn check_options(o: &PlanOptions) -> Result<(), SolveError> {
     crate::counts::PLAN_SAMPLES.check(o.max_samples)?;
     crate::counts::PLAN_SHORTCUTS.check(o.shortcuts)?;
     if let Some(m) = o.margin {
-        if !(m.is_finite() && m >= 0.0) {
-            return bad("margin", format!("must be finite and ≥ 0, got {m}"));
-        }
+        crate::model::bounds::CLEARANCE.check("margin", m)?;
     }
     Ok(())
 }

@@ -134,6 +134,10 @@ pub struct Roadmap {
     pub scene: String,
     /// Seed.
     pub seed: u64,
+    /// Neighbours each node tried to connect to (`--neighbours`): the candidate edges, which
+    /// the shards of one build must share (0 in a file written before it was recorded).
+    #[serde(default)]
+    pub neighbours: usize,
     /// Nodes.
     pub nodes: Vec<RoadmapNode>,
     /// Validated edges (node indices).

@@ -33,8 +33,11 @@ pub fn build(
     if !(opts.spread.is_finite() && opts.spread > 0.0 && opts.spread <= 1.0) {
         return Err(SolveError::InvalidInput {
             field: "spread".into(),
-            reason: format!("must be in (0, 1], got {}", opts.spread),
+            reason: format!("must be in (0, 1], got {:e}", opts.spread),
         });
+    }
+    if let Some(m) = opts.margin {
+        crate::model::bounds::CLEARANCE.check("margin", m)?;
     }
     let t0 = Instant::now();
     let space = Space::new(model, request, false)?;
@@ -72,6 +75,7 @@ pub fn build(
         margin,
         scene: scene_fingerprint(&space.scene),
         seed: opts.seed,
+        neighbours: opts.neighbours,
         nodes: plain,
         edges,
         edge_clearance,

@@ -118,6 +118,7 @@ fn build_of(r: &Roadmap) -> impl PartialEq + '_ {
         margin,
         scene,
         seed,
+        neighbours,
         nodes,
         edges: _,
         edge_clearance: _,
@@ -128,6 +129,6 @@ fn build_of(r: &Roadmap) -> impl PartialEq + '_ {
     (
         (format, robot, robot_fingerprint, space, space_fingerprint),
         (cables, lo, hi, method, settings),
-        (margin.to_bits(), scene, seed, nodes),
+        (margin.to_bits(), scene, seed, neighbours, nodes),
     )
 }

@@ -350,26 +350,18 @@ fn check_input(target: &Target, opts: &ReachOptions) -> Result<(), SolveError> {
             reason,
         })
     };
-    if target.tip.iter().any(|x| !x.is_finite()) {
-        return bad(
-            "tip",
-            format!("must be finite, got {:?}", target.tip.as_slice()),
-        );
-    }
+    let t = target.tip;
+    crate::model::bounds::COORDINATE.check3("tip", [t.x, t.y, t.z])?;
     if let Some(t) = target.tangent {
         if !(t.iter().all(|x| x.is_finite()) && (t.norm() - 1.0).abs() < 1e-9) {
             return bad("tangent", "must be a finite unit vector".into());
         }
     }
-    if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
-        return bad("tolerance", format!("must be > 0, got {}", opts.tolerance));
-    }
+    crate::model::bounds::TIP_DISTANCE.check("tolerance", opts.tolerance)?;
     crate::counts::REACH_STARTS.check(opts.starts)?;
     crate::counts::REACH_ITERATIONS.check(opts.max_iterations)?;
     if let Some(m) = opts.margin {
-        if !(m.is_finite() && m >= 0.0) {
-            return bad("margin", format!("must be finite and ≥ 0, got {m}"));
-        }
+        crate::model::bounds::CLEARANCE.check("margin", m)?;
     }
     Ok(())
 }

@@ -136,12 +136,7 @@ fn check(opts: &AutoStudyOptions) -> Result<std::ops::Range<u64>, SolveError> {
         return Err(bad("tolerances", "name at least one tolerance".into()));
     }
     for (k, &t) in opts.tolerances.iter().enumerate() {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(bad(
-                "tolerances",
-                format!("each must be a positive length in metres, got {t}"),
-            ));
-        }
+        crate::model::bounds::TIP_DISTANCE.check("tolerances", t)?;
         if opts.tolerances[..k].contains(&t) {
             return Err(bad(
                 "tolerances",
@@ -230,7 +225,8 @@ pub struct AutoSummary {
     pub within: f64,
     /// Fraction of answers whose estimate bounds their true error.
     pub bounded: f64,
-    /// Median of auto's cost over the hindsight-cheapest cost (answers that have one).
+    /// Median of auto's cost over the hindsight-cheapest cost (answers that have one; NaN
+    /// when none has: no rung was within the tolerance in truth).
     pub median_cost_ratio: f64,
 }
 

@@ -96,11 +96,9 @@ pub fn compare(
     requests: &[SolveRequest],
     tolerance_m: f64,
 ) -> Result<Comparison, StudyError> {
-    if !(tolerance_m.is_finite() && tolerance_m > 0.0) {
-        return Err(StudyError::Invalid(format!(
-            "tolerance must be a positive length in metres, got {tolerance_m}"
-        )));
-    }
+    crate::model::bounds::TIP_DISTANCE
+        .check("tolerance", tolerance_m)
+        .map_err(crate::error::SolveError::from)?;
     let mut rows = Vec::with_capacity(requests.len());
     for r in requests {
         r.solver()?;
@@ -185,8 +183,8 @@ impl std::fmt::Display for Comparison {
         writeln!(f)?;
         writeln!(
             f,
-            "pairs (RMS over disks, tip distance; same-input pairs beyond {:.3} mm at the tip disagree):",
-            self.tolerance_m * 1e3
+            "pairs (RMS over disks, tip distance; same-input pairs beyond {} at the tip disagree):",
+            crate::method::auto::mm(self.tolerance_m)
         )?;
         for p in &self.pairs {
             writeln!(

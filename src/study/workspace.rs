@@ -243,8 +243,84 @@ pub fn workspace_csv(ws: &Workspace) -> String {
     s
 }
 
-/// Merge workspace CSVs (shards of one sweep): same header required, rows sorted by sample
-/// index, a sample present twice is an error.
+/// The number in a workspace CSV's column `column` (as [`workspace_csv`] writes them, read
+/// back by `ccrkit view --sweep` and `ccrkit study merge`), or why `text` is not one: every
+/// column has a range, by its name — `sample` a whole number below the most samples
+/// ([`crate::counts::STUDY_SAMPLES`]), `iterations` a whole number up to the most iterations,
+/// `<cable>_shortening_fraction` within ±1 (of the cable), `<cable>_tension_n` within
+/// [`crate::model::bounds::TENSION`], the tip's `tip_x_m`… within ±[`crate::shape::MAX_EXTENT`]
+/// (where a shape lies), any other number within ±1e9 — so no `NaN` or `1e308` reaches a page's
+/// colour scale or a merged file. An empty value is not a number (a failed sample's tip is
+/// the caller's to allow).
+pub fn sweep_value(column: &str, text: &str) -> Result<f64, String> {
+    let (lo, hi, whole, what) = match column {
+        "sample" => (
+            0.0,
+            crate::counts::STUDY_SAMPLES.max as f64,
+            true,
+            "a sample index",
+        ),
+        "iterations" => (
+            0.0,
+            crate::method::settings::MAX_ITERATIONS as f64,
+            true,
+            "an iteration count",
+        ),
+        "tip_x_m" | "tip_y_m" | "tip_z_m" => {
+            let e = crate::shape::MAX_EXTENT;
+            (-e, e, false, "a tip coordinate [m] (where a shape lies)")
+        }
+        c if c.ends_with("_shortening_fraction") => (-1.0, 1.0, false, "a fraction of the cable"),
+        c if c.ends_with("_tension_n") => {
+            let t = crate::model::bounds::TENSION;
+            (t.lo, t.hi, false, "a tension [N]")
+        }
+        _ => (-1e9, 1e9, false, "a number of this column"),
+    };
+    let v = text.trim();
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() && (lo..=hi).contains(&x) && (!whole || x.fract() == 0.0) => Ok(x),
+        _ => Err(format!(
+            "`{v}` is not {what}: {} from {lo:e} to {hi:e}",
+            if whole { "a whole number" } else { "a number" }
+        )),
+    }
+}
+
+/// True when `column` holds numbers in every workspace CSV (its values are checked by
+/// [`sweep_value`] whatever they are; another column is text when any value is not a number).
+pub fn sweep_column_is_numeric(column: &str) -> bool {
+    matches!(
+        column,
+        "sample" | "iterations" | "tip_x_m" | "tip_y_m" | "tip_z_m"
+    ) || column.ends_with("_shortening_fraction")
+        || column.ends_with("_tension_n")
+}
+
+/// One row of a workspace CSV checked column by column ([`sweep_value`]: a workspace number
+/// column, or any value that reads as a number; a failed sample's tip is empty): the error
+/// names the column.
+fn check_sweep_row(header: &[&str], fields: &[&str]) -> Result<(), String> {
+    if fields.len() != header.len() {
+        return Err(format!(
+            "{} fields, the header has {}",
+            fields.len(),
+            header.len()
+        ));
+    }
+    for (c, v) in header.iter().zip(fields) {
+        let tip = c.starts_with("tip_");
+        let number = sweep_column_is_numeric(c) || v.trim().parse::<f64>().is_ok();
+        if number && !(tip && v.trim().is_empty()) {
+            sweep_value(c, v).map_err(|e| format!("column `{c}`: {e}"))?;
+        }
+    }
+    Ok(())
+}
+
+/// Merge workspace CSVs (shards of one sweep): same header required, every row's values in
+/// their columns' ranges ([`sweep_value`]), rows sorted by sample index, a sample present twice
+/// is an error.
 pub fn merge_csv(texts: &[String]) -> Result<String, StudyError> {
     let mut header: Option<&str> = None;
     let mut rows: Vec<(usize, &str)> = vec![];
@@ -263,17 +339,19 @@ pub fn merge_csv(texts: &[String]) -> Result<String, StudyError> {
             }
             _ => {}
         }
+        let names: Vec<&str> = h.split(',').map(str::trim).collect();
         for (ln, l) in lines.enumerate() {
             if l.is_empty() {
                 continue;
             }
-            let idx = l
-                .split(',')
-                .next()
+            let at =
+                |e: String| StudyError::Invalid(format!("input {} line {}: {e}", f + 1, ln + 2));
+            let fields: Vec<&str> = l.split(',').collect();
+            check_sweep_row(&names, &fields).map_err(at)?;
+            let idx = fields
+                .first()
                 .and_then(|x| x.parse::<usize>().ok())
-                .ok_or_else(|| {
-                    StudyError::Invalid(format!("input {} line {}: no sample index", f + 1, ln + 2))
-                })?;
+                .ok_or_else(|| at("no sample index".into()))?;
             rows.push((idx, l));
         }
     }

@@ -143,6 +143,108 @@ fn a_sweep_with_a_tip_beyond_any_shape_is_refused_by_line_and_column() {
     assert_eq!(read.tips[1][0], -edge);
 }
 
+/// Every column of a sweep is range-checked by name, not only the tip: a `NaN`, `1e308`,
+/// empty or fractional value in the sample, an input, the iterations or another number column
+/// was read (`NaN`, the colour scale's `inf` span, on the page) by `view --sweep` and passed
+/// into the merged file by `study merge`; each is refused naming its line and column.
+#[test]
+fn a_sweep_with_a_bad_value_in_any_column_is_refused_by_line_and_column() {
+    use ccrkit::export::view::read_sweep;
+    let header =
+        "sample,A_shortening_fraction,B_tension_n,tip_x_m,tip_y_m,tip_z_m,status,iterations,score";
+    let good = "0,0.01,1,0,0,0.1,converged,5,0.5";
+    let row = |col: usize, v: &str| {
+        let mut f: Vec<&str> = "1,0.02,2,0,0,0.1,converged,6,0.25".split(',').collect();
+        f[col] = v;
+        format!("{header}\n{good}\n{}\n", f.join(","))
+    };
+    let bad = [
+        (0, "NaN", "sample"),
+        (0, "1.5", "sample"),
+        (0, "1e308", "sample"),
+        (1, "NaN", "A_shortening_fraction"),
+        (1, "1e308", "A_shortening_fraction"),
+        (1, "", "A_shortening_fraction"),
+        (2, "-1", "B_tension_n"),
+        (2, "inf", "B_tension_n"),
+        (7, "NaN", "iterations"),
+        (7, "lots", "iterations"),
+        (8, "1e308", "score"),
+        (8, "NaN", "score"),
+    ];
+    let dir = crate::common::adversarial_harness::scratch("lies-sweep");
+    let model = crate::common::cli::paper_path(1);
+    for (col, v, name) in bad {
+        let text = row(col, v);
+        match read_sweep(&text) {
+            Err(ccrkit::export::ExportError::Input { field, reason }) => {
+                assert_eq!(
+                    field,
+                    format!("sweep line 3, column `{name}`"),
+                    "`{v}`: {reason}"
+                );
+            }
+            other => panic!("`{v}` in `{name}`: expected a named refusal, got {other:?}"),
+        }
+        let merged = ccrkit::study::merge_csv(std::slice::from_ref(&text));
+        let e = merged
+            .expect_err(&format!("`{v}` in `{name}` merged"))
+            .to_string();
+        assert!(
+            e.contains("line 3") && e.contains(&format!("`{name}`")),
+            "{e}"
+        );
+        std::fs::write(dir.join("s.csv"), &text).expect("written");
+        let out = crate::common::cli::ccrkit_in(
+            &dir,
+            &["view", &model, "--sweep", "s.csv", "--out", "v.html"],
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "`{v}` in `{name}`: {err}");
+        assert!(err.contains(&format!("column `{name}`")), "{err}");
+    }
+    let read = read_sweep(&row(8, "-1e9")).expect("a number column at its edge is read");
+    assert_eq!(
+        read.columns.iter().find(|c| c.0 == "score").map(|c| c.1[1]),
+        Some(-1e9)
+    );
+    assert!(ccrkit::study::merge_csv(&[row(8, "-1e9")]).is_ok());
+}
+
+/// `--columns` naming one column for two cables was read (both cables took its displacement,
+/// the other cable's column was never read), and a tip column or the label as a cable too;
+/// each is refused naming `columns` and the column.
+#[test]
+fn data_columns_named_twice_or_off_the_cables_are_refused_by_name() {
+    let text = "pattern_label,servo_1,servo_2,tip_x,tip_y,tip_z\nplain,1,2,3,4,5\n";
+    let with = |cols: &[&str]| DataOptions {
+        columns: cols.iter().map(|c| c.to_string()).collect(),
+        ..DataOptions::default()
+    };
+    for (cols, says) in [
+        (&["servo_1", "servo_1"][..], "`servo_1` is named twice"),
+        (
+            &["servo_2", "servo_1", "servo_2"][..],
+            "`servo_2` is named twice",
+        ),
+        (&["servo_1", "tip_x"][..], "`tip_x` is not a cable's column"),
+        (
+            &["pattern_label", "servo_1"][..],
+            "`pattern_label` is not a cable's column",
+        ),
+    ] {
+        match Dataset::from_csv_str(text, "d.csv", &with(cols)) {
+            Err(ModelError::Invalid { field, reason }) => {
+                assert_eq!(field, "columns", "{reason}");
+                assert!(reason.contains(says), "{cols:?}: {reason}");
+            }
+            other => panic!("{cols:?}: expected a named refusal, got {other:?}"),
+        }
+    }
+    let ds = Dataset::from_csv_str(text, "d.csv", &with(&["servo_2", "servo_1"])).expect("read");
+    assert_eq!(ds.commands[0], vec![2e-3, 1e-3]);
+}
+
 /// RFC 4180 quoting: a quoted label holding a comma and doubled quotes, a quoted number, are
 /// one field each (they were split at the comma and the row refused as ragged); a column named
 /// twice is still refused when one of the two is quoted.

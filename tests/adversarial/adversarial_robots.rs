@@ -106,11 +106,22 @@ fn robot() -> impl Strategy<Value = RobotSpec> {
         })
 }
 
-/// How many robots `CCRKIT_ADVERSARIAL_CASES` asks for (unset or unreadable: the test's own).
+/// How many robots `CCRKIT_ADVERSARIAL_CASES` asks for (unset: the test's own times
+/// `CCRKIT_CASES_SCALE`, `crate::common::case_scale`); a value that is not a whole number stops
+/// the run naming it.
 fn env_cases() -> Option<u32> {
-    std::env::var("CCRKIT_ADVERSARIAL_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
+    match std::env::var("CCRKIT_ADVERSARIAL_CASES") {
+        Ok(v) => Some(v.trim().parse().unwrap_or_else(|_| {
+            panic!("CCRKIT_ADVERSARIAL_CASES must be a whole number, got `{v}`")
+        })),
+        Err(_) => None,
+    }
+}
+
+/// The test's own count of robots, times `CCRKIT_CASES_SCALE`, unless `CCRKIT_ADVERSARIAL_CASES`
+/// names one.
+fn robots(own: u32) -> u32 {
+    env_cases().unwrap_or_else(|| own.saturating_mul(crate::common::case_scale()))
 }
 
 /// `cases` robots drawn from [`robot`] (proptest's runner with the suites' fixed seed, or
@@ -208,7 +219,7 @@ fn toml(r: &RobotSpec) -> String {
 #[test]
 fn random_robots_with_every_method_end_named_and_bounded() {
     let dir = scratch("robots");
-    let drawn = draw_robots(&dir, env_cases().unwrap_or(40));
+    let drawn = draw_robots(&dir, robots(40));
     let ms = methods();
     let mut jobs = vec![];
     for (k, (_, file)) in drawn.iter().enumerate() {
@@ -368,7 +379,7 @@ fn unique_consistent(u: &serde_json::Value) -> Result<(), String> {
 #[test]
 fn random_robots_checked_for_other_equilibria_report_consistently() {
     let dir = scratch("multiplicity");
-    let drawn = draw_robots(&dir, env_cases().map_or(12, |c| c.div_ceil(3)));
+    let drawn = draw_robots(&dir, env_cases().map_or(robots(12), |c| c.div_ceil(3)));
     let ms = methods();
     let mut jobs = vec![];
     let mut files = vec![];

@@ -11,6 +11,7 @@ mod adversarial_actuation_files;
 mod adversarial_cli;
 mod adversarial_counts;
 mod adversarial_files;
+mod adversarial_floats;
 mod adversarial_lies;
 mod adversarial_outputs;
 mod adversarial_plan_files;

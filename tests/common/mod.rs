@@ -17,16 +17,41 @@ use proptest::test_runner::{Config as ProptestConfig, RngSeed};
 /// The seed every generated-input suite draws from unless `PROPTEST_RNG_SEED` names another.
 pub const PROPTEST_SEED: u64 = 0x00cc_4b17_2026_1129;
 
-/// `config` with a fixed seed ([`PROPTEST_SEED`]): every run, and CI, draws the same inputs,
-/// so a suite is red only for a change of the code. To explore new inputs, set
-/// `PROPTEST_RNG_SEED=<u64>` (proptest's own variable, read by `Config::default()`); a failure
-/// found that way is reproduced with the same value and becomes a test.
+/// `config` with a fixed seed ([`PROPTEST_SEED`]) and its case count times [`case_scale`]:
+/// every run, and CI, draws the same inputs, so a suite is red only for a change of the code.
+/// To explore new inputs, set `PROPTEST_RNG_SEED=<u64>` (proptest's own variable, read by
+/// `Config::default()`); a failure found that way is reproduced with the same value and
+/// becomes a test. To draw more of them, `CCRKIT_CASES_SCALE=K`.
 pub fn fixed_seed(config: ProptestConfig) -> ProptestConfig {
     let rng_seed = match config.rng_seed {
         RngSeed::Random => RngSeed::Fixed(PROPTEST_SEED),
         chosen => chosen,
     };
-    ProptestConfig { rng_seed, ..config }
+    let cases = config.cases.saturating_mul(case_scale());
+    ProptestConfig {
+        rng_seed,
+        cases,
+        ..config
+    }
+}
+
+/// Most `CCRKIT_CASES_SCALE` (a thousand times the suites' cases is days of runs).
+pub const MAX_CASES_SCALE: u32 = 1000;
+
+/// `CCRKIT_CASES_SCALE=K`: every generated-input suite draws K times its cases (the proptest
+/// suites through [`fixed_seed`], the adversarial random robots); unset, 1. A value that is
+/// not a whole number from 1 to [`MAX_CASES_SCALE`] stops the run naming it, never ignored.
+pub fn case_scale() -> u32 {
+    match std::env::var("CCRKIT_CASES_SCALE") {
+        Err(std::env::VarError::NotPresent) => 1,
+        Ok(v) => match v.trim().parse::<u32>() {
+            Ok(k) if (1..=MAX_CASES_SCALE).contains(&k) => k,
+            _ => panic!(
+                "CCRKIT_CASES_SCALE must be a whole number from 1 to {MAX_CASES_SCALE}, got `{v}`"
+            ),
+        },
+        Err(e) => panic!("CCRKIT_CASES_SCALE: {e}"),
+    }
 }
 
 /// Paper case `n` (1, 2 or 3) from `models/paper/`.

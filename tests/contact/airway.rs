@@ -182,6 +182,28 @@ fn the_same_seed_gives_the_same_mesh_and_bad_options_are_named() {
             },
             "cell",
         ),
+        // Coarser than the narrowest branch: every branch drawn as one 24-triangle box.
+        (
+            AirwayOptions {
+                cell: Some(1.0),
+                ..small(1)
+            },
+            "cell",
+        ),
+        (
+            AirwayOptions {
+                cell: Some(1e300),
+                ..small(1)
+            },
+            "cell",
+        ),
+        (
+            AirwayOptions {
+                cell: Some(1e-300),
+                ..small(1)
+            },
+            "cell",
+        ),
         (
             AirwayOptions {
                 trachea_diameter: f64::NAN,

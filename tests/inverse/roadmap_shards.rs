@@ -140,6 +140,22 @@ fn shards_of_different_builds_are_refused_by_name() {
     assert!(err(vec![a.clone()]).contains("shard 1/2 is missing"));
     assert!(err(vec![a.clone(), a.clone()]).contains("given twice"));
     assert!(err(vec![a.clone(), small(1, 2)]).contains("another robot, scene"));
+    // Other `--neighbours`: the same nodes but another candidate list, each shard's share of
+    // it taken from a list the other does not have (refused only by chance before, when two
+    // shares happened to hold one edge).
+    let fewer = build(
+        &model,
+        &request,
+        &BuildOptions {
+            samples: 8,
+            expand: 0,
+            neighbours: 2,
+            ..options(shard(1, 2))
+        },
+    )
+    .unwrap();
+    assert_eq!((fewer.neighbours, a.neighbours), (2, 5));
+    assert!(err(vec![a.clone(), fewer]).contains("another robot, scene"));
     let mut whole = b.clone();
     whole.shard = None;
     assert!(err(vec![a.clone(), whole]).contains("whole roadmap"));

@@ -201,13 +201,19 @@ fn auto(a: AutoArgs) -> Result<()> {
         "tolerance", "answers", "true error ≤ T", "estimate ≥ error", "cost / hindsight (med)"
     );
     for s in study::summarize(&rows) {
+        // No answer with a hindsight rung (none met the tolerance in truth): no ratio.
+        let ratio = if s.median_cost_ratio.is_finite() {
+            format!("{:.2}×", s.median_cost_ratio)
+        } else {
+            "—".to_string()
+        };
         println!(
-            "{:>9.4} mm {:>8} {:>14.1} % {:>16.1} % {:>21.2}×",
-            s.tolerance * 1e3,
+            "{:>12} {:>8} {:>14.1} % {:>16.1} % {:>22}",
+            ccrkit::method::auto::mm(s.tolerance),
             s.answers,
             100.0 * s.within,
             100.0 * s.bounded,
-            s.median_cost_ratio
+            ratio
         );
     }
     Ok(())

@@ -76,10 +76,10 @@ pub(crate) fn print_summary(model: &Model, shape: &Shape, median: f64, repeat: u
     );
     if let Some(a) = &shape.report.auto {
         println!(
-            "auto    {} {} for tolerance {:.4} mm{}: {} solves in {:.1} µs",
+            "auto    {} {} for tolerance {}{}: {} solves in {:.1} µs",
             a.method,
             a.setting,
-            a.tolerance_m * 1e3,
+            ccrkit::method::auto::mm(a.tolerance_m),
             if a.met { "" } else { " (NOT met)" },
             a.solves,
             a.cost_s * 1e6

@@ -2,7 +2,7 @@
 //! `csv` crate.
 
 use super::ExportError;
-use crate::shape::MAX_EXTENT;
+use crate::study::{sweep_column_is_numeric, sweep_value};
 use serde::Serialize;
 
 /// A sweep read from CSV: tips and the other columns.
@@ -41,9 +41,14 @@ fn bad(field: impl Into<String>, reason: impl Into<String>) -> ExportError {
     }
 }
 
-/// Read a workspace CSV (header `sample,…,tip_x_m,tip_y_m,tip_z_m,…`). Each tip coordinate is
-/// finite and within ±[`MAX_EXTENT`] (a tip at `1e308` m was drawn, and the page's view box
-/// with it).
+/// Read a workspace CSV (header `sample,…,tip_x_m,tip_y_m,tip_z_m,…`). Every value is checked
+/// by its column's name ([`crate::study::sweep_value`]: each tip coordinate finite and within
+/// ±[`crate::shape::MAX_EXTENT`] — a tip at `1e308` m was drawn, and the page's view box with it — the
+/// sample, the inputs and the iterations in their ranges, any other number column within
+/// ±1e9: a `NaN` or `1e308` there broke the page's colour scale); the error names the line
+/// and the column. A row whose tip is empty (a failed sample) is left out; a column is text
+/// (numbered by first appearance) when it is not one of the workspace's number columns and
+/// one of its values is not a number.
 pub fn read_sweep(text: &str) -> Result<Sweep, ExportError> {
     let mut rd = csv::ReaderBuilder::new().from_reader(text.as_bytes());
     let header: Vec<String> = rd
@@ -62,7 +67,9 @@ pub fn read_sweep(text: &str) -> Result<Sweep, ExportError> {
         })
         .collect::<Result<_, _>>()?;
     let others: Vec<usize> = (0..header.len()).filter(|i| !tip_at.contains(i)).collect();
+    let at = |line: usize, i: usize| format!("sweep line {line}, column `{}`", header[i]);
     let mut tips = Vec::new();
+    let mut lines = Vec::new();
     let mut raw: Vec<Vec<String>> = vec![Vec::new(); others.len()];
     for (r, rec) in rd.records().enumerate() {
         let line = r + 2;
@@ -75,24 +82,13 @@ pub fn read_sweep(text: &str) -> Result<Sweep, ExportError> {
                 empty = true;
                 continue;
             }
-            tip[a] = s
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite() && x.abs() <= MAX_EXTENT)
-                .ok_or_else(|| {
-                    bad(
-                        format!("sweep line {line}, column `{}`", header[i]),
-                        format!(
-                            "`{s}` is not a finite number within ±{MAX_EXTENT} m (where a \
-                             shape lies)"
-                        ),
-                    )
-                })?;
+            tip[a] = sweep_value(&header[i], s).map_err(|e| bad(at(line, i), e))?;
         }
         if empty {
             continue; // a failed sample: no tip to draw
         }
         tips.push(tip);
+        lines.push(line);
         for (col, &i) in raw.iter_mut().zip(&others) {
             col.push(rec.get(i).unwrap_or("").trim().to_string());
         }
@@ -103,12 +99,15 @@ pub fn read_sweep(text: &str) -> Result<Sweep, ExportError> {
     let mut columns = Vec::new();
     let mut categories = Vec::new();
     for (&i, vals) in others.iter().zip(raw) {
-        let numeric = vals
-            .iter()
-            .all(|v| v.is_empty() || v.parse::<f64>().is_ok());
         let name = header[i].clone();
+        let numeric =
+            sweep_column_is_numeric(&name) || vals.iter().all(|v| v.parse::<f64>().is_ok());
         if numeric {
-            let v = vals.iter().map(|v| v.parse().unwrap_or(f64::NAN)).collect();
+            let v = vals
+                .iter()
+                .zip(&lines)
+                .map(|(v, &line)| sweep_value(&name, v).map_err(|e| bad(at(line, i), e)))
+                .collect::<Result<_, _>>()?;
             columns.push((name, v));
         } else {
             let mut names: Vec<String> = Vec::new();

@@ -112,8 +112,15 @@ impl World<'_> {
             }
         }
         let o = &self.scene.obstacles[p.obstacle];
-        let g = distance_hessian(&*o.shape, &o.parry_pose, &p.point_obstacle, &n, d_pt)
-            .filter(|g| g.amax() > 0.0);
+        // A face contact's distance is to its triangle's plane (`contact::solid::face_contacts`):
+        // `G = 0` exactly, not differenced from the mesh's normal field (which, from a witness
+        // near an edge of the face, differences across to the neighbour's normal).
+        let g = if p.part.is_some() {
+            None
+        } else {
+            distance_hessian(&*o.shape, &o.parry_pose, &p.point_obstacle, &n, d_pt)
+                .filter(|g| g.amax() > 0.0)
+        };
         self.push_terms(g, &jac, &params, mu, low);
     }
 

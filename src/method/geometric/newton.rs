@@ -100,6 +100,34 @@ impl NoiseFloor {
     }
 }
 
+/// Consecutive Newton steps next to obstacles that each carry a term this face keeps non-zero
+/// through its kink ([`crosses_kink`]) after which a run is given up: it is heading for that
+/// kink, whose minimum belongs to the face where the term is zero (searched by its own runs).
+///
+/// Near a minimum of the face the term's angle is bounded away from zero while the steps
+/// shrink to nothing, so a full step cannot flip the term's direction there: a run flipping it
+/// at every step is not converging on this face. Measured on the 62 scenes of
+/// `examples/scene_speed.rs` (paper case I): every run that was certified flipped a term on at
+/// most 9 steps in a row (large early steps across a large angle), while runs circling a kink
+/// (angles 1e-4–1e-3 rad, the line search cut to 1e-2 of the step, the merit hardly falling,
+/// the short-step rule [`MAX_SHORT_STEPS`] never firing) flipped it at every step until their
+/// 40 iterations were spent — 3 such runs of generated scene 13 spent 120 of its 530.
+const MAX_KINK_CROSSINGS: usize = 12;
+
+/// Whether the full step `dx` from `pose` carries the solved direction of a term this face
+/// keeps non-zero through its undeformed direction: the direction's components normal to the
+/// undeformed one (`e1`, `e2`: `sin` of the angle times the unit direction of the tilt) point
+/// opposite ways before and after the step.
+fn crosses_kink(data: &SectionData, pose: &Pose, dx: &Vector6<f64>, face: u32) -> bool {
+    let full = pose.retract(dx, 1.0);
+    data.terms.iter().enumerate().any(|(t, term)| {
+        let image = |p: &Pose| if term.tangent { p.p } else { p.q * term.dir };
+        let (a, b) = (image(pose), image(&full));
+        face & (1 << t) == 0
+            && term.e1.dot(&a) * term.e1.dot(&b) + term.e2.dot(&a) * term.e2.dot(&b) < 0.0
+    })
+}
+
 /// A line search that ends below this step length is short (see [`MAX_SHORT_STEPS`]).
 const SHORT_STEP: f64 = 1e-3;
 
@@ -165,6 +193,7 @@ impl Geometric {
         let mut pairs_at_hand = false;
         let mut floor = NoiseFloor::default();
         let mut qp_active = QpActive::new();
+        let mut kink_streak = 0;
         for it in 1..=self.max_iterations {
             let reject = |residual: f64| {
                 Err(Rejected {
@@ -245,6 +274,15 @@ impl Geometric {
                     contacts,
                 );
             }
+            kink_streak =
+                if world.is_some() && !squared && crosses_kink(data, &pose, &step.dx, face) {
+                    kink_streak + 1
+                } else {
+                    0
+                };
+            if kink_streak >= MAX_KINK_CROSSINGS {
+                return reject(last_res);
+            }
             let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let rho = 2.0 * amax(&step.lambda).max(amax(&lam)).max(amax(&mu)) + 1.0;
             let merit = |f: f64, c: &[f64], pen: f64| {
@@ -310,7 +348,10 @@ impl Geometric {
 
     /// One step with obstacle pairs near: a convex QP with the pairs as linearized
     /// inequalities, then, once feasible to 1e-8, an exact Newton–KKT polish with the active
-    /// contacts as equalities (its rows split as `data.gram_schmidt` says). Returns the step and the pairs' multipliers (≥ 0 when pressing).
+    /// contacts as equalities (its rows split as `data.gram_schmidt` says). Before that, for the
+    /// literal method, the same exact step on the QP's active contacts replaces the QP's step
+    /// wherever it solves the SQP's own QP ([`newton_solves_qp`]; the QP clamps the whole
+    /// Hessian positive definite). Returns the step and the pairs' multipliers (≥ 0 when pressing).
     /// The QP starts from the pairs its last solve in this run ended active on (`qp_active`,
     /// updated): the same step, usually in one KKT solve instead of one per row added.
     #[allow(clippy::too_many_arguments)]
@@ -336,14 +377,14 @@ impl Geometric {
             .iter()
             .map(|p| clearance - p.dist)
             .fold(0.0f64, f64::max);
-        if res0 <= 1e-8 && gap0 <= 1e-8 {
-            // Polish: the interior-point step is accurate to ~1e-7 only; with the
-            // active contacts identified, an exact Newton–KKT step on them as
-            // equalities converges quadratically (multiplier of dist ≥ c is −λ).
-            let mu_max = q.mu.iter().fold(1.0f64, |m, x| m.max(*x));
-            let act: Vec<usize> = (0..pairs.len())
-                .filter(|&j| q.mu[j] > 1e-9 * mu_max)
-                .collect();
+        let polish = res0 <= 1e-8 && gap0 <= 1e-8;
+        // Polish: with the active contacts identified, an exact Newton–KKT step on them as
+        // equalities converges quadratically (multiplier of dist ≥ c is −λ).
+        let mu_max = q.mu.iter().fold(1.0f64, |m, x| m.max(*x));
+        let act: Vec<usize> = (0..pairs.len())
+            .filter(|&j| q.mu[j] > 1e-9 * mu_max)
+            .collect();
+        if polish || self.objective == Objective::Literal {
             let mut all = rows.to_vec();
             let mut cc = cv.to_vec();
             for &j in &act {
@@ -355,24 +396,25 @@ impl Geometric {
             for (k, &j) in act.iter().enumerate() {
                 mu[j] = -st.lambda[rows.len() + k];
             }
-            Some((
-                Step {
-                    dx: st.dx,
-                    lambda: st.lambda[..rows.len()].to_vec(),
-                    min_reduced_eigenvalue: st.min_reduced_eigenvalue,
-                },
-                mu,
-            ))
-        } else {
-            Some((
-                Step {
-                    dx: q.x,
-                    lambda: q.lambda_eq,
-                    min_reduced_eigenvalue: f64::NAN,
-                },
-                q.mu,
-            ))
+            if polish || newton_solves_qp(&st, &mu, &act, pairs, clearance) {
+                return Some((
+                    Step {
+                        dx: st.dx,
+                        lambda: st.lambda[..rows.len()].to_vec(),
+                        min_reduced_eigenvalue: st.min_reduced_eigenvalue,
+                    },
+                    mu,
+                ));
+            }
         }
+        Some((
+            Step {
+                dx: q.x,
+                lambda: q.lambda_eq,
+                min_reduced_eigenvalue: f64::NAN,
+            },
+            q.mu,
+        ))
     }
 
     /// One Newton–KKT step: the allocation-free 6×6 kernel, or the general one when the
@@ -410,6 +452,31 @@ impl Geometric {
             min_reduced_eigenvalue: s.min_reduced_eigenvalue,
         }
     }
+}
+
+/// Whether the exact Newton–KKT step `st` on the QP's active contacts `act` held as equalities
+/// (multipliers `mu`) solves the SQP's own QP — the one with the Lagrangian Hessian `H` itself
+/// rather than `H` clamped positive definite: its reduced Hessian on that face is positive
+/// definite (not modified), every held contact pushes (`μ ≥ 0`) and every other pair's
+/// linearized gap keeps the clearance. Then `st` meets the QP's KKT conditions with a
+/// positive definite reduced Hessian, a strict local minimizer of it, the SQP step of
+/// Nocedal & Wright (*Numerical Optimization*, 2nd ed., §18.1: once the active set is
+/// identified, SQP is Newton's method on the KKT system, quadratically convergent, Thm 18.4).
+/// The clamped QP's step differs from it wherever `H` is indefinite off that face — the
+/// Lagrangian of the literal angles with `|p| = l0` almost always is — and converged only
+/// linearly (rate ~½, the step halving for 10 iterations in a generated scene's contact runs,
+/// `examples/scene_speed.rs`).
+fn newton_solves_qp(st: &Step, mu: &[f64], act: &[usize], pairs: &[Pair], clearance: f64) -> bool {
+    let eig = st.min_reduced_eigenvalue;
+    if eig.is_nan() || eig <= 0.0 || act.iter().any(|&j| mu[j] < 0.0) {
+        return false;
+    }
+    pairs.iter().enumerate().all(|(j, p)| {
+        act.contains(&j) || {
+            let lin = p.dist + p.grad.dot(&st.dx) - clearance;
+            lin >= -1e-13 * (p.dist.abs() + p.grad.abs().dot(&st.dx.abs()) + clearance.abs())
+        }
+    })
 }
 
 /// The pairs (obstacle, feature) a run's last contact QP ended active on, in its order: the
