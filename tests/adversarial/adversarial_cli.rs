@@ -131,6 +131,20 @@ fn subcommand_jobs() -> Vec<Vec<String>> {
         args(&["compare", &c1, "--tolerance", "nan"]),
         args(&["compare", &c1, "--tolerance", "-1"]),
         args(&["compare", &c2, "--methods", ",,"]),
+        // The deepest airways: the branches' placement sampled every pair and ran past five
+        // minutes at 12 generations before the grid's count refused it.
+        args(&["anatomy", "airway", "--generations", "12", "--out", "x.stl"]),
+        args(&[
+            "anatomy",
+            "airway",
+            "--generations",
+            "12",
+            "--asymmetry",
+            "0.4",
+            "--out",
+            "x.obj",
+        ]),
+        args(&["anatomy", "airway", "--generations", "13", "--out", "x.stl"]),
         args(&["export", "urdf", &c1, "--mode", "wobbly", "--out", "x.urdf"]),
         args(&["export", "urdf", &c1, "--out", "/dev/full/x.urdf"]),
         args(&["export", "urdf", &c1, "--out", "/proc/version"]),

@@ -58,6 +58,7 @@ pub const NAMED: &[&str] = &[
     "shard `",
     "contact budget exceeded:",
     "no row solved:",
+    "airway option `",
 ];
 
 /// How one run ended.
