@@ -246,33 +246,8 @@ impl Geometric {
             let settled = res <= self.tolerance && worst_gap <= CONTACT_TOL;
             let at_floor = floor.at(settled && in_contact, step.dx.amax());
             if settled && (step.dx.amax() <= step_tol || at_floor) {
-                let contacts: Vec<Contact> = (0..pairs.len())
-                    .filter(|&j| mu.get(j).copied().unwrap_or(0.0) > 1e-10)
-                    .map(|j| pairs[j].to_contact(world, data.section, mu[j]))
-                    .collect();
-                if mu.iter().any(|m| *m < -1e-9) {
-                    return reject(last_res);
-                }
-                let lambda = if rows.len() == 7 && pairs.is_empty() {
-                    data.vertex_multipliers(face, active, &g, &rows)
-                        .unwrap_or(step.lambda)
-                } else {
-                    step.lambda
-                };
-                let stat = stationarity(&g, &rows, &lambda, &pairs, &mu);
-                return self.certify(
-                    data,
-                    pose,
-                    face,
-                    active,
-                    squared,
-                    &lambda,
-                    (stat, stationarity_tolerance(in_contact, mu_max)),
-                    step.min_reduced_eigenvalue,
-                    res,
-                    it,
-                    contacts,
-                );
+                let run = (pose, face, active, squared);
+                return self.converged(data, run, step, (&pairs, &mu), (&g, &rows), (res, it));
             }
             kink_streak =
                 if world.is_some() && !squared && crosses_kink(data, &pose, &step.dx, face) {
@@ -325,6 +300,55 @@ impl Geometric {
             residual: last_res,
             escape: None,
         })
+    }
+
+    /// A run settled at `pose` (`run`: pose, face, active set, objective): its pressing pairs
+    /// as contacts, its multipliers (at a vertex of seven rows, the vertex's own), its
+    /// stationarity, certified ([`Geometric::certify`]); rejected where a contact pulls.
+    fn converged(
+        &self,
+        data: &SectionData,
+        (pose, face, active, squared): (Pose, u32, &[usize], bool),
+        step: Step,
+        (pairs, mu): (&[Pair], &[f64]),
+        (g, rows): (&Vector6<f64>, &[Vector6<f64>]),
+        (res, it): (f64, usize),
+    ) -> Result<(Candidate, usize), Rejected> {
+        let world = data.world.as_ref();
+        let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
+        let in_contact = mu_max > 1e-10;
+        let contacts: Vec<Contact> = (0..pairs.len())
+            .filter(|&j| mu.get(j).copied().unwrap_or(0.0) > 1e-10)
+            .map(|j| pairs[j].to_contact(world, data.section, mu[j]))
+            .collect();
+        if mu.iter().any(|m| *m < -1e-9) {
+            let gap = worst_gap(pairs, world.map_or(0.0, |w| w.clearance));
+            return Err(Rejected {
+                iterations: it,
+                residual: res.max(gap),
+                escape: None,
+            });
+        }
+        let lambda = if rows.len() == 7 && pairs.is_empty() {
+            data.vertex_multipliers(face, active, g, rows)
+                .unwrap_or(step.lambda)
+        } else {
+            step.lambda
+        };
+        let stat = stationarity(g, rows, &lambda, pairs, mu);
+        self.certify(
+            data,
+            pose,
+            face,
+            active,
+            squared,
+            &lambda,
+            (stat, stationarity_tolerance(in_contact, mu_max)),
+            step.min_reduced_eigenvalue,
+            res,
+            it,
+            contacts,
+        )
     }
 
     /// The Newton step size at which a run has converged: 1e-11, or with active contacts
