@@ -248,14 +248,6 @@ fn closest_triangle_is_parrys_on_a_dense_sphere() {
     let (v, t) = sphere(0.03, 56);
     assert_eq!(t.len(), 25_088);
     let mut rng = Rng(0xB0B5_1DE5);
-    let unit = |rng: &mut Rng| {
-        Vector3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        )
-        .normalize()
-    };
     let (mut found, mut none, mut touching) = (0, 0, 0);
     for free in [Free::Inside, Free::Outside] {
         let m = solid_trimesh(&v, &t, Some(free)).unwrap();
@@ -494,14 +486,6 @@ fn the_core_contact_is_the_searched_distance() {
 fn fans_give_the_exact_distance() {
     use parry3d::query::PointQuery;
     let mut rng = Rng(0xFA_0A9E);
-    let unit = |rng: &mut Rng| {
-        Vector3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        )
-        .normalize()
-    };
     let (mut apart, mut across, mut ties) = (0, 0, 0);
     for n in [3, 8, 128, 512] {
         let rho = 0.01;
@@ -616,4 +600,14 @@ fn fans_give_the_exact_distance() {
         apart > 400 && across > 100 && ties > 100,
         "{apart} {across} {ties}"
     );
+}
+
+/// A random unit vector (normalized from the cube `[-1, 1]³`).
+fn unit(rng: &mut Rng) -> Vector3<f64> {
+    Vector3::new(
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+    )
+    .normalize()
 }
