@@ -253,7 +253,22 @@ pub fn workspace_csv(ws: &Workspace) -> String {
 /// colour scale or a merged file. An empty value is not a number (a failed sample's tip is
 /// the caller's to allow).
 pub fn sweep_value(column: &str, text: &str) -> Result<f64, String> {
-    let (lo, hi, whole, what) = match column {
+    let (lo, hi, whole, what) =
+        column_range(column).unwrap_or((-1e9, 1e9, false, "a number of this column"));
+    let v = text.trim();
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() && (lo..=hi).contains(&x) && (!whole || x.fract() == 0.0) => Ok(x),
+        _ => Err(format!(
+            "`{v}` is not {what}: {} from {lo:e} to {hi:e}",
+            if whole { "a whole number" } else { "a number" }
+        )),
+    }
+}
+
+/// The range of a workspace number column, by its name ([`sweep_value`]): lowest, highest,
+/// whole numbers only, what it holds; `None` for a column that is not one of them.
+fn column_range(column: &str) -> Option<(f64, f64, bool, &'static str)> {
+    Some(match column {
         "sample" => (
             0.0,
             crate::counts::STUDY_SAMPLES.max as f64,
@@ -275,26 +290,14 @@ pub fn sweep_value(column: &str, text: &str) -> Result<f64, String> {
             let t = crate::model::bounds::TENSION;
             (t.lo, t.hi, false, "a tension [N]")
         }
-        _ => (-1e9, 1e9, false, "a number of this column"),
-    };
-    let v = text.trim();
-    match v.parse::<f64>() {
-        Ok(x) if x.is_finite() && (lo..=hi).contains(&x) && (!whole || x.fract() == 0.0) => Ok(x),
-        _ => Err(format!(
-            "`{v}` is not {what}: {} from {lo:e} to {hi:e}",
-            if whole { "a whole number" } else { "a number" }
-        )),
-    }
+        _ => return None,
+    })
 }
 
 /// True when `column` holds numbers in every workspace CSV (its values are checked by
 /// [`sweep_value`] whatever they are; another column is text when any value is not a number).
 pub fn sweep_column_is_numeric(column: &str) -> bool {
-    matches!(
-        column,
-        "sample" | "iterations" | "tip_x_m" | "tip_y_m" | "tip_z_m"
-    ) || column.ends_with("_shortening_fraction")
-        || column.ends_with("_tension_n")
+    column_range(column).is_some()
 }
 
 /// One row of a workspace CSV checked column by column ([`sweep_value`]: a workspace number
