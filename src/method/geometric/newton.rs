@@ -247,7 +247,14 @@ impl Geometric {
             let at_floor = floor.at(settled && in_contact, step.dx.amax());
             if settled && (step.dx.amax() <= step_tol || at_floor) {
                 let run = (pose, face, active, squared);
-                return self.converged(data, run, step, (&pairs, &mu), (&g, &rows), (res, it));
+                return self.converged(
+                    data,
+                    run,
+                    step,
+                    (&pairs, &mu),
+                    (&g, &rows),
+                    (res, last_res, it),
+                );
             }
             kink_streak =
                 if world.is_some() && !squared && crosses_kink(data, &pose, &step.dx, face) {
@@ -304,7 +311,8 @@ impl Geometric {
 
     /// A run settled at `pose` (`run`: pose, face, active set, objective): its pressing pairs
     /// as contacts, its multipliers (at a vertex of seven rows, the vertex's own), its
-    /// stationarity, certified ([`Geometric::certify`]); rejected where a contact pulls.
+    /// stationarity, certified ([`Geometric::certify`]); rejected where a contact pulls, with
+    /// the run's residual `last_res` (constraints and gaps).
     fn converged(
         &self,
         data: &SectionData,
@@ -312,7 +320,7 @@ impl Geometric {
         step: Step,
         (pairs, mu): (&[Pair], &[f64]),
         (g, rows): (&Vector6<f64>, &[Vector6<f64>]),
-        (res, it): (f64, usize),
+        (res, last_res, it): (f64, f64, usize),
     ) -> Result<(Candidate, usize), Rejected> {
         let world = data.world.as_ref();
         let mu_max = mu.iter().fold(0.0f64, |m, x| m.max(*x));
@@ -322,10 +330,9 @@ impl Geometric {
             .map(|j| pairs[j].to_contact(world, data.section, mu[j]))
             .collect();
         if mu.iter().any(|m| *m < -1e-9) {
-            let gap = worst_gap(pairs, world.map_or(0.0, |w| w.clearance));
             return Err(Rejected {
                 iterations: it,
-                residual: res.max(gap),
+                residual: last_res,
                 escape: None,
             });
         }
